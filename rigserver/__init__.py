@@ -1,0 +1,1 @@
+"""rigserver: the data-acquisition and analysis service for tribology test stands."""

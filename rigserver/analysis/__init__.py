@@ -1,0 +1,1 @@
+"""rigserver.analysis"""

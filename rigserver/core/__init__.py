@@ -1,0 +1,13 @@
+"""The model library: the formulas of the lab manual, numpy and scipy only.
+
+Every function takes keyword arguments in SI units (metres, pascals, newtons, seconds,
+radians unless a name says ``_deg``) and returns a named result. No I/O, no pydantic, no
+web: the service, the reports and the simulated stands all call this package.
+
+Modules, one per lab work or idea:
+
+- :mod:`rigserver.core.roughness`: lab work 1, the ABRIS-PM7 profilometer.
+- :mod:`rigserver.core.wear`: lab work 2, the SMTs-2 friction and wear machine.
+- :mod:`rigserver.core.bearing`: labs 3 and 4, asymptotic journal-bearing theory.
+- :mod:`rigserver.core.stands`: processing of the slide-bearing and MTOS readings.
+"""

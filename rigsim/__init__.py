@@ -1,0 +1,1 @@
+"""rigsim: simulated tribology stands that post readings to a real rigserver over HTTP."""

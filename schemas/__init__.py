@@ -1,0 +1,1 @@
+"""Pydantic models of the wire and the results, shared by rigserver and rigsim."""

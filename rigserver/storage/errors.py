@@ -1,0 +1,42 @@
+"""The storage layer's exceptions; h5py, sqlite3 and OS errors are translated into these.
+
+::
+
+    StorageError
+     ├── RunNotFound          no run with that id
+     ├── RunExists            a run with that id is stored already
+     ├── RunNotOpen           the run is finished or aborted: it takes no more readings
+     ├── SequenceConflict     a seq number reused with different content
+     ├── StorageFull          the disk is full (the batch was not acknowledged)
+     └── StorageUnavailable   any other failure to make a batch durable
+"""
+
+from __future__ import annotations
+
+
+class StorageError(Exception):
+    """Base of the storage layer's errors."""
+
+
+class RunNotFound(StorageError):
+    pass
+
+
+class RunExists(StorageError):
+    pass
+
+
+class RunNotOpen(StorageError):
+    pass
+
+
+class SequenceConflict(StorageError):
+    pass
+
+
+class StorageFull(StorageError):
+    pass
+
+
+class StorageUnavailable(StorageError):
+    pass

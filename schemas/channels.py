@@ -1,0 +1,233 @@
+"""Channels declared as data: name, unit, limits, ordering; and the check of a batch.
+
+A stand's readings come in channel groups. In an *aligned* group (the SMTs-2 friction
+record, the rows of table 3.1) every batch carries every channel with the same length; in
+the ``measurements`` group (masses, zero readings, the end of the load zone) a batch may
+carry any subset, and the latest value of each channel counts.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from enum import StrEnum
+
+import numpy as np
+from numpy.typing import NDArray
+from pydantic import BaseModel, ConfigDict, Field
+
+from schemas.units import UNITS, UnitSymbol
+
+
+class Order(StrEnum):
+    """What a channel's values must do along the batch (and across batches)."""
+
+    ANY = "any"
+    INCREASING = "increasing"
+    NON_DECREASING = "non_decreasing"
+
+
+class Limit(BaseModel):
+    """What one value of a channel may be; prints itself the way a lab user reads it.
+
+    ``low``/``high`` bound the value; ``nominal`` with ``tolerance`` (relative) allows only
+    values near one of a few settings (the SMTs-2 speeds, 300, 500 or 1000 rpm ± 10 %);
+    ``integer`` asks for whole numbers (codes, counters).
+    """
+
+    model_config = ConfigDict(frozen=True)
+
+    low: float | None = None
+    high: float | None = None
+    nominal: tuple[float, ...] | None = None
+    tolerance: float = Field(default=0.0, ge=0.0)
+    integer: bool = False
+
+    def describe(self, unit: str) -> str:
+        """The limit in words, e.g. ``"200 <= value <= 5000 N"``."""
+        u = "" if unit in ("1", "code") else f" {unit}"
+        parts: list[str] = []
+        if self.nominal is not None:
+            values = ", ".join(f"{v:g}" for v in self.nominal)
+            tol = f" (± {self.tolerance * 100:g} %)" if self.tolerance else ""
+            parts.append(f"one of {values}{u}{tol}")
+        if self.low is not None and self.high is not None:
+            parts.append(f"{self.low:g} <= value <= {self.high:g}{u}")
+        elif self.low is not None:
+            parts.append(f"value >= {self.low:g}{u}")
+        elif self.high is not None:
+            parts.append(f"value <= {self.high:g}{u}")
+        if self.integer:
+            parts.append("a whole number")
+        return "; ".join(parts) if parts else "any finite number"
+
+    def violations(self, values: NDArray[np.float64]) -> NDArray[np.bool_]:
+        """Mask of the finite values that break this limit."""
+        bad = np.zeros(values.shape, dtype=bool)
+        if self.low is not None:
+            bad |= values < self.low
+        if self.high is not None:
+            bad |= values > self.high
+        if self.nominal is not None:
+            near = np.zeros(values.shape, dtype=bool)
+            for v in self.nominal:
+                near |= np.abs(values - v) <= self.tolerance * abs(v)
+            bad |= ~near
+        if self.integer:
+            bad |= values != np.round(values)
+        return bad
+
+
+class Channel(BaseModel):
+    """One measured quantity: its name on the wire, unit, meaning and limits."""
+
+    model_config = ConfigDict(frozen=True)
+
+    name: str
+    unit: UnitSymbol
+    long_name: str
+    limit: Limit = Limit()
+    order: Order = Order.ANY
+
+    def unit_long_name(self) -> str:
+        return UNITS[self.unit].long_name
+
+
+class ChannelGroup(BaseModel):
+    """Channels posted together; an aligned group has every channel in every batch."""
+
+    model_config = ConfigDict(frozen=True)
+
+    name: str
+    long_name: str
+    aligned: bool
+    channels: tuple[Channel, ...]
+
+    def channel(self, name: str) -> Channel | None:
+        return next((c for c in self.channels if c.name == name), None)
+
+
+class Violation(BaseModel):
+    """One reason a batch was refused: where, what value, which limit."""
+
+    field: str = Field(examples=["columns.friction_moment[12]"])
+    value: float | str | None = Field(default=None, examples=[15.7])
+    limit: str | None = Field(default=None, examples=["0 <= value <= 15 N*m"])
+    message: str = Field(examples=["friction_moment[12] = 15.7 N*m is outside 0 <= value <= 15"])
+
+
+MAX_VIOLATIONS = 20
+
+
+def check_columns(
+    group: ChannelGroup,
+    columns: Mapping[str, Sequence[float] | NDArray[np.float64]],
+    last_values: Mapping[str, float] | None = None,
+) -> tuple[dict[str, NDArray[np.float64]], list[Violation]]:
+    """Check a batch of columns against the group's declaration.
+
+    Returns the columns as float64 arrays and the list of violations (at most
+    :data:`MAX_VIOLATIONS`; empty when the batch is good). ``last_values`` are the last
+    stored values of ordered channels, so ordering holds across batches too.
+    """
+    out: dict[str, NDArray[np.float64]] = {}
+    problems: list[Violation] = []
+    known = {c.name for c in group.channels}
+    for name in columns:
+        if name not in known:
+            problems.append(
+                Violation(
+                    field=f"columns.{name}",
+                    value=name,
+                    limit=f"one of {', '.join(sorted(known))}",
+                    message=f"{group.name!r} has no channel {name!r}",
+                )
+            )
+    if group.aligned:
+        missing = [c.name for c in group.channels if c.name not in columns]
+        problems.extend(
+            Violation(
+                field=f"columns.{m}",
+                message=f"channel {m!r} is missing; group {group.name!r} needs all its channels",
+            )
+            for m in missing
+        )
+    if not columns:
+        problems.append(Violation(field="columns", message="the batch carries no channel"))
+    lengths = {name: len(col) for name, col in columns.items() if name in known}
+    if group.aligned and len(set(lengths.values())) > 1:
+        detail = ", ".join(f"{n}: {k}" for n, k in lengths.items())
+        problems.append(
+            Violation(
+                field="columns",
+                message=f"channels of group {group.name!r} must have equal lengths ({detail})",
+            )
+        )
+    for name, k in lengths.items():
+        if k == 0:
+            problems.append(Violation(field=f"columns.{name}", message=f"{name} is empty"))
+    for ch in group.channels:
+        if ch.name not in columns or len(problems) >= MAX_VIOLATIONS:
+            continue
+        try:
+            values = np.asarray(columns[ch.name], dtype=np.float64)
+        except (TypeError, ValueError):
+            problems.append(
+                Violation(field=f"columns.{ch.name}", message=f"{ch.name} must be numbers")
+            )
+            continue
+        if values.ndim != 1:
+            problems.append(
+                Violation(field=f"columns.{ch.name}", message=f"{ch.name} must be a flat list")
+            )
+            continue
+        out[ch.name] = values
+        problems.extend(_value_violations(ch, values, last_values))
+    return out, problems[:MAX_VIOLATIONS]
+
+
+def _value_violations(
+    ch: Channel, values: NDArray[np.float64], last_values: Mapping[str, float] | None
+) -> list[Violation]:
+    found: list[Violation] = []
+    finite = np.isfinite(values)
+    for i in np.flatnonzero(~finite)[:MAX_VIOLATIONS]:
+        found.append(
+            Violation(
+                field=f"columns.{ch.name}[{i}]",
+                value=str(values[i]),
+                limit="a finite number",
+                message=f"{ch.name}[{i}] = {values[i]} is not a finite number",
+            )
+        )
+    text = ch.limit.describe(ch.unit)
+    for i in np.flatnonzero(finite & ch.limit.violations(np.where(finite, values, 0.0)))[
+        :MAX_VIOLATIONS
+    ]:
+        found.append(
+            Violation(
+                field=f"columns.{ch.name}[{i}]",
+                value=float(values[i]),
+                limit=text,
+                message=f"{ch.name}[{i}] = {values[i]:g} {ch.unit} is outside the limit: {text}",
+            )
+        )
+    if ch.order is not Order.ANY and values.size and np.all(finite):
+        previous = None if last_values is None else last_values.get(ch.name)
+        seq = values if previous is None else np.concatenate(([previous], values))
+        step = np.diff(seq)
+        bad = step <= 0 if ch.order is Order.INCREASING else step < 0
+        word = "increase" if ch.order is Order.INCREASING else "not decrease"
+        offset = 0 if previous is None else 1
+        for j in np.flatnonzero(bad)[:MAX_VIOLATIONS]:
+            i = j + 1 - offset
+            before = f"{seq[j]:g}"
+            found.append(
+                Violation(
+                    field=f"columns.{ch.name}[{i}]",
+                    value=float(values[i]),
+                    limit=f"must {word} (previous value {before} {ch.unit})",
+                    message=f"{ch.name}[{i}] = {values[i]:g} must {word}; the value before "
+                    f"it is {before} {ch.unit}",
+                )
+            )
+    return found

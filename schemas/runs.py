@@ -1,0 +1,109 @@
+"""Runs: what a lab PC sends to open one, and what the service says about it."""
+
+from __future__ import annotations
+
+import re
+import secrets
+from datetime import UTC, datetime
+from enum import StrEnum
+from typing import Annotated, Any
+
+from pydantic import BaseModel, ConfigDict, Field, StringConstraints
+
+from schemas.stands import StandKind
+
+RUN_ID_PATTERN = r"^[0-9]{8}T[0-9]{6}Z-[0-9a-f]{8}$"
+_RUN_ID = re.compile(RUN_ID_PATTERN)
+
+RunId = Annotated[str, StringConstraints(pattern=RUN_ID_PATTERN, max_length=24)]
+ShortText = Annotated[str, StringConstraints(max_length=200)]
+Scalar = str | float | int | bool
+
+
+def new_run_id(now: datetime | None = None) -> str:
+    """A sortable, unguessable run id: UTC start time and 32 random bits."""
+    t = (now or datetime.now(UTC)).astimezone(UTC)
+    return f"{t:%Y%m%dT%H%M%S}Z-{secrets.token_hex(4)}"
+
+
+def is_run_id(text: str) -> bool:
+    return bool(_RUN_ID.match(text))
+
+
+class RunState(StrEnum):
+    OPEN = "open"
+    FINISHED = "finished"
+    ABORTED = "aborted"
+
+
+class RunCreate(BaseModel):
+    """What a lab PC posts to open a run."""
+
+    model_config = ConfigDict(
+        extra="forbid",
+        json_schema_extra={
+            "examples": [
+                {
+                    "stand": "smts2",
+                    "operator": "Ivanova",
+                    "title": "Wear of St3sp on R9, 300 N, 1000 rpm",
+                    "specimen": {"pin": "St3sp", "disc": "R9"},
+                    "test_plan": {"mode": "wear", "load_N": 300, "speed_rpm": 1000},
+                    "configuration": {"disc_radius": 0.0225},
+                }
+            ]
+        },
+    )
+
+    stand: StandKind
+    operator: Annotated[str, StringConstraints(min_length=1, max_length=100)]
+    title: ShortText = ""
+    specimen: dict[ShortText, Scalar] = Field(
+        default_factory=dict, description="specimens and materials, free key-value"
+    )
+    test_plan: dict[ShortText, Scalar | list[float]] = Field(
+        default_factory=dict, description="e.g. the load steps or the SMTs-2 mode"
+    )
+    configuration: dict[str, Any] = Field(
+        default_factory=dict,
+        description="overrides of the stand's configuration for this run (checked by its schema)",
+    )
+    notes: Annotated[str, StringConstraints(max_length=5000)] = ""
+
+
+class Run(BaseModel):
+    """A run as stored: metadata, the configuration snapshot, state and progress."""
+
+    id: RunId
+    stand: StandKind
+    state: RunState = RunState.OPEN
+    operator: str
+    title: str = ""
+    specimen: dict[str, Scalar] = Field(default_factory=dict)
+    test_plan: dict[str, Scalar | list[float]] = Field(default_factory=dict)
+    notes: str = ""
+    configuration: dict[str, Any] = Field(description="the full stand configuration snapshot")
+    created: datetime
+    ended: datetime | None = None
+    batches: int = Field(default=0, description="batches stored")
+    rows: dict[str, int] = Field(default_factory=dict, description="rows stored per channel group")
+    key_results: dict[str, float] = Field(
+        default_factory=dict, description="a few headline results for the runs list"
+    )
+
+
+class RunQuery(BaseModel):
+    """Filters of the runs list; all optional, newest first."""
+
+    stand: StandKind | None = None
+    operator: str | None = None
+    state: RunState | None = None
+    since: datetime | None = None
+    until: datetime | None = None
+    limit: int = Field(default=50, ge=1, le=500)
+    offset: int = Field(default=0, ge=0)
+
+
+class RunPage(BaseModel):
+    total: int
+    runs: list[Run]

@@ -1,0 +1,372 @@
+"""The four stand kinds: configuration (with the manual's values as defaults) and channels.
+
+Every number of a configuration carries its unit. Defaults are the lab manual's where it
+gives one; where it does not (the MTOS spring calibration and lever arms, the displacement
+sensors' scale), the default is a placeholder that the lab overrides in its stands file,
+and the field's description says so.
+"""
+
+from __future__ import annotations
+
+from enum import StrEnum
+from typing import Literal
+
+from pydantic import BaseModel, ConfigDict
+
+from schemas.channels import Channel, ChannelGroup, Limit, Order
+from schemas.quantity import quantity
+from schemas.units import UnitSymbol
+
+
+class StandKind(StrEnum):
+    SMTS2 = "smts2"
+    SLIDE_BEARING = "slide_bearing"
+    MTOS = "mtos"
+    PROFILOMETER = "profilometer"
+
+
+class _Config(BaseModel):
+    model_config = ConfigDict(frozen=True, extra="forbid")
+
+
+# --- SMTs-2 friction and wear machine, lab work 2 -------------------------------------
+
+
+class PinMaterial(_Config):
+    """The upper specimen (pin); defaults: steel St3sp (VSt3ps), table 2.2 and item 18."""
+
+    name: str = "St3sp"
+    youngs_modulus: float = quantity(2.13e11, "Pa", "E1, Young's modulus", gt=0)
+    poisson: float = quantity(0.3, "1", "μ1, Poisson's ratio", ge=0, lt=0.5)
+    hardness: float = quantity(1.24e9, "Pa", "HB1, Brinell hardness", gt=0)
+    yield_strength: float = quantity(2.25e8, "Pa", "σ_T, yield strength", gt=0)
+    tensile_strength: float = quantity(4.2e8, "Pa", "σ_B, tensile strength", gt=0)
+    elongation: float = quantity(0.23, "1", "e_B = δ/100, elongation at break", gt=0, le=1)
+    density: float = quantity(7800.0, "kg/m^3", "ρ, density (2.10)", gt=0)
+
+
+class DiscMaterial(_Config):
+    """The lower specimen (disc); defaults: steel R9."""
+
+    name: str = "R9"
+    youngs_modulus: float = quantity(2.2e11, "Pa", "E2, Young's modulus", gt=0)
+    poisson: float = quantity(0.3, "1", "μ2, Poisson's ratio", ge=0, lt=0.5)
+    hardness: float = quantity(6.4e9, "Pa", "HB2, Brinell hardness", gt=0)
+
+
+class Smts2Config(_Config):
+    disc_radius: float = quantity(0.0225, "m", "r2, disc radius", gt=0)
+    disc_width: float = quantity(0.012, "m", "b2, disc width", gt=0)
+    pin_diameter: float = quantity(0.010, "m", "d1 = 2·r1, pin diameter", gt=0)
+    pin: PinMaterial = PinMaterial()
+    disc: DiscMaterial = DiscMaterial()
+    fatigue_t_elastic: float = quantity(3.0, "1", "t, fatigue parameter, elastic contact", gt=0)
+    fatigue_t_plastic: float = quantity(1.3, "1", "t, fatigue parameter, plastic contact", gt=0)
+    nu: float = quantity(2.0, "1", "ν, bearing-curve exponent after run-in", gt=0.5)
+    b: float = quantity(2.0, "1", "b_ν, bearing-curve coefficient after run-in", gt=0)
+    steady_fraction: float = quantity(
+        0.5, "1", "share of the record, from its end, averaged for the steady friction", gt=0, le=1
+    )
+
+
+class ViscosityLaw(_Config):
+    """The oil's viscosity law μ = A·exp(α·t), t in °C (3.21, 4.17)."""
+
+    A: float = quantity(0.0773, "Pa*s", "A of μ = A·exp(α·t) (3.21)", gt=0)
+    alpha: float = quantity(-0.0485, "1/degC", "α of μ = A·exp(α·t) (3.21)")
+
+
+# --- Slide-bearing stand, lab work 3 --------------------------------------------------
+
+
+class SlideBearingConfig(_Config):
+    clearance: float = quantity(175e-6, "m", "h0, radial clearance (3.17)", gt=0)
+    bearing_radius: float = quantity(25.175e-3, "m", "R2, bearing radius (3.19)", gt=0)
+    width: float = quantity(
+        29.7e-3, "m", "B, bearing width: edges at z = ±0.59 = B/(2R) (table 3.2, E3)", gt=0
+    )
+    mu0: float = quantity(0.0282, "Pa*s", "μ0 = μ20, characteristic viscosity (3.18)", gt=0)
+    omega0: float = quantity(329.0, "rad/s", "ω0, journal angular speed (3.18)", gt=0)
+    viscosity: ViscosityLaw = ViscosityLaw()
+    gauge_unit: Literal["at", "atm"] = "at"
+    manometer_z: tuple[float, float, float, float, float] = quantity(
+        (-0.394, -0.197, 0.0, 0.197, 0.394), "1", "z = Z/R of manometers 1..5 (table 3.2)"
+    )
+    loader_rate: float = quantity(16.2, "N/mm", "load per mm of the loader scale", gt=0)
+    displacement_per_division: float = quantity(
+        1e-6, "m", "scale of the X, Y displacement gauges per division (placeholder)", gt=0
+    )
+
+
+# --- MTOS stand, lab work 4 -----------------------------------------------------------
+
+
+class MtosConfig(_Config):
+    spring_rate: float = quantity(
+        20.0, "N/mm", "k, flat-spring calibration F = k·Δl (4.13) (placeholder)", gt=0
+    )
+    lever_moment_arm: float = quantity(
+        0.20, "m", "l1, arm of the spring force, M = F·l1 (4.14) (placeholder)", gt=0
+    )
+    friction_arm: float = quantity(
+        0.025, "m", "l2, arm of the friction force, F_tr = M/l2 (4.15) (placeholder)", gt=0
+    )
+    diameter: float = quantity(0.050, "m", "D = 2R, bearing diameter (placeholder)", gt=0)
+    width: float = quantity(0.040, "m", "B, bearing width (placeholder)", gt=0)
+    clearance: float = quantity(100e-6, "m", "h0, radial clearance (placeholder)", gt=0)
+    omega: float = quantity(157.0, "rad/s", "ω, journal angular speed (placeholder)", gt=0)
+    viscosity: ViscosityLaw = ViscosityLaw()
+    journal_roughness: float = quantity(
+        1.6e-6, "m", "h_journal, mean asperity height of the journal (seed 001)", ge=0
+    )
+    bush_roughness: float = quantity(
+        3.2e-6, "m", "h_bush, mean asperity height of the bush (seed 001)", ge=0
+    )
+    misalignment: float = quantity(0.0, "m", "h from misalignment (seed 001)", ge=0)
+    deflection: float = quantity(0.0, "m", "h from shaft deflection (seed 001)", ge=0)
+    shape_error: float = quantity(0.0, "m", "h from form errors (seed 001)", ge=0)
+
+
+# --- ABRIS-PM7 profilometer, lab work 1 -----------------------------------------------
+
+
+class ProfilometerConfig(_Config):
+    instrument: str = "ABRIS-PM7"
+    stylus_radius: float = quantity(10e-6, "m", "radius of the stylus tip", gt=0)
+    step: float = quantity(0.5e-6, "m", "sampling step along the trace", gt=0)
+    poisson: float = quantity(0.27, "1", "μ of the specimen, for Δ_T (1.12)", ge=0, lt=0.5)
+    youngs_modulus: float = quantity(2.1e11, "Pa", "E of the specimen, for Δ_T (1.12)", gt=0)
+    contour_pressure: float = quantity(18e6, "Pa", "p_c, contour pressure for Δ_T (1.11)", gt=0)
+    tau0: float = quantity(1.2e6, "Pa", "τ0, friction parameter for Δ_T (1.11)", gt=0)
+    alpha_r: float = quantity(0.02, "1", "α_r, hysteresis loss for Δ_T (1.12)", gt=0)
+    levels: int = quantity(6, "1", "number of levels p_i of the bearing curve (table 1.7)", ge=6)
+
+
+StandConfig = Smts2Config | SlideBearingConfig | MtosConfig | ProfilometerConfig
+
+# --- channels -------------------------------------------------------------------------
+
+MEASUREMENTS = "measurements"
+"""The group of single measurements in every stand (latest value counts)."""
+
+
+def _c(
+    name: str,
+    unit: UnitSymbol,
+    long_name: str,
+    limit: Limit | None = None,
+    order: Order = Order.ANY,
+) -> Channel:
+    return Channel(name=name, unit=unit, long_name=long_name, limit=limit or Limit(), order=order)
+
+
+_TIME = _c("time", "s", "time since the start of the run", Limit(low=0), Order.INCREASING)
+
+SMTS2_GROUPS = (
+    ChannelGroup(
+        name="friction",
+        long_name="friction record (SMTs-2 recorder)",
+        aligned=True,
+        channels=(
+            _TIME,
+            _c("load", "N", "N, normal load on the pin", Limit(low=190.0, high=5250.0)),
+            _c(
+                "speed",
+                "rpm",
+                "disc speed",
+                Limit(nominal=(300.0, 500.0, 1000.0), tolerance=0.10),
+            ),
+            _c("friction_moment", "N*m", "M_tr, friction moment", Limit(low=0.0, high=15.0)),
+            _c(
+                "revolutions",
+                "100 rev",
+                "revolution counter (hundreds of revolutions)",
+                Limit(low=0.0),
+                Order.NON_DECREASING,
+            ),
+        ),
+    ),
+    ChannelGroup(
+        name=MEASUREMENTS,
+        long_name="weighings and the disc's roughness",
+        aligned=False,
+        channels=(
+            _c(
+                "pin_mass_before",
+                "g",
+                "m1, pin mass before the test (2.9)",
+                Limit(low=0, high=1000),
+            ),
+            _c("pin_mass_after", "g", "m2, pin mass after the test (2.9)", Limit(low=0, high=1000)),
+            _c(
+                "disc_ra",
+                "um",
+                "Ra of the disc, from the profilometer (2.6)",
+                Limit(low=0, high=100),
+            ),
+        ),
+    ),
+)
+
+SLIDE_BEARING_GROUPS = (
+    ChannelGroup(
+        name="rows",
+        long_name="one row of table 3.1 per position of the loader limb",
+        aligned=True,
+        channels=(
+            _c("limb_angle", "deg", "φ_limb, loader limb angle", Limit(low=-360, high=720)),
+            *(
+                _c(f"p{k}", "at", f"gauge pressure at manometer {k}", Limit(low=-1.0, high=100.0))
+                for k in range(1, 6)
+            ),
+            _c("x", "div", "X, displacement gauge reading"),
+            _c("y", "div", "Y, displacement gauge reading"),
+            _c("t1", "degC", "t1, oil temperature at the inlet", Limit(low=-20, high=200)),
+            _c("t2", "degC", "t2, oil temperature at the outlet", Limit(low=-20, high=200)),
+        ),
+    ),
+    ChannelGroup(
+        name=MEASUREMENTS,
+        long_name="zero readings, the end of the load zone, the load",
+        aligned=False,
+        channels=(
+            _c("load_zone_end", "deg", "φ_k, limb angle at the end of the load zone (3.20)"),
+            _c("x_zero", "div", "X_уст, displacement gauge zero (3.16)"),
+            _c("y_zero", "div", "Y_уст, displacement gauge zero (3.16)"),
+            _c("loader_scale", "mm", "loader scale reading (16.2 N/mm)", Limit(low=0, high=1000)),
+        ),
+    ),
+)
+
+MTOS_GROUPS = (
+    ChannelGroup(
+        name="steps",
+        long_name="one row of tables 4.1-4.3 per load step",
+        aligned=True,
+        channels=(
+            _c("load", "N", "N, load from the dynamometer", Limit(low=0.0, high=10_000.0)),
+            _c(
+                "indicator",
+                "mm",
+                "Δl, friction indicator reading (4.13)",
+                Limit(low=0.0, high=10.0),
+            ),
+            _c("x", "um", "X, displacement sensor"),
+            _c("y", "um", "Y, displacement sensor"),
+            *(
+                _c(f"t{k}", "degC", f"t{k}, oil temperature {where}", Limit(low=-20, high=200))
+                for k, where in (
+                    (1, "at the inlet"),
+                    (2, "at the outlet"),
+                    (3, "near the film, loaded zone"),
+                    (4, "near the film, loaded zone"),
+                    (5, "near the film, loaded zone"),
+                )
+            ),
+            _c(
+                "regime",
+                "code",
+                "lubrication: 1 fluid film (exp. 1), 2 mixed (exp. 2), 3 boundary (exp. 3)",
+                Limit(nominal=(1.0, 2.0, 3.0)),
+            ),
+        ),
+    ),
+    ChannelGroup(
+        name=MEASUREMENTS,
+        long_name="zero readings of the displacement sensors",
+        aligned=False,
+        channels=(
+            _c("x_zero", "um", "X_уст, sensor zero (4.11)"),
+            _c("y_zero", "um", "Y_уст, sensor zero (4.11)"),
+        ),
+    ),
+)
+
+PROFILOMETER_GROUPS = (
+    ChannelGroup(
+        name="profile",
+        long_name="profile trace y(x)",
+        aligned=True,
+        channels=(
+            _c(
+                "x",
+                "mm",
+                "x, position along the trace",
+                Limit(low=0.0, high=100.0),
+                Order.INCREASING,
+            ),
+            _c("y", "um", "y, profile height", Limit(low=-1000.0, high=1000.0)),
+        ),
+    ),
+    ChannelGroup(
+        name=MEASUREMENTS,
+        long_name="instrument settings of the trace",
+        aligned=False,
+        channels=(
+            _c("base_length", "mm", "l, base length", Limit(low=0.01, high=100.0)),
+            _c(
+                "subrange",
+                "um",
+                "upper limit of the Ra sub-range (1.14)",
+                Limit(nominal=(0.4, 3.2, 12.5)),
+            ),
+        ),
+    ),
+)
+
+
+class Stand(BaseModel):
+    """A stand kind as the service describes it: configuration, its schema, channels."""
+
+    model_config = ConfigDict(frozen=True)
+
+    kind: StandKind
+    title: str
+    lab_work: int
+    configuration: StandConfig
+    groups: tuple[ChannelGroup, ...]
+
+    def group(self, name: str) -> ChannelGroup | None:
+        return next((g for g in self.groups if g.name == name), None)
+
+
+CONFIG_MODELS: dict[StandKind, type[_Config]] = {
+    StandKind.SMTS2: Smts2Config,
+    StandKind.SLIDE_BEARING: SlideBearingConfig,
+    StandKind.MTOS: MtosConfig,
+    StandKind.PROFILOMETER: ProfilometerConfig,
+}
+
+
+def default_stands() -> dict[StandKind, Stand]:
+    """The four stands with the manual's defaults."""
+    return {
+        StandKind.SMTS2: Stand(
+            kind=StandKind.SMTS2,
+            title="SMTs-2 friction and wear machine (pin on disc)",
+            lab_work=2,
+            configuration=Smts2Config(),
+            groups=SMTS2_GROUPS,
+        ),
+        StandKind.SLIDE_BEARING: Stand(
+            kind=StandKind.SLIDE_BEARING,
+            title="Slide-bearing stand: hydrodynamic pressure",
+            lab_work=3,
+            configuration=SlideBearingConfig(),
+            groups=SLIDE_BEARING_GROUPS,
+        ),
+        StandKind.MTOS: Stand(
+            kind=StandKind.MTOS,
+            title="MTOS stand: friction moment of a journal bearing",
+            lab_work=4,
+            configuration=MtosConfig(),
+            groups=MTOS_GROUPS,
+        ),
+        StandKind.PROFILOMETER: Stand(
+            kind=StandKind.PROFILOMETER,
+            title="ABRIS-PM7 profilometer: roughness of a run-in surface",
+            lab_work=1,
+            configuration=ProfilometerConfig(),
+            groups=PROFILOMETER_GROUPS,
+        ),
+    }

@@ -38,6 +38,10 @@ class RunStore(Protocol):
         with ``duplicate=True`` (``SequenceConflict`` if its content differs)."""
         ...
 
+    def receipt(self, run_id: str, seq: int) -> BatchReceipt | None:
+        """The receipt of the batch stored under ``seq`` (``duplicate=True``), or ``None``."""
+        ...
+
     def last_values(self, run_id: str, group: str) -> dict[str, float]:
         """The last stored value of each channel of ``group`` (empty if none)."""
         ...
@@ -63,6 +67,10 @@ class RunStore(Protocol):
         self, run_id: str, results: Mapping[str, Any], key_results: Mapping[str, float]
     ) -> None:
         """Store the analysis results (JSON-able, with units) and the headline figures."""
+        ...
+
+    def results(self, run_id: str) -> dict[str, Any] | None:
+        """The results stored by :meth:`set_results`, or ``None``."""
         ...
 
     def end_run(self, run_id: str, state: RunState) -> Run:

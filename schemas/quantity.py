@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from typing import Any
+from typing import Any, get_args, get_origin
 
 from pydantic import BaseModel, Field
 
@@ -22,3 +22,28 @@ def units_of(model: type[BaseModel]) -> dict[str, str]:
         if isinstance(extra, dict) and isinstance(extra.get("unit"), str):
             found[name] = str(extra["unit"])
     return found
+
+
+def unit_paths(model: type[BaseModel], prefix: str = "") -> dict[str, str]:
+    """Units of every quantity field of ``model`` and of the models nested in it.
+
+    Paths use dots for nested models and ``[]`` for lists of models, e.g.
+    ``"rows[].chi"`` or ``"experimental.intensity"``.
+    """
+    found = {f"{prefix}{name}": unit for name, unit in units_of(model).items()}
+    for name, info in model.model_fields.items():
+        for inner, suffix in _nested_models(info.annotation):
+            found.update(unit_paths(inner, f"{prefix}{name}{suffix}."))
+    return found
+
+
+def _nested_models(annotation: Any) -> list[tuple[type[BaseModel], str]]:
+    if isinstance(annotation, type) and issubclass(annotation, BaseModel):
+        return [(annotation, "")]
+    origin = get_origin(annotation)
+    args = get_args(annotation)
+    if origin is list and args:
+        return [(m, "[]" + s) for m, s in _nested_models(args[0])]
+    if args:  # Optional[...] and other unions
+        return [found for arg in args for found in _nested_models(arg)]
+    return []

@@ -370,3 +370,36 @@ def default_stands() -> dict[StandKind, Stand]:
             groups=PROFILOMETER_GROUPS,
         ),
     }
+
+
+def configure_stands(
+    overrides: dict[str, dict[str, object]] | None = None,
+) -> dict[StandKind, Stand]:
+    """The four stands with a lab's overrides of their configurations (e.g. from a file).
+
+    ``overrides`` maps a stand kind to the fields to change; every value is checked by the
+    stand's configuration schema, so a wrong unit or a negative clearance fails here.
+    """
+    stands = default_stands()
+    for kind_name, fields in (overrides or {}).items():
+        kind = StandKind(kind_name)
+        stand = stands[kind]
+        merged = with_overrides(stand.configuration, fields)
+        stands[kind] = stand.model_copy(update={"configuration": merged})
+    return stands
+
+
+def with_overrides(config: StandConfig, fields: dict[str, object]) -> StandConfig:
+    """A configuration with some fields replaced, validated (nested models merge)."""
+    data = config.model_dump()
+    _merge(data, fields)
+    return type(config).model_validate(data)
+
+
+def _merge(into: dict[str, object], update: dict[str, object]) -> None:
+    for key, value in update.items():
+        current = into.get(key)
+        if isinstance(current, dict) and isinstance(value, dict):
+            _merge(current, value)
+        else:
+            into[key] = value

@@ -1,1 +1,62 @@
-"""rigserver.analysis"""
+"""One pipeline per stand: a stored run's readings -> the lab manual's results (via core).
+
+:func:`analyse` picks the stand's pipeline and returns the results with their units.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
+from pydantic import BaseModel
+
+from rigserver.analysis import smts2
+from rigserver.analysis.readings import Readings
+from schemas.quantity import unit_paths
+from schemas.runs import Run
+from schemas.stands import StandKind
+
+__all__ = ["AnalysisResult", "Readings", "analyse"]
+
+_PIPELINES: dict[StandKind, Callable[[Run, Readings], BaseModel]] = {
+    StandKind.SMTS2: smts2.analyse,
+}
+
+
+@dataclass(frozen=True)
+class AnalysisResult:
+    """The results of one run: the wire payload and a few headline figures."""
+
+    values: BaseModel
+    key_results: dict[str, float]
+
+    @property
+    def payload(self) -> dict[str, Any]:
+        return {
+            "stand": getattr(self.values, "stand", None),
+            "values": self.values.model_dump(mode="json"),
+            "units": unit_paths(type(self.values)),
+        }
+
+
+_KEYS: dict[StandKind, tuple[str, ...]] = {
+    StandKind.SMTS2: ("friction_steady", "experimental.intensity", "theoretical.intensity"),
+}
+
+
+def analyse(run: Run, readings: Readings) -> AnalysisResult:
+    """The stand's results on the run's readings (what has arrived, for an open run)."""
+    values = _PIPELINES[run.stand](run, readings)
+    return AnalysisResult(values=values, key_results=_headline(values, _KEYS[run.stand]))
+
+
+def _headline(values: BaseModel, paths: tuple[str, ...]) -> dict[str, float]:
+    found: dict[str, float] = {}
+    for path in paths:
+        node: Any = values
+        for part in path.split("."):
+            node = getattr(node, part, None)
+        if isinstance(node, int | float) and not isinstance(node, bool):
+            found[path] = float(node)
+    return found

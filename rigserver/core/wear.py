@@ -109,6 +109,24 @@ class SteadyFriction:
     count: int
 
 
+def steady_window_start(*, samples: int, fraction: float = 0.5) -> int:
+    """Index of the first sample of the steady window: the last ``fraction`` of ``samples``.
+
+    The rule of :func:`steady_friction`, for callers that stream a long record.
+
+    Parameters
+    ----------
+    samples : int
+        Length of the series, >= 1.
+    fraction : float
+        Share of the series, from the end, taken as steady; 0 < fraction <= 1.
+    """
+    if samples < 1:
+        raise ModelInputError(f"samples must be >= 1, got {samples}")
+    share = float(within("fraction", fraction, 0.0, 1.0, closed=(False, True)))
+    return min(math.floor(samples * (1.0 - share)), samples - 1)
+
+
 def steady_friction(*, f: ArrayLike, fraction: float = 0.5) -> SteadyFriction:
     """Steady mean of a friction-coefficient series after running-in (for (2.8)).
 
@@ -135,9 +153,7 @@ def steady_friction(*, f: ArrayLike, fraction: float = 0.5) -> SteadyFriction:
         raise ModelInputError(
             f"f must be a non-empty one-dimensional series, got shape {series.shape}"
         )
-    share = float(within("fraction", fraction, 0.0, 1.0, closed=(False, True)))
-    n = series.size
-    start = min(math.floor(n * (1.0 - share)), n - 1)
+    start = steady_window_start(samples=series.size, fraction=fraction)
     window = series[start:]
     return SteadyFriction(
         mean=float(window.mean()),

@@ -1,0 +1,60 @@
+"""``create_app``: the FastAPI application, handed its settings, store, stands and keys."""
+
+from __future__ import annotations
+
+from collections.abc import AsyncIterator
+from contextlib import asynccontextmanager
+
+from fastapi import FastAPI
+from starlette.middleware.cors import CORSMiddleware
+
+from rigserver.api import problems
+from rigserver.api.auth import ApiKey, Keyring
+from rigserver.api.body_limit import BodyLimit
+from rigserver.api.deps import Services
+from rigserver.api.routes import readings, results, runs
+from rigserver.api.routes import stands as stand_routes
+from rigserver.api.settings import Settings
+from rigserver.storage.base import RunStore
+from schemas.stands import Stand, StandKind
+
+API_PREFIX = "/api/v1"
+
+
+def create_app(
+    settings: Settings,
+    store: RunStore,
+    keys: list[ApiKey],
+    stands: dict[StandKind, Stand],
+) -> FastAPI:
+    """Build the service. Nothing is built at import time; the store is closed on shutdown."""
+
+    @asynccontextmanager
+    async def lifespan(app: FastAPI) -> AsyncIterator[None]:
+        yield
+        store.close()
+
+    app = FastAPI(
+        title="rig",
+        version="0.1.0",
+        summary="Data acquisition and analysis for tribology test stands",
+        description="Lab PCs post readings of the SMTs-2, slide-bearing, MTOS and ABRIS-PM7 "
+        "stands; the service stores each run in HDF5 and computes what the lab manual asks "
+        "for. Errors are application/problem+json naming the field, the value and the limit.",
+        lifespan=lifespan,
+    )
+    app.state.services = Services(
+        settings=settings, store=store, stands=stands, keyring=Keyring(keys)
+    )
+    problems.install(app)
+    for router in (stand_routes.router, runs.router, readings.router, results.router):
+        app.include_router(router, prefix=API_PREFIX)
+    app.add_middleware(BodyLimit, max_bytes=settings.max_body_bytes)
+    if settings.cors_origins:
+        app.add_middleware(
+            CORSMiddleware,
+            allow_origins=list(settings.cors_origins),
+            allow_methods=["GET", "POST"],
+            allow_headers=["Authorization", "Content-Type"],
+        )
+    return app

@@ -1,0 +1,31 @@
+"""``/runs/{id}/results``: what the lab manual asks for, computed through the model library."""
+
+from __future__ import annotations
+
+from typing import Any
+
+from fastapi import APIRouter
+from fastapi.concurrency import run_in_threadpool
+
+from rigserver.api.deps import ReadAccess, ServicesDep
+from rigserver.api.routes.runs import load_run
+from rigserver.api.run_results import compute_results
+from schemas.runs import RunState
+
+router = APIRouter(prefix="/runs/{run_id}/results", tags=["results"], dependencies=[ReadAccess])
+
+
+@router.get(
+    "",
+    summary="The run's results with units",
+    description="For a finished run, the results stored when it finished; for an open run, "
+    "computed on the readings that have arrived so far.",
+)
+async def get_results(run_id: str, services: ServicesDep) -> dict[str, Any]:
+    run = await run_in_threadpool(load_run, services, run_id)
+    if run.state is RunState.FINISHED:
+        stored = services.store.results(run.id)
+        if stored is not None:
+            return stored
+    result = await run_in_threadpool(compute_results, services, run)
+    return result.payload

@@ -1,0 +1,102 @@
+"""``/runs``: open, list, look up, finish and abort runs."""
+
+from __future__ import annotations
+
+from datetime import UTC, datetime
+from typing import Annotated, Any
+
+from fastapi import APIRouter, Query, status
+from pydantic import ValidationError
+
+from rigserver.api.deps import CallerDep, ReadAccess, Services, ServicesDep, require_write
+from rigserver.api.problems import ApiProblem
+from rigserver.api.run_results import compute_results
+from schemas.channels import Violation
+from schemas.runs import Run, RunCreate, RunPage, RunQuery, RunState, is_run_id, new_run_id
+from schemas.stands import with_overrides
+
+router = APIRouter(prefix="/runs", tags=["runs"])
+
+
+def load_run(services: Services, run_id: str) -> Run:
+    """The run, or a 404 that says why (a malformed id never reaches the store)."""
+    if not is_run_id(run_id):
+        raise ApiProblem(
+            404,
+            "Run not found",
+            f"{run_id[:40]!r} is not a run id (they look like 20261122T114026Z-1a2b3c4d)",
+        )
+    return services.store.get_run(run_id)
+
+
+@router.post(
+    "",
+    status_code=status.HTTP_201_CREATED,
+    summary="Open a run on a stand",
+    description="Needs a key with the scope `write:<stand>`. The run keeps a snapshot of the "
+    "stand's configuration with the overrides given here.",
+)
+def create_run(body: RunCreate, services: ServicesDep, caller: CallerDep) -> Run:
+    require_write(caller, body.stand)
+    stand = services.stands[body.stand]
+    try:
+        configuration = with_overrides(stand.configuration, body.configuration)
+    except ValidationError as exc:
+        errors = [
+            Violation(
+                field="configuration." + ".".join(str(p) for p in e["loc"]),
+                value=e["input"] if isinstance(e.get("input"), int | float | str) else None,
+                message=f"configuration.{'.'.join(str(p) for p in e['loc'])}: {e['msg']}",
+            )
+            for e in exc.errors()[:20]
+        ]
+        raise ApiProblem(
+            422, "Invalid configuration", errors[0].message if errors else str(exc), errors
+        ) from None
+    run = Run(
+        id=new_run_id(),
+        stand=body.stand,
+        operator=body.operator,
+        title=body.title,
+        specimen=body.specimen,
+        test_plan=body.test_plan,
+        notes=body.notes,
+        configuration=configuration.model_dump(mode="json"),
+        created=datetime.now(UTC),
+    )
+    return services.store.create_run(run)
+
+
+@router.get("", summary="List and search runs, newest first", dependencies=[ReadAccess])
+def list_runs(query: Annotated[RunQuery, Query()], services: ServicesDep) -> RunPage:
+    return services.store.list_runs(query)
+
+
+@router.get("/{run_id}", summary="One run: metadata, state, rows stored", dependencies=[ReadAccess])
+def get_run(run_id: str, services: ServicesDep) -> Run:
+    return load_run(services, run_id)
+
+
+def _end(run_id: str, services: Services, caller: Any, state: RunState) -> Run:
+    run = load_run(services, run_id)
+    require_write(caller, run.stand)
+    if run.state is not RunState.OPEN:
+        raise ApiProblem(409, "Run is not open", f"run {run_id} is already {run.state.value}")
+    with services.run_locks[run_id]:
+        if state is RunState.FINISHED:
+            results = compute_results(services, run)
+            services.store.set_results(run_id, results.payload, results.key_results)
+        return services.store.end_run(run_id, state)
+
+
+@router.post(
+    "/{run_id}/finish",
+    summary="Finish a run: compute and store its results, finalize its file",
+)
+def finish_run(run_id: str, services: ServicesDep, caller: CallerDep) -> Run:
+    return _end(run_id, services, caller, RunState.FINISHED)
+
+
+@router.post("/{run_id}/abort", summary="Abort a run: keep its readings, take no more")
+def abort_run(run_id: str, services: ServicesDep, caller: CallerDep) -> Run:
+    return _end(run_id, services, caller, RunState.ABORTED)

@@ -1,0 +1,46 @@
+"""The bridge from a stored run to its stand's analysis: the store seen as the run's readings."""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+
+import numpy as np
+from numpy.typing import NDArray
+
+from rigserver.analysis import AnalysisResult, analyse
+from rigserver.api.deps import Services
+from schemas.runs import Run
+from schemas.stands import MEASUREMENTS
+
+
+class StoredReadings:
+    """One run's readings in the store, as the analysis asks for them."""
+
+    def __init__(self, services: Services, run: Run) -> None:
+        self._store = services.store
+        self._run = run
+
+    def rows(self, group: str) -> int:
+        return self._run.rows.get(group, 0)
+
+    def read(self, group: str, channels: list[str] | None = None) -> dict[str, NDArray[np.float64]]:
+        if self.rows(group) == 0:
+            return {}
+        return self._store.read(self._run.id, group, channels)
+
+    def iter_chunks(
+        self, group: str, channels: list[str] | None = None, rows: int = 1 << 20
+    ) -> Iterator[dict[str, NDArray[np.float64]]]:
+        if self.rows(group) == 0:
+            return iter(())
+        return self._store.iter_chunks(self._run.id, group, channels, rows)
+
+    def measurements(self) -> dict[str, float]:
+        if self.rows(MEASUREMENTS) == 0:
+            return {}
+        return self._store.last_values(self._run.id, MEASUREMENTS)
+
+
+def compute_results(services: Services, run: Run) -> AnalysisResult:
+    """The stand's results on what the run holds now (all of it once finished)."""
+    return analyse(run, StoredReadings(services, run))

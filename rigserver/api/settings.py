@@ -1,0 +1,39 @@
+"""Settings of the service, from the environment (prefix ``RIG_``) or the command line."""
+
+from __future__ import annotations
+
+from functools import lru_cache
+from pathlib import Path
+
+from platformdirs import user_data_dir
+from pydantic import Field
+from pydantic_settings import BaseSettings, SettingsConfigDict
+
+
+def default_data_dir() -> Path:
+    """``./data`` if it exists (a checkout), else the user's data directory."""
+    local = Path("data")
+    return local if local.is_dir() else Path(user_data_dir("rig", appauthor=False))
+
+
+class Settings(BaseSettings):
+    model_config = SettingsConfigDict(env_prefix="RIG_", frozen=True)
+
+    data_dir: Path = Field(default_factory=default_data_dir, description="where runs are stored")
+    keys_file: Path | None = Field(default=None, description="JSON list of API keys and scopes")
+    stands_file: Path | None = Field(
+        default=None, description="JSON of the lab's stand configuration overrides"
+    )
+    public_reads: bool = Field(default=False, description="reads need no key")
+    max_body_bytes: int = Field(default=64 << 20, gt=0, description="largest request body")
+    cors_origins: tuple[str, ...] = Field(default=(), description="origins allowed by CORS")
+    synchronous: str = Field(
+        default="normal",
+        pattern="^(normal|full)$",
+        description="journal durability: 'normal' survives a crash, 'full' a power loss",
+    )
+
+
+@lru_cache
+def get_settings() -> Settings:
+    return Settings()

@@ -21,7 +21,6 @@ test: $(BIN)/.installed
 	$(BIN)/ruff format --check .
 	$(BIN)/mypy
 	$(BIN)/lint-imports
-	$(BIN)/python -m schemas.generate --check
 	$(BIN)/pytest
 
 bench: $(BIN)/.installed

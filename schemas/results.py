@@ -76,3 +76,86 @@ class Smts2Results(BaseModel):
         default_factory=list, description="what is missing for the results still empty"
     )
     notes: list[str] = Field(default_factory=list)
+
+
+# --- slide-bearing stand ------------------------------------------------------------------
+
+
+class SlideBearingRow(BaseModel):
+    """One row of tables 3.1 and 3.3: a limb position."""
+
+    limb_angle: float = quantity(..., "deg", "φ_limb")
+    phi_model: float = quantity(..., "deg", "φ in the model frame (3.20)")
+    pressure: float = quantity(..., "Pa", "gauge pressure at the central manometer (z = 0)")
+    e_x: float = quantity(..., "m", "e_x (3.16)")
+    e_y: float = quantity(..., "m", "e_y (3.16)")
+    e: float = quantity(..., "m", "e (3.16)")
+    chi: float = quantity(..., "1", "χ = e/h0 (3.17)")
+    pi_measured: float = quantity(..., "1", "Π_э (3.18)")
+    pi_short: float | None = quantity(None, "1", "Π0 at z = 0, χ_ср (3.10)")
+    pi_long: float | None = quantity(None, "1", "Π∞ at χ_ср (3.15)")
+    error_short: float | None = quantity(None, "%", "(Π0 - Π_э)/Π0 (3.26)")
+    error_long: float | None = quantity(None, "%", "(Π∞ - Π_э)/Π∞ (3.27)")
+
+
+class AxialPoint(BaseModel):
+    """One manometer of table 3.2, at the angle of the largest pressure."""
+
+    z: float = quantity(..., "1", "z = Z/R")
+    pressure: float = quantity(..., "Pa", "gauge pressure")
+    pi_measured: float = quantity(..., "1", "Π_z (3.18)")
+    pi_short: float | None = quantity(None, "1", "Π_m, short bearing (3.10)")
+    error: float | None = quantity(None, "%", "(Π_m - Π_z)/Π_m (3.25)")
+
+
+class SlideBearingResults(BaseModel):
+    stand: Literal["slide_bearing"] = "slide_bearing"
+    rows: int
+    load: float | None = quantity(None, "N", "load from the loader scale (16.2 N/mm)")
+    temperature: float | None = quantity(None, "degC", "t = (t1 + t2)/2 (3.21)")
+    viscosity: float | None = quantity(None, "Pa*s", "μ_t (3.21)")
+    mu_bar: float | None = quantity(None, "1", "μ̄ = μ_t/μ0 (3.22)")
+    chi_mean: float | None = quantity(None, "1", "χ_ср (3.23)")
+    half_width: float = quantity(..., "1", "a = B/(2R) (corrected E3)")
+    phi_max: float | None = quantity(None, "deg", "model angle of the largest pressure")
+    pressure_max: float | None = quantity(None, "Pa", "largest gauge pressure at z = 0")
+    table: list[SlideBearingRow] = Field(default_factory=list)
+    axial: list[AxialPoint] = Field(default_factory=list)
+    pending: list[str] = Field(default_factory=list)
+    notes: list[str] = Field(default_factory=list)
+
+
+# --- MTOS stand ---------------------------------------------------------------------------
+
+
+class MtosStep(BaseModel):
+    """One load step: a row of tables 4.4-4.6."""
+
+    load: float = quantity(..., "N", "N")
+    regime: Literal["fluid", "mixed", "boundary"] = Field(description="the experiment's oil feed")
+    e_x: float = quantity(..., "m", "e_x (4.11)")
+    e_y: float = quantity(..., "m", "e_y (4.11)")
+    e: float = quantity(..., "m", "e (4.11)")
+    chi: float = quantity(..., "1", "χ = e/h0 (4.11)")
+    angle: float = quantity(..., "deg", "δ (fluid film) or γ (mixed, boundary) (4.12)")
+    spring_force: float = quantity(..., "N", "F = k·Δl (4.13)")
+    friction_moment: float = quantity(..., "N*m", "M_tr = F·l1 (4.14)")
+    friction_force: float = quantity(..., "N", "F_tr = M_tr/l2 (4.15)")
+    friction_measured: float = quantity(..., "1", "f_э = F_tr/N (4.16)")
+    viscosity: float = quantity(..., "Pa*s", "μ_t = (μ3 + μ4 + μ5)/3 (4.18)")
+    bearing_characteristic: float = quantity(..., "1", "S1 = μ_t·ω/p̄, p̄ = N/(BD) (4.21, E9)")
+    temperature_rise: dict[str, float] = quantity(..., "degC", "Δt_i = t_i - t1 (4.19, E4)")
+    friction_theory: float | None = quantity(None, "1", "f_T (4.10), fluid film only")
+    friction_error: float | None = quantity(None, "%", "Δf = (f_э - f_T)/f_э")
+    h_min: float = quantity(..., "m", "h_min = h0 - e")
+    film: Literal["fluid", "mixed"] = Field(description="h_min against h_min^crit (seed 001)")
+
+
+class MtosResults(BaseModel):
+    stand: Literal["mtos"] = "mtos"
+    rows: int
+    h_crit: float = quantity(..., "m", "h_min^crit, sum of the five terms (seed 001)")
+    half_width: float = quantity(..., "1", "a = B/(2R) = B/D (corrected E3)")
+    steps: list[MtosStep] = Field(default_factory=list)
+    pending: list[str] = Field(default_factory=list)
+    notes: list[str] = Field(default_factory=list)

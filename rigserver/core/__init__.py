@@ -10,4 +10,5 @@ Modules, one per lab work or idea:
 - :mod:`rigserver.core.wear`: lab work 2, the SMTs-2 friction and wear machine.
 - :mod:`rigserver.core.bearing`: labs 3 and 4, asymptotic journal-bearing theory.
 - :mod:`rigserver.core.stands`: processing of the slide-bearing and MTOS readings.
+- :mod:`rigserver.core.film`: the fluid-film criterion h_min >= h_min^crit (seed 001).
 """

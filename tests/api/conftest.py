@@ -1,0 +1,105 @@
+"""The service in process (TestClient over an in-memory store) and over real HTTP."""
+
+from __future__ import annotations
+
+import json
+import os
+import socket
+import subprocess
+import sys
+import time
+from collections.abc import Iterator
+from pathlib import Path
+
+import httpx
+import pytest
+from fastapi.testclient import TestClient
+
+from rigserver.api.app import create_app
+from rigserver.api.auth import ApiKey
+from rigserver.api.settings import Settings
+from rigserver.storage import MemoryStore
+from schemas.stands import configure_stands
+
+READER = "reader-key-00000000000000"
+WRITER = "writer-key-00000000000000"
+MTOS_ONLY = "mtos-writer-key-000000000"
+
+KEYS = [
+    {"key": READER, "scopes": ["read"], "name": "instructor"},
+    {"key": WRITER, "scopes": ["read", "write:*"], "name": "lab PC"},
+    {"key": MTOS_ONLY, "scopes": ["write:mtos"], "name": "MTOS PC"},
+]
+
+
+def auth(key: str) -> dict[str, str]:
+    return {"Authorization": f"Bearer {key}"}
+
+
+@pytest.fixture
+def client(tmp_path: Path) -> Iterator[TestClient]:
+    settings = Settings(data_dir=tmp_path)
+    app = create_app(
+        settings, MemoryStore(), [ApiKey.model_validate(k) for k in KEYS], configure_stands()
+    )
+    with TestClient(app, raise_server_exceptions=False) as c:
+        yield c
+
+
+def free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return int(s.getsockname()[1])
+
+
+class Server:
+    """``rigserver serve`` in a subprocess on a free loopback port."""
+
+    def __init__(self, data_dir: Path, keys_file: Path) -> None:
+        self.data_dir = data_dir
+        self.keys_file = keys_file
+        self.port = free_port()
+        self.url = f"http://127.0.0.1:{self.port}"
+        self.proc: subprocess.Popen[bytes] | None = None
+
+    def start(self) -> None:
+        cmd = [sys.executable, "-m", "rigserver.cli", "serve", "--port", str(self.port)]
+        cmd += ["--data-dir", str(self.data_dir), "--keys-file", str(self.keys_file)]
+        cmd += ["--log-level", "warning"]
+        env = {**os.environ, "PYTHONUNBUFFERED": "1"}
+        self.proc = subprocess.Popen(cmd, env=env, stderr=subprocess.PIPE)
+        deadline = time.monotonic() + 30
+        while time.monotonic() < deadline:
+            if self.proc.poll() is not None:
+                err = self.proc.stderr.read().decode() if self.proc.stderr else ""
+                raise RuntimeError(f"rigserver exited: {err}")
+            try:
+                httpx.get(f"{self.url}/api/v1/stands", headers=auth(READER), timeout=1)
+                return
+            except httpx.TransportError:
+                time.sleep(0.1)
+        raise RuntimeError("rigserver did not start in 30 s")
+
+    def kill(self) -> None:
+        if self.proc and self.proc.poll() is None:
+            self.proc.kill()
+            self.proc.wait()
+
+    def stop(self) -> None:
+        if self.proc and self.proc.poll() is None:
+            self.proc.terminate()
+            try:
+                self.proc.wait(timeout=10)
+            except subprocess.TimeoutExpired:
+                self.proc.kill()
+                self.proc.wait()
+
+
+@pytest.fixture
+def server(tmp_path: Path) -> Iterator[Server]:
+    keys_file = tmp_path / "keys.json"
+    keys_file.write_text(json.dumps(KEYS))
+    srv = Server(tmp_path / "data", keys_file)
+    srv.start()
+    yield srv
+    srv.stop()

@@ -15,7 +15,12 @@ from pydantic import BaseModel
 
 from schemas.problems import Problem
 from schemas.readings import BatchReceipt, ReadingBatch
-from schemas.results import Smts2Results
+from schemas.results import (
+    MtosResults,
+    ProfilometerResults,
+    SlideBearingResults,
+    Smts2Results,
+)
 from schemas.runs import Run, RunCreate, RunPage
 from schemas.stands import CONFIG_MODELS, Stand
 
@@ -30,6 +35,9 @@ MODELS: dict[str, type[BaseModel]] = {
     "problem": Problem,
     "stand": Stand,
     "results_smts2": Smts2Results,
+    "results_slide_bearing": SlideBearingResults,
+    "results_mtos": MtosResults,
+    "results_profilometer": ProfilometerResults,
     **{f"config_{kind.value}": model for kind, model in CONFIG_MODELS.items()},
 }
 

@@ -159,3 +159,43 @@ class MtosResults(BaseModel):
     steps: list[MtosStep] = Field(default_factory=list)
     pending: list[str] = Field(default_factory=list)
     notes: list[str] = Field(default_factory=list)
+
+
+# --- profilometer -------------------------------------------------------------------------
+
+
+class BearingFitResult(BaseModel):
+    method: Literal["manual", "lsq"]
+    b: float = quantity(..., "1", "b of t_p = b·ε^ν (1.8)")
+    nu: float = quantity(..., "1", "ν of t_p = b·ε^ν (1.8)")
+    residuals: list[float] = quantity(..., "1", "t_pэ - t_pт per level (table 1.8)")
+    nu_partial: list[float] = quantity(..., "1", "ν_1,3, ν_2,5, ν_3,6 (1.16), manual method")
+    b_partial: list[float] = quantity(..., "1", "b_1, b_3, b_5 (1.18), manual method")
+
+
+class ProfilometerResults(BaseModel):
+    stand: Literal["profilometer"] = "profilometer"
+    rows: int
+    base_length: float | None = quantity(None, "m", "l, length of the trace analysed")
+    ra: float | None = quantity(None, "m", "Ra (1.3)")
+    rq: float | None = quantity(None, "m", "Rq = ρ")
+    rz: float | None = quantity(None, "m", "Rz, ten-point height (1.4)")
+    rmax: float | None = quantity(None, "m", "Rmax, peak line to valley line")
+    sm: float | None = quantity(None, "m", "Sm, mean spacing of profile elements")
+    asperity_radius: float | None = quantity(None, "m", "R = √(π/2)/ρ2 (1.1, corrected E5)")
+    ra_error: float | None = quantity(None, "m", "instrument error of Ra (1.14)")
+    rz_error: float | None = quantity(None, "m", "instrument error of Rz (1.14)")
+    rmax_error: float | None = quantity(None, "m", "instrument error of Rmax (1.14)")
+    sm_error: float | None = quantity(None, "m", "instrument error of Sm (1.14)")
+    levels: list[float] = quantity([], "m", "p_i, depth below the peak line (table 1.6)")
+    eps: list[float] = quantity([], "1", "ε = p/Rmax (1.7)")
+    tp: list[float] = quantity([], "1", "t_p = η_p/l (1.6)")
+    fit_manual: BearingFitResult | None = None
+    fit_lsq: BearingFitResult | None = None
+    complex_parameter: float | None = quantity(None, "1", "Δ = Rmax/(R·b^(1/ν)) (1.9)")
+    ra_from_complex: float | None = quantity(None, "m", "Ra = 4.3·Δ^(1/2) μm (1.10)")
+    complex_parameter_equilibrium: float | None = quantity(
+        None, "1", "Δ_T for the configured material and load (1.11)"
+    )
+    pending: list[str] = Field(default_factory=list)
+    notes: list[str] = Field(default_factory=list)

@@ -139,7 +139,9 @@ class ProfilometerConfig(_Config):
     contour_pressure: float = quantity(18e6, "Pa", "p_c, contour pressure for Δ_T (1.11)", gt=0)
     tau0: float = quantity(1.2e6, "Pa", "τ0, friction parameter for Δ_T (1.11)", gt=0)
     alpha_r: float = quantity(0.02, "1", "α_r, hysteresis loss for Δ_T (1.12)", gt=0)
-    levels: int = quantity(6, "1", "number of levels p_i of the bearing curve (table 1.7)", ge=6)
+    levels: int = quantity(
+        10, "1", "strips between the peak line and the mean line (table 1.6, >= 10)", ge=6
+    )
 
 
 StandConfig = Smts2Config | SlideBearingConfig | MtosConfig | ProfilometerConfig

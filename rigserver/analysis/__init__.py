@@ -11,7 +11,7 @@ from typing import Any
 
 from pydantic import BaseModel
 
-from rigserver.analysis import mtos, slide_bearing, smts2
+from rigserver.analysis import mtos, profilometer, slide_bearing, smts2
 from rigserver.analysis.readings import Readings
 from schemas.quantity import unit_paths
 from schemas.runs import Run
@@ -23,6 +23,7 @@ _PIPELINES: dict[StandKind, Callable[[Run, Readings], BaseModel]] = {
     StandKind.SMTS2: smts2.analyse,
     StandKind.SLIDE_BEARING: slide_bearing.analyse,
     StandKind.MTOS: mtos.analyse,
+    StandKind.PROFILOMETER: profilometer.analyse,
 }
 
 
@@ -46,6 +47,7 @@ _KEYS: dict[StandKind, tuple[str, ...]] = {
     StandKind.SMTS2: ("friction_steady", "experimental.intensity", "theoretical.intensity"),
     StandKind.SLIDE_BEARING: ("chi_mean", "pressure_max", "phi_max"),
     StandKind.MTOS: ("h_crit",),
+    StandKind.PROFILOMETER: ("ra", "rz", "complex_parameter"),
 }
 
 

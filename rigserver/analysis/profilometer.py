@@ -1,0 +1,91 @@
+"""Lab work 1 on a stored run: tables 1.6-1.8 and the complex parameter from one trace."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from rigserver.analysis.readings import Readings
+from rigserver.core import roughness
+from rigserver.core.errors import ModelInputError
+from schemas.results import BearingFitResult, ProfilometerResults
+from schemas.runs import Run
+from schemas.stands import ProfilometerConfig
+from schemas.units import UNITS
+
+GROUP = "profile"
+_M_PER_MM = UNITS["mm"].factor
+_M_PER_UM = UNITS["um"].factor
+
+
+def analyse(run: Run, readings: Readings) -> ProfilometerResults:
+    c = ProfilometerConfig.model_validate(run.configuration)
+    result = ProfilometerResults(rows=readings.rows(GROUP))
+    trace = readings.read(GROUP)
+    if not trace:
+        result.pending.append("no profile yet")
+        return result
+    x = trace["x"] * _M_PER_MM
+    y = trace["y"] * _M_PER_UM
+    try:
+        params = roughness.profile_parameters(x=x, y=y)
+    except ModelInputError as exc:
+        result.pending.append(f"the profile cannot be analysed yet: {exc}")
+        return result
+    result.base_length = params.base_length
+    result.ra, result.rq, result.rz = params.ra, params.rq, params.rz
+    result.rmax, result.sm, result.asperity_radius = params.rmax, params.sm, params.asperity_radius
+    try:
+        err = roughness.instrument_error(parameters=params)
+        result.ra_error, result.rz_error = err.ra, err.rz
+        result.rmax_error, result.sm_error = err.rmax, err.sm
+    except ModelInputError as exc:
+        result.notes.append(f"instrument error not given: {exc}")
+    # Table 1.6: strips of equal depth from the peak line down to the mean line.
+    line = roughness.mean_line(x=x, y=y)
+    peak = float(np.max(y - (line.slope * x + line.intercept)))
+    levels = peak * np.arange(1, c.levels + 1) / c.levels
+    curve = roughness.bearing_curve(x=x, y=y, levels=levels)
+    result.levels, result.eps, result.tp = (
+        curve.levels.tolist(),
+        curve.eps.tolist(),
+        curve.tp.tolist(),
+    )
+    for method in ("manual", "lsq"):
+        fit = roughness.fit_bearing_curve(eps=curve.eps, tp=curve.tp, method=method)
+        model = BearingFitResult(
+            method=method,
+            b=fit.b,
+            nu=fit.nu,
+            residuals=fit.residuals.tolist(),
+            nu_partial=list(fit.nu_partial),
+            b_partial=list(fit.b_partial),
+        )
+        if method == "manual":
+            result.fit_manual = model
+        else:
+            result.fit_lsq = model
+    if result.fit_manual is not None:
+        delta = float(
+            roughness.complex_parameter(
+                rmax=params.rmax,
+                radius=params.asperity_radius,
+                b=result.fit_manual.b,
+                nu=result.fit_manual.nu,
+            )
+        )
+        result.complex_parameter = delta
+        result.ra_from_complex = float(roughness.ra_from_complex_parameter(delta=delta))
+        try:
+            result.complex_parameter_equilibrium = float(
+                roughness.equilibrium_complex_parameter(
+                    nu=result.fit_manual.nu,
+                    poisson=c.poisson,
+                    youngs_modulus=c.youngs_modulus,
+                    contour_pressure=c.contour_pressure,
+                    tau0=c.tau0,
+                    alpha_r=c.alpha_r,
+                )
+            )
+        except ModelInputError as exc:
+            result.notes.append(f"Δ_T not computed: {exc}")
+    return result

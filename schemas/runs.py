@@ -15,7 +15,7 @@ from schemas.stands import StandKind
 RUN_ID_PATTERN = r"^[0-9]{8}T[0-9]{6}Z-[0-9a-f]{8}$"
 _RUN_ID = re.compile(RUN_ID_PATTERN)
 
-RunId = Annotated[str, StringConstraints(pattern=RUN_ID_PATTERN, max_length=24)]
+RunId = Annotated[str, StringConstraints(pattern=RUN_ID_PATTERN, max_length=25)]
 ShortText = Annotated[str, StringConstraints(max_length=200)]
 Scalar = str | float | int | bool
 

@@ -1,0 +1,50 @@
+"""An in-memory run's readings, for testing the pipelines without a store."""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from datetime import UTC, datetime
+
+import numpy as np
+from numpy.typing import NDArray
+
+from schemas.runs import Run
+from schemas.stands import StandKind, default_stands
+
+
+class FakeReadings:
+    def __init__(self, groups: dict[str, dict[str, list[float]]], measurements: dict[str, float]):
+        self.groups = {
+            g: {k: np.asarray(v, float) for k, v in c.items()} for g, c in groups.items()
+        }
+        self._m = measurements
+
+    def rows(self, group: str) -> int:
+        cols = self.groups.get(group)
+        return len(next(iter(cols.values()))) if cols else 0
+
+    def read(self, group: str, channels: list[str] | None = None) -> dict[str, NDArray[np.float64]]:
+        return dict(self.groups.get(group, {}))
+
+    def iter_chunks(
+        self, group: str, channels: list[str] | None = None, rows: int = 1 << 20
+    ) -> Iterator[dict[str, NDArray[np.float64]]]:
+        cols = self.groups.get(group, {})
+        n = self.rows(group)
+        for start in range(0, n, rows):
+            yield {k: v[start : start + rows] for k, v in cols.items()}
+
+    def measurements(self) -> dict[str, float]:
+        return dict(self._m)
+
+
+def make_run(kind: StandKind, **config: object) -> Run:
+    base = default_stands()[kind].configuration.model_dump(mode="json")
+    base.update(config)
+    return Run(
+        id="20261122T114026Z-0000abcd",
+        stand=kind,
+        operator="test",
+        configuration=base,
+        created=datetime(2026, 11, 22, tzinfo=UTC),
+    )

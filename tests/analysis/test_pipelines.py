@@ -1,0 +1,139 @@
+"""Each stand's pipeline against numbers computed by hand from the manual's formulas."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from rigserver.analysis import analyse, smts2
+from schemas.stands import StandKind
+from tests.analysis.conftest import FakeReadings, make_run
+
+AT = 98_066.5  # Pa per technical atmosphere
+
+
+def test_smts2_streaming_equals_one_pass() -> None:
+    """Chunked statistics give the same steady f as the whole series at once (2.8)."""
+    rng = np.random.default_rng(1)
+    n = 2_001
+    moment = 2.7 + 0.1 * rng.standard_normal(n)
+    cols = {
+        "time": list(np.arange(n) * 0.1),
+        "load": [300.0] * n,
+        "speed": [1000.0] * n,
+        "friction_moment": list(moment),
+        "revolutions": list(np.arange(n) * 0.1),
+    }
+    readings = FakeReadings({"friction": cols}, {})
+    one = smts2.analyse(make_run(StandKind.SMTS2), readings)
+    f = moment / (300 * 0.0225)
+    start = math.floor(n * 0.5)
+    assert one.friction_steady == pytest.approx(f[start:].mean(), rel=1e-12)
+    assert one.friction_steady_std == pytest.approx(f[start:].std(), rel=1e-9)
+    chunked = readings.iter_chunks
+    readings.iter_chunks = lambda g, c=None, rows=1 << 20: chunked(g, c, rows=97)  # type: ignore[method-assign]
+    two = smts2.analyse(make_run(StandKind.SMTS2), readings)
+    assert two.friction_steady == pytest.approx(one.friction_steady, rel=1e-12)
+    assert len(two.friction.x) == 1000
+
+
+def test_slide_bearing_tables_by_hand() -> None:
+    h0, R, B, scale = 175e-6, 25.175e-3, 29.7e-3, 1e-6
+    e_x = np.array([60e-6, 70e-6, 80e-6])
+    e_y = np.array([50e-6, 45e-6, 40e-6])
+    x0, y0 = 500.0, 400.0
+    # (3.16): e_x = h0 - |X_уст - X|  ->  X = X_уст - (h0 - e_x)/scale
+    x = x0 - (h0 - e_x) / scale
+    y = y0 - (h0 - e_y) / scale
+    p_centre = np.array([0.5, 1.2, 0.8])  # at
+    rows = {
+        "limb_angle": [100.0, 110.0, 120.0],
+        "p1": [0.1, 0.3, 0.2],
+        "p2": [0.3, 0.8, 0.5],
+        "p3": list(p_centre),
+        "p4": [0.3, 0.8, 0.5],
+        "p5": [0.1, 0.3, 0.2],
+        "x": list(x),
+        "y": list(y),
+        "t1": [30.0, 30.0, 30.0],
+        "t2": [40.0, 40.0, 40.0],
+    }
+    m = {"x_zero": x0, "y_zero": y0, "load_zone_end": 150.0, "loader_scale": 10.0}
+    res = analyse(make_run(StandKind.SLIDE_BEARING), FakeReadings({"rows": rows}, m)).values
+    chi = np.hypot(e_x, e_y) / h0  # (3.17)
+    assert [r.chi for r in res.table] == pytest.approx(list(chi), rel=1e-9)
+    assert res.chi_mean == pytest.approx(chi.mean(), rel=1e-12)  # (3.23)
+    assert res.load == pytest.approx(162.0)  # 10 mm x 16.2 N/mm
+    mu0, w0 = 0.0282, 329.0
+    pi_e = p_centre * AT * (h0 / R) ** 2 / (mu0 * w0)  # (3.18)-(3.19)
+    assert [r.pi_measured for r in res.table] == pytest.approx(list(pi_e), rel=1e-12)
+    phi_deg = 360.0 - (150.0 - np.array([100.0, 110.0, 120.0]))  # (3.20)
+    assert [r.phi_model for r in res.table] == pytest.approx(list(phi_deg))
+    mu_bar = 0.0773 * math.exp(-0.0485 * 35.0) / mu0  # (3.21)-(3.22), t = (t1+t2)/2
+    a, c = B / (2 * R), chi.mean()
+    phi = np.radians(phi_deg)
+    pi0 = -3 * mu_bar * a**2 * c * np.sin(phi) / (1 - c * np.cos(phi)) ** 3  # (3.10), z = 0, G = 1
+    assert [r.pi_short for r in res.table] == pytest.approx(list(pi0), rel=1e-9)
+    err = (pi0 - pi_e) / pi0 * 100
+    assert [r.error_short for r in res.table] == pytest.approx(list(err), rel=1e-9)
+    assert res.phi_max == pytest.approx(phi_deg[1])
+    assert [p.z for p in res.axial] == pytest.approx([-0.394, -0.197, 0.0, 0.197, 0.394])
+    assert res.axial[2].pressure == pytest.approx(1.2 * AT)
+
+
+def test_mtos_tables_by_hand() -> None:
+    h0, k, l1, l2, D, B, w = 100e-6, 20e3, 0.20, 0.025, 0.050, 0.040, 157.0
+    loads = np.array([500.0, 1000.0])
+    dl = np.array([0.05, 0.08])  # mm
+    x0 = y0 = 0.0
+    e = np.array([30e-6, 40e-6])
+    # (4.11): e_x = h0·cos45° - |X_уст - X|; put the journal on the diagonal (e_x = e_y)
+    ex = e / math.sqrt(2)
+    x = x0 - (h0 * math.cos(math.pi / 4) - ex) * 1e6  # μm
+    rows = {
+        "load": list(loads),
+        "indicator": list(dl),
+        "x": list(x),
+        "y": list(x),
+        "t1": [30.0, 30.0],
+        "t2": [35.0, 38.0],
+        "t3": [40.0, 45.0],
+        "t4": [41.0, 46.0],
+        "t5": [42.0, 47.0],
+        "regime": [1.0, 1.0],
+    }
+    res = analyse(
+        make_run(StandKind.MTOS), FakeReadings({"steps": rows}, {"x_zero": x0, "y_zero": y0})
+    ).values
+    f_e = k * dl * 1e-3 * l1 / l2 / loads  # (4.13)-(4.16)
+    assert [s.friction_measured for s in res.steps] == pytest.approx(list(f_e), rel=1e-12)
+    assert [s.chi for s in res.steps] == pytest.approx(list(e / h0), rel=1e-9)
+    assert [s.angle for s in res.steps] == pytest.approx([0.0, 0.0], abs=1e-9)  # e_x = e_y
+    mu = [
+        np.mean([0.0773 * math.exp(-0.0485 * t) for t in ts]) for ts in ((40, 41, 42), (45, 46, 47))
+    ]
+    assert [s.viscosity for s in res.steps] == pytest.approx(mu, rel=1e-12)  # (4.17)-(4.18)
+    s1 = np.array(mu) * w * B * D / loads  # (4.21)
+    assert [s.bearing_characteristic for s in res.steps] == pytest.approx(list(s1), rel=1e-12)
+    assert res.steps[1].temperature_rise["t3"] == pytest.approx(15.0)  # (4.19, E4)
+    assert all(s.friction_theory is not None and s.friction_theory > 0 for s in res.steps)
+    assert res.h_crit == pytest.approx(1.6e-6 + 3.2e-6)
+    assert [s.h_min for s in res.steps] == pytest.approx(list(h0 - e), rel=1e-9)
+
+
+def test_profilometer_sine_trace() -> None:
+    A, lam, n_per = 1.0, 50.0, 200  # μm, μm, samples per period
+    periods = 20
+    x_um = np.arange(periods * n_per + 1) * lam / n_per
+    y = A * np.cos(2 * np.pi * x_um / lam)  # symmetric about the middle: no mean-line tilt
+    trace = {"x": list(x_um * 1e-3), "y": list(y)}  # mm, μm
+    res = analyse(make_run(StandKind.PROFILOMETER), FakeReadings({"profile": trace}, {})).values
+    assert res.ra == pytest.approx(2 * A / math.pi * 1e-6, rel=1e-3)  # Ra of a sine
+    assert res.rmax == pytest.approx(2 * A * 1e-6, rel=1e-3)
+    assert res.sm == pytest.approx(lam * 1e-6, rel=1e-6)
+    # a sine's bearing ratio at depth p below the peak: t_p = arccos(1 - 2ε)/π
+    eps = np.array(res.eps)
+    assert res.tp == pytest.approx(list(np.arccos(1 - 2 * eps) / np.pi), abs=2e-3)
+    assert res.fit_manual is not None and res.complex_parameter is not None

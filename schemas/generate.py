@@ -13,6 +13,13 @@ from pathlib import Path
 
 from pydantic import BaseModel
 
+from schemas.calculators import (
+    BearingFrictionInput,
+    BearingFrictionResult,
+    EquilibriumRoughnessInput,
+    EquilibriumRoughnessResult,
+    WearTheoryInput,
+)
 from schemas.problems import Problem
 from schemas.readings import BatchReceipt, ReadingBatch
 from schemas.results import (
@@ -38,6 +45,11 @@ MODELS: dict[str, type[BaseModel]] = {
     "results_slide_bearing": SlideBearingResults,
     "results_mtos": MtosResults,
     "results_profilometer": ProfilometerResults,
+    "model_wear_theory_input": WearTheoryInput,
+    "model_bearing_friction_input": BearingFrictionInput,
+    "model_bearing_friction_result": BearingFrictionResult,
+    "model_roughness_equilibrium_input": EquilibriumRoughnessInput,
+    "model_roughness_equilibrium_result": EquilibriumRoughnessResult,
     **{f"config_{kind.value}": model for kind, model in CONFIG_MODELS.items()},
 }
 

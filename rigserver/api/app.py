@@ -12,7 +12,7 @@ from rigserver.api import problems
 from rigserver.api.auth import ApiKey, Keyring
 from rigserver.api.body_limit import BodyLimit
 from rigserver.api.deps import Services
-from rigserver.api.routes import readings, results, runs
+from rigserver.api.routes import models, readings, results, runs
 from rigserver.api.routes import stands as stand_routes
 from rigserver.api.settings import Settings
 from rigserver.storage.base import RunStore
@@ -47,7 +47,13 @@ def create_app(
         settings=settings, store=store, stands=stands, keyring=Keyring(keys)
     )
     problems.install(app)
-    for router in (stand_routes.router, runs.router, readings.router, results.router):
+    for router in (
+        stand_routes.router,
+        runs.router,
+        readings.router,
+        results.router,
+        models.router,
+    ):
         app.include_router(router, prefix=API_PREFIX)
     app.add_middleware(BodyLimit, max_bytes=settings.max_body_bytes)
     if settings.cors_origins:

@@ -1,0 +1,51 @@
+"""The calculators under /models: wired to core, errors as problems."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+from fastapi.testclient import TestClient
+
+from tests.api.conftest import READER, auth
+
+API = "/api/v1/models"
+
+
+def test_bearing_friction_at_zero_eccentricity_is_petroff(client: TestClient) -> None:
+    body = {
+        "chi": 0.0,
+        "omega": 100.0,
+        "viscosity": 0.05,
+        "bearing_radius": 0.025,
+        "width": 0.04,
+        "clearance": 1e-4,
+        "load": 1000.0,
+    }
+    r = client.post(f"{API}/bearing/friction", json=body, headers=auth(READER))
+    assert r.status_code == 200, r.text
+    r1 = 0.025 - 1e-4
+    petroff = 2 * math.pi * 0.05 * 100.0 * r1**3 * 0.04 / 1e-4  # (4.1) at e = 0: shear only
+    assert r.json()["friction_moment"] == pytest.approx(petroff, rel=1e-9)
+    assert r.json()["friction_coefficient"] == pytest.approx(petroff / (1000.0 * r1), rel=1e-9)
+
+
+def test_chi_at_one_is_a_problem_naming_the_field(client: TestClient) -> None:
+    r = client.post(f"{API}/bearing/friction", json={"chi": 1.0}, headers=auth(READER))
+    assert r.status_code == 422
+    assert r.json()["errors"][0]["field"] == "chi"
+
+
+def test_undefined_plastic_wear_is_422_with_the_reason(client: TestClient) -> None:
+    # p_c = N/(π r1²) > HB makes the contact plastic; σ_T <= 2f·HB leaves k_f^n undefined
+    body = {"load": 5000.0, "pin_radius": 0.0005, "friction_coefficient": 0.4, "fatigue_t": 1.3}
+    r = client.post(f"{API}/wear/theoretical", json=body, headers=auth(READER))
+    assert r.status_code == 422
+    assert "2f" in r.json()["detail"] or "σ_T" in r.json()["detail"]
+
+
+def test_equilibrium_roughness_item_13(client: TestClient) -> None:
+    r = client.post(f"{API}/roughness/equilibrium", json={}, headers=auth(READER))
+    assert r.status_code == 200
+    # lab 1 item 13 (models.md §1): sensible values lie in 1e-3..1e-1
+    assert 1e-3 < r.json()["complex_parameter"] < 1e-1

@@ -1,1 +1,42 @@
-"""rigserver.storage"""
+"""Run storage: the :class:`RunStore` protocol, the HDF5 store on local disk, the in-memory
+store for tests, and the storage error tree.
+
+::
+
+    StorageError
+     ├── RunNotFound          no run with that id
+     ├── RunExists            a run with that id is stored already
+     ├── RunNotOpen           the run is finished or aborted: it takes no more readings
+     ├── SequenceConflict     a seq number reused with different content
+     ├── StorageFull          the disk is full (the batch was not acknowledged)
+     └── StorageUnavailable   any other failure to make a batch durable
+"""
+
+from __future__ import annotations
+
+from rigserver.storage.base import Columns, RunStore
+from rigserver.storage.errors import (
+    RunExists,
+    RunNotFound,
+    RunNotOpen,
+    SequenceConflict,
+    StorageError,
+    StorageFull,
+    StorageUnavailable,
+)
+from rigserver.storage.hdf5 import HDF5Store
+from rigserver.storage.memory import MemoryStore
+
+__all__ = [
+    "Columns",
+    "HDF5Store",
+    "MemoryStore",
+    "RunExists",
+    "RunNotFound",
+    "RunNotOpen",
+    "RunStore",
+    "SequenceConflict",
+    "StorageError",
+    "StorageFull",
+    "StorageUnavailable",
+]

@@ -60,6 +60,7 @@ class Server:
         self.keys_file = keys_file
         self.port = free_port()
         self.url = f"http://127.0.0.1:{self.port}"
+        self.log = data_dir.parent / "rigserver.log"
         self.proc: subprocess.Popen[bytes] | None = None
 
     def start(self) -> None:
@@ -67,12 +68,13 @@ class Server:
         cmd += ["--data-dir", str(self.data_dir), "--keys-file", str(self.keys_file)]
         cmd += ["--log-level", "warning"]
         env = {**os.environ, "PYTHONUNBUFFERED": "1"}
-        self.proc = subprocess.Popen(cmd, env=env, stderr=subprocess.PIPE)
+        with self.log.open("ab") as log:
+            self.proc = subprocess.Popen(cmd, env=env, stdout=log, stderr=log)
         deadline = time.monotonic() + 30
         while time.monotonic() < deadline:
             if self.proc.poll() is not None:
-                err = self.proc.stderr.read().decode() if self.proc.stderr else ""
-                raise RuntimeError(f"rigserver exited: {err}")
+                tail = self.log.read_text(errors="replace")[-2000:]
+                raise RuntimeError(f"rigserver exited: {tail}")
             try:
                 httpx.get(f"{self.url}/api/v1/stands", headers=auth(READER), timeout=1)
                 return

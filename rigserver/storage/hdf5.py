@@ -1,0 +1,603 @@
+"""HDF5Store: a data directory with a SQLite journal as the truth and one HDF5 file per run.
+
+Data directory::
+
+    journal.sqlite (+ -wal, -shm)   catalogue and batches (rigserver.storage.journal)
+    runs/<run_id>.h5                the run files (layout: rigserver.storage.runfile)
+    snapshots/<run_id>.h5           consistent copies of open runs' files (run_file)
+    .lock                           flock'ed while a store has the directory open
+
+Crash safety. A batch is acknowledged once its journal transaction has committed; only
+then is it handed to the run's HDF5 file (which buffers small batches, see
+:mod:`~rigserver.storage.runfile`; it is never fsynced per batch). For an open run that
+file is a view that can always be rebuilt from the journal. ``journal.sqlite`` holds a
+clean-shutdown marker, "0" while a store is open and "1" after :meth:`HDF5Store.close`.
+Opening after an unclean shutdown rebuilds the file of every open run from the journal
+into a temp file, fsyncs it and renames it over the old one; a run whose end did not
+complete is finished the same way. A run's file is final when it has been finalized,
+closed and fsynced; only then are the run's readings dropped from the journal (its
+receipts stay, so a retried old seq is still answered). If ``journal.sqlite`` is missing,
+the catalogue is rebuilt from the run files (their ``/entry@run``), and the readings of
+unfinished files are taken back into the journal. A failure to write the HDF5 file after
+the commit marks the view stale (it is rebuilt at its next use) and is raised: the batch
+is durable, and a retry with the same seq is answered as a duplicate.
+
+What we found about SWMR (HDF5 2.0.0, h5py 3.16, tested with writers killed by SIGKILL):
+a file written in SWMR mode (``libver="latest"``, ``swmr_mode=True``, flushed after every
+batch) stays readable by a SWMR reader (``h5py.File(path, "r", swmr=True)``: all flushed
+batches are there), but plain ``h5py.File(path, "r")`` refuses it, with or without
+``locking=False``: "file is already open for write (may use <h5clear file> to clear file
+consistency flags)"; h5py has no h5clear. A copy of a live SWMR file is refused the same
+way, which rules out snapshots by copy. Files in the default format (superblock 0, no
+consistency flags) of a killed writer opened with plain h5py in every trial, up to the last
+flush, but nothing guarantees that a kill during a metadata flush leaves them whole. So
+the store does not use SWMR: run files are in the default format (readable by any HDF5
+1.8+ tool), a flushed copy of an open file is a valid snapshot, and after an unclean
+shutdown the open runs' files are rebuilt rather than trusted.
+
+Thread safety: one lock serialises the journal and the open HDF5 files (h5py serialises
+its calls anyway); reading a finished run's file happens outside it.
+"""
+
+from __future__ import annotations
+
+import fcntl
+import json
+import logging
+import os
+import shutil
+import threading
+from collections import OrderedDict
+from collections.abc import Iterator, Mapping
+from contextlib import contextmanager
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from rigserver.storage._checks import (
+    Batch,
+    StoredBatch,
+    channel_group,
+    channel_names,
+    check,
+    check_seq,
+    last_finite,
+    new_run,
+    padded,
+    prepare,
+    retry_receipt,
+    stand_groups,
+    stored_receipt,
+)
+from rigserver.storage._failures import LOW_LEVEL, failures_as, translated
+from rigserver.storage._results import CheckedResults, check_results
+from rigserver.storage._time import now
+from rigserver.storage.base import Columns
+from rigserver.storage.errors import RunNotOpen, StorageUnavailable
+from rigserver.storage.journal import CatalogueEntry, Journal, Synchronous
+from rigserver.storage.runfile import RunFile, fsync_path, read_summary, write_file
+from schemas.readings import BatchReceipt
+from schemas.runs import Run, RunPage, RunQuery, RunState
+
+log = logging.getLogger(__name__)
+
+#: Open runs whose HDF5 file is kept open; the least recently used are closed beyond this.
+MAX_OPEN_FILES = 32
+#: Rows per batch when the readings of an unfinished file are taken back into the journal.
+_IMPORT_ROWS = 1 << 20
+#: What reading a damaged run file may raise (pydantic's ValidationError is a ValueError).
+_UNREADABLE: tuple[type[Exception], ...] = (*LOW_LEVEL, ValueError, KeyError)
+
+
+@dataclass(slots=True)
+class _Live:
+    """An open run: its metadata with current counters, last values, view state."""
+
+    run: Run
+    #: group -> channel -> last value; a group missing here is read from the file when asked
+    last: dict[str, dict[str, float]] = field(default_factory=dict)
+    #: the HDF5 file lags the journal or may be damaged: rebuild it before its next use
+    stale: bool = False
+
+
+class HDF5Store:
+    """The embedded run store: a data directory on local disk (see the module docstring).
+
+    Parameters
+    ----------
+    data_dir : Path
+        The data directory; created if missing. One store at a time may open it.
+    synchronous : {"normal", "full"}
+        SQLite's ``synchronous`` for the journal: "normal" keeps every acknowledged batch
+        through a kill of the process; "full" also through a power loss (one fsync per
+        batch).
+    """
+
+    def __init__(self, data_dir: Path, *, synchronous: Synchronous = "normal") -> None:
+        self.data_dir = Path(data_dir)
+        self._runs = self.data_dir / "runs"
+        self._snapshots = self.data_dir / "snapshots"
+        self._lock = threading.RLock()
+        self._live: dict[str, _Live] = {}
+        self._files: OrderedDict[str, RunFile] = OrderedDict()
+        self._closed = False
+        with failures_as(f"opening the data directory {self.data_dir}"):
+            for d in (self.data_dir, self._runs, self._snapshots):
+                d.mkdir(parents=True, exist_ok=True)
+            self._dir_lock = _lock_directory(self.data_dir)
+        try:
+            with failures_as(f"opening the journal in {self.data_dir}"):
+                path = self.data_dir / "journal.sqlite"
+                new = not path.exists()
+                if new:  # a WAL left beside a lost journal must not be replayed into a new one
+                    for stale in (path.with_name(path.name + s) for s in ("-wal", "-shm")):
+                        stale.unlink(missing_ok=True)
+                self._journal = Journal(path, synchronous=synchronous)
+                fsync_path(self.data_dir)
+            try:
+                with failures_as(f"recovering the runs of {self.data_dir}"):
+                    for leftover in [*self._runs.glob("*.tmp"), *self._snapshots.iterdir()]:
+                        leftover.unlink()
+                    if new:
+                        self._rebuild_catalogue()
+                    clean = self._journal.clean_shutdown()
+                    self._journal.set_clean_shutdown(False)
+                    self._recover(clean=clean)
+            except BaseException:
+                self._journal.close()
+                raise
+        except BaseException:
+            os.close(self._dir_lock)
+            raise
+
+    def __enter__(self) -> HDF5Store:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+    # --- runs -------------------------------------------------------------------------
+
+    def create_run(self, run: Run) -> Run:
+        """Store a new open run and create its file; ``RunExists`` if the id is taken.
+
+        If the file cannot be created the run is stored all the same (its file is made at
+        its next use) and the error is raised.
+        """
+        stored = new_run(run)
+        with self._lock:
+            self._check_open()
+            with failures_as(f"creating run {run.id}"):
+                self._journal.insert_run(stored)
+            live = _Live(stored, last={group: {} for group in stored.rows})
+            self._live[run.id] = live
+            try:
+                self._keep_open(run.id, RunFile.create(self._path(run.id), stored))
+            except LOW_LEVEL as exc:
+                self._spoil(live)
+                raise translated(exc, f"creating the file of run {run.id}") from exc
+            return stored.model_copy(deep=True)
+
+    def get_run(self, run_id: str) -> Run:
+        with self._lock:
+            self._check_open()
+            live = self._live.get(run_id)
+            if live is not None:
+                return live.run.model_copy(deep=True)
+            with failures_as(f"reading the catalogue entry of run {run_id}"):
+                return self._journal.entry(run_id).run
+
+    def list_runs(self, query: RunQuery) -> RunPage:
+        """Runs matching the query, newest first (``since <= created < until``)."""
+        with self._lock:
+            self._check_open()
+            with failures_as("listing runs"):
+                return self._journal.list_runs(query)
+
+    def end_run(self, run_id: str, state: RunState) -> Run:
+        """Finish or abort an open run: record the end, finalize and fsync its file.
+
+        Ending again with the same state a run whose file could not be finalized (e.g. the
+        disk was full) completes it; otherwise a run that is not open raises
+        ``RunNotOpen``.
+        """
+        if state is RunState.OPEN:
+            raise ValueError("a run can end as finished or aborted, not open")
+        with self._lock:
+            self._check_open()
+            live = self._live.get(run_id)
+            if live is None:
+                with failures_as(f"ending run {run_id}"):
+                    entry = self._journal.entry(run_id)
+                if entry.run.state is state and not entry.file_final:
+                    self._finish_file(entry.run, None)
+                    return entry.run
+                raise RunNotOpen(f"run {run_id} is already {entry.run.state.value}")
+            rf = self._view(live, f"ending run {run_id}")
+            ended = live.run.model_copy(deep=True, update={"state": state, "ended": now()})
+            with failures_as(f"ending run {run_id}"):
+                self._journal.end_run(ended)
+            del self._live[run_id]
+            self._files.pop(run_id, None)
+            self._finish_file(ended, rf)
+            return ended.model_copy(deep=True)
+
+    # --- readings ---------------------------------------------------------------------
+
+    def append(self, run_id: str, seq: int, group: str, columns: Columns) -> BatchReceipt:
+        """Store one batch: committed to the journal, then written to the run's file.
+
+        Raises ``RunNotFound``, ``RunNotOpen``, ``SequenceConflict``, ``StorageFull``,
+        ``StorageUnavailable``, and ``ValueError`` for a batch that does not fit the
+        stand's channel groups (unknown group or channel; an aligned group's channels
+        missing or of unequal lengths).
+        """
+        check_seq(seq)
+        batch = prepare(group, columns)
+        doing = f"storing batch {seq} of run {run_id}"
+        with self._lock:
+            self._check_open()
+            live = self._live.get(run_id)
+            if live is None:  # a retry, or a run that is not open
+                with failures_as(doing):
+                    stored = self._journal.stored_batch(run_id, seq)
+                if stored is not None:
+                    return retry_receipt(run_id, seq, stored, batch)
+                live = self._open_run(run_id)
+            decl = check(live.run.stand, batch)
+            group_rows = live.run.rows.get(group, 0) + batch.rows
+            rows = {**live.run.rows, group: group_rows}
+            rf = self._view(live, f"opening the file of run {run_id}")  # before the commit
+            with failures_as(doing):
+                stored = self._journal.add_batch(live.run, seq, batch, group_rows, rows)
+            if stored is not None:
+                return retry_receipt(run_id, seq, stored, batch)
+            live.run.rows = rows
+            live.run.batches += 1
+            _remember_last(live, batch)
+            doing = f"writing batch {seq} of run {run_id} to its file (the batch is stored: "
+            with self._spoiling(live, doing + "retry with the same seq)"):
+                rf.append(group, padded(decl, batch.columns, batch.rows), batch.rows)
+            stored = StoredBatch(group, batch.rows, group_rows, batch.digest)
+            return stored_receipt(run_id, seq, stored, duplicate=False)
+
+    def receipt(self, run_id: str, seq: int) -> BatchReceipt | None:
+        with self._lock:
+            self._check_open()
+            with failures_as(f"looking up batch {seq} of run {run_id}"):
+                stored = self._journal.stored_batch(run_id, seq)
+                if stored is None:
+                    if run_id not in self._live:
+                        self._journal.entry(run_id)  # RunNotFound
+                    return None
+            return stored_receipt(run_id, seq, stored, duplicate=True)
+
+    def last_values(self, run_id: str, group: str) -> dict[str, float]:
+        """The last non-NaN value of each channel of ``group`` (cached for open runs)."""
+        with self._lock:
+            self._check_open()
+            live = self._live.get(run_id)
+            if live is not None:
+                channel_group(live.run.stand, group)
+                cached = live.last.get(group)
+                if cached is None:
+                    rf = self._view(live, f"reading run {run_id}")
+                    with self._spoiling(live, f"reading run {run_id}"):
+                        cached = rf.last_values(group)
+                    live.last[group] = cached
+                return dict(cached)
+            self._final_entry(run_id)
+        with (
+            failures_as(f"reading run {run_id}"),
+            RunFile.open(self._path(run_id), writable=False) as rf,
+        ):
+            return rf.last_values(group)
+
+    def read(
+        self,
+        run_id: str,
+        group: str,
+        channels: list[str] | None = None,
+        start: int = 0,
+        stop: int | None = None,
+    ) -> dict[str, NDArray[np.float64]]:
+        """Rows ``start:stop`` (slice semantics) of the channels, read from the run file."""
+        with self._lock:
+            self._check_open()
+            live = self._live.get(run_id)
+            if live is not None:
+                rf = self._view(live, f"reading run {run_id}")
+                with self._spoiling(live, f"reading run {run_id}"):
+                    return rf.read(group, channels, start, stop)
+            self._final_entry(run_id)
+        with (
+            failures_as(f"reading run {run_id}"),
+            RunFile.open(self._path(run_id), writable=False) as rf,
+        ):
+            return rf.read(group, channels, start, stop)
+
+    def iter_chunks(
+        self, run_id: str, group: str, channels: list[str] | None = None, rows: int = 1 << 20
+    ) -> Iterator[dict[str, NDArray[np.float64]]]:
+        """The rows stored when called, in consecutive slices of at most ``rows`` rows."""
+        if rows < 1:
+            raise ValueError(f"rows must be >= 1, not {rows}")
+        run = self.get_run(run_id)
+        channel_names(channel_group(run.stand, group), channels)
+        total = run.rows.get(group, 0)
+        return (
+            self.read(run_id, group, channels, start, min(start + rows, total))
+            for start in range(0, total, rows)
+        )
+
+    # --- results and files ------------------------------------------------------------
+
+    def set_results(
+        self, run_id: str, results: Mapping[str, Any], key_results: Mapping[str, float]
+    ) -> None:
+        """Store the results in the catalogue and under ``/entry/results`` of the run file.
+
+        A finished run's file is rewritten by copy and rename, never in place. The results'
+        convention is described in :mod:`rigserver.storage._results`.
+        """
+        checked = check_results(results, key_results)
+        with self._lock:
+            self._check_open()
+            live = self._live.get(run_id)
+            doing = f"storing the results of run {run_id}"
+            if live is not None:
+                run = live.run.model_copy(deep=True, update={"key_results": checked.key_results})
+                rf = self._view(live, doing)
+                with failures_as(doing):
+                    self._journal.set_results(run, checked.text)
+                live.run.key_results = dict(checked.key_results)
+                with self._spoiling(live, doing):
+                    rf.write_results(checked, run)
+                return
+            entry = self._final_entry(run_id)
+            run = entry.run.model_copy(update={"key_results": checked.key_results})
+            with failures_as(doing):
+                self._rewrite_results(run, checked)
+                self._journal.set_results(run, checked.text)
+
+    def results(self, run_id: str) -> dict[str, Any] | None:
+        with self._lock:
+            self._check_open()
+            with failures_as(f"reading the results of run {run_id}"):
+                text = self._journal.results(run_id)
+        return None if text is None else dict(json.loads(text))
+
+    def run_file(self, run_id: str) -> Path:
+        """The final file of an ended run; a fresh snapshot copy for an open run."""
+        with self._lock:
+            self._check_open()
+            live = self._live.get(run_id)
+            if live is None:
+                self._final_entry(run_id)
+                return self._path(run_id)
+            rf = self._view(live, f"flushing run {run_id}")
+            with self._spoiling(live, f"flushing run {run_id}"):
+                rf.flush()
+            snapshot = self._snapshots / f"{run_id}.h5"
+            tmp = snapshot.with_name(snapshot.name + ".tmp")
+            with failures_as(f"copying a snapshot of run {run_id}"):
+                shutil.copyfile(rf.path, tmp)
+                os.replace(tmp, snapshot)
+            return snapshot
+
+    def close(self) -> None:
+        """Write and close every open file, mark the shutdown clean, release the directory."""
+        with self._lock:
+            if self._closed:
+                return
+            self._closed = True
+            clean = True
+            for run_id in list(self._files):
+                clean &= self._close_file(run_id)
+            clean &= not any(live.stale for live in self._live.values())
+            try:
+                with failures_as(f"closing the journal of {self.data_dir}"):
+                    self._journal.set_clean_shutdown(clean)
+            finally:
+                self._journal.close()
+                os.close(self._dir_lock)
+
+    # --- internals --------------------------------------------------------------------
+
+    def _check_open(self) -> None:
+        if self._closed:
+            raise StorageUnavailable(f"the store of {self.data_dir} is closed")
+
+    def _path(self, run_id: str) -> Path:
+        return self._runs / f"{run_id}.h5"
+
+    def _open_run(self, run_id: str) -> _Live:
+        live = self._live.get(run_id)
+        if live is None:
+            with failures_as(f"looking up run {run_id}"):
+                state = self._journal.entry(run_id).run.state
+            raise RunNotOpen(f"run {run_id} is {state.value}: it takes no more readings")
+        return live
+
+    def _final_entry(self, run_id: str) -> CatalogueEntry:
+        """The catalogue entry of a run that is not open, its file made final if need be."""
+        with failures_as(f"looking up run {run_id}"):
+            entry = self._journal.entry(run_id)
+        if not entry.file_final:
+            self._finish_file(entry.run, None)
+        return entry
+
+    def _view(self, live: _Live, doing: str) -> RunFile:
+        """The open run's file, opened if need be, rebuilt first if stale or missing."""
+        run_id = live.run.id
+        with self._spoiling(live, doing):
+            if live.stale:
+                self._close_file(run_id)
+                self._rebuild(live.run, final=False)
+                live.stale = False
+            rf = self._files.get(run_id)
+            if rf is None:
+                path = self._path(run_id)
+                if not path.exists():
+                    self._rebuild(live.run, final=False)
+                rf = self._keep_open(run_id, RunFile.open(path, writable=True))
+            else:
+                self._files.move_to_end(run_id)
+            return rf
+
+    @contextmanager
+    def _spoiling(self, live: _Live, doing: str) -> Iterator[None]:
+        """Translate the failures of the block; the run's file view is then stale."""
+        try:
+            yield
+        except LOW_LEVEL as exc:
+            self._spoil(live)
+            raise translated(exc, doing) from exc
+
+    def _keep_open(self, run_id: str, rf: RunFile) -> RunFile:
+        self._files[run_id] = rf
+        while len(self._files) > MAX_OPEN_FILES:
+            self._close_file(next(iter(self._files)))
+        return rf
+
+    def _close_file(self, run_id: str) -> bool:
+        """Close the run's file if open; False (and the view stale) if that failed."""
+        rf = self._files.pop(run_id, None)
+        if rf is None:
+            return True
+        try:
+            rf.close()
+        except LOW_LEVEL as exc:
+            log.warning("closing the file of run %s failed (%s); it will be rebuilt", run_id, exc)
+            live = self._live.get(run_id)
+            if live is not None:
+                live.stale = True
+            return False
+        return True
+
+    def _spoil(self, live: _Live) -> None:
+        live.stale = True
+        self._close_file(live.run.id)
+
+    def _rebuild(self, run: Run, *, final: bool) -> None:
+        """Write the run's file anew from the journal (atomically)."""
+        text = self._journal.results(run.id)
+        results = None if text is None else check_results(json.loads(text), run.key_results)
+
+        def batches() -> Iterator[tuple[str, dict[str, NDArray[np.float64]], int]]:
+            for group, columns in self._journal.payloads(run.id):
+                rows = max((len(v) for v in columns.values()), default=0)
+                yield group, padded(channel_group(run.stand, group), columns, rows), rows
+
+        write_file(self._path(run.id), run, batches(), results, final=final)
+
+    def _finish_file(self, run: Run, rf: RunFile | None) -> None:
+        """Finalize the ended run's file (``rf``, or rebuilt from the journal), fsync it,
+        then drop its readings from the journal."""
+        path = self._path(run.id)
+        with failures_as(f"finalizing the file of run {run.id}"):
+            if rf is None:
+                self._rebuild(run, final=True)
+            else:
+                try:
+                    rf.finalize(run)
+                finally:
+                    rf.close()
+                fsync_path(path)
+                fsync_path(self._runs)
+            self._journal.mark_final(run.id)
+            (self._snapshots / path.name).unlink(missing_ok=True)
+
+    def _rewrite_results(self, run: Run, results: CheckedResults) -> None:
+        path = self._path(run.id)
+        tmp = path.with_name(path.name + ".tmp")
+        try:
+            shutil.copyfile(path, tmp)
+            with RunFile.open(tmp, writable=True) as rf:
+                rf.write_results(results, run)
+            fsync_path(tmp)
+            os.replace(tmp, path)
+            fsync_path(self._runs)
+        except BaseException:
+            tmp.unlink(missing_ok=True)
+            raise
+
+    def _recover(self, *, clean: bool) -> None:
+        """Load the open runs; rebuild their files after an unclean shutdown; finish the
+        files of ended runs whose end did not complete."""
+        for entry in self._journal.unfinished():
+            run = entry.run
+            if run.state is not RunState.OPEN:
+                log.info("completing the end of run %s", run.id)
+                self._finish_file(run, None)
+                continue
+            self._live[run.id] = _Live(run)
+            if not clean or not self._path(run.id).exists():
+                log.info("rebuilding the file of open run %s from the journal", run.id)
+                self._rebuild(run, final=False)
+
+    def _rebuild_catalogue(self) -> None:
+        """Fill a new journal from the run files; unfinished files' readings are imported."""
+        for path in sorted(self._runs.glob("*.h5")):
+            try:
+                summary = read_summary(path)
+            except _UNREADABLE as exc:
+                log.warning("run file %s is unreadable (%s); left out of the catalogue", path, exc)
+                continue
+            run = summary.run
+            if run.id != path.stem:
+                log.warning("run file %s holds run %s; left out of the catalogue", path, run.id)
+                continue
+            if summary.finalized:
+                self._journal.insert_run(run, file_final=True, results=summary.results)
+                continue
+            run = run.model_copy(
+                update={
+                    "state": RunState.OPEN,
+                    "ended": None,
+                    "batches": 0,
+                    "rows": {g.name: 0 for g in stand_groups(run.stand)},
+                }
+            )
+            self._journal.insert_run(run, results=summary.results)
+            self._import_readings(run, path)
+            log.warning("run %s recovered from its unfinished file", run.id)
+
+    def _import_readings(self, run: Run, path: Path) -> None:
+        """The readings of a run file into the journal, as batches with negative seqs."""
+        rows = {g.name: 0 for g in stand_groups(run.stand)}
+        seq = -1
+        with RunFile.open(path, writable=False) as rf:
+            for group in rows:
+                for start in range(0, rf.rows(group), _IMPORT_ROWS):
+                    columns = rf.read(group, None, start, start + _IMPORT_ROWS)
+                    batch = prepare(group, columns)
+                    rows[group] += batch.rows
+                    self._journal.add_batch(run, seq, batch, rows[group], dict(rows))
+                    seq -= 1
+
+
+def _remember_last(live: _Live, batch: Batch) -> None:
+    cached = live.last.get(batch.group)
+    if cached is None:
+        return
+    for name, values in batch.columns.items():
+        if len(values) and not np.isnan(values[-1]):
+            cached[name] = float(values[-1])
+        elif (value := last_finite(values)) is not None:
+            cached[name] = value
+
+
+def _lock_directory(data_dir: Path) -> int:
+    fd = os.open(data_dir / ".lock", os.O_RDWR | os.O_CREAT, 0o644)
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except BlockingIOError:
+        os.close(fd)
+        raise StorageUnavailable(
+            f"the data directory {data_dir} is in use by another store (another rigserver?)"
+        ) from None
+    return fd

@@ -1,0 +1,54 @@
+"""Stores under test and the runs and readings the tests post to them."""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from datetime import UTC, datetime
+from pathlib import Path
+
+import numpy as np
+import pytest
+from numpy.typing import NDArray
+
+from rigserver.storage import HDF5Store, MemoryStore, RunStore
+from schemas.runs import Run, new_run_id
+from schemas.stands import StandKind
+
+T0 = datetime(2024, 3, 1, 9, 0, tzinfo=UTC)
+
+
+def make_run(
+    stand: StandKind = StandKind.SMTS2,
+    operator: str = "Ivanova",
+    created: datetime = T0,
+    **fields: object,
+) -> Run:
+    return Run.model_validate(
+        {
+            "id": new_run_id(created),
+            "stand": stand,
+            "operator": operator,
+            "created": created,
+            "configuration": {"disc_radius": 0.0225},
+            **fields,
+        }
+    )
+
+
+def friction(start: int, n: int) -> dict[str, NDArray[np.float64]]:
+    """Rows ``start .. start+n-1`` of an SMTs-2 record; row k is a function of k alone."""
+    k = np.arange(start, start + n, dtype=np.float64)
+    return {
+        "time": 0.5 * k,
+        "load": 300.0 + k % 3,
+        "speed": np.full(n, 1000.0),
+        "friction_moment": 3.0 + k / 1000.0,
+        "revolutions": k // 10,
+    }
+
+
+@pytest.fixture(params=["memory", "hdf5"])
+def store(request: pytest.FixtureRequest, tmp_path: Path) -> Iterator[RunStore]:
+    s: RunStore = MemoryStore() if request.param == "memory" else HDF5Store(tmp_path / "data")
+    yield s
+    s.close()

@@ -20,6 +20,7 @@ from schemas.calculators import (
     EquilibriumRoughnessResult,
     WearTheoryInput,
 )
+from schemas.mechanism import DynamicErrorsRequest, DynamicErrorsResponse
 from schemas.problems import Problem
 from schemas.readings import BatchReceipt, ReadingBatch
 from schemas.results import (
@@ -50,6 +51,8 @@ MODELS: dict[str, type[BaseModel]] = {
     "model_bearing_friction_result": BearingFrictionResult,
     "model_roughness_equilibrium_input": EquilibriumRoughnessInput,
     "model_roughness_equilibrium_result": EquilibriumRoughnessResult,
+    "model_mechanism_request": DynamicErrorsRequest,
+    "model_mechanism_response": DynamicErrorsResponse,
     **{f"config_{kind.value}": model for kind, model in CONFIG_MODELS.items()},
 }
 

@@ -49,3 +49,32 @@ def test_equilibrium_roughness_item_13(client: TestClient) -> None:
     assert r.status_code == 200
     # lab 1 item 13 (models.md §1): sensible values lie in 1e-3..1e-1
     assert 1e-3 < r.json()["complex_parameter"] < 1e-1
+
+
+def test_mechanism_dynamic_errors_and_report(client: TestClient) -> None:
+    body = {"move": {"duration": 0.6}, "settle": 0.0, "samples": 40}
+    r = client.post(f"{API}/mechanism/dynamic-errors", json=body, headers=auth(READER))
+    assert r.status_code == 200, r.text
+    out = r.json()
+    assert out["success"] is True
+    assert len(out["t"]) == 40 and len(out["xi"]) == 3
+    # max_abs is the largest modulus of each ξ_k over the output times
+    assert out["max_abs"] == pytest.approx([max(abs(v) for v in row) for row in out["xi"]])
+    # the programme starts at q_start and ends at q_end (defaults of the request)
+    assert [row[0] for row in out["q"]] == pytest.approx([0.3, 0.6, 0.0])
+    assert [row[-1] for row in out["q"]] == pytest.approx([0.8, 1.0, 0.5])
+    page = client.post(f"{API}/mechanism/report.html", json=body, headers=auth(READER))
+    assert page.status_code == 200
+    assert page.text.count("<svg") == 2
+    assert "arcmin" in page.text
+
+
+def test_mechanism_bad_input_names_the_field(client: TestClient) -> None:
+    r = client.post(
+        f"{API}/mechanism/dynamic-errors",
+        json={"move": {"duration": -1}, "arm": {"m1": 0}},
+        headers=auth(READER),
+    )
+    assert r.status_code == 422
+    fields = {e["field"] for e in r.json()["errors"]}
+    assert {"move.duration", "arm.m1"} <= fields

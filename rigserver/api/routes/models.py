@@ -4,10 +4,14 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 from fastapi import APIRouter
+from fastapi.concurrency import run_in_threadpool
+from fastapi.responses import HTMLResponse
 
 from rigserver.api.deps import ReadAccess
-from rigserver.core import bearing, roughness, wear
+from rigserver.core import arm, bearing, mechanism, roughness, wear
+from rigserver.reports.mechanism import mechanism_report
 from schemas.calculators import (
     BearingFrictionInput,
     BearingFrictionResult,
@@ -15,6 +19,7 @@ from schemas.calculators import (
     EquilibriumRoughnessResult,
     WearTheoryInput,
 )
+from schemas.mechanism import DynamicErrorsRequest, DynamicErrorsResponse
 from schemas.results import TheoreticalWearResult
 
 router = APIRouter(prefix="/models", tags=["models"], dependencies=[ReadAccess])
@@ -54,3 +59,45 @@ def roughness_equilibrium(body: EquilibriumRoughnessInput) -> EquilibriumRoughne
         k1=float(k1),
         k2=float(k2),
     )
+
+
+def _dynamic_errors(body: DynamicErrorsRequest) -> DynamicErrorsResponse:
+    arm_model = arm.AnthropomorphicArm(**body.arm.model_dump(exclude_none=True))
+    move = body.move
+    program = mechanism.point_to_point(
+        q_start=move.q_start, q_end=move.q_end, duration=move.duration, profile=move.profile
+    )
+    t = np.linspace(0.0, move.duration + body.settle, body.samples)
+    r = arm.arm_dynamic_errors(arm=arm_model, program=program, t_eval=t, method=body.method)
+    q = np.array([program(float(ti))[0] for ti in r.t]).T
+    return DynamicErrorsResponse(
+        t=r.t.tolist(),
+        q=q.tolist(),
+        xi=r.xi.tolist(),
+        xi_dot=r.xi_dot.tolist(),
+        max_abs=r.max_abs.tolist(),
+        success=r.success,
+        message=r.message,
+        evaluations=r.nfev,
+    )
+
+
+@router.post(
+    "/mechanism/dynamic-errors",
+    summary="Dynamic errors of the lever mechanism's programmed move (seed 000, (4)-(18))",
+    description="The three-link arm with two ball-screw drives follows a point-to-point move; "
+    "the answer is ξ_k(t) of each joint and its largest modulus. Takes a few seconds.",
+)
+async def dynamic_errors(body: DynamicErrorsRequest) -> DynamicErrorsResponse:
+    return await run_in_threadpool(_dynamic_errors, body)
+
+
+@router.post(
+    "/mechanism/report.html",
+    summary="The same computation as an HTML report with the plots",
+    response_class=HTMLResponse,
+)
+async def dynamic_errors_report(body: DynamicErrorsRequest) -> HTMLResponse:
+    result = await run_in_threadpool(_dynamic_errors, body)
+    page = await run_in_threadpool(mechanism_report, body, result)
+    return HTMLResponse(page)

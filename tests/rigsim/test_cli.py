@@ -1,0 +1,112 @@
+"""rigsim.cli and rigsim.demo: argument parsing, settings, the demo's key, the printout."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import signal
+import socket
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import httpx
+import pytest
+from rich.console import Console
+
+from rigsim.cli import parse_speed, settings_for
+from rigsim.demo import KEYS_FILE, demo_key
+from rigsim.report import print_results
+from rigsim.stands import mtos, smts2
+from schemas.stands import StandKind
+
+
+@pytest.mark.parametrize(
+    ("text", "speed"), [("100x", 100.0), ("1x", 1.0), ("2.5X", 2.5), ("max", None)]
+)
+def test_parse_speed(text: str, speed: float | None) -> None:
+    assert parse_speed(text) == speed
+
+
+@pytest.mark.parametrize("text", ["fast", "0x", "-3x"])
+def test_parse_speed_refuses_nonsense(text: str) -> None:
+    with pytest.raises(argparse.ArgumentTypeError, match="speed must"):
+        parse_speed(text)
+
+
+def test_settings_for_the_command_line() -> None:
+    adhesive = settings_for(StandKind.SMTS2, mode="adhesive")
+    assert isinstance(adhesive, smts2.Smts2Settings) and adhesive.load == 200.0
+    short = settings_for(StandKind.MTOS, model="short")
+    assert isinstance(short, mtos.MtosSettings) and short.model == "short"
+    assert settings_for(StandKind.MTOS).model == "finite"
+
+
+def test_demo_key_is_made_once_and_kept_private(tmp_path: Path) -> None:
+    path, key = demo_key(tmp_path / "data")
+    assert path == tmp_path / "data" / KEYS_FILE
+    assert (path.stat().st_mode & 0o777) == 0o600
+    keys = json.loads(path.read_text())
+    assert keys[0]["key"] == key and set(keys[0]["scopes"]) == {"read", "write:*"}
+    assert len(key) >= 16  # the server refuses shorter keys
+    assert demo_key(tmp_path / "data") == (path, key)
+
+
+def test_results_are_printed_with_units() -> None:
+    console = Console(record=True, width=200)
+    results = {
+        "stand": "mtos",
+        "values": {"h_crit": 4.8e-6, "steps": [{"load": 500.0, "chi": 0.25, "film": "fluid"}]},
+        "units": {"h_crit": "m", "steps[].load": "N", "steps[].chi": "1"},
+    }
+    print_results(
+        console,
+        results,
+        mtos.truth_of(
+            mtos.MtosSettings(
+                model="short", loads_fluid=(500.0,), loads_mixed=(), loads_boundary=()
+            )
+        ),
+    )
+    text = console.export_text()
+    assert "h_crit" in text and "4.8e-06" in text and "load [N]" in text
+    assert "truth: steps" in text and "representable" in text
+
+
+def _free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return int(s.getsockname()[1])
+
+
+@pytest.mark.slow
+def test_demo_serves_four_finished_runs_until_interrupted(tmp_path: Path) -> None:
+    port = _free_port()
+    cmd = [sys.executable, "-m", "rigsim.cli", "demo", "--port", str(port)]
+    cmd += ["--data-dir", str(tmp_path / "data"), "--speed", "max"]
+    env = {**os.environ, "PYTHONUNBUFFERED": "1", "COLUMNS": "120"}
+    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, env=env)
+    try:
+        assert proc.stdout is not None
+        lines: list[str] = []
+        deadline = time.monotonic() + 90
+        while time.monotonic() < deadline:
+            line = proc.stdout.readline().decode()
+            lines.append(line)
+            if "Ctrl-C stops the server" in line or not line:
+                break
+        text = "".join(lines)
+        assert f"http://127.0.0.1:{port}/docs" in text
+        runs = httpx.get(f"http://127.0.0.1:{port}/api/v1/runs", timeout=10).json()["runs"]
+        assert sorted(r["stand"] for r in runs) == sorted(k.value for k in StandKind)
+        assert {r["state"] for r in runs} == {"finished"}
+    finally:
+        proc.send_signal(signal.SIGINT)
+        proc.wait(timeout=30)
+        if proc.stdout is not None:
+            proc.stdout.close()
+    assert proc.returncode == 130  # interrupted, the server stopped with it
+    with pytest.raises(httpx.TransportError):
+        httpx.get(f"http://127.0.0.1:{port}/api/v1/runs", timeout=2)

@@ -1,0 +1,137 @@
+"""End to end over real HTTP: simulate, post, finish, fetch the results, recover the truth.
+
+Tolerances (the issue's): χ within 0.02, f within 5 %, Ra within 5 %, the measured wear
+intensity within 5 % of the true one and the server's adequacy verdict (2.15) the one the
+true intensity earns.
+"""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+import threading
+import time
+
+import httpx
+import numpy as np
+import pytest
+
+from rigsim.client import LabClient, RetryPolicy
+from rigsim.errors import ServerRefused
+from rigsim.instruments import Fault
+from rigsim.stands import mtos, profilometer, simulate, slide_bearing, smts2
+from tests.api.conftest import READER, WRITER, Server, auth
+
+pytestmark = pytest.mark.slow
+
+
+def _rows(server: Server, run_id: str, group: str) -> dict[str, list[float]]:
+    answer = httpx.get(
+        f"{server.url}/api/v1/runs/{run_id}/readings",
+        params={"group": group},
+        headers=auth(READER),
+        timeout=30,
+    )
+    answer.raise_for_status()
+    columns: dict[str, list[float]] = answer.json()[group]["columns"]
+    return columns
+
+
+def test_smts2(server: Server) -> None:
+    sim = smts2.simulate(seed=7)
+    with LabClient(server.url, WRITER) as client:
+        outcome = client.run(sim)
+    values, t = outcome.results["values"], sim.truth
+    assert outcome.run.rows["friction"] == sim.rows("friction")
+    assert outcome.run.batches == len(sim.batches)
+    assert values["friction_steady"] == pytest.approx(t.friction_steady, rel=0.05)
+    assert values["experimental"]["intensity"] == pytest.approx(t.intensity, rel=0.05)
+    # (2.15) judged on the truth: 0.4·I_theor <= I_true <= 2.6·I_theor
+    theory = values["theoretical"]["intensity"]
+    assert values["adequacy"]["adequate"] == (0.4 * theory <= t.intensity <= 2.6 * theory)
+
+
+def test_slide_bearing(server: Server) -> None:
+    sim = slide_bearing.simulate(seed=7)
+    with LabClient(server.url, WRITER) as client:
+        outcome = client.run(sim, binary=True)
+    values, t = outcome.results["values"], sim.truth
+    assert values["chi_mean"] == pytest.approx(t.chi, abs=0.02)
+    assert values["load"] == pytest.approx(t.load)
+    assert values["mu_bar"] == pytest.approx(t.mu_bar, rel=0.01)
+    assert len(values["table"]) == 19
+
+
+def test_mtos(server: Server) -> None:
+    sim = mtos.simulate(seed=7)
+    with LabClient(server.url, WRITER) as client:
+        outcome = client.run(sim)
+    steps = outcome.results["values"]["steps"]
+    assert len(steps) == len(sim.truth.steps)
+    for got, true in zip(steps, sim.truth.steps, strict=True):
+        assert got["friction_measured"] == pytest.approx(true.friction, rel=0.05)
+        assert got["viscosity"] == pytest.approx(true.viscosity, rel=0.01)
+        assert got["regime"] == {1: "fluid", 2: "mixed", 3: "boundary"}[true.regime]
+        if true.representable:
+            assert got["chi"] == pytest.approx(true.chi, abs=0.02)
+
+
+def test_profilometer(server: Server) -> None:
+    sim = profilometer.simulate(seed=7)
+    with LabClient(server.url, WRITER) as client:
+        outcome = client.run(sim, binary=True)
+    values = outcome.results["values"]
+    assert values["ra"] == pytest.approx(sim.truth.ra, rel=0.05)
+    assert values["base_length"] == pytest.approx(sim.truth.base_length, rel=1e-9)
+
+
+def test_client_survives_a_server_restart_and_stores_every_reading_once(server: Server) -> None:
+    sim = smts2.simulate(seed=8)
+    kill_after = 10
+    restarted = threading.Event()
+
+    def restart() -> None:
+        time.sleep(0.5)
+        server.start()  # same port, same data directory
+        restarted.set()
+
+    retry = RetryPolicy(deadline=90.0, max_delay=1.0)
+    with LabClient(server.url, WRITER, retry=retry, seed=1) as client:
+        run = client.create_run(sim.run_create)
+        receipts = []
+        for seq, batch in enumerate(sim.batches):
+            receipts.append(client.post_batch(run.id, seq, batch))
+            if seq == kill_after:
+                server.kill()
+                threading.Thread(target=restart, daemon=True).start()
+        assert restarted.is_set()
+        assert client.retries > 0
+        # a batch posted again after the restart is recognised, not stored twice
+        again = client.post_batch(run.id, kill_after, sim.batches[kill_after])
+        assert again.duplicate and again.group_rows == receipts[kill_after].group_rows
+        finished = client.finish(run.id)
+    assert finished.batches == len(sim.batches)
+    assert finished.rows["friction"] == sim.rows("friction")
+    stored = _rows(server, run.id, "friction")
+    for name, values in sim.columns("friction").items():
+        assert np.array_equal(np.asarray(stored[name]), values), name
+
+
+def test_a_refused_batch_stops_the_run_with_the_servers_detail(server: Server) -> None:
+    # the profilometer's y at 1000 um + 10 % is outside -1000..1000 um
+    settings = profilometer.ProfilometerSettings(
+        faults=(Fault(kind="out_of_limit", group="profile", channel="y", at=0.25),)
+    )
+    sim = simulate("profilometer", settings, seed=1)
+    with LabClient(server.url, WRITER) as client, pytest.raises(ServerRefused) as info:
+        client.run(sim)
+    assert "422 Readings refused" in str(info.value)
+    assert "is outside the limit: -1000 <= value <= 1000 um" in str(info.value)
+
+
+def test_rigsim_run_command(server: Server) -> None:
+    cmd = [sys.executable, "-m", "rigsim.cli", "run", "--stand", "profilometer"]
+    cmd += ["--url", server.url, "--key", WRITER, "--seed", "3", "--speed", "max", "--truth"]
+    done = subprocess.run(cmd, capture_output=True, text=True, timeout=120, check=False)
+    assert done.returncode == 0, done.stderr
+    assert "finished" in done.stdout and "ra" in done.stdout

@@ -2,6 +2,10 @@
 #   make run    the service with the four simulated stands posting to it
 #   make test   lint, types, import layering and the whole test suite
 PYTHON ?= python3
+# One BLAS thread: the bearing solver's banded factorisations slow down, not up, with more
+# (docs/reynolds.md); the service parallelises over requests instead.
+export OPENBLAS_NUM_THREADS ?= 1
+export OMP_NUM_THREADS ?= 1
 VENV ?= .venv
 BIN := $(VENV)/bin
 

@@ -94,6 +94,9 @@ class SlideBearingRow(BaseModel):
     pi_measured: float = quantity(..., "1", "Π_э (3.18)")
     pi_short: float | None = quantity(None, "1", "Π0 at z = 0, χ_ср (3.10)")
     pi_long: float | None = quantity(None, "1", "Π∞ at χ_ср (3.15)")
+    pi_finite: float | None = quantity(
+        None, "1", "Π of the finite bearing (3.1) with the Reynolds condition, z = 0, χ_ср"
+    )
     error_short: float | None = quantity(None, "%", "(Π0 - Π_э)/Π0 (3.26)")
     error_long: float | None = quantity(None, "%", "(Π∞ - Π_э)/Π∞ (3.27)")
 
@@ -105,6 +108,7 @@ class AxialPoint(BaseModel):
     pressure: float = quantity(..., "Pa", "gauge pressure")
     pi_measured: float = quantity(..., "1", "Π_z (3.18)")
     pi_short: float | None = quantity(None, "1", "Π_m, short bearing (3.10)")
+    pi_finite: float | None = quantity(None, "1", "Π of the finite bearing (3.1)")
     error: float | None = quantity(None, "%", "(Π_m - Π_z)/Π_m (3.25)")
 
 
@@ -147,6 +151,12 @@ class MtosStep(BaseModel):
     temperature_rise: dict[str, float] = quantity(..., "degC", "Δt_i = t_i - t1 (4.19, E4)")
     friction_theory: float | None = quantity(None, "1", "f_T (4.10), fluid film only")
     friction_error: float | None = quantity(None, "%", "Δf = (f_э - f_T)/f_э")
+    friction_finite: float | None = quantity(
+        None, "1", "f of the finite bearing (3.1) at the measured χ, full-film shear as (4.1)"
+    )
+    load_finite: float | None = quantity(
+        None, "N", "load the finite bearing carries at the measured χ (compare with N)"
+    )
     h_min: float = quantity(..., "m", "h_min = h0 - e")
     film: Literal["fluid", "mixed"] = Field(description="h_min against h_min^crit (seed 001)")
 

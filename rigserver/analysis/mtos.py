@@ -7,7 +7,7 @@ from typing import Literal
 import numpy as np
 
 from rigserver.analysis.readings import Readings
-from rigserver.core import bearing, film, stands
+from rigserver.core import bearing, film, reynolds, stands
 from rigserver.core.errors import ModelInputError
 from schemas.results import MtosResults, MtosStep
 from schemas.runs import Run
@@ -76,6 +76,7 @@ def analyse(run: Run, readings: Readings) -> MtosResults:
             angle = 0.0
             result.notes.append(f"step {i}: journal centred, the angle (4.12) is undefined")
         f_theory = f_error = None
+        f_finite, load_finite = _finite(c, float(ecc.chi[i]), float(oil.mean[i]), float(load[i]))
         if regime == "fluid":
             try:
                 f_t = bearing.friction_coefficient_theoretical(
@@ -113,8 +114,27 @@ def analyse(run: Run, readings: Readings) -> MtosResults:
                 temperature_rise={k: float(v[i]) for k, v in rises.items()},
                 friction_theory=f_theory,
                 friction_error=None if f_error is None or np.isnan(f_error) else f_error,
+                friction_finite=f_finite,
+                load_finite=load_finite,
                 h_min=float(h_min[i]),
                 film=film.film_regime(h_min=float(h_min[i]), h_crit=crit.total),
             )
         )
     return result
+
+
+def _finite(
+    c: MtosConfig, chi: float, viscosity: float, load: float
+) -> tuple[float | None, float | None]:
+    """Friction coefficient and load of the finite bearing (3.1) at the measured χ.
+
+    The scales of (3.6) with μ0 = μ_t and ω0 = ω: forces in μωR⁴/h0², torques in μωR⁴/h0.
+    f = M/(N·R1) with the full-film shear torque, the convention of (4.1) and (4.10).
+    """
+    if not 0.0 <= chi < 1.0:
+        return None, None
+    radius = c.diameter / 2.0
+    solution = reynolds.solve_reynolds(chi=chi, half_width=c.width / c.diameter)
+    torque_scale = viscosity * c.omega * radius**4 / c.clearance
+    moment = solution.journal_torque_full_film * torque_scale
+    return moment / (load * (radius - c.clearance)), solution.load * torque_scale / c.clearance

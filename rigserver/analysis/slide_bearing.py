@@ -6,7 +6,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from rigserver.analysis.readings import Readings
-from rigserver.core import bearing, stands
+from rigserver.core import bearing, reynolds, stands
 from rigserver.core.errors import ModelInputError
 from schemas.results import AxialPoint, SlideBearingResults, SlideBearingRow
 from schemas.runs import Run
@@ -82,9 +82,12 @@ def analyse(run: Run, readings: Readings) -> SlideBearingResults:
         pi_long = bearing.long_bearing_pressure(phi=phi, chi=chi_mean, mu_bar=oil.mu_bar, G=1.0)
         err_short = stands.relative_error_percent(reference=pi_short, other=pi_measured).percent
         err_long = stands.relative_error_percent(reference=pi_long, other=pi_measured).percent
+        finite = reynolds.solve_reynolds(chi=chi_mean, half_width=a, mu_bar=oil.mu_bar)
+        pi_finite = finite.pressure_at(phi=phi, z=np.zeros_like(phi))
     except ModelInputError as exc:
         result.notes.append(f"theory not computed: {exc}")
-        pi_short = pi_long = err_short = err_long = np.full(phi.shape, np.nan)
+        finite = None
+        pi_short = pi_long = err_short = err_long = pi_finite = np.full(phi.shape, np.nan)
     for i in range(phi.size):
         result.table.append(
             SlideBearingRow(
@@ -98,6 +101,7 @@ def analyse(run: Run, readings: Readings) -> SlideBearingResults:
                 pi_measured=float(pi_measured[i]),
                 pi_short=_opt(pi_short[i]),
                 pi_long=_opt(pi_long[i]),
+                pi_finite=_opt(pi_finite[i]),
                 error_short=_opt(err_short[i]),
                 error_long=_opt(err_long[i]),
             )
@@ -112,12 +116,18 @@ def analyse(run: Run, readings: Readings) -> SlideBearingResults:
         err_z = stands.relative_error_percent(reference=pi_m, other=pi_z).percent
     except ModelInputError:
         pi_m = err_z = np.full(z.shape, np.nan)
+    pi_fz = (
+        finite.pressure_at(phi=np.full(z.shape, phi[top]), z=z)
+        if finite is not None
+        else np.full(z.shape, np.nan)
+    )
     result.axial = [
         AxialPoint(
             z=float(z[k]),
             pressure=float(p_axial[k]),
             pi_measured=float(pi_z[k]),
             pi_short=_opt(pi_m[k]),
+            pi_finite=_opt(pi_fz[k]),
             error=_opt(err_z[k]),
         )
         for k in range(z.size)

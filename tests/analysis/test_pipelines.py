@@ -137,3 +137,50 @@ def test_profilometer_sine_trace() -> None:
     eps = np.array(res.eps)
     assert res.tp == pytest.approx(list(np.arccos(1 - 2 * eps) / np.pi), abs=2e-3)
     assert res.fit_manual is not None and res.complex_parameter is not None
+
+
+def test_slide_bearing_finite_solution_lies_below_both_asymptotes() -> None:
+    """The finite bearing leaks at the ends (below Π∞) and carries circumferential flow
+    (below Π0): both asymptotes bound it from above at the pressure peak (issue 5)."""
+    h0, scale = 175e-6, 1e-6
+    limbs = np.arange(0.0, 181.0, 10.0)
+    e_x, e_y = 90e-6, 80e-6
+    rows = {
+        "limb_angle": list(limbs),
+        **{f"p{k}": [0.5] * limbs.size for k in range(1, 6)},
+        "x": [500.0 - (h0 - e_x) / scale] * limbs.size,
+        "y": [400.0 - (h0 - e_y) / scale] * limbs.size,
+        "t1": [30.0] * limbs.size,
+        "t2": [40.0] * limbs.size,
+    }
+    m = {"x_zero": 500.0, "y_zero": 400.0, "load_zone_end": 180.0}
+    res = analyse(make_run(StandKind.SLIDE_BEARING), FakeReadings({"rows": rows}, m)).values
+    finite = max(r.pi_finite for r in res.table if r.pi_finite is not None)
+    assert finite > 0
+    assert finite < max(r.pi_short for r in res.table if r.pi_short is not None)
+    assert finite < max(r.pi_long for r in res.table if r.pi_long is not None)
+    assert all(p.pi_finite is not None and p.pi_finite >= 0 for p in res.axial)
+
+
+def test_mtos_finite_friction_of_a_centred_journal_is_petroff() -> None:
+    """χ = 0: M = 2π·μωR³B/h0 (Petroff), f = M/(N·R1) as in (4.10)."""
+    h0, D, B, w, load = 100e-6, 0.050, 0.040, 157.0, 500.0
+    x_centre = -(h0 * math.cos(math.pi / 4)) * 1e6  # (4.11): e_x = 0 when |X_уст - X| = h0·cos45°
+    rows = {
+        "load": [load],
+        "indicator": [0.01],
+        "x": [x_centre],
+        "y": [x_centre],
+        **{f"t{k}": [40.0] for k in range(1, 6)},
+        "regime": [1.0],
+    }
+    res = analyse(
+        make_run(StandKind.MTOS), FakeReadings({"steps": rows}, {"x_zero": 0.0, "y_zero": 0.0})
+    ).values
+    step = res.steps[0]
+    assert step.chi == pytest.approx(0.0, abs=1e-9)
+    mu = 0.0773 * math.exp(-0.0485 * 40.0)
+    R = D / 2
+    petroff = 2 * math.pi * mu * w * R**3 * B / h0
+    assert step.friction_finite == pytest.approx(petroff / (load * (R - h0)), rel=1e-6)
+    assert step.load_finite == pytest.approx(0.0, abs=1e-6)

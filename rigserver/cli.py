@@ -51,7 +51,9 @@ def main(argv: Sequence[str] | None = None) -> int:
         "public_reads": True if args.public_reads else None,
     }
     settings = Settings(**{k: v for k, v in given.items() if v is not None})
-    logging.basicConfig(level=args.log_level.upper(), format="%(asctime)s %(levelname)s %(message)s")
+    logging.basicConfig(
+        level=args.log_level.upper(), format="%(asctime)s %(levelname)s %(message)s"
+    )
     app = build_app(settings)
     print(f"rigserver: data in {settings.data_dir.resolve()}", file=sys.stderr)
     uvicorn.run(app, host=args.host, port=args.port, log_level=args.log_level, access_log=False)

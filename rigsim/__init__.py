@@ -1,1 +1,38 @@
-"""rigsim: simulated tribology stands that post readings to a real rigserver over HTTP."""
+"""rigsim: simulated tribology stands that post readings to a real rigserver over HTTP.
+
+- :mod:`rigsim.stands`: the four stands, ``simulate(settings, seed) -> SimulatedRun``
+  (the run to open, its batches in stand order, and the truth).
+- :mod:`rigsim.instruments`: offsets, drift, noise, quantisation and faults.
+- :mod:`rigsim.bearing_model`, :mod:`rigsim.thermal`: the physics behind the bearing stands.
+- :mod:`rigsim.client`: the lab-PC client (retries, pacing, sequence numbers).
+- :mod:`rigsim.cli`: ``rigsim run`` and ``rigsim demo``.
+"""
+
+from rigsim.batches import Batch, SimulatedRun
+from rigsim.client import LabClient, RetryPolicy, RunOutcome
+from rigsim.errors import (
+    RigsimError,
+    ServerError,
+    ServerRefused,
+    ServerUnavailable,
+    SettingsError,
+)
+from rigsim.instruments import Fault, Instrument
+from rigsim.stands import SIMULATORS, simulate
+
+__all__ = [
+    "SIMULATORS",
+    "Batch",
+    "Fault",
+    "Instrument",
+    "LabClient",
+    "RetryPolicy",
+    "RigsimError",
+    "RunOutcome",
+    "ServerError",
+    "ServerRefused",
+    "ServerUnavailable",
+    "SettingsError",
+    "SimulatedRun",
+    "simulate",
+]

@@ -16,8 +16,9 @@ import httpx
 import pytest
 from rich.console import Console
 
-from rigsim.cli import parse_speed, settings_for
+from rigsim.cli import parse_fault, parse_speed, settings_for
 from rigsim.demo import KEYS_FILE, demo_key
+from rigsim.instruments import Fault
 from rigsim.report import print_results
 from rigsim.stands import mtos, smts2
 from schemas.stands import StandKind
@@ -110,3 +111,22 @@ def test_demo_serves_four_finished_runs_until_interrupted(tmp_path: Path) -> Non
     assert proc.returncode == 130  # interrupted, the server stopped with it
     with pytest.raises(httpx.TransportError):
         httpx.get(f"http://127.0.0.1:{port}/api/v1/runs", timeout=2)
+
+
+def test_parse_fault() -> None:
+    assert parse_fault("stuck:friction.load@0.25*20") == Fault(
+        kind="stuck", group="friction", channel="load", at=0.25, rows=20
+    )
+    assert parse_fault("spike:rows.p3+1.5") == Fault(
+        kind="spike", group="rows", channel="p3", at=0.5, size=1.5
+    )
+    with pytest.raises(argparse.ArgumentTypeError, match="KIND one of dropout, spike"):
+        parse_fault("melt:friction.load")
+    with pytest.raises(argparse.ArgumentTypeError, match=r"fault.at must lie in \[0, 1\]"):
+        parse_fault("spike:friction.load@2")
+
+
+def test_faults_from_the_command_line_reach_the_settings() -> None:
+    fault = parse_fault("out_of_limit:friction.friction_moment@0.5")
+    settings = settings_for(StandKind.SMTS2, mode="oxidative", faults=[fault])
+    assert settings.faults == (fault,) and settings.mode == "oxidative"

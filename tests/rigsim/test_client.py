@@ -246,7 +246,7 @@ def test_backoff_doubles_up_to_its_cap() -> None:
     rng = random.Random(1)
     for attempt, cap in ((1, 0.2), (2, 0.4), (3, 0.8), (4, 1.0), (9, 1.0)):
         delays = [policy.backoff(attempt, rng) for _ in range(200)]
-        assert 0.0 <= min(delays) and max(delays) <= cap
+        assert min(delays) >= 0.0 and max(delays) <= cap
         assert max(delays) > 0.8 * cap  # the jitter spans the interval
 
 

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import itertools
 from dataclasses import replace
 
 import numpy as np
@@ -130,7 +131,7 @@ def test_stribeck_fluid_branch_and_starved_friction(
 ) -> None:
     steps = short_run.truth.steps
     fluid = [s.friction for s in steps[:6]]
-    assert all(a > b for a, b in zip(fluid, fluid[1:], strict=False))  # f falls as N rises
+    assert all(a > b for a, b in itertools.pairwise(fluid))  # f falls as N rises
     assert all(5e-4 < f < 0.02 for f in fluid)  # fluid friction, manual: 0.0005..0.005 and up
     h_crit = short_run.truth.h_crit
     assert h_crit == pytest.approx(1.6e-6 + 3.2e-6)  # journal + bush asperities (seed 001)
@@ -152,7 +153,7 @@ def test_4_11_folds_a_component_beyond_h0_cos45(short_run: SimulatedRun[mtos.Mto
         # the |X_уст - X| of (4.11) reflects e_x about h0·cos45°: e_x' = 2·h0·cos45° - e_x
         limit = c.clearance * COS45
         folded = [2 * limit - e if e > limit else e for e in (step.e_x, step.e_y)]
-        assert ecc.chi[i] == pytest.approx(np.hypot(*folded) / c.clearance, abs=0.01)
+        assert ecc.chi[i] == pytest.approx(np.hypot(folded[0], folded[1]) / c.clearance, abs=0.01)
         assert ecc.chi[i] < step.chi
 
 

@@ -76,7 +76,7 @@ def test_deterministic_from_the_seed() -> None:
 def test_settings_are_checked() -> None:
     with pytest.raises(SettingsError, match="ra must lie in"):
         pm.ProfilometerSettings(ra=20e-6)
-    with pytest.raises(SettingsError, match="need nu >= 1 and b > 0.5"):
+    with pytest.raises(SettingsError, match=r"need nu >= 1 and b > 0\.5"):
         pm.ProfilometerSettings(b=0.4)
     with pytest.raises(SettingsError, match="correlation_length must lie in"):
         pm.ProfilometerSettings(correlation_length=0.2e-3)

@@ -3,6 +3,7 @@ reading outside a limit is refused, naming its field."""
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import replace
 from typing import Any
 
@@ -98,7 +99,7 @@ LIMITED = [
     or channel.limit.nominal is not None
 ]
 
-SIMULATE = {
+SIMULATE: dict[str, Callable[[tuple[Fault, ...], int], SimulatedRun[Any]]] = {
     "smts2": lambda faults, seed: smts2.simulate(
         smts2.Smts2Settings.for_mode("oxidative", revolutions=300.0, faults=faults), seed
     ),

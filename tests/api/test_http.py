@@ -11,6 +11,9 @@ import h5py
 import httpx
 import pytest
 
+from rigserver.analysis import analyse
+from schemas.runs import Run
+from tests.analysis.conftest import FakeReadings
 from tests.api.conftest import READER, WRITER, Server, auth
 
 API = "/api/v1"
@@ -145,3 +148,111 @@ def test_kill_9_while_clients_post_loses_no_acknowledged_batch(server: Server) -
     for path in Path(server.data_dir, "runs").glob("*.h5"):
         with h5py.File(path, "r") as f5:
             assert "entry" in f5
+
+
+def _cases() -> dict[str, tuple[dict[str, dict[str, list[float]]], dict[str, float]]]:
+    """Manual-shaped readings of each stand (groups, measurements)."""
+    n = 400
+    limbs = [float(a) for a in range(0, 181, 10)]
+    x_prof = [i * 0.5e-3 for i in range(4001)]  # mm, 0.5 μm step over 2 mm
+    return {
+        "smts2": (
+            {
+                "friction": {
+                    "time": [0.1 * i for i in range(n)],
+                    "load": [300.0] * n,
+                    "speed": [1000.0] * n,
+                    "friction_moment": [4.0 - 1.3 * (1 - math.exp(-i / 50)) for i in range(n)],
+                    "revolutions": [i * 150 / (n - 1) for i in range(n)],
+                }
+            },
+            {"pin_mass_before": 12.5, "pin_mass_after": 12.47, "disc_ra": 0.78},
+        ),
+        "slide_bearing": (
+            {
+                "rows": {
+                    "limb_angle": limbs,
+                    **{
+                        f"p{k}": [
+                            max(0.0, math.sin(math.radians(a))) * (1.0 - 0.3 * abs(k - 3))
+                            for a in limbs
+                        ]
+                        for k in range(1, 6)
+                    },
+                    "x": [420.0 - 0.1 * a for a in limbs],
+                    "y": [330.0 + 0.1 * a for a in limbs],
+                    "t1": [30.0] * len(limbs),
+                    "t2": [38.0] * len(limbs),
+                }
+            },
+            {"x_zero": 500.0, "y_zero": 400.0, "load_zone_end": 180.0, "loader_scale": 12.0},
+        ),
+        "mtos": (
+            {
+                "steps": {
+                    "load": [500.0, 1500.0, 2500.0],
+                    "indicator": [0.03, 0.05, 0.20],
+                    "x": [-30.0, -20.0, -10.0],
+                    "y": [-35.0, -25.0, -12.0],
+                    "t1": [30.0] * 3,
+                    "t2": [34.0, 36.0, 40.0],
+                    "t3": [38.0, 42.0, 50.0],
+                    "t4": [38.5, 42.5, 51.0],
+                    "t5": [39.0, 43.0, 52.0],
+                    "regime": [1.0, 2.0, 3.0],
+                }
+            },
+            {"x_zero": 0.0, "y_zero": 0.0},
+        ),
+        "profilometer": (
+            {
+                "profile": {
+                    "x": x_prof,
+                    "y": [
+                        0.8 * math.cos(2 * math.pi * x / 0.05)
+                        + 0.3 * math.cos(2 * math.pi * x / 0.013)
+                        for x in x_prof
+                    ],
+                }
+            },
+            {"base_length": 2.0, "subrange": 3.2},
+        ),
+    }
+
+
+@pytest.mark.parametrize("stand", ["smts2", "slide_bearing", "mtos", "profilometer"])
+def test_each_stand_over_http_gives_the_pipeline_results(server: Server, stand: str) -> None:
+    """Post manual-shaped readings over HTTP, finish, fetch: the results equal the stand's
+    pipeline run in this process on the same numbers (checked by hand in tests/analysis)."""
+    groups, measurements = _cases()[stand]
+    run_id = post_run(server.url, stand)
+    seq = 0
+    for group, cols in groups.items():
+        assert post(server.url, run_id, seq, group, cols).status_code == 201
+        seq += 1
+    m_cols = {k: [v] for k, v in measurements.items()}
+    assert post(server.url, run_id, seq, "measurements", m_cols).status_code == 201
+    finished = httpx.post(
+        f"{server.url}{API}/runs/{run_id}/finish", headers=auth(WRITER), timeout=60
+    )
+    assert finished.status_code == 200, finished.text
+    got = httpx.get(f"{server.url}{API}/runs/{run_id}/results", headers=auth(READER)).json()
+    run = Run.model_validate(finished.json())
+    expected = analyse(run, FakeReadings(groups, measurements)).payload
+    assert got["units"] == expected["units"]
+    assert _close(got["values"], expected["values"])
+    assert not got["values"].get("pending"), got["values"]["pending"]
+
+
+def _close(a: object, b: object) -> bool:
+    if isinstance(a, dict) and isinstance(b, dict):
+        assert a.keys() == b.keys()
+        return all(_close(a[k], b[k]) for k in a)
+    if isinstance(a, list) and isinstance(b, list):
+        assert len(a) == len(b)
+        return all(_close(x, y) for x, y in zip(a, b, strict=True))
+    if isinstance(a, float) and isinstance(b, float):
+        assert a == pytest.approx(b, rel=1e-12, abs=1e-300)
+        return True
+    assert a == b
+    return True

@@ -1,0 +1,178 @@
+"""``rigsim``: post a simulated stand's run to a rigserver, or run the whole demo.
+
+::
+
+    rigsim run --stand mtos --url http://127.0.0.1:8000 --key KEY --seed 7 --speed 100x
+    rigsim demo --port 8000 --data-dir data
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import re
+import sys
+from collections.abc import Sequence
+from dataclasses import replace
+from pathlib import Path
+from typing import Any
+
+from rich.console import Console
+from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
+
+from rigsim.bearing_model import MODELS
+from rigsim.client import LabClient
+from rigsim.errors import RigsimError
+from rigsim.instruments import FAULT_KINDS, Fault
+from rigsim.report import print_results
+from rigsim.stands import SIMULATORS
+from rigsim.stands.smts2 import MODES, Smts2Settings
+from schemas.stands import StandKind
+
+
+def parse_speed(text: str) -> float | None:
+    """``"100x"`` -> 100.0, ``"1x"`` -> 1.0, ``"max"`` -> None (as fast as the server takes)."""
+    value = text.strip().lower()
+    if value == "max":
+        return None
+    try:
+        speed = float(value.removesuffix("x"))
+    except ValueError:
+        raise argparse.ArgumentTypeError(
+            f"speed must look like 1x, 100x or max, got {text!r}"
+        ) from None
+    if not speed > 0:
+        raise argparse.ArgumentTypeError(f"speed must be > 0, got {text!r}")
+    return speed
+
+
+_FAULT = re.compile(
+    r"^(?P<kind>\w+):(?P<group>\w+)\.(?P<channel>\w+)"
+    r"(?:@(?P<at>[0-9.]+))?(?:\*(?P<rows>\d+))?(?:\+(?P<size>[-0-9.e]+))?$"
+)
+
+
+def parse_fault(text: str) -> Fault:
+    """``KIND:GROUP.CHANNEL[@AT][*ROWS][+SIZE]``, e.g. ``stuck:friction.load@0.5*20``."""
+    found = _FAULT.match(text.strip())
+    if found is None or found["kind"] not in FAULT_KINDS:
+        raise argparse.ArgumentTypeError(
+            f"a fault looks like KIND:GROUP.CHANNEL[@AT][*ROWS][+SIZE] with KIND one of "
+            f"{', '.join(FAULT_KINDS)}, got {text!r}"
+        )
+    try:
+        return Fault(
+            kind=found["kind"],
+            group=found["group"],
+            channel=found["channel"],
+            at=float(found["at"] or 0.5),
+            rows=int(found["rows"] or 1),
+            size=float(found["size"] or 0.0),
+        )
+    except (RigsimError, ValueError) as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from None
+
+
+def settings_for(
+    kind: StandKind,
+    *,
+    model: str | None = None,
+    mode: str | None = None,
+    faults: Sequence[Fault] = (),
+) -> Any:
+    """The stand's default settings with the bearing model (MTOS, slide bearing), the
+    SMTs-2 mode and the faults chosen on the command line."""
+    if kind is StandKind.SMTS2:
+        settings: Any = Smts2Settings.for_mode(mode or "wear")  # type: ignore[arg-type]
+    else:
+        settings = SIMULATORS[kind].settings()
+    if model is not None and hasattr(settings, "model"):
+        settings = replace(settings, model=model)
+    return replace(settings, faults=tuple(faults)) if faults else settings
+
+
+def progress_bar(console: Console) -> Progress:
+    return Progress(
+        TextColumn("{task.description}"),
+        BarColumn(),
+        MofNCompleteColumn(),
+        TextColumn("batches"),
+        TimeElapsedColumn(),
+        console=console,
+    )
+
+
+def _run(args: argparse.Namespace, console: Console) -> int:
+    kind = StandKind(args.stand)
+    settings = settings_for(kind, model=args.model, mode=args.mode, faults=args.fault)
+    sim = SIMULATORS[kind].simulate(settings, args.seed)
+    key = args.key or os.environ.get("RIG_KEY")
+    with LabClient(args.url, key, seed=args.seed) as client, progress_bar(console) as bar:
+        task = bar.add_task(f"{kind.value} (seed {args.seed})", total=len(sim.batches))
+        outcome = client.run(
+            sim,
+            speed=args.speed,
+            binary=args.binary,
+            on_batch=lambda seq, total, receipt: bar.update(task, completed=seq + 1),
+        )
+    console.print(
+        f"run [bold]{outcome.run.id}[/] {outcome.run.state.value}: {len(outcome.receipts)} "
+        f"batches, {outcome.duplicates} stored before a retry, {outcome.retries} retries"
+    )
+    console.print(f"{args.url.rstrip('/')}/api/v1/runs/{outcome.run.id}/results")
+    print_results(console, outcome.results, sim.truth if args.truth else None)
+    return 0
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(prog="rigsim", description=__doc__.splitlines()[0])
+    sub = parser.add_subparsers(dest="command", required=True)
+    run = sub.add_parser("run", help="simulate one stand's run and post it to a server")
+    run.add_argument("--stand", required=True, choices=[k.value for k in StandKind])
+    run.add_argument("--url", default="http://127.0.0.1:8000")
+    run.add_argument("--key", help="API key with write:<stand> (or set RIG_KEY)")
+    run.add_argument("--seed", type=int, default=0)
+    run.add_argument("--speed", type=parse_speed, default=None, help="1x, 100x, ... or max")
+    run.add_argument("--model", choices=MODELS, help="bearing model (mtos, slide_bearing)")
+    run.add_argument("--mode", choices=MODES, help="SMTs-2 run: wear, adhesive, oxidative")
+    run.add_argument(
+        "--fault",
+        type=parse_fault,
+        action="append",
+        default=[],
+        help="KIND:GROUP.CHANNEL[@AT][*ROWS][+SIZE], e.g. out_of_limit:friction.load@0.5 "
+        "(kinds: dropout, spike, stuck, out_of_limit); repeatable",
+    )
+    run.add_argument("--binary", action="store_true", help="post batches as npz archives")
+    run.add_argument("--truth", action="store_true", help="print the simulator's truth too")
+    demo = sub.add_parser("demo", help="start rigserver and post all four stands to it")
+    demo.add_argument("--host", default="127.0.0.1")
+    demo.add_argument("--port", type=int, default=8000)
+    demo.add_argument("--data-dir", type=Path, default=Path("data"))
+    demo.add_argument("--speed", type=parse_speed, default=60.0, help="default 60x")
+    demo.add_argument("--seed", type=int, default=0)
+    args = parser.parse_args(argv)
+    console = Console()
+    try:
+        if args.command == "run":
+            return _run(args, console)
+        from rigsim.demo import run_demo
+
+        return run_demo(
+            host=args.host,
+            port=args.port,
+            data_dir=args.data_dir,
+            speed=args.speed,
+            seed=args.seed,
+            console=console,
+        )
+    except RigsimError as exc:
+        console.print(f"[bold red]rigsim:[/] {exc}")
+        return 1
+    except KeyboardInterrupt:
+        console.print("interrupted")
+        return 130
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,136 @@
+"""``rigsim demo``: the service with the embedded storage and all four stands posting to it.
+
+Starts ``rigserver serve`` as a subprocess (its own process: rigsim reaches the server only
+over HTTP) on a data directory, with public reads and a demo key generated into
+``<data dir>/demo-keys.json`` (reused on the next start), waits until it answers, runs the
+four simulated stands against it in threads at an accelerated pace, prints where to look,
+and keeps the server running until Ctrl-C.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import secrets
+import signal
+import subprocess
+import sys
+import threading
+import time
+from pathlib import Path
+from typing import Any
+
+import httpx
+from rich.console import Console
+
+from rigsim.client import LabClient, RunOutcome
+from rigsim.errors import RigsimError, ServerUnavailable
+from rigsim.stands import simulate
+from schemas.stands import StandKind
+
+KEYS_FILE = "demo-keys.json"
+STARTUP_TIMEOUT = 60.0
+
+
+def demo_key(data_dir: Path) -> tuple[Path, str]:
+    """The demo's keys file in ``data_dir`` and its writing key (made on first use)."""
+    data_dir.mkdir(parents=True, exist_ok=True)
+    path = data_dir / KEYS_FILE
+    if path.exists():
+        keys = json.loads(path.read_text(encoding="utf-8"))
+        return path, str(keys[0]["key"])
+    key = f"demo-{secrets.token_hex(16)}"
+    path.write_text(
+        json.dumps([{"key": key, "scopes": ["read", "write:*"], "name": "rigsim demo"}]),
+        encoding="utf-8",
+    )
+    path.chmod(0o600)
+    return path, key
+
+
+def start_server(host: str, port: int, data_dir: Path, keys_file: Path) -> subprocess.Popen[bytes]:
+    """``rigserver serve`` in a subprocess, once it answers on ``/api/v1/stands``."""
+    cmd = [sys.executable, "-m", "rigserver.cli", "serve", "--host", host, "--port", str(port)]
+    cmd += ["--data-dir", str(data_dir), "--keys-file", str(keys_file), "--public-reads"]
+    proc = subprocess.Popen(cmd, env={**os.environ, "PYTHONUNBUFFERED": "1"})
+    deadline = time.monotonic() + STARTUP_TIMEOUT
+    while time.monotonic() < deadline:
+        if proc.poll() is not None:
+            raise ServerUnavailable(f"rigserver exited with status {proc.returncode}")
+        try:
+            httpx.get(f"http://{host}:{port}/api/v1/stands", timeout=1.0)
+            return proc
+        except httpx.TransportError:
+            time.sleep(0.2)
+    proc.terminate()
+    raise ServerUnavailable(f"rigserver did not answer on port {port} in {STARTUP_TIMEOUT:g} s")
+
+
+def run_demo(
+    *,
+    host: str,
+    port: int,
+    data_dir: Path,
+    speed: float | None,
+    seed: int,
+    console: Console,
+) -> int:
+    """Serve, post the four stands concurrently, then serve until Ctrl-C (or SIGTERM)."""
+    keys_file, key = demo_key(data_dir)
+    url = f"http://{host}:{port}"
+    proc = start_server(host, port, data_dir, keys_file)
+    signal.signal(signal.SIGTERM, _exit_on_term)  # so that the server is stopped with us
+    try:
+        console.print(f"rigserver is up: data in {data_dir.resolve()}")
+        console.print(f"  API docs        {url}/docs")
+        console.print(f"  runs            {url}/api/v1/runs")
+        console.print(f"  demo key        in {keys_file} (reads are public)")
+        outcomes: dict[StandKind, RunOutcome | str] = {}
+
+        def post(kind: StandKind, stand_seed: int) -> None:
+            try:
+                sim = simulate(kind, seed=stand_seed)
+                with LabClient(url, key, seed=stand_seed) as client:
+                    outcomes[kind] = client.run(sim, speed=speed)
+            except RigsimError as exc:
+                outcomes[kind] = f"failed: {exc}"
+
+        threads = [
+            threading.Thread(target=post, args=(kind, seed + i), name=kind.value, daemon=True)
+            for i, kind in enumerate(StandKind)
+        ]
+        for thread in threads:
+            thread.start()
+        console.print(f"posting the four simulated stands at {_pace(speed)} ...")
+        for thread in threads:
+            thread.join()
+        for kind, outcome in outcomes.items():
+            if isinstance(outcome, str):
+                console.print(f"  {kind.value:14s} {outcome}")
+            else:
+                console.print(
+                    f"  {kind.value:14s} {url}/api/v1/runs/{outcome.run.id}/results "
+                    f"{_headline(outcome.run.key_results)}"
+                )
+        console.print("serving; Ctrl-C stops the server")
+        proc.wait()
+        return proc.returncode or 0
+    finally:
+        if proc.poll() is None:
+            proc.terminate()
+            try:
+                proc.wait(timeout=10)
+            except subprocess.TimeoutExpired:
+                proc.kill()
+
+
+def _exit_on_term(signum: int, frame: object) -> None:
+    raise SystemExit(128 + signum)
+
+
+def _pace(speed: float | None) -> str:
+    return "full speed" if speed is None else f"{speed:g} times the stands' pace"
+
+
+def _headline(key_results: dict[str, Any]) -> str:
+    return ", ".join(f"{k} = {v:.4g}" for k, v in key_results.items())

@@ -1,0 +1,39 @@
+"""The four simulated stands: pure functions ``simulate(settings, seed) -> SimulatedRun``.
+
+:data:`SIMULATORS` maps each stand kind to its settings class and simulator;
+:func:`simulate` picks one by kind.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
+from rigsim.batches import SimulatedRun
+from rigsim.stands import mtos, profilometer, slide_bearing, smts2
+from schemas.stands import StandKind
+
+__all__ = ["SIMULATORS", "Simulator", "simulate"]
+
+
+@dataclass(frozen=True, slots=True)
+class Simulator:
+    """A stand's settings class and its ``simulate(settings, seed)``."""
+
+    settings: type[Any]
+    simulate: Callable[[Any, int], SimulatedRun[Any]]
+
+
+SIMULATORS: dict[StandKind, Simulator] = {
+    StandKind.SMTS2: Simulator(smts2.Smts2Settings, smts2.simulate),
+    StandKind.SLIDE_BEARING: Simulator(slide_bearing.SlideBearingSettings, slide_bearing.simulate),
+    StandKind.MTOS: Simulator(mtos.MtosSettings, mtos.simulate),
+    StandKind.PROFILOMETER: Simulator(profilometer.ProfilometerSettings, profilometer.simulate),
+}
+
+
+def simulate(kind: StandKind | str, settings: Any = None, seed: int = 0) -> SimulatedRun[Any]:
+    """The simulated run of stand ``kind`` (default settings when ``settings`` is None)."""
+    sim = SIMULATORS[StandKind(kind)]
+    return sim.simulate(settings if settings is not None else sim.settings(), seed)

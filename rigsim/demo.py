@@ -108,9 +108,11 @@ def run_demo(
             if isinstance(outcome, str):
                 console.print(f"  {kind.value:14s} {outcome}")
             else:
+                units = outcome.results.get("units", {})
                 console.print(
-                    f"  {kind.value:14s} {url}/api/v1/runs/{outcome.run.id}/results "
-                    f"{_headline(outcome.run.key_results)}"
+                    f"  {kind.value:14s} {url}/api/v1/runs/{outcome.run.id}/results\n"
+                    f"  {'':14s} {_headline(outcome.run.key_results, units)}",
+                    soft_wrap=True,
                 )
         console.print("serving; Ctrl-C stops the server")
         proc.wait()
@@ -132,5 +134,9 @@ def _pace(speed: float | None) -> str:
     return "full speed" if speed is None else f"{speed:g} times the stands' pace"
 
 
-def _headline(key_results: dict[str, Any]) -> str:
-    return ", ".join(f"{k} = {v:.4g}" for k, v in key_results.items())
+def _headline(key_results: dict[str, Any], units: dict[str, str]) -> str:
+    def unit(path: str) -> str:
+        u = units.get(path, "1")
+        return "" if u == "1" else f" {u}"
+
+    return ", ".join(f"{k} = {v:.4g}{unit(k)}" for k, v in key_results.items())

@@ -166,6 +166,8 @@ class MtosResults(BaseModel):
     rows: int
     h_crit: float = quantity(..., "m", "h_min^crit, sum of the five terms (seed 001)")
     half_width: float = quantity(..., "1", "a = B/(2R) = B/D (corrected E3)")
+    friction_fluid: float | None = quantity(None, "1", "mean f_э of the fluid-film steps")
+    h_min_smallest: float | None = quantity(None, "m", "smallest h_min of the run")
     steps: list[MtosStep] = Field(default_factory=list)
     pending: list[str] = Field(default_factory=list)
     notes: list[str] = Field(default_factory=list)

@@ -46,7 +46,7 @@ class AnalysisResult:
 _KEYS: dict[StandKind, tuple[str, ...]] = {
     StandKind.SMTS2: ("friction_steady", "experimental.intensity", "theoretical.intensity"),
     StandKind.SLIDE_BEARING: ("chi_mean", "pressure_max", "phi_max"),
-    StandKind.MTOS: ("h_crit",),
+    StandKind.MTOS: ("friction_fluid", "h_min_smallest", "h_crit"),
     StandKind.PROFILOMETER: ("ra", "rz", "complex_parameter"),
 }
 

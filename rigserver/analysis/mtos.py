@@ -120,6 +120,9 @@ def analyse(run: Run, readings: Readings) -> MtosResults:
                 film=film.film_regime(h_min=float(h_min[i]), h_crit=crit.total),
             )
         )
+    fluid = [s.friction_measured for s in result.steps if s.regime == "fluid"]
+    result.friction_fluid = float(np.mean(fluid)) if fluid else None
+    result.h_min_smallest = float(np.min(h_min))
     return result
 
 

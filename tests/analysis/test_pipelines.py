@@ -121,6 +121,8 @@ def test_mtos_tables_by_hand() -> None:
     assert all(s.friction_theory is not None and s.friction_theory > 0 for s in res.steps)
     assert res.h_crit == pytest.approx(1.6e-6 + 3.2e-6)
     assert [s.h_min for s in res.steps] == pytest.approx(list(h0 - e), rel=1e-9)
+    assert res.friction_fluid == pytest.approx(f_e.mean(), rel=1e-12)  # both steps fluid
+    assert res.h_min_smallest == pytest.approx(h0 - e.max(), rel=1e-9)
 
 
 def test_profilometer_sine_trace() -> None:

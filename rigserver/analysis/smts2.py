@@ -27,8 +27,6 @@ _M_PER_UM = UNITS["um"].factor
 def analyse(run: Run, readings: Readings) -> Smts2Results:
     config = Smts2Config.model_validate(run.configuration)
     total = readings.rows(GROUP)
-    pending: list[str] = []
-    notes: list[str] = []
     series = BlockSeries(total)
     start = wear.steady_window_start(samples=total, fraction=config.steady_fraction) if total else 0
     f_tail, load_tail = TailMoments(start), TailMoments(start)
@@ -62,11 +60,9 @@ def analyse(run: Run, readings: Readings) -> Smts2Results:
         friction_steady_std=f_tail.std if total else 0.0,
         steady_from_time=steady_time,
         friction=series.series("time", "friction coefficient"),
-        pending=pending,
-        notes=notes,
     )
     if total == 0:
-        pending.append("no friction record yet")
+        result.pending.append("no friction record yet")
         return result
     m = readings.measurements()
     pin_radius = config.pin_diameter / 2.0
@@ -87,11 +83,15 @@ def analyse(run: Run, readings: Readings) -> Smts2Results:
             intensity=exp.intensity,
         )
     else:
-        pending.append("experimental wear needs pin_mass_before, pin_mass_after and revolutions")
+        result.pending.append(
+            "experimental wear needs pin_mass_before, pin_mass_after and revolutions"
+        )
     if "disc_ra" in m:
-        result.theoretical = _theoretical(config, result, m["disc_ra"] * _M_PER_UM, notes)
+        result.theoretical = _theoretical(config, result, m["disc_ra"] * _M_PER_UM)
     else:
-        pending.append("theoretical wear needs disc_ra (the disc's Ra from the profilometer)")
+        result.pending.append(
+            "theoretical wear needs disc_ra (the disc's Ra from the profilometer)"
+        )
     if result.experimental and result.theoretical and result.experimental.intensity > 0:
         adequacy = wear.wear_adequacy(
             i_exp=result.experimental.intensity, i_theor=result.theoretical.intensity
@@ -106,7 +106,7 @@ def analyse(run: Run, readings: Readings) -> Smts2Results:
 
 
 def _theoretical(
-    config: Smts2Config, result: Smts2Results, ra_disc: float, notes: list[str]
+    config: Smts2Config, result: Smts2Results, ra_disc: float
 ) -> TheoreticalWearResult | None:
     pin = config.pin
 
@@ -134,7 +134,7 @@ def _theoretical(
         if theory.contact == "plastic":
             theory, t = at(config.fatigue_t_plastic), config.fatigue_t_plastic
     except ModelInputError as exc:
-        notes.append(f"theoretical wear not computed: {exc}")
+        result.notes.append(f"theoretical wear not computed: {exc}")
         return None
     return TheoreticalWearResult(
         intensity=theory.intensity,

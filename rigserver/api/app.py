@@ -12,7 +12,7 @@ from rigserver.api import problems
 from rigserver.api.auth import ApiKey, Keyring
 from rigserver.api.body_limit import BodyLimit
 from rigserver.api.deps import Services
-from rigserver.api.routes import models, readings, results, runs
+from rigserver.api.routes import live, models, pages, readings, reports, results, runs
 from rigserver.api.routes import stands as stand_routes
 from rigserver.api.settings import Settings
 from rigserver.storage.base import RunStore
@@ -53,8 +53,11 @@ def create_app(
         readings.router,
         results.router,
         models.router,
+        reports.router,
+        live.router,
     ):
         app.include_router(router, prefix=API_PREFIX)
+    pages.install(app)
     app.add_middleware(BodyLimit, max_bytes=settings.max_body_bytes)
     if settings.cors_origins:
         app.add_middleware(

@@ -3,13 +3,14 @@
 from __future__ import annotations
 
 from collections.abc import Iterator
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
 from rigserver.analysis import AnalysisResult, analyse
 from rigserver.api.deps import Services
-from schemas.runs import Run
+from schemas.runs import Run, RunState
 from schemas.stands import MEASUREMENTS
 
 
@@ -44,3 +45,12 @@ class StoredReadings:
 def compute_results(services: Services, run: Run) -> AnalysisResult:
     """The stand's results on what the run holds now (all of it once finished)."""
     return analyse(run, StoredReadings(services, run))
+
+
+def results_payload(services: Services, run: Run) -> dict[str, Any]:
+    """The results stored when the run finished, or computed now on what has arrived."""
+    if run.state is RunState.FINISHED:
+        stored = services.store.results(run.id)
+        if stored is not None:
+            return stored
+    return compute_results(services, run).payload

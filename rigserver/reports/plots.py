@@ -9,7 +9,13 @@ from __future__ import annotations
 import io
 from collections.abc import Sequence
 
+from matplotlib.axes import Axes
 from matplotlib.figure import Figure
+
+from rigserver.reports.formatting import tex
+
+WIDTH = 7.0
+"""Width of a report figure, inches: the text width of an A4 page with 15 mm margins."""
 
 
 def to_svg(fig: Figure) -> str:
@@ -18,6 +24,37 @@ def to_svg(fig: Figure) -> str:
     fig.savefig(buf, format="svg", bbox_inches="tight")
     text = buf.getvalue()
     return text[text.index("<svg") :]
+
+
+def axes(
+    *, height: float = 3.2, columns: int = 1, sharey: bool = False
+) -> tuple[Figure, list[Axes]]:
+    """A new figure of the report's width with ``columns`` axes side by side."""
+    fig = Figure(figsize=(WIDTH, height), layout="constrained" if columns > 1 else None)
+    found = fig.subplots(1, columns, squeeze=False, sharey=sharey)
+    return fig, list(found[0])
+
+
+def decorate(
+    ax: Axes, *, xlabel: str, ylabel: str, title: str = "", legend_outside: bool = False
+) -> None:
+    """Axis labels (symbol, unit), a light grid, and a legend when lines are labelled.
+
+    Legend labels may hold symbols in the syntax of :func:`formatting.tex` (``"Π_э"``);
+    ``legend_outside`` puts the legend right of the axes, for plots that fill them.
+    """
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    if title:
+        ax.set_title(title, fontsize=10)
+    ax.grid(True, linewidth=0.3)
+    handles, labels = ax.get_legend_handles_labels()
+    if handles:
+        texts = [tex(label) for label in labels]
+        if legend_outside:
+            ax.legend(handles, texts, fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0))
+        else:
+            ax.legend(handles, texts, fontsize=8)
 
 
 def lines(
@@ -29,7 +66,7 @@ def lines(
     title: str = "",
 ) -> str:
     """One axes with several labelled lines, as SVG."""
-    fig = Figure(figsize=(7.0, 3.2))
+    fig = Figure(figsize=(WIDTH, 3.2))
     ax = fig.subplots()
     for label, y in series:
         ax.plot(x, y, label=label, linewidth=1.2)

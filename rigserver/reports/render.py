@@ -6,16 +6,27 @@ from functools import lru_cache
 from typing import Any
 
 from jinja2 import Environment, PackageLoader, select_autoescape
+from markupsafe import Markup
+
+from rigserver.reports.formatting import html_symbol
+
+
+def symbols(text: str) -> Markup:
+    """The ``sym`` filter: plain text with its symbols' scripts as ``<sub>``/``<sup>``;
+    markup (already converted) passes as it is."""
+    return text if isinstance(text, Markup) else html_symbol(text)
 
 
 @lru_cache
 def environment() -> Environment:
-    return Environment(
+    env = Environment(
         loader=PackageLoader("rigserver.reports", "templates"),
         autoescape=select_autoescape(["html"]),
         trim_blocks=True,
         lstrip_blocks=True,
     )
+    env.filters["sym"] = symbols
+    return env
 
 
 def render(template: str, **context: Any) -> str:

@@ -186,3 +186,20 @@ def test_mtos_finite_friction_of_a_centred_journal_is_petroff() -> None:
     petroff = 2 * math.pi * mu * w * R**3 * B / h0
     assert step.friction_finite == pytest.approx(petroff / (load * (R - h0)), rel=1e-6)
     assert step.load_finite == pytest.approx(0.0, abs=1e-6)
+
+
+def test_smts2_says_what_is_missing() -> None:
+    """Without weighings and Ra the wear results stay empty and `pending` names why."""
+    cols = {
+        "time": [0.0, 1.0],
+        "load": [300.0, 300.0],
+        "speed": [1000.0, 1000.0],
+        "friction_moment": [3.0, 3.0],
+        "revolutions": [0.0, 1.0],
+    }
+    res = smts2.analyse(make_run(StandKind.SMTS2), FakeReadings({"friction": cols}, {}))
+    assert res.experimental is None and res.theoretical is None
+    assert any("pin_mass_before" in p for p in res.pending)
+    assert any("disc_ra" in p for p in res.pending)
+    empty = smts2.analyse(make_run(StandKind.SMTS2), FakeReadings({}, {}))
+    assert empty.pending == ["no friction record yet"]

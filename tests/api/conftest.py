@@ -55,9 +55,10 @@ def free_port() -> int:
 class Server:
     """``rigserver serve`` in a subprocess on a free loopback port."""
 
-    def __init__(self, data_dir: Path, keys_file: Path) -> None:
+    def __init__(self, data_dir: Path, keys_file: Path, *, public_reads: bool = False) -> None:
         self.data_dir = data_dir
         self.keys_file = keys_file
+        self.public_reads = public_reads
         self.port = free_port()
         self.url = f"http://127.0.0.1:{self.port}"
         self.log = data_dir.parent / "rigserver.log"
@@ -66,7 +67,7 @@ class Server:
     def start(self) -> None:
         cmd = [sys.executable, "-m", "rigserver.cli", "serve", "--port", str(self.port)]
         cmd += ["--data-dir", str(self.data_dir), "--keys-file", str(self.keys_file)]
-        cmd += ["--log-level", "warning"]
+        cmd += ["--log-level", "warning"] + (["--public-reads"] if self.public_reads else [])
         env = {**os.environ, "PYTHONUNBUFFERED": "1"}
         with self.log.open("ab") as log:
             self.proc = subprocess.Popen(cmd, env=env, stdout=log, stderr=log)

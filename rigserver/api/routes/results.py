@@ -9,8 +9,7 @@ from fastapi.concurrency import run_in_threadpool
 
 from rigserver.api.deps import ReadAccess, ServicesDep
 from rigserver.api.routes.runs import load_run
-from rigserver.api.run_results import compute_results
-from schemas.runs import RunState
+from rigserver.api.run_results import results_payload
 
 router = APIRouter(prefix="/runs/{run_id}/results", tags=["results"], dependencies=[ReadAccess])
 
@@ -23,9 +22,4 @@ router = APIRouter(prefix="/runs/{run_id}/results", tags=["results"], dependenci
 )
 async def get_results(run_id: str, services: ServicesDep) -> dict[str, Any]:
     run = await run_in_threadpool(load_run, services, run_id)
-    if run.state is RunState.FINISHED:
-        stored = services.store.results(run.id)
-        if stored is not None:
-            return stored
-    result = await run_in_threadpool(compute_results, services, run)
-    return result.payload
+    return await run_in_threadpool(results_payload, services, run)

@@ -1,0 +1,94 @@
+"""Tables built from the result models: values printed with ``fmt``, units from the schema."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+
+from markupsafe import Markup
+from pydantic import BaseModel
+
+from rigserver.reports.document import Table, Text
+from rigserver.reports.formatting import fmt, html_symbol, tex
+from rigserver.reports.i18n import Messages
+from schemas.channels import ChannelGroup
+from schemas.quantity import units_of
+
+
+def header(t: Messages, symbol: str, unit: str | None = None) -> Markup:
+    """A column header: the symbol and, unless dimensionless, its unit (``e<sub>x</sub>, m``)."""
+    label = html_symbol(symbol)
+    if unit is None or unit == "1":
+        return label
+    return Markup("{}, {}").format(label, t.unit(unit))
+
+
+def axis(t: Messages, symbol: str, unit: str | None = None) -> str:
+    """An axis label for the plots: the symbol in mathtext and the unit (``$e_{x}$, m``)."""
+    label = tex(symbol)
+    if unit is None or unit == "1":
+        return label
+    return f"{label}, {t.unit(unit)}"
+
+
+def unit_of(model: type[BaseModel], name: str) -> str:
+    """The unit a result field is declared with (``quantity``)."""
+    return units_of(model)[name]
+
+
+def quantities(
+    t: Messages,
+    caption: Text,
+    model: BaseModel,
+    fields: Sequence[tuple[str, str, str]],
+    errors: Mapping[str, float | None] | None = None,
+) -> Table:
+    """One row per quantity: its name, symbol, value and unit.
+
+    ``fields`` holds ``(field name, symbol, message key of the quantity's name)``;
+    ``errors`` adds a column of the instrument error of some fields.
+    """
+    units = units_of(type(model))
+    rows: list[list[Text]] = []
+    for name, symbol, key in fields:
+        unit = units.get(name)
+        row: list[Text] = [
+            html_symbol(t(key)),
+            html_symbol(symbol),
+            fmt(getattr(model, name)),
+            t.unit(unit) if unit is not None else "",
+        ]
+        if errors is not None:
+            row.append(fmt(errors.get(name)))
+        rows.append(row)
+    head: list[Text] = [t("col.quantity"), t("col.symbol"), t("col.value"), t("col.unit")]
+    if errors is not None:
+        head.append(t("col.instrument_error"))
+    return Table(caption=caption, header=head, rows=rows, labels=2)
+
+
+def measurements(t: Messages, group: ChannelGroup, values: Mapping[str, float]) -> Table:
+    """The single measurements posted (masses, zero readings) with their declared units."""
+    rows: list[list[Text]] = [
+        [t.channel(c.name, c.long_name), c.name, fmt(values.get(c.name)), t.unit(c.unit)]
+        for c in group.channels
+    ]
+    return Table(
+        caption=t("caption.measurements"),
+        header=[t("col.quantity"), t("col.channel"), t("col.value"), t("col.unit")],
+        rows=rows,
+        labels=2,
+    )
+
+
+def columns(
+    caption: Text,
+    head: Sequence[Text],
+    data: Sequence[Sequence[float | Text | None]],
+    note: Text = "",
+) -> Table:
+    """A table from columns of numbers (or printed cells), one list per column."""
+    rows = [
+        [cell if isinstance(cell, str) else fmt(cell) for cell in row]
+        for row in zip(*data, strict=True)
+    ]
+    return Table(caption=caption, header=head, rows=rows, note=note)

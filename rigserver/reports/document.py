@@ -1,0 +1,77 @@
+"""A report as data: sections of tables, figures and paragraphs, rendered by one template.
+
+The stand modules build these; ``templates/report.html`` prints them, the same for the
+browser and for the PDF. Cell text is escaped when rendered; headers and captions may hold
+the markup of :func:`rigserver.reports.formatting.html_symbol`.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from typing import ClassVar
+
+from markupsafe import Markup
+
+Text = str | Markup
+
+
+@dataclass(frozen=True, slots=True)
+class Table:
+    """A table: a caption, one header row, rows of printed cells.
+
+    The first ``labels`` columns hold names (left-aligned), the others numbers.
+    """
+
+    kind: ClassVar[str] = "table"
+    caption: Text
+    header: Sequence[Text]
+    rows: Sequence[Sequence[Text]]
+    labels: int = 0
+    note: Text = ""
+
+
+@dataclass(frozen=True, slots=True)
+class Figure:
+    """An inline SVG plot with its caption."""
+
+    kind: ClassVar[str] = "figure"
+    caption: Text
+    svg: str
+
+
+@dataclass(frozen=True, slots=True)
+class Paragraph:
+    kind: ClassVar[str] = "paragraph"
+    text: Text
+
+
+@dataclass(frozen=True, slots=True)
+class Items:
+    """A bulleted list (conclusions, what is still missing)."""
+
+    kind: ClassVar[str] = "items"
+    items: Sequence[Text]
+
+
+Block = Table | Figure | Paragraph | Items
+
+
+@dataclass(frozen=True, slots=True)
+class Section:
+    title: Text
+    blocks: Sequence[Block] = field(default_factory=tuple)
+
+
+@dataclass(frozen=True, slots=True)
+class Report:
+    """A whole report: the heading, the run's particulars and the sections."""
+
+    lang: str
+    title: str
+    subtitle: str
+    aim_label: str
+    aim: str
+    particulars: Sequence[tuple[str, str]]
+    sections: Sequence[Section]
+    footer: str

@@ -1,0 +1,346 @@
+"""Lab work 4 (MTOS): tables 4.1-4.6 and the four plots of "Illustration of the results"."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+
+from rigserver.reports import blocks
+from rigserver.reports.context import Context, LabReport
+from rigserver.reports.document import Block, Figure, Section, Table, Text
+from rigserver.reports.formatting import fmt, html_symbol, tex
+from rigserver.reports.i18n import Messages
+from rigserver.reports.plots import axes, decorate, to_svg
+from schemas.quantity import units_of
+from schemas.results import MtosResults, MtosStep
+from schemas.stands import MEASUREMENTS, MtosConfig
+
+GROUP = "steps"
+REGIMES = ("fluid", "mixed", "boundary")
+"""The three experiments in the manual's order: 1 fluid film, 2 mixed, 3 boundary."""
+MARKERS = {"fluid": "o", "mixed": "s", "boundary": "^"}
+RISES = ("t2", "t3", "t4", "t5")
+
+
+def build(ctx: Context, v: MtosResults) -> LabReport:
+    t = ctx.t
+    config = MtosConfig.model_validate(ctx.run.configuration)
+    measured: list[Block] = [
+        blocks.measurements(t, ctx.group(MEASUREMENTS), ctx.readings.measurements())
+    ]
+    if ctx.readings.rows(GROUP):
+        measured.extend(_raw_tables(ctx))
+    measured.append(
+        blocks.quantities(
+            t,
+            t("m.film"),
+            v,
+            [
+                ("h_crit", "h_min^кр", "m.h_crit"),
+                ("h_min_smallest", "h_min", "m.h_min_smallest"),
+                ("friction_fluid", "f_э", "m.friction_fluid"),
+                ("half_width", "a", "m.half_width"),
+            ],
+        )
+    )
+    processed: list[Block] = []
+    for number, regime in enumerate(REGIMES, start=1):
+        steps = _of(v.steps, regime)
+        if steps:
+            processed.extend(_processed_tables(t, number, regime, steps, v.steps))
+    if v.steps:
+        processed += [
+            Figure(html_symbol(t("m.fig_stribeck")), _stribeck_svg(t, v, config)),
+            Figure(t("m.fig_trajectory"), _trajectory_svg(t, v, config)),
+            Figure(t("m.fig_friction"), _friction_svg(t, v)),
+            Figure(t("m.fig_temperature"), _temperature_svg(t, v)),
+        ]
+    return LabReport(
+        sections=[
+            Section(t("sec.measured"), measured),
+            Section(t("sec.processed"), processed),
+        ],
+        conclusions=_conclusions(t, v),
+    )
+
+
+def _of(steps: Sequence[MtosStep], regime: str) -> list[MtosStep]:
+    return [s for s in steps if s.regime == regime]
+
+
+def _raw_tables(ctx: Context) -> list[Table]:
+    """Tables 4.1-4.3: the readings of each experiment as posted."""
+    t = ctx.t
+    raw = ctx.readings.read(GROUP)
+    units = {c.name: c.unit for c in ctx.group(GROUP).channels}
+    names = ("load", "indicator", "x", "y", "t1", "t2", "t3", "t4", "t5")
+    symbols = ("N", "Δl", "X", "Y", "t_1", "t_2", "t_3", "t_4", "t_5")
+    head = [blocks.header(t, s, units[n]) for s, n in zip(symbols, names, strict=True)]
+    tables = []
+    for number, regime in enumerate(REGIMES, start=1):
+        rows = raw["regime"] == number
+        if rows.any():
+            tables.append(
+                blocks.columns(
+                    t("m.raw", n=number, regime=t("regime." + regime)),
+                    head,
+                    [raw[n][rows].tolist() for n in names],
+                )
+            )
+    return tables
+
+
+def _processed_tables(
+    t: Messages, experiment: int, regime: str, steps: list[MtosStep], every: list[MtosStep]
+) -> list[Table]:
+    """Table 4.4 (fluid film, in three parts as the manual prints it), 4.5 and 4.6."""
+    u = units_of(MtosStep)
+    regime_name = t("regime." + regime)
+    caption = t("m.processed", table=experiment + 3, n=experiment, regime=regime_name)
+    angle = "δ" if regime == "fluid" else "γ"
+    first = blocks.columns(
+        caption,
+        [
+            blocks.header(t, "N", u["load"]),
+            blocks.header(t, "e_x", u["e_x"]),
+            blocks.header(t, "e_y", u["e_y"]),
+            blocks.header(t, "e", u["e"]),
+            blocks.header(t, "χ", u["chi"]),
+            blocks.header(t, angle, u["angle"]),
+            blocks.header(t, "F", u["spring_force"]),
+            blocks.header(t, "M_тр", u["friction_moment"]),
+            blocks.header(t, "F_тр", u["friction_force"]),
+            blocks.header(t, "f_э", u["friction_measured"]),
+        ],
+        [
+            [s.load for s in steps],
+            [s.e_x for s in steps],
+            [s.e_y for s in steps],
+            [s.e for s in steps],
+            [s.chi for s in steps],
+            [s.angle for s in steps],
+            [s.spring_force for s in steps],
+            [s.friction_moment for s in steps],
+            [s.friction_force for s in steps],
+            [s.friction_measured for s in steps],
+        ],
+    )
+    rises = RISES if regime == "fluid" else RISES[1:]
+    head = [
+        blocks.header(t, "N", u["load"]),
+        blocks.header(t, "μ_t", u["viscosity"]),
+        blocks.header(t, "S_1", u["bearing_characteristic"]),
+        *(blocks.header(t, f"Δt_{k[1]}", u["temperature_rise"]) for k in rises),
+        blocks.header(t, "h_min", u["h_min"]),
+        t("col.film"),
+    ]
+    data: list[Sequence[float | Text | None]] = [
+        [s.load for s in steps],
+        [s.viscosity for s in steps],
+        [s.bearing_characteristic for s in steps],
+        *([s.temperature_rise.get(k) for s in steps] for k in rises),
+        [s.h_min for s in steps],
+        [t("regime." + s.film) for s in steps],
+    ]
+    note: Text = ""
+    if regime != "fluid":
+        fluid = {s.load: s.friction_measured for s in _of(every, "fluid")}
+        head.append(html_symbol("f_э/f_э1"))
+        data.append(
+            [s.friction_measured / fluid[s.load] if s.load in fluid else None for s in steps]
+        )
+        note = html_symbol(t("m.ratio_note"))
+    second = blocks.columns(f"{caption}, {t('m.continued')}", head, data, note=note)
+    if regime != "fluid":
+        return [first, second]
+    third = blocks.columns(
+        html_symbol(t("m.theory")),
+        [
+            blocks.header(t, "N", u["load"]),
+            blocks.header(t, "f_э", u["friction_measured"]),
+            blocks.header(t, "f_T", u["friction_theory"]),
+            blocks.header(t, "Δf", u["friction_error"]),
+            html_symbol(f"f, {t('m.f_finite')}"),
+            html_symbol(f"N, {t('m.f_finite')}, {t.unit(u['load_finite'])}"),
+        ],
+        [
+            [s.load for s in steps],
+            [s.friction_measured for s in steps],
+            [s.friction_theory for s in steps],
+            [s.friction_error for s in steps],
+            [s.friction_finite for s in steps],
+            [s.load_finite for s in steps],
+        ],
+    )
+    return [first, second, third]
+
+
+def _regime_label(t: Messages, regime: str) -> str:
+    return t("m.f_exp", regime=t("regime." + regime))
+
+
+def _stribeck_svg(t: Messages, v: MtosResults, config: MtosConfig) -> str:
+    """f_э of every step and f_T of the fluid steps against S1 = μ_t·ω/p̄ (4.21, E9), with
+    the step of the largest eccentricity in experiment 1 marked (h_min = h0 - e_max)."""
+    fig, (ax,) = axes(height=3.4)
+    for regime in REGIMES:
+        steps = _of(v.steps, regime)
+        if steps:
+            ax.plot(
+                [s.bearing_characteristic for s in steps],
+                [s.friction_measured for s in steps],
+                MARKERS[regime],
+                label=_regime_label(t, regime),
+            )
+    fluid = sorted(_of(v.steps, "fluid"), key=lambda s: s.bearing_characteristic)
+    theory = [(s.bearing_characteristic, s.friction_theory) for s in fluid if s.friction_theory]
+    if theory:
+        ax.plot(*zip(*theory, strict=True), "-", color="C3", label=t("m.f_theory"))
+    if fluid:
+        worst = max(fluid, key=lambda s: s.e)
+        ax.annotate(
+            tex(t("m.h_min_mark", h=fmt(config.clearance - worst.e))),
+            xy=(worst.bearing_characteristic, worst.friction_measured),
+            xytext=(0.35, 0.85),
+            textcoords="axes fraction",
+            fontsize=8,
+            arrowprops={"arrowstyle": "->", "linewidth": 0.8},
+        )
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    decorate(
+        ax, xlabel=blocks.axis(t, "S_1 = μ_t·ω/p̄"), ylabel=blocks.axis(t, "f"), legend_outside=True
+    )
+    return to_svg(fig)
+
+
+def _trajectory_svg(t: Messages, v: MtosResults, config: MtosConfig) -> str:
+    """The journal centre (e_x, e_y) of every step (4.11) inside the clearance circle, with
+    the Gümbel semicircle: the diameter from the bearing centre to the point h0 along the
+    load line (e_x = e_y, δ = 0 in (4.12)), on the side the fluid-film steps lie."""
+    h0 = config.clearance
+    fig, (ax,) = axes(height=4.2)
+    along = np.array([1.0, 1.0]) / np.sqrt(2.0)
+    across = np.array([-1.0, 1.0]) / np.sqrt(2.0)
+    fluid = _of(v.steps, "fluid")
+    side = 1.0 if not fluid or np.mean([s.e_y - s.e_x for s in fluid]) >= 0 else -1.0
+    theta = np.linspace(0.0, np.pi, 181)
+    arc = (h0 / 2.0) * (
+        np.outer(1.0 - np.cos(theta), along) + side * np.outer(np.sin(theta), across)
+    )
+    ax.plot(arc[:, 0], arc[:, 1], "-", color="C3", linewidth=1.0, label=t("m.gumbel"))
+    circle = np.linspace(0.0, 2.0 * np.pi, 361)
+    ax.plot(h0 * np.cos(circle), h0 * np.sin(circle), ":", color="0.4", label=t("m.clearance"))
+    ax.plot([0.0, h0 * along[0]], [0.0, h0 * along[1]], "--", color="0.6", linewidth=0.8)
+    for regime in REGIMES:
+        steps = _of(v.steps, regime)
+        if steps:
+            ax.plot(
+                [s.e_x for s in steps],
+                [s.e_y for s in steps],
+                MARKERS[regime] + "-",
+                linewidth=0.8,
+                markersize=5,
+                label=t("regime." + regime),
+            )
+            for s in steps if regime == "fluid" else ():
+                ax.annotate(
+                    fmt(s.load),
+                    (s.e_x, s.e_y),
+                    fontsize=6,
+                    xytext=(4, -2),
+                    textcoords="offset points",
+                )
+    ax.set_aspect("equal")
+    u = units_of(MtosStep)
+    decorate(
+        ax,
+        xlabel=blocks.axis(t, "e_x", u["e_x"]),
+        ylabel=blocks.axis(t, "e_y", u["e_y"]),
+        legend_outside=True,
+    )
+    return to_svg(fig)
+
+
+def _friction_svg(t: Messages, v: MtosResults) -> str:
+    fig, (ax,) = axes(height=3.2)
+    for regime in REGIMES:
+        steps = _of(v.steps, regime)
+        if steps:
+            ax.plot(
+                [s.load for s in steps],
+                [s.friction_measured for s in steps],
+                MARKERS[regime] + "-",
+                label=_regime_label(t, regime),
+            )
+    theory = [(s.load, s.friction_theory) for s in _of(v.steps, "fluid") if s.friction_theory]
+    if theory:
+        ax.plot(*zip(*theory, strict=True), "--", color="C3", label=t("m.f_theory"))
+    ax.set_yscale("log")
+    u = units_of(MtosStep)
+    decorate(
+        ax, xlabel=blocks.axis(t, "N", u["load"]), ylabel=blocks.axis(t, "f"), legend_outside=True
+    )
+    return to_svg(fig)
+
+
+def _temperature_svg(t: Messages, v: MtosResults) -> str:
+    present = [r for r in REGIMES if _of(v.steps, r)]
+    fig, found = axes(height=2.8, columns=len(present), sharey=True)
+    u = units_of(MtosStep)
+    for ax, regime in zip(found, present, strict=True):
+        steps = _of(v.steps, regime)
+        for k in RISES:
+            ax.plot(
+                [s.load for s in steps],
+                [s.temperature_rise.get(k, np.nan) for s in steps],
+                "o-",
+                markersize=3,
+                label=f"Δt_{k[1]}",
+            )
+        decorate(
+            ax,
+            xlabel=blocks.axis(t, "N", u["load"]),
+            ylabel=blocks.axis(t, "Δt", u["temperature_rise"]) if ax is found[0] else "",
+            title=t("regime." + regime),
+        )
+    return to_svg(fig)
+
+
+def _conclusions(t: Messages, v: MtosResults) -> list[Text]:
+    found: list[Text] = []
+    fluid = _of(v.steps, "fluid")
+    errors = [abs(s.friction_error) for s in fluid if s.friction_error is not None]
+    if fluid and errors:
+        f = [s.friction_measured for s in fluid]
+        found.append(
+            html_symbol(
+                t(
+                    "m.c_friction",
+                    f_min=fmt(min(f)),
+                    f_max=fmt(max(f)),
+                    error=fmt(float(np.mean(errors))),
+                )
+            )
+        )
+    for regime in REGIMES[1:]:
+        steps = _of(v.steps, regime)
+        if steps:
+            f = [s.friction_measured for s in steps]
+            found.append(
+                html_symbol(
+                    t(
+                        "m.c_regime",
+                        regime=t("regime." + regime).capitalize(),
+                        f_min=fmt(min(f)),
+                        f_max=fmt(max(f)),
+                    )
+                )
+            )
+    if v.steps:
+        thin = sum(s.film != "fluid" for s in v.steps)
+        found.append(
+            html_symbol(t("m.c_film", h_crit=fmt(v.h_crit), count=thin, total=len(v.steps)))
+        )
+    return found

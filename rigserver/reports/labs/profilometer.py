@@ -1,0 +1,212 @@
+"""Lab work 1 (ABRIS-PM7): the profile, tables 1.6-1.8, the complex parameter (1.9)-(1.11)."""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import NDArray
+
+from rigserver.core import roughness, stands
+from rigserver.reports import blocks
+from rigserver.reports.context import Context, LabReport
+from rigserver.reports.document import Block, Figure, Section, Table, Text
+from rigserver.reports.downsample import min_max
+from rigserver.reports.formatting import DASH, fmt, html_symbol
+from rigserver.reports.i18n import Messages
+from rigserver.reports.plots import axes, decorate, to_svg
+from schemas.results import BearingFitResult, ProfilometerResults
+from schemas.stands import MEASUREMENTS
+from schemas.units import UNITS
+
+GROUP = "profile"
+#: Columns the profile is decimated to for drawing (min-max keeps every peak and valley).
+DRAWN_COLUMNS = 700
+
+
+def build(ctx: Context, v: ProfilometerResults) -> LabReport:
+    t = ctx.t
+    measured: list[Block] = [
+        blocks.measurements(t, ctx.group(MEASUREMENTS), ctx.readings.measurements())
+    ]
+    if ctx.readings.rows(GROUP):
+        measured.append(Figure(t("p.fig_profile"), _profile_svg(ctx, v)))
+    if v.ra is not None:
+        measured.append(
+            blocks.quantities(
+                t,
+                t("p.params"),
+                v,
+                [
+                    ("base_length", "l", "p.base_length"),
+                    ("ra", "R_a", "p.ra"),
+                    ("rq", "R_q", "p.rq"),
+                    ("rz", "R_z", "p.rz"),
+                    ("rmax", "R_max", "p.rmax"),
+                    ("sm", "S_m", "p.sm"),
+                    ("asperity_radius", "R", "p.r"),
+                ],
+                errors={"ra": v.ra_error, "rz": v.rz_error, "rmax": v.rmax_error, "sm": v.sm_error},
+            )
+        )
+    processed: list[Block] = []
+    if v.tp:
+        processed.append(_table_1_6(t, v))
+    fits = [f for f in (v.fit_manual, v.fit_lsq) if f is not None]
+    if fits:
+        processed.append(_table_1_7(t, fits))
+    if v.fit_manual is not None:
+        processed.append(_table_1_8(t, v, v.fit_manual))
+    if v.tp:
+        processed.append(Figure(t("p.fig_bearing"), _bearing_svg(t, v, fits)))
+    if v.complex_parameter is not None:
+        processed.append(
+            blocks.quantities(
+                t,
+                t("p.complex"),
+                v,
+                [
+                    ("complex_parameter", "Δ", "p.delta"),
+                    ("ra_from_complex", "R_a", "p.ra_delta"),
+                    ("complex_parameter_equilibrium", "Δ_T", "p.delta_t"),
+                ],
+            )
+        )
+    return LabReport(
+        sections=[
+            Section(t("sec.measured"), measured),
+            Section(t("sec.processed"), processed),
+        ],
+        conclusions=_conclusions(t, v),
+    )
+
+
+def _profile_svg(ctx: Context, v: ProfilometerResults) -> str:
+    """The trace as measured (mm, μm) with the mean, peak and valley lines of (1.3)-(1.4)."""
+    t = ctx.t
+    trace = ctx.readings.read(GROUP, ["x", "y"])
+    group = ctx.group(GROUP)
+    units = {c.name: c.unit for c in group.channels}
+    fx, fy = UNITS[units["x"]].factor, UNITS[units["y"]].factor
+    x, y = trace["x"], trace["y"]
+    fig, (ax,) = axes(height=3.0)
+    shown_x, shown_y = min_max(x, y, buckets=DRAWN_COLUMNS)
+    ax.plot(shown_x, shown_y, linewidth=0.6, color="0.25", label=t("p.profile"))
+    if v.rmax is not None:
+        line = roughness.mean_line(x=x * fx, y=y * fy)
+        deviation = y * fy - (line.slope * x * fx + line.intercept)
+        ends = np.array([x[0], x[-1]])
+        base = (line.slope * ends * fx + line.intercept) / fy
+        for offset, key, style in (
+            (0.0, "p.mean_line", "-"),
+            (float(deviation.max()) / fy, "p.peak_line", "--"),
+            (float(deviation.min()) / fy, "p.valley_line", "--"),
+        ):
+            ax.plot(ends, base + offset, style, linewidth=1.0, label=t(key))
+    decorate(
+        ax,
+        xlabel=blocks.axis(t, "x", units["x"]),
+        ylabel=blocks.axis(t, "y", units["y"]),
+        legend_outside=True,
+    )
+    return to_svg(fig)
+
+
+def _levels_table(t: Messages, caption: Text, rows: list[list[Text]], count: int) -> Table:
+    head: list[Text] = [t("col.level"), *(str(i) for i in range(1, count + 1))]
+    return Table(caption=caption, header=head, rows=rows, labels=1)
+
+
+def _table_1_6(t: Messages, v: ProfilometerResults) -> Table:
+    unit = blocks.unit_of(ProfilometerResults, "levels")
+    rows: list[list[Text]] = [
+        [blocks.header(t, "p_i", unit), *(fmt(p) for p in v.levels)],
+        [html_symbol("t_p = η_p/l"), *(fmt(p) for p in v.tp)],
+        [html_symbol("ε = p_i/R_max"), *(fmt(p) for p in v.eps)],
+    ]
+    return _levels_table(t, html_symbol(t("p.table_1_6")), rows, len(v.tp))
+
+
+def _table_1_7(t: Messages, fits: list[BearingFitResult]) -> Table:
+    head: list[Text] = [
+        t("col.method"),
+        *(html_symbol(s) for s in ("ν_{1,3}", "ν_{2,5}", "ν_{3,6}", "ν", "b_1", "b_3", "b_5", "b")),
+    ]
+    rows: list[list[Text]] = []
+    for fit in fits:
+        nu = [fmt(n) for n in fit.nu_partial] or [DASH] * 3
+        b = [fmt(n) for n in fit.b_partial] or [DASH] * 3
+        rows.append([t("p.manual" if fit.method == "manual" else "p.lsq"), *nu, fmt(fit.nu)])
+        rows[-1] += [*b, fmt(fit.b)]
+    return Table(caption=html_symbol(t("p.table_1_7")), header=head, rows=rows, labels=1)
+
+
+def _table_1_8(t: Messages, v: ProfilometerResults, fit: BearingFitResult) -> Table:
+    residuals = np.asarray(fit.residuals)
+    theory = np.asarray(v.tp) - residuals  # Δt_p = t_pэ - t_pт (table 1.8)
+    rows: list[list[Text]] = [
+        [html_symbol("t_{pэ}"), *(fmt(p) for p in v.tp)],
+        [html_symbol("t_{pт} = b·ε^ν"), *(fmt(float(p)) for p in theory)],
+        [html_symbol("Δt_p = t_{pэ} - t_{pт}"), *(fmt(float(p)) for p in residuals)],
+    ]
+    return _levels_table(t, html_symbol(t("p.table_1_8")), rows, len(v.tp))
+
+
+def _bearing_svg(t: Messages, v: ProfilometerResults, fits: list[BearingFitResult]) -> str:
+    fig, (ax,) = axes(height=3.0)
+    eps = np.asarray(v.eps)
+    ax.plot(eps, v.tp, "o", markersize=4, label=t("p.measured"))
+    grid: NDArray[np.float64] = np.linspace(0.0, float(eps.max()) * 1.05, 200)
+    for fit in fits:
+        name = t("p.manual" if fit.method == "manual" else "p.lsq")
+        ax.plot(
+            grid,
+            fit.b * grid**fit.nu,  # (1.8)
+            "-" if fit.method == "manual" else "--",
+            linewidth=1.0,
+            label=f"t_p = {fmt(fit.b)}·ε^{{{fmt(fit.nu)}}}, {name}",
+        )
+    decorate(ax, xlabel=blocks.axis(t, "ε"), ylabel=blocks.axis(t, "t_p"))
+    return to_svg(fig)
+
+
+def _percent(reference: float, other: float) -> str:
+    return fmt(float(stands.relative_error_percent(reference=reference, other=other).percent))
+
+
+def _conclusions(t: Messages, v: ProfilometerResults) -> list[Text]:
+    found: list[Text] = []
+    if v.fit_manual is not None and v.fit_lsq is not None:
+        found.append(
+            html_symbol(
+                t(
+                    "p.c_fit",
+                    nu=fmt(v.fit_manual.nu),
+                    b=fmt(v.fit_manual.b),
+                    nu_lsq=fmt(v.fit_lsq.nu),
+                    b_lsq=fmt(v.fit_lsq.b),
+                    residual=fmt(max(abs(r) for r in v.fit_manual.residuals)),
+                )
+            )
+        )
+    if v.ra is not None and v.ra_from_complex is not None:
+        found.append(
+            html_symbol(
+                t(
+                    "p.c_ra",
+                    ra=fmt(v.ra),
+                    ra_delta=fmt(v.ra_from_complex),
+                    diff=_percent(v.ra, v.ra_from_complex),
+                )
+            )
+        )
+    if v.complex_parameter is not None and v.complex_parameter_equilibrium is not None:
+        found.append(
+            html_symbol(
+                t(
+                    "p.c_delta",
+                    delta=fmt(v.complex_parameter),
+                    delta_t=fmt(v.complex_parameter_equilibrium),
+                    diff=_percent(v.complex_parameter_equilibrium, v.complex_parameter),
+                )
+            )
+        )
+    return found

@@ -1,0 +1,218 @@
+"""Lab work 3 (slide-bearing stand): tables 3.1-3.3 and Π against φ and z (3.28)-(3.29)."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+
+from rigserver.reports import blocks
+from rigserver.reports.context import Context, LabReport
+from rigserver.reports.document import Block, Figure, Section, Table, Text
+from rigserver.reports.formatting import fmt, html_symbol
+from rigserver.reports.i18n import Messages
+from rigserver.reports.plots import axes, decorate, to_svg
+from schemas.quantity import units_of
+from schemas.results import AxialPoint, SlideBearingResults, SlideBearingRow
+from schemas.stands import MEASUREMENTS
+
+GROUP = "rows"
+
+
+def build(ctx: Context, v: SlideBearingResults) -> LabReport:
+    t = ctx.t
+    measured: list[Block] = [
+        blocks.measurements(t, ctx.group(MEASUREMENTS), ctx.readings.measurements())
+    ]
+    if ctx.readings.rows(GROUP):
+        measured.append(_table_3_1(ctx, v))
+    measured.append(
+        blocks.quantities(
+            t,
+            t("b.oil"),
+            v,
+            [
+                ("load", "N", "b.load"),
+                ("temperature", "t", "b.temperature"),
+                ("viscosity", "μ_t", "b.viscosity"),
+                ("mu_bar", "μ̄", "b.mu_bar"),
+                ("chi_mean", "χ_ср", "b.chi_mean"),
+                ("half_width", "a", "b.half_width"),
+                ("phi_max", "φ_pmax", "b.phi_max"),
+                ("pressure_max", "p_max", "b.p_max"),
+            ],
+        )
+    )
+    processed: list[Block] = []
+    if v.axial:
+        processed.append(_table_3_2(t, v))
+    if v.table:
+        processed.append(_table_3_3(t, v.table))
+        processed.append(Figure(html_symbol(t("b.fig_phi")), _angle_svg(t, v.table)))
+    if v.axial:
+        processed.append(Figure(html_symbol(t("b.fig_z")), _axial_svg(t, v)))
+    return LabReport(
+        sections=[
+            Section(t("sec.measured"), measured),
+            Section(t("sec.processed"), processed),
+        ],
+        conclusions=_conclusions(t, v),
+    )
+
+
+def _table_3_1(ctx: Context, v: SlideBearingResults) -> Table:
+    """The limb rows as read (X, Y, t1, t2) beside their processing (3.16)-(3.20)."""
+    t = ctx.t
+    raw = ctx.readings.read(GROUP, ["limb_angle", "x", "y", "t1", "t2"])
+    units = {c.name: c.unit for c in ctx.group(GROUP).channels}
+    n = raw["limb_angle"].size
+    rows = v.table if len(v.table) == n else [None] * n
+
+    def col(name: str) -> list[float | None]:
+        return [getattr(r, name) if r is not None else None for r in rows]
+
+    data: list[Sequence[float | Text | None]] = [
+        raw["limb_angle"].tolist(),
+        col("pressure"),
+        raw["x"].tolist(),
+        raw["y"].tolist(),
+        raw["t1"].tolist(),
+        raw["t2"].tolist(),
+        col("e_x"),
+        col("e_y"),
+        col("e"),
+        col("chi"),
+        col("phi_model"),
+    ]
+    row_units = units_of(SlideBearingRow)
+    head = [
+        blocks.header(t, "φ_лимб", units["limb_angle"]),
+        blocks.header(t, "p", row_units["pressure"]),
+        blocks.header(t, "X", units["x"]),
+        blocks.header(t, "Y", units["y"]),
+        blocks.header(t, "t_1", units["t1"]),
+        blocks.header(t, "t_2", units["t2"]),
+        blocks.header(t, "e_x", row_units["e_x"]),
+        blocks.header(t, "e_y", row_units["e_y"]),
+        blocks.header(t, "e", row_units["e"]),
+        blocks.header(t, "χ", row_units["chi"]),
+        blocks.header(t, "φ_мод", row_units["phi_model"]),
+    ]
+    table = blocks.columns(html_symbol(t("b.table_3_1")), head, data)
+    mean: list[Text] = [t("mean"), "", "", "", fmt(float(np.mean(raw["t1"])))]
+    mean += [fmt(float(np.mean(raw["t2"]))), "", "", "", fmt(v.chi_mean), ""]
+    return Table(caption=table.caption, header=table.header, rows=[*table.rows, mean])
+
+
+def _table_3_2(t: Messages, v: SlideBearingResults) -> Table:
+    units = units_of(AxialPoint)
+    a = v.axial
+    head = [
+        blocks.header(t, "z", units["z"]),
+        blocks.header(t, "p", units["pressure"]),
+        blocks.header(t, "Π_z", units["pi_measured"]),
+        blocks.header(t, "Π_m", units["pi_short"]),
+        html_symbol(f"Π, {t('b.finite')}"),
+        blocks.header(t, "ΔΠ", units["error"]),
+    ]
+    data: list[Sequence[float | Text | None]] = [
+        [p.z for p in a],
+        [p.pressure for p in a],
+        [p.pi_measured for p in a],
+        [p.pi_short for p in a],
+        [p.pi_finite for p in a],
+        [p.error for p in a],
+    ]
+    return blocks.columns(
+        html_symbol(t("b.table_3_2", phi=fmt(v.phi_max))),
+        head,
+        data,
+        note=html_symbol(t("b.edges", a=fmt(v.half_width))),
+    )
+
+
+def _by_angle(table: Sequence[SlideBearingRow]) -> list[SlideBearingRow]:
+    return sorted(table, key=lambda r: r.phi_model)
+
+
+def _table_3_3(t: Messages, table: Sequence[SlideBearingRow]) -> Table:
+    units = units_of(SlideBearingRow)
+    rows = _by_angle(table)
+    head = [
+        blocks.header(t, "φ", units["phi_model"]),
+        blocks.header(t, "Π_0", units["pi_short"]),
+        blocks.header(t, "Π_∞", units["pi_long"]),
+        html_symbol(f"Π, {t('b.finite')}"),
+        blocks.header(t, "Π_э", units["pi_measured"]),
+        blocks.header(t, "ΔΠ_0", units["error_short"]),
+        blocks.header(t, "ΔΠ_∞", units["error_long"]),
+    ]
+    data: list[Sequence[float | Text | None]] = [
+        [r.phi_model for r in rows],
+        [r.pi_short for r in rows],
+        [r.pi_long for r in rows],
+        [r.pi_finite for r in rows],
+        [r.pi_measured for r in rows],
+        [r.error_short for r in rows],
+        [r.error_long for r in rows],
+    ]
+    return blocks.columns(html_symbol(t("b.table_3_3")), head, data)
+
+
+def _curve(values: Sequence[float | None]) -> list[float]:
+    return [np.nan if x is None else x for x in values]
+
+
+def _angle_svg(t: Messages, table: Sequence[SlideBearingRow]) -> str:
+    rows = _by_angle(table)
+    phi = [r.phi_model for r in rows]
+    fig, (ax,) = axes(height=3.2)
+    ax.plot(phi, _curve([r.pi_short for r in rows]), "-", linewidth=1.2, label=t("b.short"))
+    ax.plot(phi, _curve([r.pi_long for r in rows]), "--", linewidth=1.2, label=t("b.long"))
+    if any(r.pi_finite is not None for r in rows):
+        ax.plot(phi, _curve([r.pi_finite for r in rows]), "-.", linewidth=1.2, label=t("b.finite"))
+    ax.plot(phi, [r.pi_measured for r in rows], "o", color="k", markersize=4, label=t("b.measured"))
+    decorate(ax, xlabel=blocks.axis(t, "φ", "deg"), ylabel=blocks.axis(t, "Π"))
+    return to_svg(fig)
+
+
+def _axial_svg(t: Messages, v: SlideBearingResults) -> str:
+    """Π along z at φ_max, with Π = 0 at the edges z = ±a (the boundary condition of (3.1))."""
+    a = v.half_width
+    points = v.axial
+    z = [-a, *(p.z for p in points), a]
+
+    def closed(values: Sequence[float | None]) -> list[float]:
+        return [0.0, *_curve(values), 0.0]
+
+    fig, (ax,) = axes(height=3.0)
+    ax.plot(z, closed([p.pi_short for p in points]), "-", linewidth=1.2, label=t("b.short"))
+    if any(p.pi_finite is not None for p in points):
+        ax.plot(z, closed([p.pi_finite for p in points]), "-.", linewidth=1.2, label=t("b.finite"))
+    measured = closed([p.pi_measured for p in points])
+    ax.plot(z, measured, "o", color="k", markersize=4, label=t("b.measured"))
+    decorate(ax, xlabel=blocks.axis(t, "z = Z/R"), ylabel=blocks.axis(t, "Π"))
+    return to_svg(fig)
+
+
+def _mean_abs(values: Sequence[float | None]) -> float | None:
+    found = [abs(x) for x in values if x is not None]
+    return float(np.mean(found)) if found else None
+
+
+def _conclusions(t: Messages, v: SlideBearingResults) -> list[Text]:
+    found: list[Text] = []
+    if v.chi_mean is not None and v.pressure_max is not None:
+        found.append(
+            html_symbol(
+                t("b.c_chi", chi=fmt(v.chi_mean), p=fmt(v.pressure_max), phi=fmt(v.phi_max))
+            )
+        )
+    short = _mean_abs([r.error_short for r in v.table])
+    long = _mean_abs([r.error_long for r in v.table])
+    if short is not None and long is not None:
+        found.append(html_symbol(t("b.c_errors", short=fmt(short), long=fmt(long))))
+    axial = _mean_abs([p.error for p in v.axial])
+    if axial is not None:
+        found.append(html_symbol(t("b.c_axial", phi=fmt(v.phi_max), error=fmt(axial))))
+    return found

@@ -1,0 +1,207 @@
+"""Lab work 2 (SMTs-2): the friction record, the wear intensity (2.1)-(2.13), adequacy (2.15)."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+
+from rigserver.analysis.streaming import BlockSeries
+from rigserver.core import wear
+from rigserver.reports import blocks
+from rigserver.reports.context import Context, LabReport
+from rigserver.reports.document import Block, Figure, Section, Table, Text
+from rigserver.reports.formatting import fmt, html_symbol
+from rigserver.reports.i18n import Messages
+from rigserver.reports.plots import axes, decorate, to_svg
+from schemas.results import Smts2Results
+from schemas.stands import MEASUREMENTS, Smts2Config
+from schemas.units import UNITS
+
+GROUP = "friction"
+#: Blocks the friction record is reduced to for drawing (mean, min and max of each).
+DRAWN_BLOCKS = 600
+
+
+def build(ctx: Context, v: Smts2Results) -> LabReport:
+    t = ctx.t
+    config = Smts2Config.model_validate(ctx.run.configuration)
+    measured: list[Block] = [
+        blocks.measurements(t, ctx.group(MEASUREMENTS), ctx.readings.measurements())
+    ]
+    if v.rows:
+        measured.append(
+            blocks.quantities(
+                t,
+                t("w.record"),
+                v,
+                [
+                    ("rows", "n", "w.rows"),
+                    ("duration", "t", "w.duration"),
+                    ("revolutions", "M_rev", "w.revolutions"),
+                    ("sliding_distance", "L", "w.sliding"),
+                    ("mean_load", "N", "w.load"),
+                    ("friction_steady", "f", "w.f"),
+                    ("friction_steady_std", "σ_f", "w.f_std"),
+                    ("steady_from_time", "t_s", "w.steady_from"),
+                ],
+            )
+        )
+        measured.append(Figure(t("w.fig_friction"), _friction_svg(ctx, v, config)))
+    processed: list[Block] = []
+    if v.experimental is not None:
+        processed.append(
+            blocks.quantities(
+                t,
+                t("w.experimental"),
+                v.experimental,
+                [
+                    ("mass_loss", "Δm", "w.mass_loss"),
+                    ("volume", "V", "w.volume"),
+                    ("wear_depth", "h", "w.depth"),
+                    ("sliding_distance", "L", "w.sliding"),
+                    ("intensity", "I_h", "w.intensity_exp"),
+                ],
+            )
+        )
+    if v.theoretical is not None:
+        theory = blocks.quantities(
+            t,
+            t("w.theoretical"),
+            v.theoretical,
+            [
+                ("fatigue_t", "t", "w.fatigue_t"),
+                ("contour_pressure", "p_c", "w.pc"),
+                ("nominal_area", "A_a", "w.aa"),
+                ("contour_area", "A_c", "w.ac"),
+                ("eta_c", "η_c", "w.eta_c"),
+                ("complex_parameter", "Δ", "w.delta"),
+                ("rmax_over_r", "R_max/R", "w.rmax_r"),
+                ("C", "C", "w.C"),
+                ("beta", "β", "w.beta"),
+                ("k_nu", "k_ν", "w.k_nu"),
+                ("k_f", "k_f", "w.k_f"),
+                ("intensity", "I_h", "w.intensity_theor"),
+            ],
+        )
+        contact: list[Text] = [t("w.contact"), "", t("contact." + v.theoretical.contact), ""]
+        processed.append(dataclasses.replace(theory, rows=[contact, *theory.rows]))
+    if v.adequacy is not None and v.experimental and v.theoretical:
+        processed.append(_adequacy(t, v))
+    if v.experimental is not None or v.theoretical is not None:
+        processed.append(Figure(t("w.fig_wear"), _wear_svg(t, v)))
+    return LabReport(
+        sections=[
+            Section(t("sec.measured"), measured),
+            Section(t("sec.processed"), processed),
+        ],
+        conclusions=_conclusions(t, v),
+    )
+
+
+def _adequacy(t: Messages, v: Smts2Results) -> Table:
+    assert v.adequacy and v.experimental and v.theoretical
+    a = v.adequacy
+    one = t.unit("1")
+    rows: list[list[Text]] = [
+        [t("w.intensity_exp"), html_symbol(t("sym.i_exp")), fmt(v.experimental.intensity), one],
+        [t("w.intensity_theor"), html_symbol(t("sym.i_theor")), fmt(v.theoretical.intensity), one],
+        [t("w.error"), html_symbol("ΔI_h"), fmt(a.relative_error_percent), t.unit("%")],
+        [t("w.lower"), "", fmt(a.lower), one],
+        [t("w.upper"), "", fmt(a.upper), one],
+        [t("w.adequate"), "", t("yes" if a.adequate else "no"), ""],
+    ]
+    head: list[Text] = [t("col.quantity"), t("col.symbol"), t("col.value"), t("col.unit")]
+    return Table(
+        caption=t("w.adequacy"),
+        header=head,
+        rows=[[html_symbol(str(r[0])), *r[1:]] for r in rows],
+        labels=2,
+    )
+
+
+def _friction_svg(ctx: Context, v: Smts2Results, config: Smts2Config) -> str:
+    """f (2.8) over the sliding distance L = 2π r2·M_rev (2.12), every row, drawn as block
+    means with their min-max band; the part before the steady window is shaded."""
+    t = ctx.t
+    total = ctx.readings.rows(GROUP)
+    units = {c.name: c.unit for c in ctx.group(GROUP).channels}
+    per_count = UNITS[units["revolutions"]].factor
+    start = wear.steady_window_start(samples=total, fraction=config.steady_fraction)
+    series = BlockSeries(total, blocks=DRAWN_BLOCKS)
+    first: float | None = None
+    steady_distance = 0.0
+    seen = 0
+    for chunk in ctx.readings.iter_chunks(GROUP, ["friction_moment", "load", "revolutions"]):
+        f = wear.friction_coefficient(
+            friction_moment=chunk["friction_moment"], load=chunk["load"], radius=config.disc_radius
+        )
+        counts = chunk["revolutions"]
+        if first is None:
+            first = float(counts[0])
+        distance = 2.0 * np.pi * config.disc_radius * (counts - first) * per_count  # (2.12)
+        series.add(distance, np.asarray(f, dtype=np.float64))
+        if seen <= start < seen + counts.size:
+            steady_distance = float(distance[start - seen])
+        seen += counts.size
+    drawn = series.series("sliding distance", "friction coefficient")
+    fig, (ax,) = axes(height=3.0)
+    share = fmt(100.0 * (1.0 - config.steady_fraction))
+    ax.axvspan(0.0, steady_distance, color="0.88", label=t("w.running_in", share=share))
+    ax.fill_between(drawn.x, drawn.y_min, drawn.y_max, color="C0", alpha=0.25, linewidth=0)
+    ax.plot(drawn.x, drawn.y, color="C0", linewidth=0.8, label=t("w.block_mean"))
+    ax.hlines(
+        v.friction_steady,
+        steady_distance,
+        drawn.x[-1],
+        colors="C3",
+        linewidth=1.2,
+        label=f"{t('w.steady_mean')} f = {fmt(v.friction_steady)}",
+    )
+    decorate(ax, xlabel=blocks.axis(t, "L", "m"), ylabel=blocks.axis(t, "f"))
+    return to_svg(fig)
+
+
+def _wear_svg(t: Messages, v: Smts2Results) -> str:
+    """I_h,exp and I_h,theor on a log axis with the band 0.4·I_theor … 2.6·I_theor (2.15)."""
+    fig, (ax,) = axes(height=2.8)
+    ax.set_yscale("log")
+    if v.adequacy is not None:
+        ax.axhspan(v.adequacy.lower, v.adequacy.upper, color="C2", alpha=0.25, label=t("w.band"))
+    if v.experimental is not None:
+        ax.plot([0], [v.experimental.intensity], "o", color="C0", markersize=8, label=t("w.exp"))
+    if v.theoretical is not None:
+        ax.plot([1], [v.theoretical.intensity], "s", color="C3", markersize=8, label=t("w.theor"))
+    ax.set_xticks([0, 1], [t("w.exp"), t("w.theor")])
+    ax.set_xlim(-0.6, 1.6)
+    decorate(ax, xlabel="", ylabel=blocks.axis(t, "I_h"))
+    return to_svg(fig)
+
+
+def _conclusions(t: Messages, v: Smts2Results) -> list[Text]:
+    found: list[Text] = []
+    if v.rows:
+        found.append(
+            html_symbol(
+                t(
+                    "w.c_friction",
+                    f=fmt(v.friction_steady),
+                    std=fmt(v.friction_steady_std),
+                    t=fmt(v.steady_from_time),
+                    load=fmt(v.mean_load),
+                )
+            )
+        )
+    if v.adequacy is not None and v.experimental and v.theoretical:
+        key = "w.c_adequate" if v.adequacy.adequate else "w.c_inadequate"
+        text = t(
+            key,
+            exp=fmt(v.experimental.intensity),
+            theor=fmt(v.theoretical.intensity),
+            lower=fmt(v.adequacy.lower),
+            upper=fmt(v.adequacy.upper),
+            error=fmt(v.adequacy.relative_error_percent),
+            contact=t("contact." + v.theoretical.contact),
+        )
+        found.append(html_symbol(text))
+    return found

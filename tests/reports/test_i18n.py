@@ -1,0 +1,56 @@
+"""The language of a report, and a catalogue that has every text in both languages."""
+
+from __future__ import annotations
+
+import string
+
+import pytest
+
+from rigserver.reports.i18n import CHANNELS_RU, MESSAGES, UNIT_LABELS, Messages, negotiate
+from schemas.stands import MEASUREMENTS, default_stands
+from schemas.units import UNITS
+
+
+@pytest.mark.parametrize(
+    ("requested", "header", "chosen"),
+    [
+        (None, "ru-RU,ru;q=0.9,en-US;q=0.8,en;q=0.7", "ru"),
+        (None, "en-US,en;q=0.9,ru;q=0.8", "en"),
+        (None, "de-DE, ru;q=0.5", "ru"),  # German is not offered; Russian is the best left
+        (None, "ru;q=0, en", "en"),  # q=0 means "not this one"
+        (None, "en;q=0.5, ru;q=0.6", "ru"),
+        (None, None, "en"),
+        (None, "*", "en"),
+        ("ru", "en", "ru"),  # ?lang= wins over the header
+        ("en", "ru", "en"),
+    ],
+)
+def test_language_from_query_or_accept_language(
+    requested: str | None, header: str | None, chosen: str
+) -> None:
+    assert negotiate(requested, header) == chosen
+
+
+def test_an_unsupported_language_is_refused() -> None:
+    with pytest.raises(ValueError, match="lang must be one of en, ru, got 'de'"):
+        negotiate("de", None)
+
+
+def test_every_unit_has_a_label_in_both_languages() -> None:
+    assert set(UNIT_LABELS) == set(UNITS)
+    assert Messages("ru").unit("Pa*s") == "Па·с"
+    assert Messages("en").unit("um") == "μm"
+
+
+def test_every_single_measurement_has_a_russian_name() -> None:
+    groups = [stand.group(MEASUREMENTS) for stand in default_stands().values()]
+    names = {c.name for group in groups if group is not None for c in group.channels}
+    assert len(names) == 9  # masses and disc Ra; φ_k, zeros, loader; base length, sub-range
+    assert names <= set(CHANNELS_RU)
+
+
+def test_both_languages_take_the_same_values() -> None:
+    for key, (en, ru) in MESSAGES.items():
+        fields = [{f for _, f, _, _ in string.Formatter().parse(text) if f} for text in (en, ru)]
+        assert fields[0] == fields[1], key
+    assert Messages("ru")("lab_work", n=3) == "Лабораторная работа № 3"

@@ -1,0 +1,281 @@
+"""Every stand's report, rendered from a simulated run: the manual's tables carry the numbers
+the analysis computed (printed with four significant figures), the readings as posted, and
+the plots as inline SVG; the Russian report carries the same numbers.
+
+The expected numbers come from the analysis of the simulated readings (what the report
+must print) or are computed here from the posted readings (raw tables, means, ratios).
+"""
+
+from __future__ import annotations
+
+from functools import lru_cache
+
+import numpy as np
+import pytest
+
+from rigserver.analysis import analyse
+from rigserver.reports.formatting import fmt
+from rigserver.reports.i18n import Lang
+from rigserver.reports.run_report import build_report, render_report
+from schemas.results import MtosResults, ProfilometerResults, SlideBearingResults, Smts2Results
+from schemas.runs import RunState
+from schemas.stands import StandKind
+from tests.reports.simulated import MADE, Simulated, simulated, table, tables
+
+
+@lru_cache
+def report(kind: StandKind, lang: Lang = "en") -> str:
+    s = simulated(kind)
+    return render_report(
+        build_report(
+            run=s.run,
+            stand=s.stand,
+            values=s.result.payload["values"],
+            readings=s.readings,
+            lang=lang,
+            made=MADE,
+        )
+    )
+
+
+def printed(values: list[float] | list[float | None] | np.ndarray) -> list[str]:
+    return [fmt(None if v is None else float(v)) for v in values]
+
+
+def row_of(html: str, caption: str, name: str) -> list[str]:
+    """The cells after the first of the row whose first cell is ``name``."""
+    rows = [r for r in table(html, caption).rows if r[0] == name]
+    assert len(rows) == 1, f"{len(rows)} rows named {name!r} under {caption!r}"
+    return rows[0][1:]
+
+
+def svgs(html: str) -> list[str]:
+    parts = html.split("<svg")[1:]
+    return [p[: p.index("</svg>")] for p in parts]
+
+
+# --- lab work 1 ---------------------------------------------------------------------------
+
+
+def test_profilometer_tables_1_6_to_1_8() -> None:
+    s = simulated(StandKind.PROFILOMETER)
+    v = s.result.values
+    assert isinstance(v, ProfilometerResults) and v.fit_manual and v.fit_lsq
+    html = report(StandKind.PROFILOMETER)
+    t16 = table(html, "Table 1.6.")
+    assert t16.rows[0][1:] == printed(v.levels)
+    assert t16.rows[1][1:] == printed(v.tp)
+    assert t16.rows[2][1:] == printed(v.eps)
+    manual = row_of(html, "Table 1.7.", "three pairs of levels (1.16)-(1.19)")
+    assert manual == [
+        *printed(v.fit_manual.nu_partial),
+        fmt(v.fit_manual.nu),
+        *printed(v.fit_manual.b_partial),
+        fmt(v.fit_manual.b),
+    ]
+    lsq = row_of(html, "Table 1.7.", "least squares in log-log")
+    assert lsq == ["—", "—", "—", fmt(v.fit_lsq.nu), "—", "—", "—", fmt(v.fit_lsq.b)]
+    t18 = table(html, "Table 1.8.")
+    eps = np.asarray(v.eps)
+    # t_pт = b·ε^ν (1.8) recomputed here from the fitted b, ν and the levels' ε
+    assert t18.rows[1][1:] == printed(v.fit_manual.b * eps**v.fit_manual.nu)
+    assert t18.rows[2][1:] == printed(v.fit_manual.residuals)
+
+
+def test_profilometer_parameters_with_instrument_errors() -> None:
+    v = simulated(StandKind.PROFILOMETER).result.values
+    assert isinstance(v, ProfilometerResults)
+    html = report(StandKind.PROFILOMETER)
+    caption = "Roughness parameters"
+    assert row_of(html, caption, "arithmetic mean deviation (1.3)") == [
+        "Ra",
+        fmt(v.ra),
+        "m",
+        fmt(v.ra_error),
+    ]
+    assert row_of(html, caption, "ten-point height (1.4)")[1::2] == [fmt(v.rz), fmt(v.rz_error)]
+    assert row_of(html, "Complex roughness", "complex parameter (1.9)")[1] == fmt(
+        v.complex_parameter
+    )
+    assert len(svgs(html)) == 2  # the profile, the bearing curve
+
+
+# --- lab work 2 ---------------------------------------------------------------------------
+
+
+def test_smts2_wear_tables_and_adequacy() -> None:
+    v = simulated(StandKind.SMTS2).result.values
+    assert isinstance(v, Smts2Results) and v.experimental and v.theoretical and v.adequacy
+    html = report(StandKind.SMTS2)
+    caption = "Experimental linear wear intensity"
+    assert row_of(html, caption, "mass loss of the pin (2.9)") == [
+        "Δm",
+        fmt(v.experimental.mass_loss),
+        "kg",
+    ]
+    assert row_of(html, caption, "wear intensity (2.13)")[1] == fmt(v.experimental.intensity)
+    theory = "Theoretical linear wear intensity"
+    assert row_of(html, theory, "contour pressure (2.3)") == [
+        "pc",
+        fmt(v.theoretical.contour_pressure),
+        "Pa",
+    ]
+    assert row_of(html, theory, "wear intensity (2.1)")[1] == fmt(v.theoretical.intensity)
+    # (2.15) judged here on the printed intensities' values
+    inside = 0.4 * v.theoretical.intensity <= v.experimental.intensity
+    inside = inside and v.experimental.intensity <= 2.6 * v.theoretical.intensity
+    assert row_of(html, "Theory against experiment", "model adequate (2.15)")[1] == (
+        "yes" if inside else "no"
+    )
+    assert row_of(html, "Friction record", "friction coefficient, steady part (2.8)")[1] == fmt(
+        v.friction_steady
+    )
+    assert f"f = {fmt(v.friction_steady)} ± {fmt(v.friction_steady_std)}" in html
+
+
+def test_smts2_measurements_as_posted() -> None:
+    s = simulated(StandKind.SMTS2)
+    posted = s.sim.columns("measurements")
+    html = report(StandKind.SMTS2)
+    row = row_of(html, "Single measurements", "m1, pin mass before the test (2.9)")
+    assert row == ["pin_mass_before", fmt(float(posted["pin_mass_before"][-1])), "g"]
+    plots = svgs(html)
+    assert len(plots) == 2 and all("<path" in p for p in plots)  # f(L), wear intensity
+
+
+# --- lab work 3 ---------------------------------------------------------------------------
+
+
+def test_slide_bearing_table_3_1_readings_beside_their_processing() -> None:
+    s = simulated(StandKind.SLIDE_BEARING)
+    v = s.result.values
+    assert isinstance(v, SlideBearingResults)
+    rows = s.sim.columns("rows")
+    t31 = table(report(StandKind.SLIDE_BEARING), "Table 3.1.")
+    assert t31.column(0)[:-1] == printed(rows["limb_angle"])
+    assert t31.column(2)[:-1] == printed(rows["x"])
+    assert t31.column(9)[:-1] == printed([r.chi for r in v.table])
+    assert t31.column(10)[:-1] == printed([r.phi_model for r in v.table])
+    mean = t31.rows[-1]
+    assert mean[0] == "Mean"
+    assert mean[4:6] == [fmt(float(np.mean(rows["t1"]))), fmt(float(np.mean(rows["t2"])))]
+    assert mean[9] == fmt(v.chi_mean)
+
+
+def test_slide_bearing_tables_3_2_and_3_3() -> None:
+    v = simulated(StandKind.SLIDE_BEARING).result.values
+    assert isinstance(v, SlideBearingResults)
+    html = report(StandKind.SLIDE_BEARING)
+    t32 = table(html, "Table 3.2.")
+    assert t32.column(0) == printed([p.z for p in v.axial])
+    assert t32.column(2) == printed([p.pi_measured for p in v.axial])
+    assert t32.column(3) == printed([p.pi_short for p in v.axial])
+    assert t32.column(5) == printed([p.error for p in v.axial])
+    t33 = table(html, "Table 3.3.")
+    by_angle = sorted(v.table, key=lambda r: r.phi_model)
+    assert t33.rows == [
+        printed(
+            [
+                r.phi_model,
+                r.pi_short,
+                r.pi_long,
+                r.pi_finite,
+                r.pi_measured,
+                r.error_short,
+                r.error_long,
+            ]
+        )
+        for r in by_angle
+    ]
+    assert len(svgs(html)) == 2  # Π(φ), Π(z)
+
+
+# --- lab work 4 ---------------------------------------------------------------------------
+
+
+def test_mtos_readings_and_processing_tables() -> None:
+    s = simulated(StandKind.MTOS)
+    v = s.result.values
+    assert isinstance(v, MtosResults)
+    html = report(StandKind.MTOS)
+    steps = s.sim.columns("steps")
+    fluid = steps["regime"] == 1
+    t41 = table(html, "Table 4.1.")
+    assert t41.column(0) == printed(steps["load"][fluid])
+    assert t41.column(1) == printed(steps["indicator"][fluid])
+    assert t41.column(8) == printed(steps["t5"][fluid])
+    t44 = [t for t in tables(html) if t.caption.startswith("Table 4.4.")]
+    assert len(t44) == 2  # the table and its continuation; the theory part follows
+    first = [x for x in v.steps if x.regime == "fluid"]
+    assert t44[0].column(4) == printed([x.chi for x in first])
+    assert t44[0].column(9) == printed([x.friction_measured for x in first])
+    assert t44[1].column(2) == printed([x.bearing_characteristic for x in first])
+    theory = table(html, "Table 4.4, end.")
+    assert theory.column(2) == printed([x.friction_theory for x in first])
+    assert theory.column(3) == printed([x.friction_error for x in first])
+
+
+def test_mtos_mixed_friction_against_fluid_friction() -> None:
+    v = simulated(StandKind.MTOS).result.values
+    assert isinstance(v, MtosResults)
+    html = report(StandKind.MTOS)
+    fluid = {x.load: x.friction_measured for x in v.steps if x.regime == "fluid"}
+    mixed = [x for x in v.steps if x.regime == "mixed"]
+    continued = [t for t in tables(html) if t.caption.startswith("Table 4.5.")][1]
+    # f_э/f_э1 at the same load, divided here
+    assert continued.column(-1) == printed([x.friction_measured / fluid[x.load] for x in mixed])
+    assert len(svgs(html)) == 4  # Hersey-Stribeck, trajectory, f(N), Δt(N)
+
+
+# --- all stands -----------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("kind", list(StandKind))
+def test_the_russian_report_prints_the_same_numbers(kind: StandKind) -> None:
+    en, ru = report(kind, "en"), report(kind, "ru")
+    assert '<html lang="ru">' in ru
+    assert f"Лабораторная работа № {simulated(kind).stand.lab_work}." in ru
+    assert "Исходные данные" in ru and "Input data" not in ru
+    english, russian = tables(en), tables(ru)
+    assert len(english) == len(russian)
+    for a, b in zip(english, russian, strict=True):
+        numbers = [[c for c in row if c[:1].isdigit() or c[:1] == "-"] for row in a.rows]
+        assert numbers == [[c for c in row if c[:1].isdigit() or c[:1] == "-"] for row in b.rows]
+
+
+@pytest.mark.parametrize("kind", list(StandKind))
+def test_an_open_run_without_readings_says_what_is_missing(kind: StandKind) -> None:
+    s = simulated(kind)
+    empty = EmptyReadings()
+    run = s.run.model_copy(update={"state": RunState.OPEN, "rows": {}, "ended": None})
+    values = analyse(run, empty).payload["values"]
+    html = render_report(
+        build_report(run=run, stand=s.stand, values=values, readings=empty, lang="en", made=MADE)
+    )
+    assert "The run is still open" in html
+    for missing in values["pending"]:  # what the analysis says it still needs
+        assert f"<li>{missing}</li>" in html
+    assert ("Not computed yet" in html) == bool(values["pending"])
+
+
+class EmptyReadings:
+    def rows(self, group: str) -> int:
+        return 0
+
+    def read(self, group: str, channels: list[str] | None = None) -> dict[str, np.ndarray]:
+        return {}
+
+    def iter_chunks(self, group: str, channels: list[str] | None = None, rows: int = 1 << 20):  # type: ignore[no-untyped-def]
+        return iter(())
+
+    def measurements(self) -> dict[str, float]:
+        return {}
+
+
+def test_input_data_print_the_configuration_with_units() -> None:
+    s: Simulated = simulated(StandKind.SLIDE_BEARING)
+    html = report(StandKind.SLIDE_BEARING)
+    config = table(html, "Stand configuration of this run")
+    rows = {r[0]: r[2:] for r in config.rows}
+    assert rows["clearance"] == [fmt(s.run.configuration["clearance"]), "m"]
+    assert rows["viscosity.alpha"] == [fmt(s.run.configuration["viscosity"]["alpha"]), "1/°C"]

@@ -1,0 +1,127 @@
+"""The report and download routes over HTTP (in process, in-memory store)."""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+import zipfile
+from collections.abc import Iterator
+from pathlib import Path
+
+import pytest
+from fastapi.testclient import TestClient
+
+from rigserver.api.app import create_app
+from rigserver.api.auth import ApiKey
+from rigserver.api.settings import Settings
+from rigserver.storage import MemoryStore
+from schemas.stands import StandKind, configure_stands
+from tests.api.conftest import KEYS, READER, WRITER, auth
+from tests.reports.simulated import post, simulated
+
+API = "/api/v1"
+
+
+@pytest.fixture(scope="module")
+def served(tmp_path_factory: pytest.TempPathFactory) -> Iterator[tuple[TestClient, dict[str, str]]]:
+    """The service with a finished SMTs-2 run and an open slide-bearing run."""
+    settings = Settings(data_dir=Path(tmp_path_factory.mktemp("data")))
+    app = create_app(
+        settings, MemoryStore(), [ApiKey.model_validate(k) for k in KEYS], configure_stands()
+    )
+    with TestClient(app, raise_server_exceptions=False) as client:
+        ids = {
+            "smts2": post(client, simulated(StandKind.SMTS2).sim, WRITER),
+            "open": post(client, simulated(StandKind.SLIDE_BEARING).sim, WRITER, finish=False),
+        }
+        yield client, ids
+
+
+def test_report_html_in_english_and_russian(served: tuple[TestClient, dict[str, str]]) -> None:
+    client, ids = served
+    url = f"{API}/runs/{ids['smts2']}/report.html"
+    english = client.get(url, headers=auth(READER))
+    assert english.status_code == 200
+    assert english.headers["content-type"].startswith("text/html")
+    assert english.headers["content-language"] == "en"
+    assert "Lab work 2." in english.text
+    for russian in (
+        client.get(url, params={"lang": "ru"}, headers=auth(READER)),
+        client.get(url, headers={**auth(READER), "Accept-Language": "ru-RU,ru;q=0.9,en;q=0.5"}),
+    ):
+        assert russian.headers["content-language"] == "ru"
+        assert "Лабораторная работа № 2." in russian.text
+    refused = client.get(url, params={"lang": "de"}, headers=auth(READER))
+    assert refused.status_code == 422
+    assert refused.headers["content-type"].startswith("application/problem+json")
+
+
+def test_report_of_an_open_run_on_the_readings_so_far(
+    served: tuple[TestClient, dict[str, str]],
+) -> None:
+    client, ids = served
+    answer = client.get(f"{API}/runs/{ids['open']}/report.html", headers=auth(READER))
+    assert answer.status_code == 200
+    assert "The run is still open" in answer.text
+    assert "Table 3.3." in answer.text
+
+
+def test_report_pdf_is_an_a4_download(served: tuple[TestClient, dict[str, str]]) -> None:
+    client, ids = served
+    answer = client.get(f"{API}/runs/{ids['smts2']}/report.pdf?lang=ru", headers=auth(READER))
+    assert answer.status_code == 200
+    assert answer.headers["content-type"] == "application/pdf"
+    disposition = answer.headers["content-disposition"]
+    assert disposition == f'attachment; filename="{ids["smts2"]}-report-ru.pdf"'
+    assert answer.content.startswith(b"%PDF-")
+
+
+def test_results_csv_rows_carry_values_and_units(
+    served: tuple[TestClient, dict[str, str]],
+) -> None:
+    client, ids = served
+    results = client.get(f"{API}/runs/{ids['smts2']}/results", headers=auth(READER)).json()
+    answer = client.get(f"{API}/runs/{ids['smts2']}/results.csv", headers=auth(READER))
+    assert answer.headers["content-type"].startswith("text/csv")
+    rows = {r["quantity"]: r for r in csv.DictReader(io.StringIO(answer.text))}
+    assert float(rows["friction_steady"]["value"]) == results["values"]["friction_steady"]
+    assert rows["experimental.mass_loss"]["unit"] == "kg"
+    assert rows["theoretical.contact"]["value"] == "elastic"
+    assert float(rows["friction.y[0]"]["value"]) == results["values"]["friction"]["y"][0]
+
+
+def test_export_zip_has_every_group_and_the_results(
+    served: tuple[TestClient, dict[str, str]],
+) -> None:
+    client, ids = served
+    run_id = ids["smts2"]
+    answer = client.get(f"{API}/runs/{run_id}/export.zip", headers=auth(READER))
+    assert answer.status_code == 200
+    assert answer.headers["content-type"] == "application/zip"
+    archive = zipfile.ZipFile(io.BytesIO(answer.content))
+    assert sorted(archive.namelist()) == sorted(
+        f"{run_id}/{name}"
+        for name in ("run.json", "results.json", "results.csv", "friction.csv", "measurements.csv")
+    )
+    sim = simulated(StandKind.SMTS2).sim
+    friction = list(csv.reader(io.StringIO(archive.read(f"{run_id}/friction.csv").decode())))
+    assert friction[0][0] == "time [s]"
+    assert len(friction) == 1 + sim.rows("friction")
+    assert [float(x) for x in friction[-1]] == [
+        float(sim.columns("friction")[c.split(" ")[0]][-1]) for c in friction[0]
+    ]
+    same = client.get(
+        f"{API}/runs/{run_id}/readings?group=friction&format=csv", headers=auth(READER)
+    )
+    assert archive.read(f"{run_id}/friction.csv").decode() == same.text  # one CSV format
+    stored = client.get(f"{API}/runs/{run_id}/results", headers=auth(READER)).json()
+    assert json.loads(archive.read(f"{run_id}/results.json")) == stored
+
+
+@pytest.mark.parametrize("path", ["report.html", "report.pdf", "results.csv", "export.zip"])
+def test_reads_need_a_key(served: tuple[TestClient, dict[str, str]], path: str) -> None:
+    client, ids = served
+    answer = client.get(f"{API}/runs/{ids['smts2']}/{path}")
+    assert answer.status_code == 401
+    assert "read" in answer.json()["detail"]

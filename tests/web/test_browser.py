@@ -1,0 +1,121 @@
+"""In headless Chromium (Debian's, driven by Playwright): the runs page, a run watched while
+rigsim posts it (the live chart grows to every row), the PDF report downloaded.
+
+A real ``rigserver serve`` subprocess with public reads; rigsim's lab-PC client posts the
+SMTs-2 run from a thread at about 200 times the stand's pace (some 8 s).
+"""
+
+from __future__ import annotations
+
+import json
+import threading
+import time
+from collections.abc import Iterator
+from pathlib import Path
+from typing import Any
+
+import httpx
+import pytest
+
+from rigsim.client import LabClient, RunOutcome
+from rigsim.stands import smts2
+from tests.api.conftest import KEYS, WRITER, Server
+
+CHROMIUM = Path("/usr/bin/chromium")
+ARGS = [
+    "--no-sandbox",
+    "--disable-gpu",
+    "--disable-background-networking",
+    "--disable-component-update",
+    "--disable-sync",
+    "--no-first-run",
+]
+
+pytestmark = [
+    pytest.mark.slow,
+    pytest.mark.skipif(
+        not CHROMIUM.exists(),
+        reason="the browser test drives Debian's chromium at /usr/bin/chromium: "
+        "apt-get install chromium",
+    ),
+]
+
+
+@pytest.fixture
+def server(tmp_path: Path) -> Iterator[Server]:
+    keys_file = tmp_path / "keys.json"
+    keys_file.write_text(json.dumps(KEYS))
+    srv = Server(tmp_path / "data", keys_file, public_reads=True)
+    srv.start()
+    yield srv
+    srv.stop()
+
+
+def points(page: Any) -> int:
+    return int(page.get_attribute("#live-chart", "data-points"))
+
+
+def test_watch_a_run_live_and_download_its_report(server: Server, tmp_path: Path) -> None:
+    from playwright.sync_api import sync_playwright
+
+    sim = smts2.simulate(seed=3)
+    total = sim.rows("friction")
+    outcome: dict[str, RunOutcome | BaseException] = {}
+
+    def lab_pc() -> None:
+        try:
+            with LabClient(server.url, WRITER) as client:
+                outcome["run"] = client.run(sim, speed=sim.duration / 8.0)
+        except BaseException as exc:  # reported by the test below
+            outcome["run"] = exc
+
+    poster = threading.Thread(target=lab_pc, daemon=True)
+    poster.start()
+    deadline = time.monotonic() + 20
+    while not httpx.get(f"{server.url}/api/v1/runs", timeout=5).json()["runs"]:
+        assert time.monotonic() < deadline, "the run was not opened"
+        time.sleep(0.05)
+    with sync_playwright() as playwright:
+        context = playwright.chromium.launch_persistent_context(
+            str(tmp_path / "chromium-profile"),
+            executable_path=str(CHROMIUM),
+            headless=True,
+            args=ARGS,
+            accept_downloads=True,
+            viewport={"width": 1280, "height": 900},
+        )
+        try:
+            page = context.new_page()
+            page.goto(f"{server.url}/")
+            page.click("table.runs a[href^='/runs/']")
+            page.wait_for_selector("#live-chart")
+            page.wait_for_function(
+                "Number(document.getElementById('live-chart').dataset.points) > 0"
+            )
+            first = points(page)
+            assert first < total, "the run should still be posting"
+            page.wait_for_function(
+                f"Number(document.getElementById('live-chart').dataset.points) > {first}"
+            )
+            assert points(page) > first  # the chart grows as batches arrive
+            page.wait_for_function(
+                "document.getElementById('live-status').dataset.state === 'ended'",
+                timeout=60_000,
+            )
+            page.wait_for_function(
+                f"Number(document.getElementById('live-chart').dataset.points) === {total}"
+            )
+            assert page.text_content("#live-rows") == str(total)
+            page.screenshot(path=str(tmp_path / "run.png"), full_page=True)
+            with page.expect_download() as download:
+                page.click("#report-pdf")
+            saved = tmp_path / download.value.suggested_filename
+            download.value.save_as(saved)
+            assert saved.name.endswith("-report-en.pdf")
+            assert saved.read_bytes().startswith(b"%PDF-")
+        finally:
+            context.close()
+    poster.join(timeout=60)
+    result = outcome["run"]
+    assert isinstance(result, RunOutcome), result
+    assert result.run.rows["friction"] == total

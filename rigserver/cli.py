@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import gc
 import json
 import logging
 import sys
@@ -11,17 +12,32 @@ from pathlib import Path
 
 import uvicorn
 from fastapi import FastAPI
+from pydantic import ValidationError
 
 from rigserver.api.app import create_app
-from rigserver.api.auth import load_keys
+from rigserver.api.auth import ApiKey, load_keys
 from rigserver.api.settings import Settings
 from rigserver.storage import HDF5Store
 from schemas.stands import configure_stands
 
 
+def _keys(path: Path) -> list[ApiKey]:
+    """The keys file's keys; a bad file stops the start with a message that shows no key."""
+    try:
+        return load_keys(path)
+    except ValidationError as exc:
+        where = "; ".join(
+            f"{'.'.join(str(p) for p in e['loc'])}: {e['msg']}"
+            for e in exc.errors(include_input=False, include_url=False)
+        )
+        raise SystemExit(f"rigserver: the keys file {path} is not valid: {where}") from None
+    except (OSError, ValueError) as exc:
+        raise SystemExit(f"rigserver: the keys file {path} cannot be read: {exc}") from None
+
+
 def build_app(settings: Settings) -> FastAPI:
     """The service with the data directory, keys and stands of ``settings``."""
-    keys = load_keys(settings.keys_file) if settings.keys_file else []
+    keys = _keys(settings.keys_file) if settings.keys_file else []
     overrides = (
         json.loads(settings.stands_file.read_text(encoding="utf-8"))
         if settings.stands_file
@@ -42,6 +58,29 @@ def main(argv: Sequence[str] | None = None) -> int:
     serve.add_argument("--keys-file", type=Path, help="JSON list of API keys (RIG_KEYS_FILE)")
     serve.add_argument("--stands-file", type=Path, help="the lab's stand configuration")
     serve.add_argument("--public-reads", action="store_true", help="reads need no key")
+    serve.add_argument(
+        "--max-body-bytes", type=int, help="largest request body (RIG_MAX_BODY_BYTES)"
+    )
+    serve.add_argument(
+        "--ingest-queue", type=int, help="batch posts admitted at once (RIG_INGEST_QUEUE)"
+    )
+    serve.add_argument(
+        "--ingest-queue-bytes",
+        type=int,
+        help="bytes of batch bodies admitted at once (RIG_INGEST_QUEUE_BYTES)",
+    )
+    serve.add_argument(
+        "--rate-limit",
+        type=float,
+        help="requests per second per key or address, 0 for none (RIG_RATE_LIMIT)",
+    )
+    serve.add_argument("--rate-burst", type=int, help="requests at once (RIG_RATE_BURST)")
+    serve.add_argument(
+        "--cors-origin",
+        action="append",
+        dest="cors_origins",
+        help="an origin allowed by CORS, repeatable (RIG_CORS_ORIGINS); none by default",
+    )
     serve.add_argument("--log-level", default="info")
     args = parser.parse_args(argv)
     given = {
@@ -49,12 +88,20 @@ def main(argv: Sequence[str] | None = None) -> int:
         "keys_file": args.keys_file,
         "stands_file": args.stands_file,
         "public_reads": True if args.public_reads else None,
+        "max_body_bytes": args.max_body_bytes,
+        "ingest_queue": args.ingest_queue,
+        "ingest_queue_bytes": args.ingest_queue_bytes,
+        "rate_limit": args.rate_limit,
+        "rate_burst": args.rate_burst,
+        "cors_origins": tuple(args.cors_origins) if args.cors_origins else None,
     }
     settings = Settings(**{k: v for k, v in given.items() if v is not None})
     logging.basicConfig(
         level=args.log_level.upper(), format="%(asctime)s %(levelname)s %(message)s"
     )
     app = build_app(settings)
+    gc.collect()
+    gc.freeze()  # what was built to start is never garbage: keep it out of the collections
     print(f"rigserver: data in {settings.data_dir.resolve()}", file=sys.stderr)
     uvicorn.run(app, host=args.host, port=args.port, log_level=args.log_level, access_log=False)
     return 0

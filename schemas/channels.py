@@ -190,32 +190,39 @@ def _value_violations(
 ) -> list[Violation]:
     found: list[Violation] = []
     finite = np.isfinite(values)
-    for i in np.flatnonzero(~finite)[:MAX_VIOLATIONS]:
-        found.append(
-            Violation(
-                field=f"columns.{ch.name}[{i}]",
-                value=str(values[i]),
-                limit="a finite number",
-                message=f"{ch.name}[{i}] = {values[i]} is not a finite number",
+    all_finite = bool(finite.all())  # the common case: skip the index searches
+    if not all_finite:
+        for i in np.flatnonzero(~finite)[:MAX_VIOLATIONS]:
+            found.append(
+                Violation(
+                    field=f"columns.{ch.name}[{i}]",
+                    value=str(values[i]),
+                    limit="a finite number",
+                    message=f"{ch.name}[{i}] = {values[i]} is not a finite number",
+                )
             )
-        )
-    text = ch.limit.describe(ch.unit)
-    for i in np.flatnonzero(finite & ch.limit.violations(np.where(finite, values, 0.0)))[
-        :MAX_VIOLATIONS
-    ]:
-        found.append(
-            Violation(
-                field=f"columns.{ch.name}[{i}]",
-                value=float(values[i]),
-                limit=text,
-                message=f"{ch.name}[{i}] = {values[i]:g} {ch.unit} is outside the limit: {text}",
+    broken = ch.limit.violations(values if all_finite else np.where(finite, values, 0.0))
+    if not all_finite:
+        broken &= finite
+    if broken.any():
+        text = ch.limit.describe(ch.unit)
+        for i in np.flatnonzero(broken)[:MAX_VIOLATIONS]:
+            found.append(
+                Violation(
+                    field=f"columns.{ch.name}[{i}]",
+                    value=float(values[i]),
+                    limit=text,
+                    message=f"{ch.name}[{i}] = {values[i]:g} {ch.unit} is outside the limit: "
+                    f"{text}",
+                )
             )
-        )
-    if ch.order is not Order.ANY and values.size and np.all(finite):
+    if ch.order is not Order.ANY and values.size and all_finite:
         previous = None if last_values is None else last_values.get(ch.name)
         seq = values if previous is None else np.concatenate(([previous], values))
         step = np.diff(seq)
         bad = step <= 0 if ch.order is Order.INCREASING else step < 0
+        if not bad.any():
+            return found
         word = "increase" if ch.order is Order.INCREASING else "not decrease"
         offset = 0 if previous is None else 1
         for j in np.flatnonzero(bad)[:MAX_VIOLATIONS]:

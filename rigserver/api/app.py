@@ -12,6 +12,7 @@ from rigserver.api import problems
 from rigserver.api.auth import ApiKey, Keyring
 from rigserver.api.body_limit import BodyLimit
 from rigserver.api.deps import Services
+from rigserver.api.rate_limit import RateLimit
 from rigserver.api.routes import live, models, pages, readings, reports, results, runs
 from rigserver.api.routes import stands as stand_routes
 from rigserver.api.settings import Settings
@@ -59,6 +60,8 @@ def create_app(
         app.include_router(router, prefix=API_PREFIX)
     pages.install(app)
     app.add_middleware(BodyLimit, max_bytes=settings.max_body_bytes)
+    if settings.rate_limit:
+        app.add_middleware(RateLimit, rate=settings.rate_limit, burst=settings.rate_burst)
     if settings.cors_origins:
         app.add_middleware(
             CORSMiddleware,

@@ -1,19 +1,27 @@
-"""What the routes are handed: the store, the stands, the keys, and the caller's key."""
+"""What the routes are handed: the store, the stands, the keys, and the caller's key.
+
+The dependencies are ``async def`` although they never wait: FastAPI runs a plain ``def``
+dependency in its thread pool, a thread hop per request.
+"""
 
 from __future__ import annotations
 
 import threading
-from collections import defaultdict
+from collections import OrderedDict, defaultdict
 from dataclasses import dataclass, field
 from typing import Annotated
 
 from fastapi import Depends, Request
 
 from rigserver.api.auth import READ, ApiKey, Keyring, write_scope
+from rigserver.api.ingest_queue import IngestQueue
 from rigserver.api.problems import ApiProblem
 from rigserver.api.settings import Settings
 from rigserver.storage.base import RunStore
 from schemas.stands import Stand, StandKind
+
+#: Runs whose stand the service remembers (the stand of a run never changes).
+RUN_STANDS = 4096
 
 
 @dataclass
@@ -25,17 +33,39 @@ class Services:
     run_locks: defaultdict[str, threading.Lock] = field(
         default_factory=lambda: defaultdict(threading.Lock)
     )
+    #: run id -> stand, the most recently posted-to last
+    run_stands: OrderedDict[str, StandKind] = field(default_factory=OrderedDict)
+    ingest: IngestQueue = field(init=False)
+
+    def __post_init__(self) -> None:
+        self.ingest = IngestQueue(
+            self.store,
+            self.run_locks.__getitem__,
+            max_batches=self.settings.ingest_queue,
+            max_bytes=self.settings.ingest_queue_bytes,
+            retry_after=self.settings.retry_after,
+        )
+
+    def remember_stand(self, run_id: str, stand: StandKind) -> None:
+        self.run_stands[run_id] = stand
+        if len(self.run_stands) > RUN_STANDS:
+            self.run_stands.popitem(last=False)
 
 
-def get_services(request: Request) -> Services:
+def services_of(request: Request) -> Services:
     services: Services = request.app.state.services
     return services
+
+
+async def get_services(request: Request) -> Services:
+    return services_of(request)
 
 
 ServicesDep = Annotated[Services, Depends(get_services)]
 
 
-def get_caller(request: Request, services: ServicesDep) -> ApiKey | None:
+def caller_of(request: Request, services: Services) -> ApiKey | None:
+    """The key the request presents (None without one); 401 for a key not configured."""
     header = request.headers.get("authorization", "")
     scheme, _, token = header.partition(" ")
     if scheme.lower() != "bearer" or not token:
@@ -49,6 +79,10 @@ def get_caller(request: Request, services: ServicesDep) -> ApiKey | None:
             headers={"WWW-Authenticate": "Bearer"},
         )
     return key
+
+
+async def get_caller(request: Request, services: ServicesDep) -> ApiKey | None:
+    return caller_of(request, services)
 
 
 CallerDep = Annotated[ApiKey | None, Depends(get_caller)]
@@ -67,7 +101,7 @@ def require_scope(caller: ApiKey | None, scope: str) -> None:
         raise ApiProblem(403, "Scope missing", f"this key lacks the scope '{scope}'")
 
 
-def require_read(services: ServicesDep, caller: CallerDep) -> None:
+async def require_read(services: ServicesDep, caller: CallerDep) -> None:
     if not services.settings.public_reads:
         require_scope(caller, READ)
 

@@ -7,11 +7,13 @@ so no third-party exception reaches a client and no request ends in a bare 500.
 from __future__ import annotations
 
 import logging
+from typing import Any
 
 from fastapi import FastAPI, Request
 from fastapi.exceptions import RequestValidationError
 from fastapi.responses import JSONResponse
 from starlette.exceptions import HTTPException as StarletteHTTPException
+from starlette.routing import Match
 
 from rigserver.core.errors import ModelInputError
 from rigserver.storage.errors import (
@@ -74,8 +76,63 @@ _STORAGE_STATUS: list[tuple[type[StorageError], int, str]] = [
 ]
 
 
+def _document(app: FastAPI) -> None:
+    """Describe the errors in the OpenAPI document as they are sent: every operation's
+    ``default`` response, and its 422, is application/problem+json (FastAPI documents its
+    own validation error, which :func:`install` replaces)."""
+    build = app.openapi
+
+    def openapi() -> dict[str, Any]:
+        if app.openapi_schema is not None:
+            return app.openapi_schema
+        document = build()
+        problem = {"$ref": "#/components/schemas/Problem"}
+        error = {
+            "description": "an error: its title, the detail, the offending fields",
+            "content": {PROBLEM_MEDIA_TYPE: {"schema": problem}},
+        }
+        for operations in document.get("paths", {}).values():
+            for operation in operations.values():
+                responses = operation.setdefault("responses", {})
+                responses["default"] = error
+                if "422" in responses:
+                    responses["422"] = {**error, "description": "the request is not valid"}
+        schemas = document.setdefault("components", {}).setdefault("schemas", {})
+        for name in ("HTTPValidationError", "ValidationError"):
+            schemas.pop(name, None)
+        schemas.update(_PROBLEM_SCHEMAS)
+        app.openapi_schema = document
+        return document
+
+    app.openapi = openapi  # type: ignore[method-assign]
+
+
+_PROBLEM_SCHEMAS: dict[str, Any] = Problem.model_json_schema(
+    ref_template="#/components/schemas/{model}"
+).pop("$defs", {}) | {
+    "Problem": {
+        k: v
+        for k, v in Problem.model_json_schema(ref_template="#/components/schemas/{model}").items()
+        if k != "$defs"
+    }
+}
+
+
+def _allowed_methods(request: Request) -> list[str]:
+    """The methods some route of the request's path takes."""
+    routes = request.app.router.routes
+    return [
+        method
+        for method in ("GET", "HEAD", "POST", "PUT", "PATCH", "DELETE")
+        if any(
+            route.matches({**request.scope, "method": method})[0] is Match.FULL for route in routes
+        )
+    ]
+
+
 def install(app: FastAPI) -> None:
-    """Register the handlers that turn every error into problem+json."""
+    """Register the handlers that turn every error into problem+json, and document them."""
+    _document(app)
 
     @app.exception_handler(ApiProblem)
     async def _api_problem(request: Request, exc: ApiProblem) -> JSONResponse:
@@ -88,9 +145,14 @@ def install(app: FastAPI) -> None:
     @app.exception_handler(StarletteHTTPException)
     async def _http(request: Request, exc: StarletteHTTPException) -> JSONResponse:
         title = {404: "Not found", 405: "Method not allowed"}.get(exc.status_code, "Error")
+        headers = dict(exc.headers) if exc.headers else {}
+        detail = str(exc.detail)
+        if exc.status_code == 405:  # Starlette names the methods of one route of the path
+            allowed = _allowed_methods(request)
+            headers["Allow"] = ", ".join(allowed)
+            detail = f"{request.method} is not allowed here; use {' or '.join(allowed)}"
         return problem_response(
-            Problem(title=title, status=exc.status_code, detail=str(exc.detail)),
-            dict(exc.headers) if exc.headers else None,
+            Problem(title=title, status=exc.status_code, detail=detail), headers or None
         )
 
     @app.exception_handler(ModelInputError)

@@ -26,6 +26,22 @@ class Settings(BaseSettings):
     )
     public_reads: bool = Field(default=False, description="reads need no key")
     max_body_bytes: int = Field(default=64 << 20, gt=0, description="largest request body")
+    ingest_queue: int = Field(
+        default=64, gt=0, description="batch posts admitted at once; more are answered 503"
+    )
+    ingest_queue_bytes: int = Field(
+        default=64 << 20, gt=0, description="bytes of batch bodies admitted at once"
+    )
+    retry_after: int = Field(
+        default=1, ge=0, description="seconds in the Retry-After of a 503 or 429"
+    )
+    rate_limit: float = Field(
+        default=0.0,
+        ge=0.0,
+        description="requests per second allowed to one key (or one address without a key); "
+        "0 means no limit",
+    )
+    rate_burst: int = Field(default=200, gt=0, description="requests allowed in a burst")
     cors_origins: tuple[str, ...] = Field(default=(), description="origins allowed by CORS")
     synchronous: str = Field(
         default="normal",

@@ -14,7 +14,7 @@ store for tests, and the storage error tree.
 
 from __future__ import annotations
 
-from rigserver.storage.base import Columns, RunStore
+from rigserver.storage.base import BatchCheck, Columns, NewBatch, RunStore
 from rigserver.storage.errors import (
     RunExists,
     RunNotFound,
@@ -28,9 +28,11 @@ from rigserver.storage.hdf5 import HDF5Store
 from rigserver.storage.memory import MemoryStore
 
 __all__ = [
+    "BatchCheck",
     "Columns",
     "HDF5Store",
     "MemoryStore",
+    "NewBatch",
     "RunExists",
     "RunNotFound",
     "RunNotOpen",

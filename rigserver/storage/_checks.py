@@ -14,7 +14,7 @@ absent or shorter channels with NaN, so a NaN there means "not in that batch", a
 
 from __future__ import annotations
 
-import hashlib
+import zlib
 from collections.abc import Mapping
 from dataclasses import dataclass
 from functools import cache
@@ -42,7 +42,9 @@ class Batch:
     rows : int
         Rows the batch adds to its group: the longest column.
     digest : bytes
-        BLAKE2b-128 of the group, the channel names and the values (a retry's fingerprint).
+        CRC-32 and Adler-32 of the group, the channel names and the values: a retry's
+        fingerprint (a seq reused for other readings differs in it but for a 2^-64 chance;
+        a cryptographic hash would cost several times more on a large batch).
     """
 
     group: str
@@ -86,12 +88,14 @@ def prepare(group: str, columns: Mapping[str, ArrayLike]) -> Batch:
         if values.ndim != 1:
             raise ValueError(f"channel {name!r} of group {group!r} must be a flat list")
         cols[name] = values
-    digest = hashlib.blake2b(group.encode(), digest_size=16)
+    crc, adler = zlib.crc32(group.encode()), zlib.adler32(group.encode())
     for name, values in cols.items():
-        digest.update(b"\0" + name.encode() + b"\0" + len(values).to_bytes(8, "little"))
-        digest.update(values.data)
+        head = b"\0" + name.encode() + b"\0" + len(values).to_bytes(8, "little")
+        crc, adler = zlib.crc32(head, crc), zlib.adler32(head, adler)
+        crc, adler = zlib.crc32(values.data, crc), zlib.adler32(values.data, adler)
     rows = max((len(v) for v in cols.values()), default=0)
-    return Batch(group=group, columns=cols, rows=rows, digest=digest.digest())
+    digest = crc.to_bytes(4, "little") + adler.to_bytes(4, "little")
+    return Batch(group=group, columns=cols, rows=rows, digest=digest)
 
 
 @cache

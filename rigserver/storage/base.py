@@ -2,22 +2,42 @@
 
 A store keeps runs (metadata as :class:`schemas.runs.Run`) and their readings, as columns
 per channel group. :meth:`RunStore.append` returns only once the batch is durable, and is
-idempotent per ``(run_id, seq)``.
+idempotent per ``(run_id, seq)``; :meth:`RunStore.append_many` stores several batches with
+one commit (group commit).
 """
 
 from __future__ import annotations
 
-from collections.abc import Iterator, Mapping
+from collections.abc import Callable, Iterator, Mapping, Sequence
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Protocol
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 from schemas.readings import BatchReceipt
 from schemas.runs import Run, RunPage, RunQuery, RunState
 
 Columns = Mapping[str, NDArray[np.float64]]
+#: Called with a batch's columns (float64) and the last stored value of each channel of its
+#: group, just before the batch is stored; raises to refuse the batch.
+BatchCheck = Callable[[Columns, Mapping[str, float]], None]
+
+
+@dataclass(frozen=True, slots=True)
+class NewBatch:
+    """One batch for :meth:`RunStore.append_many`.
+
+    ``check`` is not called for a retry (a ``seq`` stored before), which is answered with
+    its first receipt; it sees the last values left by the batches before it in the call.
+    """
+
+    run_id: str
+    seq: int
+    group: str
+    columns: Mapping[str, ArrayLike]
+    check: BatchCheck | None = None
 
 
 class RunStore(Protocol):
@@ -36,6 +56,11 @@ class RunStore(Protocol):
     def append(self, run_id: str, seq: int, group: str, columns: Columns) -> BatchReceipt:
         """Store one checked batch durably; the same ``seq`` again returns the first receipt
         with ``duplicate=True`` (``SequenceConflict`` if its content differs)."""
+        ...
+
+    def append_many(self, batches: Sequence[NewBatch]) -> list[BatchReceipt | Exception]:
+        """Store the batches in order, durably, with one commit; one outcome per batch: its
+        receipt, or the exception that refused it (the others are stored all the same)."""
         ...
 
     def receipt(self, run_id: str, seq: int) -> BatchReceipt | None:

@@ -3,6 +3,7 @@
 Data directory::
 
     journal.sqlite (+ -wal, -shm)   catalogue and batches (rigserver.storage.journal)
+    payloads/<run_id>.bin           readings of the batches until the run file is final
     runs/<run_id>.h5                the run files (layout: rigserver.storage.runfile)
     snapshots/<run_id>.h5           consistent copies of open runs' files (run_file)
     .lock                           flock'ed while a store has the directory open
@@ -46,9 +47,10 @@ import json
 import logging
 import os
 import shutil
+import sqlite3
 import threading
 from collections import OrderedDict
-from collections.abc import Iterator, Mapping
+from collections.abc import Iterator, Mapping, Sequence
 from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -75,8 +77,13 @@ from rigserver.storage._checks import (
 from rigserver.storage._failures import LOW_LEVEL, failures_as, translated
 from rigserver.storage._results import CheckedResults, check_results
 from rigserver.storage._time import now
-from rigserver.storage.base import Columns
-from rigserver.storage.errors import RunNotOpen, StorageUnavailable
+from rigserver.storage.base import Columns, NewBatch
+from rigserver.storage.errors import (
+    RunNotOpen,
+    SequenceConflict,
+    StorageError,
+    StorageUnavailable,
+)
 from rigserver.storage.journal import CatalogueEntry, Journal, Synchronous
 from rigserver.storage.runfile import RunFile, fsync_path, read_summary, write_file
 from schemas.readings import BatchReceipt
@@ -132,9 +139,11 @@ class HDF5Store:
             with failures_as(f"opening the journal in {self.data_dir}"):
                 path = self.data_dir / "journal.sqlite"
                 new = not path.exists()
-                if new:  # a WAL left beside a lost journal must not be replayed into a new one
+                if new:  # a WAL or payloads left beside a lost journal belong to no journal
                     for stale in (path.with_name(path.name + s) for s in ("-wal", "-shm")):
                         stale.unlink(missing_ok=True)
+                    for stale in self.data_dir.glob("payloads/*.bin"):
+                        stale.unlink()
                 self._journal = Journal(path, synchronous=synchronous)
                 fsync_path(self.data_dir)
             try:
@@ -143,6 +152,8 @@ class HDF5Store:
                         leftover.unlink()
                     if new:
                         self._rebuild_catalogue()
+                    for run_id in self._journal.final_runs_with_payloads():
+                        self._journal.drop_payloads(run_id)
                     clean = self._journal.clean_shutdown()
                     self._journal.set_clean_shutdown(False)
                     self._recover(clean=clean)
@@ -235,34 +246,115 @@ class HDF5Store:
         stand's channel groups (unknown group or channel; an aligned group's channels
         missing or of unequal lengths).
         """
-        check_seq(seq)
-        batch = prepare(group, columns)
-        doing = f"storing batch {seq} of run {run_id}"
+        (outcome,) = self.append_many([NewBatch(run_id, seq, group, columns)])
+        if isinstance(outcome, Exception):
+            raise outcome
+        return outcome
+
+    def append_many(self, batches: Sequence[NewBatch]) -> list[BatchReceipt | Exception]:
+        """Store the batches in order with one journal commit (group commit), then write
+        them to their run files.
+
+        Each batch is checked as :meth:`append` checks it, then by its own ``check``, and
+        refused alone (its outcome is the exception :meth:`append` would raise). A failure
+        of the journal refuses every batch of the call that its checks did not refuse
+        (retries too: their first copy may have been in the call): the commit is rolled
+        back and the open runs' counters and last values are as before the call.
+        """
+        outcomes: list[BatchReceipt | Exception | None] = [None] * len(batches)
+        staged: list[_Staged] = []
+        saved: dict[str, _Saved] = {}
         with self._lock:
-            self._check_open()
-            live = self._live.get(run_id)
-            if live is None:  # a retry, or a run that is not open
-                with failures_as(doing):
-                    stored = self._journal.stored_batch(run_id, seq)
-                if stored is not None:
-                    return retry_receipt(run_id, seq, stored, batch)
-                live = self._open_run(run_id)
-            decl = check(live.run.stand, batch)
-            group_rows = live.run.rows.get(group, 0) + batch.rows
-            rows = {**live.run.rows, group: group_rows}
-            rf = self._view(live, f"opening the file of run {run_id}")  # before the commit
-            with failures_as(doing):
-                stored = self._journal.add_batch(live.run, seq, batch, group_rows, rows)
+            try:
+                self._check_open()
+            except StorageUnavailable as exc:
+                return [exc] * len(batches)
+            doing = f"storing {len(batches)} batch(es)"
+            try:
+                self._journal.begin()
+                for i, nb in enumerate(batches):
+                    outcomes[i] = self._stage(i, nb, staged, saved)
+                for run_id in saved:
+                    self._journal.set_counters(self._live[run_id].run)
+                self._journal.commit()
+            except BaseException as exc:
+                for run_id, before in saved.items():
+                    before.restore(self._live[run_id])
+                with failures_as(f"rolling back {doing}"):
+                    self._journal.rollback()
+                if not isinstance(exc, LOW_LEVEL):
+                    raise
+                failure = translated(exc, doing)
+                # a retry's receipt or conflict may stem from a batch of this call: void
+                return [
+                    failure if o is None or isinstance(o, BatchReceipt | SequenceConflict) else o
+                    for o in outcomes
+                ]
+            for st in staged:
+                outcomes[st.index] = self._write_staged(st)
+        return [o for o in outcomes if o is not None]
+
+    def _stage(
+        self, index: int, nb: NewBatch, staged: list[_Staged], saved: dict[str, _Saved]
+    ) -> BatchReceipt | Exception | None:
+        """Add one batch to the open journal transaction: its receipt if it is a retry, the
+        exception that refuses it, or None once staged. Journal failures are raised."""
+        run_id, seq, group = nb.run_id, nb.seq, nb.group
+        try:
+            check_seq(seq)
+            batch = prepare(group, nb.columns)
+            stored = self._journal.stored_batch(run_id, seq)
             if stored is not None:
                 return retry_receipt(run_id, seq, stored, batch)
-            live.run.rows = rows
-            live.run.batches += 1
-            _remember_last(live, batch)
-            doing = f"writing batch {seq} of run {run_id} to its file (the batch is stored: "
-            with self._spoiling(live, doing + "retry with the same seq)"):
-                rf.append(group, padded(decl, batch.columns, batch.rows), batch.rows)
-            stored = StoredBatch(group, batch.rows, group_rows, batch.digest)
-            return stored_receipt(run_id, seq, stored, duplicate=False)
+            live = self._open_run(run_id)
+            if run_id in saved and live.stale:  # a rebuild now would take in staged batches
+                raise StorageUnavailable(
+                    f"the file of run {run_id} failed while batch {seq} waited; retry it"
+                )
+            if nb.check is not None:
+                nb.check(batch.columns, self._last(live, group))
+            decl = check(live.run.stand, batch)
+            if live.stale or run_id not in self._files:
+                self._view(live, f"opening the file of run {run_id}")  # before the commit
+        except sqlite3.Error:
+            raise
+        except Exception as exc:
+            return exc
+        if run_id not in saved:
+            saved[run_id] = _Saved.of(live)
+        group_rows = live.run.rows.get(group, 0) + batch.rows
+        stored = self._journal.add_batch(run_id, seq, batch, group_rows)
+        if stored is not None:
+            try:
+                return retry_receipt(run_id, seq, stored, batch)
+            except SequenceConflict as exc:
+                return exc
+        live.run.rows = {**live.run.rows, group: group_rows}
+        live.run.batches += 1
+        _remember_last(live, batch)
+        stored = StoredBatch(group, batch.rows, group_rows, batch.digest)
+        staged.append(_Staged(index, live, seq, padded(decl, batch.columns, batch.rows), stored))
+        return None
+
+    def _write_staged(self, st: _Staged) -> BatchReceipt | Exception:
+        """Hand a committed batch to its run's file; a failure marks the view stale."""
+        live = st.live
+        receipt = stored_receipt(live.run.id, st.seq, st.stored, duplicate=False)
+        if live.stale:  # the rebuild from the journal will bring the batch in
+            return receipt
+        doing = (
+            f"writing batch {st.seq} of run {live.run.id} to its file (the batch is stored: "
+            "retry with the same seq)"
+        )
+        try:
+            rf = self._files.get(live.run.id) or self._view(live, doing)
+            rf.append(st.stored.group, st.columns, st.stored.rows)
+        except LOW_LEVEL as exc:
+            self._spoil(live)
+            return translated(exc, doing)
+        except StorageError as exc:
+            return exc
+        return receipt
 
     def receipt(self, run_id: str, seq: int) -> BatchReceipt | None:
         with self._lock:
@@ -282,13 +374,7 @@ class HDF5Store:
             live = self._live.get(run_id)
             if live is not None:
                 channel_group(live.run.stand, group)
-                cached = live.last.get(group)
-                if cached is None:
-                    rf = self._view(live, f"reading run {run_id}")
-                    with self._spoiling(live, f"reading run {run_id}"):
-                        cached = rf.last_values(group)
-                    live.last[group] = cached
-                return dict(cached)
+                return dict(self._last(live, group))
             self._final_entry(run_id)
         with (
             failures_as(f"reading run {run_id}"),
@@ -413,6 +499,16 @@ class HDF5Store:
 
     def _path(self, run_id: str) -> Path:
         return self._runs / f"{run_id}.h5"
+
+    def _last(self, live: _Live, group: str) -> dict[str, float]:
+        """The open run's cached last values of ``group`` (read from its file if need be)."""
+        cached = live.last.get(group)
+        if cached is None:
+            rf = self._view(live, f"reading run {live.run.id}")
+            with self._spoiling(live, f"reading run {live.run.id}"):
+                cached = rf.last_values(group)
+            live.last[group] = cached
+        return cached
 
     def _open_run(self, run_id: str) -> _Live:
         live = self._live.get(run_id)
@@ -576,8 +672,42 @@ class HDF5Store:
                     columns = rf.read(group, None, start, start + _IMPORT_ROWS)
                     batch = prepare(group, columns)
                     rows[group] += batch.rows
-                    self._journal.add_batch(run, seq, batch, rows[group], dict(rows))
+                    self._journal.begin()
+                    self._journal.add_batch(run.id, seq, batch, rows[group])
+                    run.rows, run.batches = dict(rows), -seq
+                    self._journal.set_counters(run)
+                    self._journal.commit()
                     seq -= 1
+
+
+@dataclass(frozen=True, slots=True)
+class _Saved:
+    """An open run's counters and last values before a group commit, to restore on failure."""
+
+    rows: dict[str, int]
+    batches: int
+    last: dict[str, dict[str, float]]
+
+    @classmethod
+    def of(cls, live: _Live) -> _Saved:
+        last = {group: dict(values) for group, values in live.last.items()}
+        return cls(dict(live.run.rows), live.run.batches, last)
+
+    def restore(self, live: _Live) -> None:
+        live.run.rows = self.rows
+        live.run.batches = self.batches
+        live.last = self.last
+
+
+@dataclass(frozen=True, slots=True)
+class _Staged:
+    """A batch in the open journal transaction, to write to its run file after the commit."""
+
+    index: int
+    live: _Live
+    seq: int
+    columns: dict[str, NDArray[np.float64]]
+    stored: StoredBatch
 
 
 def _remember_last(live: _Live, batch: Batch) -> None:
@@ -585,8 +715,11 @@ def _remember_last(live: _Live, batch: Batch) -> None:
     if cached is None:
         return
     for name, values in batch.columns.items():
-        if len(values) and not np.isnan(values[-1]):
-            cached[name] = float(values[-1])
+        if not len(values):
+            continue
+        last = float(values[-1])
+        if last == last:  # not NaN
+            cached[name] = last
         elif (value := last_finite(values)) is not None:
             cached[name] = value
 

@@ -6,24 +6,33 @@ Tables::
     runs(id, stand, operator, state, created, ended, run, batches, rows, key_results,
          results, file_final)   the catalogue: filters are columns, ``run`` the full Run JSON,
                                 ``file_final`` 1 once the run file is final and fsynced
-    batches(n, run_id, seq, grp, rows, group_rows, digest)
+    batches(n, run_id, seq, grp, rows, group_rows, digest, at, size)
                                 every batch ever stored, in order (n); kept for ever, so a
-                                retried seq gets its first receipt
-    payloads(n, data)           the readings of a batch until its run file is final: the
-                                columns as raw little-endian float64 (see _encode)
+                                retried seq gets its first receipt; ``at`` and ``size``
+                                place its readings in the run's payload file
+
+The readings of a batch are written to ``payloads/<run id>.bin`` beside the database (the
+columns as raw little-endian float64, see _encode) before its transaction commits, and the
+file is deleted once the run file is final. Appending to a file costs one write; a blob in
+SQLite is written to the WAL, copied into the database at the checkpoint and freed page by
+page when dropped, and the database never shrinks. Bytes past the last committed batch
+(a write whose commit failed) are never read.
 
 A batch is durable once its transaction commits. In WAL mode ``synchronous=NORMAL`` makes a
 commit survive the process being killed (kill -9, a crash of Python or of the library):
-the WAL is written before COMMIT returns, only its fsync waits for the next checkpoint.
-``synchronous=FULL`` fsyncs the WAL at every commit, so a commit also survives a power
-loss or a kernel crash, at the price of one fsync per batch.
+the WAL and the payload are written before COMMIT returns, their fsync waits. With
+``synchronous=FULL`` the payload files touched and the WAL are fsynced at every commit, so
+a commit also survives a power loss or a kernel crash, at the price of fsyncs per commit.
 """
 
 from __future__ import annotations
 
 import json
+import logging
+import os
 import sqlite3
 import struct
+import threading
 from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
@@ -67,22 +76,31 @@ CREATE TABLE IF NOT EXISTS batches (
     rows INTEGER NOT NULL,
     group_rows INTEGER NOT NULL,
     digest BLOB NOT NULL,
+    at INTEGER NOT NULL,
+    size INTEGER NOT NULL,
     UNIQUE (run_id, seq)
 );
-CREATE TABLE IF NOT EXISTS payloads (n INTEGER PRIMARY KEY, data BLOB NOT NULL);
 """
 
+log = logging.getLogger(__name__)
+
+#: Seconds between checkpoints of the WAL.
+CHECKPOINT_SECONDS = 1.0
 _HEADER = struct.Struct("<I")
+_IOV_MAX = 512
+#: SQLite's largest integer; an offset past it lists nothing, as any offset past the end
+_MAX_INTEGER = 2**63 - 1
 _COLUMN = struct.Struct("<HQ")
 
 
-def _encode(columns: dict[str, NDArray[np.float64]]) -> bytes:
+def _encode(columns: dict[str, NDArray[np.float64]]) -> list[bytes | memoryview]:
     """Channel count, then (name length, row count, name) per channel, then the values."""
     head = [_HEADER.pack(len(columns))]
     for name, values in columns.items():
         raw = name.encode()
-        head.append(_COLUMN.pack(len(raw), len(values)) + raw)
-    return b"".join([*head, *(v.data for v in columns.values())])
+        head.append(_COLUMN.pack(len(raw), len(values)))
+        head.append(raw)
+    return [b"".join(head), *(v.data for v in columns.values())]
 
 
 def _decode(data: bytes) -> dict[str, NDArray[np.float64]]:
@@ -112,27 +130,49 @@ class CatalogueEntry:
 class Journal:
     """The catalogue and the batches; not thread-safe (the store serialises the calls).
 
-    Every method commits its own transaction; a failure rolls it back and raises the
-    sqlite3 error (the store translates it).
+    Batches are added in a transaction of the caller (:meth:`begin`, :meth:`commit`: one
+    commit for a group of batches); every other method commits its own. A failure rolls
+    back and raises the sqlite3 error (the store translates it).
     """
 
     def __init__(self, path: Path, *, synchronous: Synchronous = "normal") -> None:
         self.path = path
+        self._payloads = path.parent / "payloads"
+        self._payloads.mkdir(exist_ok=True)
+        self._full = synchronous == "full"
+        #: run id -> (descriptor, size) of the open payload files
+        self._files: dict[str, list[int]] = {}
+        #: payload files written in the open transaction (fsynced before a full commit)
+        self._dirty: set[str] = set()
         self._db = sqlite3.connect(path, isolation_level=None, check_same_thread=False)
         try:
             self._db.execute("PRAGMA journal_mode=WAL")
             self._db.execute(f"PRAGMA synchronous={synchronous.upper()}")
             self._db.execute("PRAGMA journal_size_limit=67108864")
+            # the WAL is checkpointed by a thread of its own (_Checkpointer), not inside
+            # the commit that happens to fill it: a checkpoint copies and fsyncs megabytes
+            self._db.execute("PRAGMA wal_autocheckpoint=0")
             # Debian's SQLite zeroes freed pages; dropping a finished run's readings would
             # then rewrite them all (seconds for a 50-million-reading run)
             self._db.execute("PRAGMA secure_delete=OFF")
             self._db.executescript(_SCHEMA)
+            columns = {row[1] for row in self._db.execute("PRAGMA table_info(batches)")}
+            if "at" not in columns:
+                raise StorageUnavailable(
+                    f"{path} was written by an older rigserver (readings inside SQLite); "
+                    "move it away and the catalogue is rebuilt from the run files"
+                )
         except BaseException:
             self._db.close()
             raise
+        self._checkpointer = _Checkpointer(path)
 
     def close(self) -> None:
-        self._db.close()
+        self._checkpointer.stop()
+        for fd, _ in self._files.values():
+            os.close(fd)
+        self._files.clear()
+        self._db.close()  # the last connection: SQLite checkpoints the WAL and removes it
 
     def _write(self, statements: list[tuple[str, tuple[object, ...]]]) -> None:
         db = self._db
@@ -243,7 +283,7 @@ class Journal:
         rows = self._db.execute(
             f"SELECT {self._RUN_COLUMNS} FROM runs{sql_where} "
             "ORDER BY created DESC, id DESC LIMIT ? OFFSET ?",
-            [*params, query.limit, query.offset],
+            [*params, query.limit, min(query.offset, _MAX_INTEGER)],
         ).fetchall()
         return RunPage(total=total, runs=[self._entry(r).run for r in rows])
 
@@ -281,15 +321,23 @@ class Journal:
 
     def mark_final(self, run_id: str) -> None:
         """The run file is final and fsynced: drop the run's payloads, keep the receipts."""
-        self._write(
-            [
-                (
-                    "DELETE FROM payloads WHERE n IN (SELECT n FROM batches WHERE run_id = ?)",
-                    (run_id,),
-                ),
-                ("UPDATE runs SET file_final = 1 WHERE id = ?", (run_id,)),
-            ]
-        )
+        self._write([("UPDATE runs SET file_final = 1 WHERE id = ?", (run_id,))])
+        self.drop_payloads(run_id)
+
+    def drop_payloads(self, run_id: str) -> None:
+        found = self._files.pop(run_id, None)
+        if found is not None:
+            os.close(found[0])
+        (self._payloads / f"{run_id}.bin").unlink(missing_ok=True)
+
+    def final_runs_with_payloads(self) -> list[str]:
+        """Runs whose payload file outlived their final run file (a crash in between)."""
+        names = [p.stem for p in self._payloads.glob("*.bin")]
+        final = {
+            row[0]
+            for row in self._db.execute("SELECT id FROM runs WHERE file_final = 1").fetchall()
+        }
+        return [n for n in names if n in final]
 
     # --- batches ----------------------------------------------------------------------
 
@@ -300,46 +348,123 @@ class Journal:
         ).fetchone()
         return None if row is None else StoredBatch(row[0], row[1], row[2], bytes(row[3]))
 
-    def add_batch(
-        self, run: Run, seq: int, batch: Batch, group_rows: int, rows: dict[str, int]
-    ) -> StoredBatch | None:
-        """Store a batch and the run's new counters (``rows`` per group) in one commit.
+    def begin(self) -> None:
+        """Open the transaction of a group of batches (:meth:`add_batch`, :meth:`set_counters`)."""
+        self._db.execute("BEGIN IMMEDIATE")
+
+    @property
+    def in_transaction(self) -> bool:
+        return self._db.in_transaction
+
+    def commit(self) -> None:
+        dirty, self._dirty = self._dirty, set()
+        if self._full:
+            for run_id in dirty:
+                os.fsync(self._files[run_id][0])
+        self._db.execute("COMMIT")
+
+    def rollback(self) -> None:
+        """Roll back the open transaction, if SQLite has not done so itself (it does on
+        SQLITE_FULL and some I/O errors)."""
+        self._dirty.clear()
+        if self._db.in_transaction:
+            self._db.execute("ROLLBACK")
+
+    def add_batch(self, run_id: str, seq: int, batch: Batch, group_rows: int) -> StoredBatch | None:
+        """Add a batch to the transaction opened by :meth:`begin`; its readings are
+        appended to the run's payload file.
 
         Returns ``None``, or the batch stored before under ``seq`` (then nothing changes).
         """
-        db = self._db
-        db.execute("BEGIN IMMEDIATE")
+        if not self._db.in_transaction:  # e.g. SQLite rolled the group back after a failure
+            raise sqlite3.OperationalError("a batch is added inside a transaction only")
+        payload = self._payload_file(run_id)
+        parts = _encode(batch.columns)
+        at, size = payload[1], sum(memoryview(p).nbytes for p in parts)
         try:
-            try:
-                n = db.execute(
-                    "INSERT INTO batches (run_id, seq, grp, rows, group_rows, digest) "
-                    "VALUES (?, ?, ?, ?, ?, ?)",
-                    (run.id, seq, batch.group, batch.rows, group_rows, batch.digest),
-                ).lastrowid
-            except sqlite3.IntegrityError:
-                db.execute("ROLLBACK")
-                return self.stored_batch(run.id, seq)
-            db.execute("INSERT INTO payloads (n, data) VALUES (?, ?)", (n, _encode(batch.columns)))
-            db.execute(
-                "UPDATE runs SET batches = batches + 1, rows = ? WHERE id = ?",
-                (json.dumps(rows), run.id),
+            self._db.execute(
+                "INSERT INTO batches (run_id, seq, grp, rows, group_rows, digest, at, size) "
+                "VALUES (?, ?, ?, ?, ?, ?, ?, ?)",
+                (run_id, seq, batch.group, batch.rows, group_rows, batch.digest, at, size),
             )
-            db.execute("COMMIT")
-        except BaseException:
-            if db.in_transaction:
-                db.execute("ROLLBACK")
-            raise
+        except sqlite3.IntegrityError:
+            return self.stored_batch(run_id, seq)
+        payload[1] += size  # and past whatever a failed write leaves
+        self._dirty.add(run_id)
+        _write_all(payload[0], parts, at)
         return None
+
+    def _payload_file(self, run_id: str) -> list[int]:
+        found = self._files.get(run_id)
+        if found is None:
+            fd = os.open(self._payloads / f"{run_id}.bin", os.O_RDWR | os.O_CREAT, 0o644)
+            found = self._files[run_id] = [fd, os.fstat(fd).st_size]
+        return found
+
+    def set_counters(self, run: Run) -> None:
+        """The run's batch count and rows per group, in the transaction of its batches."""
+        self._db.execute(
+            "UPDATE runs SET batches = ?, rows = ? WHERE id = ?",
+            (run.batches, json.dumps(run.rows), run.id),
+        )
 
     def payloads(self, run_id: str) -> Iterator[tuple[str, dict[str, NDArray[np.float64]]]]:
         """The run's batches in the order stored, as (group, columns as posted)."""
         order = self._db.execute(
-            "SELECT n, grp FROM batches WHERE run_id = ? ORDER BY n", (run_id,)
+            "SELECT grp, at, size FROM batches WHERE run_id = ? ORDER BY n", (run_id,)
         ).fetchall()
-        for n, group in order:
-            row = self._db.execute("SELECT data FROM payloads WHERE n = ?", (n,)).fetchone()
-            if row is None:
-                raise StorageUnavailable(
-                    f"the readings of batch {n} of run {run_id} are no longer in the journal"
-                )
-            yield group, _decode(row[0])
+        if not order:
+            return
+        path = self._payloads / f"{run_id}.bin"
+        try:
+            fd = os.open(path, os.O_RDONLY)
+        except FileNotFoundError:
+            raise StorageUnavailable(
+                f"the readings of run {run_id} are no longer in the journal ({path} is missing)"
+            ) from None
+        try:
+            for group, at, size in order:
+                data = os.pread(fd, size, at)
+                if len(data) != size:
+                    raise StorageUnavailable(f"{path} is cut short at byte {at + len(data)}")
+                yield group, _decode(data)
+        finally:
+            os.close(fd)
+
+
+class _Checkpointer:
+    """A thread that checkpoints the WAL into the database every second, without blocking
+    the writer (PASSIVE), on a connection of its own."""
+
+    def __init__(self, path: Path) -> None:
+        self._db = sqlite3.connect(path, isolation_level=None, check_same_thread=False)
+        self._stop = threading.Event()
+        self._thread = threading.Thread(target=self._run, name="rig-checkpoint", daemon=True)
+        self._thread.start()
+
+    def _run(self) -> None:
+        try:
+            while not self._stop.wait(CHECKPOINT_SECONDS):
+                try:
+                    self._db.execute("PRAGMA wal_checkpoint(PASSIVE)")
+                except sqlite3.Error as exc:  # e.g. the disk is full: the next one may pass
+                    log.warning("checkpointing the journal failed: %s", exc)
+        finally:
+            self._db.close()
+
+    def stop(self) -> None:
+        self._stop.set()
+        self._thread.join()
+
+
+def _write_all(fd: int, parts: list[bytes | memoryview], at: int) -> None:
+    """Write the parts at offset ``at`` (pwritev returns short on large writes)."""
+    views = [memoryview(p).cast("B") for p in parts]
+    while views:
+        done = os.pwritev(fd, views[:_IOV_MAX], at)
+        at += done
+        while views and done >= len(views[0]):
+            done -= len(views[0])
+            views.pop(0)
+        if views and done:
+            views[0] = views[0][done:]

@@ -11,7 +11,7 @@ import json
 import shutil
 import tempfile
 import threading
-from collections.abc import Iterator, Mapping
+from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -34,7 +34,7 @@ from rigserver.storage._checks import (
 )
 from rigserver.storage._results import CheckedResults, check_results
 from rigserver.storage._time import as_utc, now
-from rigserver.storage.base import Columns
+from rigserver.storage.base import Columns, NewBatch
 from rigserver.storage.errors import RunExists, RunNotFound, RunNotOpen
 from rigserver.storage.runfile import write_file
 from schemas.readings import BatchReceipt
@@ -93,26 +93,44 @@ class MemoryStore:
         return RunPage(total=len(runs), runs=[r.model_copy(deep=True) for r in page])
 
     def append(self, run_id: str, seq: int, group: str, columns: Columns) -> BatchReceipt:
-        check_seq(seq)
-        batch = prepare(group, columns)
+        (outcome,) = self.append_many([NewBatch(run_id, seq, group, columns)])
+        if isinstance(outcome, Exception):
+            raise outcome
+        return outcome
+
+    def append_many(self, batches: Sequence[NewBatch]) -> list[BatchReceipt | Exception]:
+        outcomes: list[BatchReceipt | Exception] = []
         with self._lock:
-            stored_run = self._get(run_id)
-            stored = stored_run.batches.get(seq)
-            if stored is not None:
-                return retry_receipt(run_id, seq, stored, batch)
-            run = stored_run.run
-            if run.state is not RunState.OPEN:
-                raise RunNotOpen(f"run {run_id} is {run.state.value}: it takes no more readings")
-            decl = check(run.stand, batch)
-            group_rows = run.rows.get(group, 0) + batch.rows
-            stored = StoredBatch(group, batch.rows, group_rows, batch.digest)
-            stored_run.batches[seq] = stored
-            channels = stored_run.columns.setdefault(group, {})
-            for name, values in padded(decl, batch.columns, batch.rows).items():
-                channels.setdefault(name, []).append(values)
-            run.rows = {**run.rows, group: group_rows}
-            run.batches += 1
-            return stored_receipt(run_id, seq, stored, duplicate=False)
+            for nb in batches:
+                try:
+                    outcomes.append(self._append(nb))
+                except Exception as exc:
+                    outcomes.append(exc)
+        return outcomes
+
+    def _append(self, nb: NewBatch) -> BatchReceipt:
+        run_id, seq, group = nb.run_id, nb.seq, nb.group
+        check_seq(seq)
+        batch = prepare(group, nb.columns)
+        stored_run = self._get(run_id)
+        stored = stored_run.batches.get(seq)
+        if stored is not None:
+            return retry_receipt(run_id, seq, stored, batch)
+        run = stored_run.run
+        if run.state is not RunState.OPEN:
+            raise RunNotOpen(f"run {run_id} is {run.state.value}: it takes no more readings")
+        if nb.check is not None:
+            nb.check(batch.columns, self.last_values(run_id, group))
+        decl = check(run.stand, batch)
+        group_rows = run.rows.get(group, 0) + batch.rows
+        stored = StoredBatch(group, batch.rows, group_rows, batch.digest)
+        stored_run.batches[seq] = stored
+        channels = stored_run.columns.setdefault(group, {})
+        for name, values in padded(decl, batch.columns, batch.rows).items():
+            channels.setdefault(name, []).append(values)
+        run.rows = {**run.rows, group: group_rows}
+        run.batches += 1
+        return stored_receipt(run_id, seq, stored, duplicate=False)
 
     def receipt(self, run_id: str, seq: int) -> BatchReceipt | None:
         with self._lock:

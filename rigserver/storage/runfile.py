@@ -27,7 +27,8 @@ row run has under a thousand chunks per channel. No compression, for write speed
 that every HDF5 reader opens it.
 
 Appends are buffered per group and written with one HDF5 call per channel once 65 536 rows
-or 4096 batches have gathered, at the first append a second after the oldest, and before
+or 4096 batches have gathered, at the first append about a second after the oldest (0.5 to
+1.5 s, drawn per file, so that runs started together do not all write at once), and before
 any read, flush or close: the journal, not this file, makes a batch durable, and per-batch
 HDF5 calls would cost ~0.1 ms per channel.
 """
@@ -36,6 +37,7 @@ from __future__ import annotations
 
 import json
 import os
+import random
 import time
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
@@ -91,6 +93,8 @@ class RunFile:
         self._entry: h5py.Group = f["entry"]
         self._stand = StandKind(self._entry.attrs["stand"])
         self._pending: dict[str, _Pending] = {}
+        # runs started together would otherwise all write at the same appends
+        self._write_behind_s = WRITE_BEHIND_SECONDS * random.uniform(0.5, 1.5)
 
     @classmethod
     def create(cls, path: Path, run: Run) -> RunFile:
@@ -154,7 +158,7 @@ class RunFile:
         if (
             pending.rows >= WRITE_BEHIND_ROWS
             or len(pending.parts) >= WRITE_BEHIND_BATCHES
-            or time.monotonic() - pending.since >= WRITE_BEHIND_SECONDS
+            or time.monotonic() - pending.since >= self._write_behind_s
         ):
             self._write(group)
 

@@ -8,7 +8,7 @@ import socket
 import subprocess
 import sys
 import time
-from collections.abc import Iterator
+from collections.abc import Iterator, Mapping, Sequence
 from pathlib import Path
 
 import httpx
@@ -55,10 +55,20 @@ def free_port() -> int:
 class Server:
     """``rigserver serve`` in a subprocess on a free loopback port."""
 
-    def __init__(self, data_dir: Path, keys_file: Path, *, public_reads: bool = False) -> None:
+    def __init__(
+        self,
+        data_dir: Path,
+        keys_file: Path,
+        *,
+        public_reads: bool = False,
+        args: Sequence[str] = (),
+        env: Mapping[str, str] | None = None,
+    ) -> None:
         self.data_dir = data_dir
         self.keys_file = keys_file
         self.public_reads = public_reads
+        self.args = list(args)  # more `rigserver serve` options
+        self.env = dict(env or {})  # more environment
         self.port = free_port()
         self.url = f"http://127.0.0.1:{self.port}"
         self.log = data_dir.parent / "rigserver.log"
@@ -68,7 +78,8 @@ class Server:
         cmd = [sys.executable, "-m", "rigserver.cli", "serve", "--port", str(self.port)]
         cmd += ["--data-dir", str(self.data_dir), "--keys-file", str(self.keys_file)]
         cmd += ["--log-level", "warning"] + (["--public-reads"] if self.public_reads else [])
-        env = {**os.environ, "PYTHONUNBUFFERED": "1"}
+        cmd += self.args
+        env = {**os.environ, "PYTHONUNBUFFERED": "1", **self.env}
         with self.log.open("ab") as log:
             self.proc = subprocess.Popen(cmd, env=env, stdout=log, stderr=log)
         deadline = time.monotonic() + 30

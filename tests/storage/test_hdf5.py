@@ -23,10 +23,15 @@ RESULTS = {"values": {"h_crit": 2.1e-6}, "units": {"h_crit": "m"}}
 
 
 def _payload_count(data_dir: Path, run_id: str) -> int:
+    """Batches of the run whose readings the journal keeps (in the run's payload file)."""
+    payloads = data_dir / "payloads" / f"{run_id}.bin"
+    if not payloads.exists():
+        return 0
     with sqlite3.connect(data_dir / "journal.sqlite") as db:
-        (count,) = db.execute(
-            "SELECT COUNT(*) FROM payloads JOIN batches USING (n) WHERE run_id = ?", (run_id,)
+        (count, size) = db.execute(
+            "SELECT COUNT(*), COALESCE(SUM(size), 0) FROM batches WHERE run_id = ?", (run_id,)
         ).fetchone()
+    assert payloads.stat().st_size >= size
     return int(count)
 
 

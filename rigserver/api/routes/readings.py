@@ -10,7 +10,8 @@ from __future__ import annotations
 import csv
 import io
 import zipfile
-from collections.abc import Iterator
+from collections.abc import Iterator, Mapping
+from functools import partial
 from typing import Annotated, Any, Literal
 
 import numpy as np
@@ -20,17 +21,29 @@ from fastapi.responses import FileResponse, StreamingResponse
 from numpy.typing import NDArray
 from pydantic import ValidationError
 
-from rigserver.api.deps import CallerDep, ReadAccess, Services, ServicesDep, require_write
+from rigserver.api.deps import (
+    ReadAccess,
+    Services,
+    ServicesDep,
+    caller_of,
+    require_write,
+    services_of,
+)
 from rigserver.api.problems import ApiProblem
 from rigserver.api.routes.runs import load_run
+from rigserver.storage.base import Columns, NewBatch
 from schemas.channels import ChannelGroup, Violation, check_columns
 from schemas.readings import NPZ_MEDIA_TYPE, BatchReceipt, ReadingBatch
 from schemas.runs import Run
-from schemas.stands import Stand
+from schemas.stands import Stand, StandKind
 
 router = APIRouter(prefix="/runs/{run_id}/readings", tags=["readings"])
 
 MAX_ROWS_JSON = 1_000_000
+MAX_SEQ = 2**62  # as ReadingBatch.seq
+#: Bodies up to this size are parsed and stored on the event loop (stored in groups, see
+#: rigserver.api.ingest_queue); larger ones in a worker thread.
+SMALL_BODY_BYTES = 64 << 10
 
 _BATCH_BODY: dict[str, Any] = {
     "requestBody": {
@@ -43,7 +56,23 @@ _BATCH_BODY: dict[str, Any] = {
                 "seq and group in the query",
             },
         },
-    }
+    },
+    "parameters": [
+        {
+            "name": "seq",
+            "in": "query",
+            "required": False,
+            "description": "binary form only: the batch's sequence number",
+            "schema": {"type": "integer", "minimum": 0, "maximum": 2**62},
+        },
+        {
+            "name": "group",
+            "in": "query",
+            "required": False,
+            "description": "binary form only: the channel group",
+            "schema": {"type": "string", "maxLength": 40},
+        },
+    ],
 }
 
 
@@ -60,35 +89,105 @@ def _group_of(stand: Stand, name: str) -> ChannelGroup:
     return group
 
 
-def ingest(
-    services: Services, run: Run, seq: int, group_name: str, columns: dict[str, Any]
-) -> BatchReceipt:
-    """Check a batch against the stand's declaration and store it (once per seq)."""
-    group = _group_of(services.stands[run.stand], group_name)
-    store = services.store
-    with services.run_locks[run.id]:
-        if store.receipt(run.id, seq) is not None:
-            arrays = {k: np.asarray(v, dtype=np.float64) for k, v in columns.items()}
-            return store.append(run.id, seq, group.name, arrays)
-        arrays, violations = check_columns(group, columns, store.last_values(run.id, group.name))
-        if violations:
-            raise ApiProblem(
-                422,
-                "Readings refused",
-                f"{violations[0].message} (nothing of this batch was stored)",
-                violations,
-            )
-        return store.append(run.id, seq, group.name, arrays)
+def _refuse_violations(group: ChannelGroup, columns: Columns, last: Mapping[str, float]) -> None:
+    """The stand's limits and orderings, checked against the run's last stored values."""
+    _, violations = check_columns(group, columns, last)
+    if violations:
+        raise ApiProblem(
+            422,
+            "Readings refused",
+            f"{violations[0].message} (nothing of this batch was stored)",
+            violations,
+        )
 
 
-def _parse_npz(body: bytes) -> dict[str, NDArray[Any]]:
+def _parse_npz(body: bytes, max_bytes: int) -> dict[str, NDArray[Any]]:
+    """The archive's arrays: 1-D and real-valued, at most ``max_bytes`` once unpacked."""
     try:
         with np.load(io.BytesIO(body), allow_pickle=False) as archive:
-            return {name: archive[name] for name in archive.files}
+            unpacked = sum(info.file_size for info in archive.zip.infolist())
+            if unpacked > max_bytes:
+                raise ApiProblem(
+                    413,
+                    "Binary batch too large",
+                    f"the archive unpacks to {unpacked} bytes; the limit is {max_bytes}",
+                )
+            arrays = {name: archive[name] for name in archive.files}
     except (ValueError, OSError, zipfile.BadZipFile, EOFError) as exc:
         raise ApiProblem(
             422, "Unreadable binary batch", f"the body is not a numpy .npz archive: {exc}"
         ) from None
+    for name, values in arrays.items():
+        if not isinstance(values, np.ndarray):  # a member that is not a .npy file
+            what = f"a file of {len(values)} bytes"
+        elif values.ndim != 1 or values.dtype.kind not in "biuf":
+            what = f"a {values.ndim}-D array of {values.dtype}"
+        else:
+            continue
+        raise ApiProblem(
+            422,
+            "Invalid binary batch",
+            f"channel {name[:40]!r} must be a 1-D array of real numbers, not {what}",
+            [Violation(field=f"columns.{name[:40]}", message="a 1-D array of numbers")],
+        )
+    return arrays
+
+
+def _parse_json(body: bytes) -> ReadingBatch:
+    try:
+        return ReadingBatch.model_validate_json(body)
+    except ValidationError as exc:
+        errors = [
+            Violation(
+                field=".".join(str(p) for p in e["loc"]) or "body",
+                message=f"{'.'.join(str(p) for p in e['loc']) or 'body'}: {e['msg']}",
+            )
+            for e in exc.errors()[:20]
+        ]
+        raise ApiProblem(422, "Invalid batch", errors[0].message, errors) from None
+
+
+async def _stand_of(services: Services, run_id: str) -> StandKind:
+    """The run's stand: remembered, or looked up (404 for an unknown run)."""
+    stand = services.run_stands.get(run_id)
+    if stand is None:
+        stand = (await run_in_threadpool(load_run, services, run_id)).stand
+        services.remember_stand(run_id, stand)
+    return stand
+
+
+def _binary_query(request: Request) -> tuple[int, str]:
+    """``?seq=&group=`` of the binary form: a whole seq from 0 and a group name."""
+    seq = request.query_params.get("seq", "")
+    group = request.query_params.get("group", "")
+    errors = []
+    if not seq.isdigit() or int(seq) > MAX_SEQ:
+        errors.append(
+            Violation(
+                field="seq",
+                value=seq[:40],
+                limit=f"0 <= seq <= {MAX_SEQ}",
+                message="seq: a whole number from 0, in the query",
+            )
+        )
+    if not group or len(group) > 40:
+        errors.append(
+            Violation(field="group", value=group[:40], message="group: a channel group name")
+        )
+    if errors:
+        raise ApiProblem(
+            422,
+            "seq and group needed",
+            "the binary form takes ?seq=&group= in the query: "
+            + "; ".join(e.message for e in errors),
+            errors,
+        )
+    return int(seq), group
+
+
+def _declared_length(request: Request) -> int:
+    value = request.headers.get("content-length", "")
+    return int(value) if value.isdigit() else 0
 
 
 @router.post(
@@ -97,52 +196,52 @@ def _parse_npz(body: bytes) -> dict[str, NDArray[Any]]:
     description="Answers 201 with the receipt once the batch is durable, 200 with the same "
     "receipt when the seq was stored before (a retry), 422 naming the field, index, value "
     "and limit when a reading is refused (nothing of the batch is stored), 409 when the run "
-    "is not open. Needs the scope `write:<stand>`.",
+    "is not open, 503 with Retry-After when the ingest queue is full. Needs the scope "
+    "`write:<stand>`.",
     status_code=201,
-    responses={200: {"description": "a retried batch, stored before"}},
+    response_model=BatchReceipt,
+    responses={200: {"description": "a retried batch, stored before", "model": BatchReceipt}},
     openapi_extra=_BATCH_BODY,
 )
-async def post_readings(
-    run_id: str,
-    request: Request,
-    response: Response,
-    services: ServicesDep,
-    caller: CallerDep,
-    seq: Annotated[int | None, Query(ge=0, description="binary form only")] = None,
-    group: Annotated[str | None, Query(max_length=40, description="binary form only")] = None,
-) -> BatchReceipt:
-    run = await run_in_threadpool(load_run, services, run_id)
-    require_write(caller, run.stand)
-    body = await request.body()
+async def post_readings(run_id: str, request: Request) -> Response:
+    # the hot path of ingest: no dependencies or query parameters solved by FastAPI (they
+    # cost more than storing a reading); seq and group are documented in _BATCH_BODY
+    services = services_of(request)
+    stand = await _stand_of(services, run_id)
+    require_write(caller_of(request, services), stand)
     media = request.headers.get("content-type", "application/json").split(";")[0].strip()
-    columns: dict[str, Any]
-    if media == NPZ_MEDIA_TYPE:
-        if seq is None or group is None:
-            raise ApiProblem(
-                422, "seq and group needed", "the binary form takes ?seq=&group= in the query"
-            )
-        columns = _parse_npz(body)
-    elif media == "application/json":
-        try:
-            batch = ReadingBatch.model_validate_json(body)
-        except ValidationError as exc:
-            errors = [
-                Violation(
-                    field=".".join(str(p) for p in e["loc"]) or "body",
-                    message=f"{'.'.join(str(p) for p in e['loc']) or 'body'}: {e['msg']}",
-                )
-                for e in exc.errors()[:20]
-            ]
-            raise ApiProblem(422, "Invalid batch", errors[0].message, errors) from None
-        seq, group, columns = batch.seq, batch.group, dict(batch.columns)
-    else:
+    if media not in ("application/json", NPZ_MEDIA_TYPE):
         raise ApiProblem(
             415, "Unsupported media type", f"send application/json or {NPZ_MEDIA_TYPE}"
         )
-    receipt = await run_in_threadpool(ingest, services, run, seq, group, columns)
-    if receipt.duplicate:
-        response.status_code = 200
-    return receipt
+    seq, group = _binary_query(request) if media == NPZ_MEDIA_TYPE else (0, "")
+    with services.ingest.admit(_declared_length(request)):
+        body = await request.body()
+        small = len(body) <= SMALL_BODY_BYTES
+        if media == NPZ_MEDIA_TYPE:
+            limit = services.settings.max_body_bytes
+            columns: Mapping[str, Any] = (
+                _parse_npz(body, limit)
+                if small
+                else await run_in_threadpool(_parse_npz, body, limit)
+            )
+        else:
+            batch = _parse_json(body) if small else await run_in_threadpool(_parse_json, body)
+            seq, group, columns = batch.seq, batch.group, batch.columns
+        del body
+        decl = _group_of(services.stands[stand], group)
+        check = partial(_refuse_violations, decl)
+        try:
+            receipt = await services.ingest.store(
+                NewBatch(run_id, seq, decl.name, columns, check), small=small
+            )
+        except ValueError as exc:  # the store's own check of the batch's shape
+            raise ApiProblem(422, "Batch does not fit its group", str(exc)) from None
+    return Response(
+        receipt.model_dump_json(),
+        status_code=200 if receipt.duplicate else 201,
+        media_type="application/json",
+    )
 
 
 Format = Literal["json", "csv", "hdf5"]

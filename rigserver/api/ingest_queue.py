@@ -1,0 +1,166 @@
+"""The bounded ingest queue: admission of batch posts, and group commits.
+
+Admission bounds what the service holds for ingest: at most ``max_batches`` posts at once
+(from reading the body to the answer) and ``max_bytes`` of their bodies as declared by
+``Content-Length`` (a single body larger than that is admitted alone; a chunked body counts
+as none, and the body limit caps it). A post beyond either is answered 503 with
+``Retry-After`` before its body is read, so a burst of lab PCs makes them wait instead of
+growing the server's memory.
+
+Small batches (single readings, a few rows) are stored on the event loop in groups: every
+small batch that arrives while the loop is busy joins the next group, stored with one
+journal commit (:meth:`RunStore.append_many`) once the loop has nothing else ready, so a
+busy server commits many batches at once and an idle one each at once. A thread hop per
+post would cost more than storing a single reading. Large batches are stored in a worker
+thread, one per commit. Either way a batch is acknowledged only once its commit returned.
+
+A run's lock is held while the run is finished or aborted; ingest never waits for it: a
+batch of such a run is answered 503 with ``Retry-After`` (after the end its retry meets
+409; if the end failed, the retry is stored).
+"""
+
+from __future__ import annotations
+
+import asyncio
+import logging
+import threading
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
+
+from fastapi.concurrency import run_in_threadpool
+
+from rigserver.api.problems import ApiProblem
+from rigserver.storage.base import NewBatch, RunStore
+from schemas.readings import BatchReceipt
+
+log = logging.getLogger("rigserver")
+
+Outcome = BatchReceipt | Exception
+_Pending = list[tuple[NewBatch, "asyncio.Future[Outcome]"]]
+
+
+class IngestQueue:
+    """Admission and group commits of one service (see the module docstring).
+
+    Parameters
+    ----------
+    store : RunStore
+    run_lock : callable
+        The lock of a run (held by whoever finishes or aborts it).
+    max_batches : int
+        Posts admitted at once.
+    max_bytes : int
+        Bytes of request bodies admitted at once.
+    retry_after : int
+        Seconds in the ``Retry-After`` of a 503, s.
+    """
+
+    def __init__(
+        self,
+        store: RunStore,
+        run_lock: Callable[[str], threading.Lock],
+        *,
+        max_batches: int,
+        max_bytes: int,
+        retry_after: int,
+    ) -> None:
+        self._store = store
+        self._run_lock = run_lock
+        self.max_batches = max_batches
+        self.max_bytes = max_bytes
+        self.retry_after = retry_after
+        self._admission = threading.Lock()
+        self._admitted = 0
+        self._bytes = 0
+        self._pending: dict[asyncio.AbstractEventLoop, _Pending] = {}
+
+    # --- admission --------------------------------------------------------------------
+
+    @property
+    def admitted(self) -> tuple[int, int]:
+        """Posts and body bytes admitted now."""
+        with self._admission:
+            return self._admitted, self._bytes
+
+    @contextmanager
+    def admit(self, size: int) -> Iterator[None]:
+        """Hold a place for a post whose body has ``size`` bytes; 503 if there is none."""
+        with self._admission:
+            if self._admitted >= self.max_batches or (
+                self._bytes and self._bytes + size > self.max_bytes
+            ):
+                raise ApiProblem(
+                    503,
+                    "Ingest queue full",
+                    f"the server holds {self._admitted} batches ({self._bytes} bytes) and "
+                    f"takes at most {self.max_batches} ({self.max_bytes} bytes) at once; "
+                    f"retry in {self.retry_after} s",
+                    headers={"Retry-After": str(self.retry_after)},
+                )
+            self._admitted += 1
+            self._bytes += size
+        try:
+            yield
+        finally:
+            with self._admission:
+                self._admitted -= 1
+                self._bytes -= size
+
+    # --- storing ----------------------------------------------------------------------
+
+    async def store(self, batch: NewBatch, *, small: bool) -> BatchReceipt:
+        """Store ``batch``: its receipt once it is durable, or the exception that refused
+        it. ``small`` batches join the event loop's next group commit."""
+        if small:
+            loop = asyncio.get_running_loop()
+            future: asyncio.Future[Outcome] = loop.create_future()
+            pending = self._pending.setdefault(loop, [])
+            pending.append((batch, future))
+            if len(pending) == 1:
+                loop.call_soon(self._commit_pending, loop)
+            outcome = await future
+        else:
+            (outcome,) = await run_in_threadpool(self._write, [batch])
+        if isinstance(outcome, Exception):
+            raise outcome
+        return outcome
+
+    def _commit_pending(self, loop: asyncio.AbstractEventLoop) -> None:
+        pending = self._pending.pop(loop, [])
+        outcomes = self._write([batch for batch, _ in pending])
+        for (_, future), outcome in zip(pending, outcomes, strict=True):
+            if not future.done():  # a post whose client went away is cancelled
+                future.set_result(outcome)
+
+    def _write(self, batches: list[NewBatch]) -> list[Outcome]:
+        """Store the batches with one commit; one outcome per batch, never an exception."""
+        outcomes: list[Outcome | None] = [None] * len(batches)
+        locked: dict[str, threading.Lock] = {}
+        ready: list[int] = []
+        try:
+            for i, batch in enumerate(batches):
+                if batch.run_id not in locked:
+                    lock = self._run_lock(batch.run_id)
+                    if not lock.acquire(blocking=False):
+                        outcomes[i] = self._run_busy(batch.run_id)
+                        continue
+                    locked[batch.run_id] = lock
+                ready.append(i)
+            stored = self._store.append_many([batches[i] for i in ready])
+            for i, outcome in zip(ready, stored, strict=True):
+                outcomes[i] = outcome
+        except Exception as exc:  # a bug: answer every post all the same
+            log.exception("storing %d batches failed", len(batches))
+            return [exc] * len(batches)
+        finally:
+            for lock in locked.values():
+                lock.release()
+        return [o for o in outcomes if o is not None]
+
+    def _run_busy(self, run_id: str) -> ApiProblem:
+        return ApiProblem(
+            503,
+            "Run is being ended",
+            f"run {run_id} is being finished or aborted; retry in {self.retry_after} s",
+            headers={"Retry-After": str(self.retry_after)},
+        )

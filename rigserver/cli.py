@@ -81,6 +81,11 @@ def main(argv: Sequence[str] | None = None) -> int:
         dest="cors_origins",
         help="an origin allowed by CORS, repeatable (RIG_CORS_ORIGINS); none by default",
     )
+    serve.add_argument(
+        "--synchronous",
+        choices=("normal", "full"),
+        help="journal durability: normal survives a crash, full a power loss (RIG_SYNCHRONOUS)",
+    )
     serve.add_argument("--log-level", default="info")
     args = parser.parse_args(argv)
     given = {
@@ -94,6 +99,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         "rate_limit": args.rate_limit,
         "rate_burst": args.rate_burst,
         "cors_origins": tuple(args.cors_origins) if args.cors_origins else None,
+        "synchronous": args.synchronous,
     }
     settings = Settings(**{k: v for k, v in given.items() if v is not None})
     logging.basicConfig(

@@ -7,10 +7,9 @@ JSON parsing of the numbers, for high-rate channels.
 
 from __future__ import annotations
 
-import csv
 import io
 import zipfile
-from collections.abc import Iterator, Mapping
+from collections.abc import Mapping
 from functools import partial
 from typing import Annotated, Any, Literal
 
@@ -31,6 +30,8 @@ from rigserver.api.deps import (
 )
 from rigserver.api.problems import ApiProblem
 from rigserver.api.routes.runs import load_run
+from rigserver.api.run_results import StoredReadings
+from rigserver.reports.export import group_csv
 from rigserver.storage.base import Columns, NewBatch
 from schemas.channels import ChannelGroup, Violation, check_columns
 from schemas.readings import NPZ_MEDIA_TYPE, BatchReceipt, ReadingBatch
@@ -283,7 +284,7 @@ def get_readings(
     chosen = _group_of(stand, group)
     if format == "csv":
         return StreamingResponse(
-            _csv_rows(services, run, chosen),
+            group_csv(StoredReadings(services, run), chosen),
             media_type="text/csv",
             headers={"Content-Disposition": f'attachment; filename="{run.id}-{chosen.name}.csv"'},
         )
@@ -314,23 +315,3 @@ def _json_group(
         "units": {c.name: c.unit for c in group.channels},
         "columns": {name: values.tolist() for name, values in data.items()},
     }
-
-
-def _csv_rows(services: Services, run: Run, group: ChannelGroup) -> Iterator[str]:
-    out = io.StringIO()
-    writer = csv.writer(out)
-    if not group.aligned:
-        writer.writerow(["channel", "unit", "value"])
-        units = {c.name: c.unit for c in group.channels}
-        for name, values in services.store.read(run.id, group.name).items():
-            writer.writerows((name, units[name], v) for v in values.tolist())
-        yield out.getvalue()
-        return
-    names = [c.name for c in group.channels]
-    writer.writerow([f"{c.name} [{c.unit}]" for c in group.channels])
-    for chunk in services.store.iter_chunks(run.id, group.name, names, rows=65_536):
-        writer.writerows(zip(*(chunk[n].tolist() for n in names), strict=True))
-        yield out.getvalue()
-        out.seek(0)
-        out.truncate()
-    yield out.getvalue()

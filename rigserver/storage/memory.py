@@ -25,6 +25,7 @@ from rigserver.storage._checks import (
     channel_names,
     check,
     check_seq,
+    chunks,
     last_finite,
     new_run,
     padded,
@@ -167,15 +168,8 @@ class MemoryStore:
     def iter_chunks(
         self, run_id: str, group: str, channels: list[str] | None = None, rows: int = 1 << 20
     ) -> Iterator[dict[str, NDArray[np.float64]]]:
-        if rows < 1:
-            raise ValueError(f"rows must be >= 1, not {rows}")
-        run = self.get_run(run_id)
-        channel_names(channel_group(run.stand, group), channels)
-        total = run.rows.get(group, 0)
-        return (
-            self.read(run_id, group, channels, start, min(start + rows, total))
-            for start in range(0, total, rows)
-        )
+        """The rows stored when called, in consecutive slices of at most ``rows`` rows."""
+        return chunks(self, run_id, group, channels, rows)
 
     def set_results(
         self, run_id: str, results: Mapping[str, Any], key_results: Mapping[str, float]

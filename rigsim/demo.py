@@ -82,8 +82,9 @@ def run_demo(
     signal.signal(signal.SIGTERM, _exit_on_term)  # so that the server is stopped with us
     try:
         console.print(f"rigserver is up: data in {data_dir.resolve()}")
+        console.print(f"  runs page       {url}/")
         console.print(f"  API docs        {url}/docs")
-        console.print(f"  runs            {url}/api/v1/runs")
+        console.print(f"  runs (JSON)     {url}/api/v1/runs")
         console.print(f"  demo key        in {keys_file} (reads are public)")
         outcomes: dict[StandKind, RunOutcome | str] = {}
 
@@ -110,7 +111,8 @@ def run_demo(
             else:
                 units = outcome.results.get("units", {})
                 console.print(
-                    f"  {kind.value:14s} {url}/api/v1/runs/{outcome.run.id}/results\n"
+                    f"  {kind.value:14s} {url}/runs/{outcome.run.id}"
+                    f"  (report: {url}/api/v1/runs/{outcome.run.id}/report.pdf)\n"
                     f"  {'':14s} {_headline(outcome.run.key_results, units)}",
                     soft_wrap=True,
                 )

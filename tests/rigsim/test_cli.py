@@ -101,6 +101,10 @@ def test_demo_serves_four_finished_runs_until_interrupted(tmp_path: Path) -> Non
         text = "".join(lines)
         assert f"http://127.0.0.1:{port}/docs" in text
         runs = httpx.get(f"http://127.0.0.1:{port}/api/v1/runs", timeout=10).json()["runs"]
+        for r in runs:  # each run's page is printed, and it opens
+            assert f"http://127.0.0.1:{port}/runs/{r['id']}" in text
+        page = httpx.get(f"http://127.0.0.1:{port}/runs/{runs[0]['id']}", timeout=10)
+        assert page.status_code == 200
         assert sorted(r["stand"] for r in runs) == sorted(k.value for k in StandKind)
         assert {r["state"] for r in runs} == {"finished"}
     finally:

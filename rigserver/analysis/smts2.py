@@ -49,7 +49,7 @@ def analyse(run: Run, readings: Readings) -> Smts2Results:
         seen += time.size
         last_time, last_count = float(time[-1]), float(chunk["revolutions"][-1])
     revolutions = (last_count - first_count) * _REV_PER_COUNT
-    sliding = 2.0 * np.pi * config.disc_radius * revolutions
+    sliding = wear.sliding_distance(disc_radius=config.disc_radius, revolutions=revolutions)
     result = Smts2Results(
         rows=total,
         duration=last_time - first_time,

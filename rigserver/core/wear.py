@@ -241,7 +241,7 @@ def wear_intensity_experimental(
     mass_loss = m1 - m2
     volume = mass_loss / rho
     depth = volume / (math.pi * r1**2)
-    distance = 2.0 * math.pi * r2 * turns
+    distance = float(sliding_distance(disc_radius=r2, revolutions=turns))
     return ExperimentalWear(
         mass_loss=mass_loss,
         volume=volume,
@@ -249,6 +249,27 @@ def wear_intensity_experimental(
         sliding_distance=distance,
         intensity=depth / distance,
     )
+
+
+def sliding_distance(*, disc_radius: float, revolutions: ArrayLike) -> NDArray[np.float64]:
+    """Sliding distance of the pin over the disc (2.12).
+
+    .. math:: L = 2\\pi r_2 M_{rev}
+
+    Parameters
+    ----------
+    disc_radius : float
+        r2, radius of the wear track on the disc, m (> 0).
+    revolutions : array_like
+        M_rev, disc revolutions (>= 0; a count, not the counter's hundreds).
+
+    Returns
+    -------
+    ndarray
+        L, m, shaped as ``revolutions``.
+    """
+    r2 = _positive_float("disc_radius", disc_radius)
+    return 2.0 * math.pi * r2 * non_negative("revolutions", revolutions)
 
 
 @dataclass(frozen=True, slots=True)

@@ -21,6 +21,7 @@ from rigserver.core.wear import (
     TheoreticalWear,
     adhesive_oxidative_difference,
     friction_coefficient,
+    sliding_distance,
     steady_friction,
     wear_adequacy,
     wear_intensity_experimental,
@@ -427,3 +428,12 @@ def test_adhesive_oxidative_difference_sign() -> None:
     assert adhesive_oxidative_difference(f_adhesive=0.3, f_oxidative=0.6) == pytest.approx(-100.0)
     with pytest.raises(ModelInputError, match="f_adhesive must be > 0"):
         adhesive_oxidative_difference(f_adhesive=0.0, f_oxidative=0.3)
+
+
+def test_sliding_distance_is_2_12() -> None:
+    # (2.12): L = 2π r2 M_rev; the lab's 15 000 rev on r2 = 22.5 mm
+    assert float(sliding_distance(disc_radius=0.0225, revolutions=15_000)) == pytest.approx(
+        2 * math.pi * 0.0225 * 15_000, rel=1e-15
+    )
+    with pytest.raises(ModelInputError, match="revolutions"):
+        sliding_distance(disc_radius=0.0225, revolutions=-1.0)

@@ -139,7 +139,9 @@ def _friction_svg(ctx: Context, v: Smts2Results, config: Smts2Config) -> str:
         counts = chunk["revolutions"]
         if first is None:
             first = float(counts[0])
-        distance = 2.0 * np.pi * config.disc_radius * (counts - first) * per_count  # (2.12)
+        distance = wear.sliding_distance(
+            disc_radius=config.disc_radius, revolutions=(counts - first) * per_count
+        )
         series.add(distance, np.asarray(f, dtype=np.float64))
         if seen <= start < seen + counts.size:
             steady_distance = float(distance[start - seen])

@@ -10,6 +10,8 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 from enum import StrEnum
+from functools import cached_property
+from math import inf, isfinite, nan
 
 import numpy as np
 from numpy.typing import NDArray
@@ -105,6 +107,11 @@ class ChannelGroup(BaseModel):
     def channel(self, name: str) -> Channel | None:
         return next((c for c in self.channels if c.name == name), None)
 
+    @cached_property
+    def quick_check(self) -> _QuickCheck:
+        """The accept test of small batches (a group never changes: frozen)."""
+        return _QuickCheck(self)
+
 
 class Violation(BaseModel):
     """One reason a batch was refused: where, what value, which limit."""
@@ -122,14 +129,25 @@ def check_columns(
     group: ChannelGroup,
     columns: Mapping[str, Sequence[float] | NDArray[np.float64]],
     last_values: Mapping[str, float] | None = None,
-) -> tuple[dict[str, NDArray[np.float64]], list[Violation]]:
+) -> list[Violation]:
     """Check a batch of columns against the group's declaration.
 
-    Returns the columns as float64 arrays and the list of violations (at most
-    :data:`MAX_VIOLATIONS`; empty when the batch is good). ``last_values`` are the last
-    stored values of ordered channels, so ordering holds across batches too.
+    Returns the violations (at most :data:`MAX_VIOLATIONS`; empty when the batch is good).
+    ``last_values`` are the last stored values of ordered channels, so ordering holds across
+    batches too. A good batch of a few rows is accepted without NumPy (a single reading
+    would spend more in NumPy's calls than in the checks).
     """
-    out: dict[str, NDArray[np.float64]] = {}
+    last = {} if last_values is None else last_values
+    if group.quick_check.accepts(columns, last):
+        return []
+    return _violations(group, columns, last)
+
+
+def _violations(
+    group: ChannelGroup,
+    columns: Mapping[str, Sequence[float] | NDArray[np.float64]],
+    last: Mapping[str, float],
+) -> list[Violation]:
     problems: list[Violation] = []
     known = {c.name for c in group.channels}
     for name in columns:
@@ -180,9 +198,68 @@ def check_columns(
                 Violation(field=f"columns.{ch.name}", message=f"{ch.name} must be a flat list")
             )
             continue
-        out[ch.name] = values
-        problems.extend(_value_violations(ch, values, last_values))
-    return out, problems[:MAX_VIOLATIONS]
+        problems.extend(_value_violations(ch, values, last))
+    return problems[:MAX_VIOLATIONS]
+
+
+class _QuickCheck:
+    """Accepts a good batch of at most :data:`QUICK_VALUES` values in plain Python.
+
+    The same limits and orderings as :meth:`Limit.violations` and :func:`_value_violations`
+    (the tests hold the two to agreement); anything it does not accept, a refusal or a
+    larger batch, goes to them for the verdict and the violations.
+    """
+
+    def __init__(self, group: ChannelGroup) -> None:
+        self.aligned = group.aligned
+        self.names = frozenset(c.name for c in group.channels)
+        #: name -> (low, high, ((nominal, tolerance), ...), integer, order)
+        self.rules = {
+            c.name: (
+                -inf if c.limit.low is None else c.limit.low,
+                inf if c.limit.high is None else c.limit.high,
+                tuple((v, c.limit.tolerance * abs(v)) for v in c.limit.nominal or ()),
+                c.limit.integer,
+                c.order,
+            )
+            for c in group.channels
+        }
+
+    def accepts(
+        self,
+        columns: Mapping[str, Sequence[float] | NDArray[np.float64]],
+        last: Mapping[str, float],
+    ) -> bool:
+        names = columns.keys()
+        if not names or (names != self.names if self.aligned else not names <= self.names):
+            return False
+        lengths = {len(v) for v in columns.values()}
+        if 0 in lengths or (self.aligned and len(lengths) > 1):
+            return False
+        if sum(len(v) for v in columns.values()) > QUICK_VALUES:
+            return False
+        for name, values in columns.items():
+            low, high, nominal, integer, order = self.rules[name]
+            previous = last.get(name, nan)
+            for value in values:
+                if not isinstance(value, float):  # not a number, or an integer or float32 array
+                    return False
+                if not (isfinite(value) and low <= value <= high):
+                    return False
+                if nominal and not any(abs(value - v) <= tol for v, tol in nominal):
+                    return False
+                if integer and value != round(value):
+                    return False
+                if order is Order.INCREASING and value <= previous:
+                    return False
+                if order is Order.NON_DECREASING and value < previous:
+                    return False
+                previous = value
+        return True
+
+
+#: The largest batch (channels times rows) that :class:`_QuickCheck` looks at.
+QUICK_VALUES = 64
 
 
 def _value_violations(

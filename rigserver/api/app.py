@@ -48,10 +48,10 @@ def create_app(
         settings=settings, store=store, stands=stands, keyring=Keyring(keys)
     )
     problems.install(app)
-    for router in (
+    for router in (  # the ingest route first: routes are matched in order
+        readings.router,
         stand_routes.router,
         runs.router,
-        readings.router,
         results.router,
         models.router,
         reports.router,

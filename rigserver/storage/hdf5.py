@@ -108,6 +108,8 @@ class _Live:
     last: dict[str, dict[str, float]] = field(default_factory=dict)
     #: the HDF5 file lags the journal or may be damaged: rebuild it before its next use
     stale: bool = False
+    #: the largest seq stored: a batch with a larger one is no retry (no lookup)
+    max_seq: int = -1
 
 
 class HDF5Store:
@@ -264,6 +266,7 @@ class HDF5Store:
         outcomes: list[BatchReceipt | Exception | None] = [None] * len(batches)
         staged: list[_Staged] = []
         saved: dict[str, _Saved] = {}
+        prepared = [_prepared(nb) for nb in batches]  # copies and digests: outside the lock
         with self._lock:
             try:
                 self._check_open()
@@ -272,8 +275,12 @@ class HDF5Store:
             doing = f"storing {len(batches)} batch(es)"
             try:
                 self._journal.begin()
-                for i, nb in enumerate(batches):
-                    outcomes[i] = self._stage(i, nb, staged, saved)
+                for i, (nb, batch) in enumerate(zip(batches, prepared, strict=True)):
+                    outcomes[i] = (
+                        batch
+                        if isinstance(batch, Exception)
+                        else self._stage(i, nb, batch, staged, saved)
+                    )
                 for run_id in saved:
                     self._journal.set_counters(self._live[run_id].run)
                 self._journal.commit()
@@ -295,17 +302,23 @@ class HDF5Store:
         return [o for o in outcomes if o is not None]
 
     def _stage(
-        self, index: int, nb: NewBatch, staged: list[_Staged], saved: dict[str, _Saved]
+        self,
+        index: int,
+        nb: NewBatch,
+        batch: Batch,
+        staged: list[_Staged],
+        saved: dict[str, _Saved],
     ) -> BatchReceipt | Exception | None:
-        """Add one batch to the open journal transaction: its receipt if it is a retry, the
-        exception that refuses it, or None once staged. Journal failures are raised."""
+        """Add one batch (``nb`` as ``batch``) to the open journal transaction: its receipt
+        if it is a retry, the exception that refuses it, or None once staged. Journal
+        failures are raised."""
         run_id, seq, group = nb.run_id, nb.seq, nb.group
         try:
-            check_seq(seq)
-            batch = prepare(group, nb.columns)
-            stored = self._journal.stored_batch(run_id, seq)
-            if stored is not None:
-                return retry_receipt(run_id, seq, stored, batch)
+            open_run = self._live.get(run_id)
+            if open_run is None or seq <= open_run.max_seq:  # maybe a retry
+                stored = self._journal.stored_batch(run_id, seq)
+                if stored is not None:
+                    return retry_receipt(run_id, seq, stored, batch)
             live = self._open_run(run_id)
             if run_id in saved and live.stale:  # a rebuild now would take in staged batches
                 raise StorageUnavailable(
@@ -331,6 +344,7 @@ class HDF5Store:
                 return exc
         live.run.rows = {**live.run.rows, group: group_rows}
         live.run.batches += 1
+        live.max_seq = max(live.max_seq, seq)
         _remember_last(live, batch)
         stored = StoredBatch(group, batch.rows, group_rows, batch.digest)
         staged.append(_Staged(index, live, seq, padded(decl, batch.columns, batch.rows), stored))
@@ -622,7 +636,7 @@ class HDF5Store:
                 log.info("completing the end of run %s", run.id)
                 self._finish_file(run, None)
                 continue
-            self._live[run.id] = _Live(run)
+            self._live[run.id] = _Live(run, max_seq=self._journal.max_seq(run.id))
             if not clean or not self._path(run.id).exists():
                 log.info("rebuilding the file of open run %s from the journal", run.id)
                 self._rebuild(run, final=False)
@@ -679,16 +693,18 @@ class _Saved:
     rows: dict[str, int]
     batches: int
     last: dict[str, dict[str, float]]
+    max_seq: int
 
     @classmethod
     def of(cls, live: _Live) -> _Saved:
         last = {group: dict(values) for group, values in live.last.items()}
-        return cls(dict(live.run.rows), live.run.batches, last)
+        return cls(dict(live.run.rows), live.run.batches, last, live.max_seq)
 
     def restore(self, live: _Live) -> None:
         live.run.rows = self.rows
         live.run.batches = self.batches
         live.last = self.last
+        live.max_seq = self.max_seq
 
 
 @dataclass(frozen=True, slots=True)
@@ -700,6 +716,15 @@ class _Staged:
     seq: int
     columns: dict[str, NDArray[np.float64]]
     stored: StoredBatch
+
+
+def _prepared(nb: NewBatch) -> Batch | ValueError:
+    """The batch as stored (:func:`prepare`), or why it cannot be."""
+    try:
+        check_seq(nb.seq)
+        return prepare(nb.group, nb.columns)
+    except ValueError as exc:
+        return exc
 
 
 def _remember_last(live: _Live, batch: Batch) -> None:

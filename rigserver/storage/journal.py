@@ -348,6 +348,12 @@ class Journal:
         ).fetchone()
         return None if row is None else StoredBatch(row[0], row[1], row[2], bytes(row[3]))
 
+    def max_seq(self, run_id: str) -> int:
+        """The largest seq stored for the run (-1 if none)."""
+        row = self._db.execute("SELECT MAX(seq) FROM batches WHERE run_id = ?", (run_id,))
+        found = row.fetchone()[0]
+        return -1 if found is None else int(found)
+
     def begin(self) -> None:
         """Open the transaction of a group of batches (:meth:`add_batch`, :meth:`set_counters`)."""
         self._db.execute("BEGIN IMMEDIATE")

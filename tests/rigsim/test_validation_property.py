@@ -29,7 +29,7 @@ def _problems(run: SimulatedRun[Any]) -> list[str]:
     for batch in run.batches:
         group = stand.group(batch.group)
         assert group is not None
-        _, problems = check_columns(group, batch.columns, last.get(group.name))
+        problems = check_columns(group, batch.columns, last.get(group.name))
         found += [p.field for p in problems]
         if group.aligned and batch.rows:
             last[group.name] = {k: float(v[-1]) for k, v in batch.columns.items()}

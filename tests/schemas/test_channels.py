@@ -6,10 +6,10 @@ import math
 
 import numpy as np
 import pytest
-from hypothesis import given
+from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from schemas.channels import Limit, check_columns
+from schemas.channels import Channel, ChannelGroup, Limit, Order, _violations, check_columns
 from schemas.stands import StandKind, default_stands
 
 SMTS2 = default_stands()[StandKind.SMTS2]
@@ -28,15 +28,13 @@ def good(n: int = 3) -> dict[str, list[float]]:
 
 
 def test_good_batch_passes() -> None:
-    arrays, problems = check_columns(FRICTION, good())
-    assert problems == []
-    assert set(arrays) == set(good())
+    assert check_columns(FRICTION, good()) == []
 
 
 def test_moment_above_15_is_refused_naming_index_value_and_limit() -> None:
     cols = good()
     cols["friction_moment"][1] = 15.7  # the machine stops above 15 N·m (models.md §2)
-    _, problems = check_columns(FRICTION, cols)
+    problems = check_columns(FRICTION, cols)
     assert len(problems) == 1
     p = problems[0]
     assert p.field == "columns.friction_moment[1]"
@@ -48,7 +46,7 @@ def test_moment_above_15_is_refused_naming_index_value_and_limit() -> None:
 def test_speed_must_be_near_300_500_or_1000(speed: float) -> None:
     cols = good()
     cols["speed"][0] = speed
-    _, problems = check_columns(FRICTION, cols)
+    problems = check_columns(FRICTION, cols)
     assert [p.field for p in problems] == ["columns.speed[0]"]
 
 
@@ -56,13 +54,13 @@ def test_speed_must_be_near_300_500_or_1000(speed: float) -> None:
 def test_speed_within_ten_percent_passes(speed: float) -> None:
     cols = good()
     cols["speed"][0] = speed
-    assert check_columns(FRICTION, cols)[1] == []
+    assert check_columns(FRICTION, cols) == []
 
 
 def test_load_outside_200_5000_with_tolerance_refused() -> None:
     cols = good()
     cols["load"][2] = 100.0
-    _, problems = check_columns(FRICTION, cols)
+    problems = check_columns(FRICTION, cols)
     assert problems[0].field == "columns.load[2]"
 
 
@@ -70,7 +68,7 @@ def test_load_outside_200_5000_with_tolerance_refused() -> None:
 def test_non_finite_refused(bad: float) -> None:
     cols = good()
     cols["load"][0] = bad
-    _, problems = check_columns(FRICTION, cols)
+    problems = check_columns(FRICTION, cols)
     assert problems[0].field == "columns.load[0]"
     assert "finite" in problems[0].message
 
@@ -78,9 +76,9 @@ def test_non_finite_refused(bad: float) -> None:
 def test_time_must_increase_within_and_across_batches() -> None:
     cols = good()
     cols["time"] = [0.0, 2.0, 1.0]
-    _, problems = check_columns(FRICTION, cols)
+    problems = check_columns(FRICTION, cols)
     assert [p.field for p in problems] == ["columns.time[2]"]
-    _, problems = check_columns(FRICTION, good(), last_values={"time": 5.0, "revolutions": 0.0})
+    problems = check_columns(FRICTION, good(), last_values={"time": 5.0, "revolutions": 0.0})
     assert problems[0].field == "columns.time[0]"
     assert "5" in problems[0].message
 
@@ -90,7 +88,7 @@ def test_unknown_missing_and_ragged_channels() -> None:
     cols["torque"] = [1.0, 2.0, 3.0]
     del cols["load"]
     cols["speed"] = [1000.0]
-    fields = {p.field for p in check_columns(FRICTION, cols)[1]}
+    fields = {p.field for p in check_columns(FRICTION, cols)}
     assert {"columns.torque", "columns.load", "columns"} <= fields
 
 
@@ -106,3 +104,93 @@ def test_every_stand_declares_units_known_and_names_unique() -> None:
         for group in stand.groups:
             names = [c.name for c in group.channels]
             assert len(names) == len(set(names)), group.name
+
+
+# --- the quick accept of small batches agrees with the full check -------------------------
+
+GROUPS = [g for stand in default_stands().values() for g in stand.groups] + [
+    ChannelGroup(
+        name="synthetic",
+        long_name="every kind of limit and order",
+        aligned=True,
+        channels=(
+            Channel(name="code", unit="code", long_name="", limit=Limit(low=1, integer=True)),
+            Channel(
+                name="gear",
+                unit="1",
+                long_name="",
+                limit=Limit(nominal=(-2.0, 0.0, 3.0), tolerance=0.25, high=2.9),
+            ),
+            Channel(name="t", unit="s", long_name="", order=Order.INCREASING),
+            Channel(name="n", unit="1", long_name="", order=Order.NON_DECREASING),
+        ),
+    )
+]
+
+
+def _edges(ch: Channel) -> list[float]:
+    """Values at and around every edge of a channel's limit: where the two checks could
+    disagree."""
+    lim = ch.limit
+    points = [0.0, 1.0, -1.0]
+    points += [x for x in (lim.low, lim.high) if x is not None]
+    for v in lim.nominal or ():
+        points += [v, v + lim.tolerance * abs(v), v - lim.tolerance * abs(v)]
+    return [p + d for p in points for d in (0.0, 0.5, -0.5, 1e-9, -1e-9)]
+
+
+def _inside(ch: Channel, rows: int, last: float | None) -> list[float]:
+    """``rows`` values that keep the channel's limit and order (after ``last``)."""
+    lim = ch.limit
+    if lim.nominal:
+        value = lim.nominal[0]
+    elif lim.low is not None:
+        value = lim.low + 1.0 if lim.high is None else (lim.low + lim.high) / 2
+    else:
+        value = 0.0 if lim.high is None else lim.high - 1.0
+    if ch.order is Order.ANY:
+        return [value] * rows
+    start = max(value, (last or 0.0) + 1.0)
+    return [start + i for i in range(rows)]
+
+
+@st.composite
+def small_batches(
+    draw: st.DrawFn,
+) -> tuple[ChannelGroup, dict[str, list[float]], dict[str, float]]:
+    """A batch of a few rows inside the limits but for one value (or none), at an edge of
+    its limit, anywhere, or not finite."""
+    group = draw(st.sampled_from(GROUPS))
+    channels = group.channels
+    if not group.aligned:
+        channels = tuple(draw(st.lists(st.sampled_from(channels), min_size=1, unique=True)))
+    rows = draw(st.integers(1, 3))
+
+    def value(ch: Channel) -> st.SearchStrategy[float]:
+        return st.one_of(
+            st.sampled_from(_edges(ch)),
+            st.floats(-1e4, 1e4),
+            st.sampled_from([math.nan, math.inf, -math.inf]),
+        )
+
+    last = {
+        ch.name: draw(value(ch).filter(math.isfinite))
+        for ch in channels
+        if ch.order is not Order.ANY and draw(st.booleans())
+    }
+    columns = {ch.name: _inside(ch, rows, last.get(ch.name)) for ch in channels}
+    free = draw(st.one_of(st.sampled_from(channels), st.none()))
+    if free is not None:
+        i = draw(st.integers(0, rows - 1))
+        before = columns[free.name][i - 1] if i else last.get(free.name, 0.0)
+        columns[free.name][i] = draw(st.one_of(value(free), st.just(before)))
+    return group, columns, last
+
+
+@settings(max_examples=500)
+@given(small_batches())
+def test_quick_accept_agrees_with_the_full_check(
+    batch: tuple[ChannelGroup, dict[str, list[float]], dict[str, float]],
+) -> None:
+    group, columns, last = batch
+    assert group.quick_check.accepts(columns, last) is (_violations(group, columns, last) == [])

@@ -8,15 +8,17 @@ JSON parsing of the numbers, for high-rate channels.
 from __future__ import annotations
 
 import io
+import struct
 import zipfile
-from collections.abc import Mapping
+from collections.abc import Callable, Coroutine, Mapping
 from functools import partial
-from typing import Annotated, Any, Literal
+from typing import Annotated, Any, Literal, cast
 
 import numpy as np
 from fastapi import APIRouter, Query, Request, Response
 from fastapi.concurrency import run_in_threadpool
 from fastapi.responses import FileResponse, StreamingResponse
+from fastapi.routing import APIRoute
 from numpy.typing import NDArray
 from pydantic import ValidationError
 
@@ -37,6 +39,16 @@ from schemas.channels import ChannelGroup, Violation, check_columns
 from schemas.readings import NPZ_MEDIA_TYPE, BatchReceipt, ReadingBatch
 from schemas.runs import Run
 from schemas.stands import Stand, StandKind
+
+
+class _PlainRoute(APIRoute):
+    """A route whose endpoint takes the :class:`Request` and returns the :class:`Response`
+    itself: FastAPI solves no parameters (for a single reading that costs about as much as
+    checking it); the route is in the OpenAPI document all the same."""
+
+    def get_route_handler(self) -> Callable[[Request], Coroutine[Any, Any, Response]]:
+        return cast(Callable[[Request], Coroutine[Any, Any, Response]], self.endpoint)
+
 
 router = APIRouter(prefix="/runs/{run_id}/readings", tags=["readings"])
 
@@ -59,6 +71,7 @@ _BATCH_BODY: dict[str, Any] = {
         },
     },
     "parameters": [
+        {"name": "run_id", "in": "path", "required": True, "schema": {"type": "string"}},
         {
             "name": "seq",
             "in": "query",
@@ -92,7 +105,7 @@ def _group_of(stand: Stand, name: str) -> ChannelGroup:
 
 def _refuse_violations(group: ChannelGroup, columns: Columns, last: Mapping[str, float]) -> None:
     """The stand's limits and orderings, checked against the run's last stored values."""
-    _, violations = check_columns(group, columns, last)
+    violations = check_columns(group, columns, last)
     if violations:
         raise ApiProblem(
             422,
@@ -103,35 +116,91 @@ def _refuse_violations(group: ChannelGroup, columns: Columns, last: Mapping[str,
 
 
 def _parse_npz(body: bytes, max_bytes: int) -> dict[str, NDArray[Any]]:
-    """The archive's arrays: 1-D and real-valued, at most ``max_bytes`` once unpacked."""
+    """The archive's arrays: 1-D and real-valued, at most ``max_bytes`` once unpacked.
+
+    The arrays of stored (uncompressed) members, as ``numpy.savez`` writes them, are views
+    of ``body`` (copied only if misaligned): neither copied out of the archive nor
+    checksummed, which would cost more than storing them. Compressed members are read by
+    NumPy.
+    """
     try:
-        with np.load(io.BytesIO(body), allow_pickle=False) as archive:
-            unpacked = sum(info.file_size for info in archive.zip.infolist())
+        with zipfile.ZipFile(io.BytesIO(body)) as archive:
+            members = archive.infolist()
+            unpacked = sum(info.file_size for info in members)
             if unpacked > max_bytes:
                 raise ApiProblem(
                     413,
                     "Binary batch too large",
                     f"the archive unpacks to {unpacked} bytes; the limit is {max_bytes}",
                 )
-            arrays = {name: archive[name] for name in archive.files}
+            for info in members:
+                if not info.filename.endswith(".npy"):
+                    name = info.filename[:40]
+                    raise ApiProblem(
+                        422,
+                        "Invalid binary batch",
+                        f"member {name!r} is not a channel: a .npy file per channel",
+                        [Violation(field=f"columns.{name}", message="a 1-D array of numbers")],
+                    )
+            arrays = {
+                info.filename.removesuffix(".npy"): (
+                    _stored_array(body, info)
+                    if info.compress_type == zipfile.ZIP_STORED
+                    else np.lib.format.read_array(archive.open(info), allow_pickle=False)
+                )
+                for info in members
+            }
     except (ValueError, OSError, zipfile.BadZipFile, EOFError) as exc:
         raise ApiProblem(
             422, "Unreadable binary batch", f"the body is not a numpy .npz archive: {exc}"
         ) from None
     for name, values in arrays.items():
-        if not isinstance(values, np.ndarray):  # a member that is not a .npy file
-            what = f"a file of {len(values)} bytes"
-        elif values.ndim != 1 or values.dtype.kind not in "biuf":
-            what = f"a {values.ndim}-D array of {values.dtype}"
-        else:
-            continue
-        raise ApiProblem(
-            422,
-            "Invalid binary batch",
-            f"channel {name[:40]!r} must be a 1-D array of real numbers, not {what}",
-            [Violation(field=f"columns.{name[:40]}", message="a 1-D array of numbers")],
-        )
+        if values.ndim != 1 or values.dtype.kind not in "biuf":
+            raise ApiProblem(
+                422,
+                "Invalid binary batch",
+                f"channel {name[:40]!r} must be a 1-D array of real numbers, not a "
+                f"{values.ndim}-D array of {values.dtype}",
+                [Violation(field=f"columns.{name[:40]}", message="a 1-D array of numbers")],
+            )
     return arrays
+
+
+#: A zip member's local header: signature, 22 bytes, then the lengths of name and extra.
+_LOCAL_HEADER = struct.Struct("<4s22xHH")
+#: Room for a .npy file's magic, version, header length and header (NumPy's largest).
+_NPY_HEAD = 12 + 10_000
+
+
+def _stored_array(body: bytes, info: zipfile.ZipInfo) -> NDArray[Any]:
+    """The array of a stored ``.npy`` member of the archive ``body``, as a view of it."""
+    signature, name, extra = _LOCAL_HEADER.unpack_from(body, info.header_offset)
+    if signature != b"PK\x03\x04":
+        raise zipfile.BadZipFile(f"member {info.filename!r} has no local header")
+    start = info.header_offset + _LOCAL_HEADER.size + name + extra
+    end = start + info.file_size
+    if end > len(body):
+        raise zipfile.BadZipFile(f"member {info.filename!r} is cut short")
+    head = io.BytesIO(body[start : min(end, start + _NPY_HEAD)])
+    version = np.lib.format.read_magic(head)
+    if version == (1, 0):
+        shape, fortran_order, dtype = np.lib.format.read_array_header_1_0(head)
+    elif version == (2, 0):
+        shape, fortran_order, dtype = np.lib.format.read_array_header_2_0(head)
+    else:
+        raise ValueError(f"member {info.filename!r} is a .npy file of version {version}")
+    if dtype.hasobject:
+        raise ValueError(f"member {info.filename!r} holds Python objects")
+    count = int(np.prod(shape, dtype=np.int64))
+    at = start + head.tell()
+    if at + count * dtype.itemsize > end:
+        raise ValueError(f"member {info.filename!r} holds fewer values than its shape")
+    values = np.frombuffer(body, dtype=dtype, count=count, offset=at)
+    if not values.flags.aligned:  # a copy (a new bytes object's values are aligned)
+        values = np.frombuffer(body[at : at + count * dtype.itemsize], dtype=dtype)
+    if len(shape) == 1:
+        return values
+    return values.reshape(shape, order="F" if fortran_order else "C")
 
 
 def _parse_json(body: bytes) -> ReadingBatch:
@@ -191,22 +260,10 @@ def _declared_length(request: Request) -> int:
     return int(value) if value.isdigit() else 0
 
 
-@router.post(
-    "",
-    summary="Post a batch of readings (JSON columns or binary npz)",
-    description="Answers 201 with the receipt once the batch is durable, 200 with the same "
-    "receipt when the seq was stored before (a retry), 422 naming the field, index, value "
-    "and limit when a reading is refused (nothing of the batch is stored), 409 when the run "
-    "is not open, 503 with Retry-After when the ingest queue is full. Needs the scope "
-    "`write:<stand>`.",
-    status_code=201,
-    response_model=BatchReceipt,
-    responses={200: {"description": "a retried batch, stored before", "model": BatchReceipt}},
-    openapi_extra=_BATCH_BODY,
-)
-async def post_readings(run_id: str, request: Request) -> Response:
-    # the hot path of ingest: no dependencies or query parameters solved by FastAPI (they
-    # cost more than storing a reading); seq and group are documented in _BATCH_BODY
+async def post_readings(request: Request) -> Response:
+    # the hot path of ingest, a _PlainRoute: run_id, seq and group are documented in
+    # _BATCH_BODY
+    run_id: str = request.path_params["run_id"]
     services = services_of(request)
     stand = await _stand_of(services, run_id)
     require_write(caller_of(request, services), stand)
@@ -243,6 +300,24 @@ async def post_readings(run_id: str, request: Request) -> Response:
         status_code=200 if receipt.duplicate else 201,
         media_type="application/json",
     )
+
+
+router.add_api_route(
+    "",
+    post_readings,
+    methods=["POST"],
+    route_class_override=_PlainRoute,
+    summary="Post a batch of readings (JSON columns or binary npz)",
+    description="Answers 201 with the receipt once the batch is durable, 200 with the same "
+    "receipt when the seq was stored before (a retry), 422 naming the field, index, value "
+    "and limit when a reading is refused (nothing of the batch is stored), 409 when the run "
+    "is not open, 503 with Retry-After when the ingest queue is full. Needs the scope "
+    "`write:<stand>`.",
+    status_code=201,
+    response_model=BatchReceipt,
+    responses={200: {"description": "a retried batch, stored before", "model": BatchReceipt}},
+    openapi_extra=_BATCH_BODY,
+)
 
 
 Format = Literal["json", "csv", "hdf5"]

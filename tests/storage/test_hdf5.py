@@ -58,6 +58,18 @@ def test_reopen_after_a_clean_close_keeps_everything(tmp_path: Path) -> None:
         np.testing.assert_array_equal(store.read(done.id, "measurements")["x_zero"], [1.5])
 
 
+def test_a_retry_after_reopening_is_recognised(tmp_path: Path) -> None:
+    # the largest stored seq of an open run is read back from the journal on opening
+    with HDF5Store(tmp_path) as store:
+        live = store.create_run(make_run())
+        first = store.append(live.id, 3, "friction", friction(0, 10))
+    with HDF5Store(tmp_path) as store:
+        assert store.append(live.id, 3, "friction", friction(0, 10)) == first.model_copy(
+            update={"duplicate": True}
+        )
+        assert store.get_run(live.id).rows["friction"] == 10
+
+
 def test_one_store_at_a_time_per_directory(tmp_path: Path) -> None:
     with HDF5Store(tmp_path), pytest.raises(StorageUnavailable, match="in use"):
         HDF5Store(tmp_path)

@@ -132,6 +132,8 @@ class HDF5Store:
         self._lock = threading.RLock()
         self._live: dict[str, _Live] = {}
         self._files: OrderedDict[str, RunFile] = OrderedDict()
+        #: ended runs whose finalized file is being fsynced (outside the lock)
+        self._finishing: set[str] = set()
         self._closed = False
         with failures_as(f"opening the data directory {self.data_dir}"):
             for d in (self.data_dir, self._runs, self._snapshots):
@@ -213,12 +215,16 @@ class HDF5Store:
     def end_run(self, run_id: str, state: RunState) -> Run:
         """Finish or abort an open run: record the end, finalize and fsync its file.
 
+        The fsync (seconds for a run of gigabytes) happens outside the store's lock: other
+        runs' batches go on meanwhile, and the run's finalized file can be read.
         Ending again with the same state a run whose file could not be finalized (e.g. the
         disk was full) completes it; otherwise a run that is not open raises
         ``RunNotOpen``.
         """
         if state is RunState.OPEN:
             raise ValueError("a run can end as finished or aborted, not open")
+        path = self._path(run_id)
+        doing = f"finalizing the file of run {run_id}"
         with self._lock:
             self._check_open()
             live = self._live.get(run_id)
@@ -226,7 +232,9 @@ class HDF5Store:
                 with failures_as(f"ending run {run_id}"):
                     entry = self._journal.entry(run_id)
                 if entry.run.state is state and not entry.file_final:
-                    self._finish_file(entry.run, None)
+                    if run_id in self._finishing:
+                        raise StorageUnavailable(f"run {run_id} is being ended; retry")
+                    self._finish_file(entry.run)
                     return entry.run
                 raise RunNotOpen(f"run {run_id} is already {entry.run.state.value}")
             rf = self._view(live, f"ending run {run_id}")
@@ -235,8 +243,24 @@ class HDF5Store:
                 self._journal.end_run(ended)
             del self._live[run_id]
             self._files.pop(run_id, None)
-            self._finish_file(ended, rf)
-            return ended.model_copy(deep=True)
+            with failures_as(doing):
+                try:
+                    rf.finalize(ended)
+                finally:
+                    rf.close()
+            self._finishing.add(run_id)
+        try:
+            with failures_as(doing):
+                fsync_path(path)
+                fsync_path(self._runs)
+            with self._lock:
+                self._check_open()
+                with failures_as(doing):
+                    self._mark_final(run_id)
+        finally:
+            with self._lock:
+                self._finishing.discard(run_id)
+        return ended.model_copy(deep=True)
 
     # --- readings ---------------------------------------------------------------------
 
@@ -528,8 +552,8 @@ class HDF5Store:
         """The catalogue entry of a run that is not open, its file made final if need be."""
         with failures_as(f"looking up run {run_id}"):
             entry = self._journal.entry(run_id)
-        if not entry.file_final:
-            self._finish_file(entry.run, None)
+        if not entry.file_final and run_id not in self._finishing:  # finalized, fsync due
+            self._finish_file(entry.run)
         return entry
 
     def _view(self, live: _Live, doing: str) -> RunFile:
@@ -596,22 +620,17 @@ class HDF5Store:
 
         write_file(self._path(run.id), run, batches(), results, final=final)
 
-    def _finish_file(self, run: Run, rf: RunFile | None) -> None:
-        """Finalize the ended run's file (``rf``, or rebuilt from the journal), fsync it,
-        then drop its readings from the journal."""
-        path = self._path(run.id)
+    def _finish_file(self, run: Run) -> None:
+        """Write the ended run's final file anew from the journal (fsynced), then drop its
+        readings from the journal."""
         with failures_as(f"finalizing the file of run {run.id}"):
-            if rf is None:
-                self._rebuild(run, final=True)
-            else:
-                try:
-                    rf.finalize(run)
-                finally:
-                    rf.close()
-                fsync_path(path)
-                fsync_path(self._runs)
-            self._journal.mark_final(run.id)
-            (self._snapshots / path.name).unlink(missing_ok=True)
+            self._rebuild(run, final=True)
+            self._mark_final(run.id)
+
+    def _mark_final(self, run_id: str) -> None:
+        """The run's file is final and fsynced: its readings leave the journal."""
+        self._journal.mark_final(run_id)
+        (self._snapshots / f"{run_id}.h5").unlink(missing_ok=True)
 
     def _rewrite_results(self, run: Run, results: CheckedResults) -> None:
         path = self._path(run.id)
@@ -634,7 +653,7 @@ class HDF5Store:
             run = entry.run
             if run.state is not RunState.OPEN:
                 log.info("completing the end of run %s", run.id)
-                self._finish_file(run, None)
+                self._finish_file(run)
                 continue
             self._live[run.id] = _Live(run, max_seq=self._journal.max_seq(run.id))
             if not clean or not self._path(run.id).exists():

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import errno
 import sqlite3
+import threading
 import tracemalloc
 from pathlib import Path
 
@@ -264,3 +265,39 @@ def test_iter_chunks_reads_in_bounded_memory(tmp_path: Path) -> None:
             tracemalloc.stop()
     assert total == pytest.approx(float(x.sum()), rel=1e-12)
     assert peak < 2 * 8 * (1 << 16) + (1 << 20)  # a chunk or two, not the 8 MiB channel
+
+
+def test_other_runs_go_on_while_an_ended_runs_file_is_fsynced(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    # the fsync of a large run's file takes seconds: it must not hold the store's lock
+    store = HDF5Store(tmp_path)
+    ending = store.create_run(make_run())
+    other = store.create_run(make_run())
+    store.append(ending.id, 0, "friction", friction(0, 1000))
+    during: dict[str, object] = {}
+    fsync = hdf5_module.fsync_path
+
+    def slow_fsync(path: Path) -> None:
+        if path.name == f"{ending.id}.h5":
+            worker = threading.Thread(
+                target=lambda: during.update(
+                    receipt=store.append(other.id, 0, "friction", friction(0, 5)),
+                    rows=store.read(ending.id, "friction", ["time"])["time"].size,
+                )
+            )
+            worker.start()
+            worker.join(timeout=10)
+            during["blocked"] = worker.is_alive()
+        fsync(path)
+
+    monkeypatch.setattr(hdf5_module, "fsync_path", slow_fsync)
+    store.end_run(ending.id, RunState.FINISHED)
+    assert during["blocked"] is False
+    assert during["rows"] == 1000  # the finalized file, read while it was fsynced
+    assert store.get_run(other.id).rows["friction"] == 5
+    with h5py.File(tmp_path / "runs" / f"{ending.id}.h5") as f:
+        assert f["entry"].attrs["state"] == "finished"
+    store.close()
+    with HDF5Store(tmp_path) as again:  # final: nothing left to complete
+        assert again.read(ending.id, "friction", ["time"])["time"].size == 1000

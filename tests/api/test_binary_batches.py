@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 from fastapi.testclient import TestClient
 
-from rigserver.api.routes.readings import _parse_npz
+from rigserver.api.npz import parse_npz
 from schemas.readings import NPZ_MEDIA_TYPE
 from tests.api.conftest import READER, WRITER, auth
 from tests.hardening.conftest import API, friction, hdf5_app, is_problem, open_run
@@ -120,7 +120,7 @@ def test_aligned_columns_are_views_of_the_body_and_others_aligned_copies() -> No
     # np.savez puts a member's values 30 + len(name) + 20 (zip64) bytes past its local
     # header plus a 64-byte multiple: a 10-character name (14 with ".npy") lands on 8 bytes
     body = _savez({"abcdefghij": np.arange(5.0), "time": np.arange(5.0)})
-    arrays = _parse_npz(body, 1 << 20)
+    arrays = parse_npz(body, 1 << 20)
     assert arrays["abcdefghij"].base is body
     assert arrays["time"].base is not body
     assert arrays["time"].flags.aligned

@@ -13,8 +13,9 @@ answer stops the run with the server's problem (title, detail, the offending fie
 retrying would not change it. A finish retried after its answer was lost meets
 "409 not open"; the client then looks the run up and accepts it if it is finished.
 
-Opening a run is not idempotent on the server: if the answer to ``POST /runs`` is lost, the
-retry opens a second run and the first stays open and empty.
+Opening a run is sent with an ``Idempotency-Key`` (a fresh UUID, the same for its
+retries): if the answer to ``POST /runs`` is lost, the retry is answered with the run the
+first one opened, and no second run is left open and empty.
 """
 
 from __future__ import annotations
@@ -22,6 +23,7 @@ from __future__ import annotations
 import io
 import random
 import time
+import uuid
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from datetime import UTC, datetime
@@ -235,8 +237,13 @@ class LabClient:
     # --- the API ------------------------------------------------------------------------
 
     def create_run(self, body: RunCreate) -> Run:
-        """``POST /runs``: open a run."""
-        response = self._request("POST", "/runs", json=body.model_dump(mode="json"))
+        """``POST /runs``: open a run (once, however often it is retried)."""
+        response = self._request(
+            "POST",
+            "/runs",
+            json=body.model_dump(mode="json"),
+            headers={"Idempotency-Key": str(uuid.uuid4())},  # not the seeded generator
+        )
         return Run.model_validate(response.json())
 
     def get_run(self, run_id: str) -> Run:

@@ -17,6 +17,7 @@ from starlette.routing import Match
 
 from rigserver.core.errors import ModelInputError
 from rigserver.storage.errors import (
+    KeyReused,
     RunExists,
     RunNotFound,
     RunNotOpen,
@@ -70,6 +71,7 @@ def _from_validation(exc: RequestValidationError) -> Problem:
 _STORAGE_STATUS: list[tuple[type[StorageError], int, str]] = [
     (RunNotFound, 404, "Run not found"),
     (RunExists, 409, "Run exists"),
+    (KeyReused, 409, "Idempotency-Key reused"),
     (RunNotOpen, 409, "Run is not open"),
     (SequenceConflict, 409, "Sequence number reused"),
     (StorageFull, 507, "Storage full"),

@@ -6,6 +6,7 @@ store for tests, and the storage error tree.
     StorageError
      ├── RunNotFound          no run with that id
      ├── RunExists            a run with that id is stored already
+     ├── KeyReused            an Idempotency-Key that opened a run asks for another
      ├── RunNotOpen           the run is finished or aborted: it takes no more readings
      ├── SequenceConflict     a seq number reused with different content
      ├── StorageFull          the disk is full (the batch was not acknowledged)
@@ -16,6 +17,7 @@ from __future__ import annotations
 
 from rigserver.storage.base import BatchCheck, Columns, NewBatch, RunStore
 from rigserver.storage.errors import (
+    KeyReused,
     RunExists,
     RunNotFound,
     RunNotOpen,
@@ -31,6 +33,7 @@ __all__ = [
     "BatchCheck",
     "Columns",
     "HDF5Store",
+    "KeyReused",
     "MemoryStore",
     "NewBatch",
     "RunExists",

@@ -23,7 +23,7 @@ import xxhash
 from numpy.typing import ArrayLike, NDArray
 
 from rigserver.storage.base import RunStore
-from rigserver.storage.errors import SequenceConflict
+from rigserver.storage.errors import KeyReused, SequenceConflict
 from schemas.channels import ChannelGroup
 from schemas.readings import BatchReceipt
 from schemas.runs import Run, RunState
@@ -70,6 +70,20 @@ def new_run(run: Run) -> Run:
         raise ValueError(f"a new run must be open, not {run.state.value}")
     rows = {g.name: 0 for g in stand_groups(run.stand)}
     return run.model_copy(deep=True, update={"batches": 0, "rows": rows})
+
+
+#: What a run is opened with: a retried opening (the same Idempotency-Key) asks the same.
+_OPENED_WITH = {"stand", "operator", "title", "specimen", "test_plan", "notes", "configuration"}
+
+
+def reopened(existing: Run, run: Run, key: str) -> Run:
+    """The run opened before with ``key``; ``KeyReused`` if ``run`` asks for another."""
+    if existing.model_dump(include=_OPENED_WITH) != run.model_dump(include=_OPENED_WITH):
+        raise KeyReused(
+            f"the Idempotency-Key {key[:80]!r} opened run {existing.id} with other values; "
+            "a new run needs a new key"
+        )
+    return existing
 
 
 def check_seq(seq: int) -> None:

@@ -41,8 +41,12 @@ class NewBatch:
 
 
 class RunStore(Protocol):
-    def create_run(self, run: Run) -> Run:
-        """Store a new open run; raises ``RunExists`` if the id is taken."""
+    def create_run(self, run: Run, key: str | None = None) -> Run:
+        """Store a new open run; raises ``RunExists`` if the id is taken.
+
+        ``key`` is the client's Idempotency-Key: if a run was opened with it before, that
+        run is returned and nothing is stored (``KeyReused`` if ``run`` asks for another
+        stand, operator, title, specimen, plan, notes or configuration)."""
         ...
 
     def get_run(self, run_id: str) -> Run:

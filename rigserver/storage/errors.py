@@ -5,6 +5,7 @@
     StorageError
      ├── RunNotFound          no run with that id
      ├── RunExists            a run with that id is stored already
+     ├── KeyReused            an Idempotency-Key that opened a run asks for another
      ├── RunNotOpen           the run is finished or aborted: it takes no more readings
      ├── SequenceConflict     a seq number reused with different content
      ├── StorageFull          the disk is full (the batch was not acknowledged)
@@ -23,6 +24,10 @@ class RunNotFound(StorageError):
 
 
 class RunExists(StorageError):
+    pass
+
+
+class KeyReused(StorageError):
     pass
 
 

@@ -70,6 +70,7 @@ from rigserver.storage._checks import (
     new_run,
     padded,
     prepare,
+    reopened,
     retry_receipt,
     stand_groups,
     stored_receipt,
@@ -176,8 +177,9 @@ class HDF5Store:
 
     # --- runs -------------------------------------------------------------------------
 
-    def create_run(self, run: Run) -> Run:
-        """Store a new open run and create its file; ``RunExists`` if the id is taken.
+    def create_run(self, run: Run, key: str | None = None) -> Run:
+        """Store a new open run and create its file; ``RunExists`` if the id is taken, the
+        run opened before if ``key`` was (:meth:`RunStore.create_run`).
 
         If the file cannot be created the run is stored all the same (its file is made at
         its next use) and the error is raised.
@@ -185,8 +187,13 @@ class HDF5Store:
         stored = new_run(run)
         with self._lock:
             self._check_open()
+            if key is not None:
+                with failures_as(f"looking up the run of key {key[:80]!r}"):
+                    found = self._journal.run_for_key(key)
+                if found is not None:
+                    return reopened(self.get_run(found), stored, key)
             with failures_as(f"creating run {run.id}"):
-                self._journal.insert_run(stored)
+                self._journal.insert_run(stored, key=key)
             live = _Live(stored, last={group: {} for group in stored.rows})
             self._live[run.id] = live
             try:

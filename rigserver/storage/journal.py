@@ -3,6 +3,7 @@
 Tables::
 
     meta(key, value)            "clean_shutdown": "1" after HDF5Store.close(), "0" while open
+    run_keys(key, run_id)       the Idempotency-Key each run was opened with, if any
     runs(id, stand, operator, state, created, ended, run, batches, rows, key_results,
          results, file_final)   the catalogue: filters are columns, ``run`` the full Run JSON,
                                 ``file_final`` 1 once the run file is final and fsynced
@@ -68,6 +69,7 @@ CREATE INDEX IF NOT EXISTS runs_by_created ON runs (created, id);
 CREATE INDEX IF NOT EXISTS runs_by_stand ON runs (stand, created);
 CREATE INDEX IF NOT EXISTS runs_by_operator ON runs (operator, created);
 CREATE INDEX IF NOT EXISTS runs_unfinished ON runs (file_final) WHERE file_final = 0;
+CREATE TABLE IF NOT EXISTS run_keys (key TEXT PRIMARY KEY, run_id TEXT NOT NULL);
 CREATE TABLE IF NOT EXISTS batches (
     n INTEGER PRIMARY KEY,
     run_id TEXT NOT NULL,
@@ -207,11 +209,21 @@ class Journal:
 
     # --- catalogue --------------------------------------------------------------------
 
-    def insert_run(self, run: Run, *, file_final: bool = False, results: str | None = None) -> None:
-        """A new catalogue entry; ``RunExists`` if the id is taken."""
+    def insert_run(
+        self,
+        run: Run,
+        *,
+        file_final: bool = False,
+        results: str | None = None,
+        key: str | None = None,
+    ) -> None:
+        """A new catalogue entry (opened with the Idempotency-Key ``key``); ``RunExists``
+        if the id or the key is taken."""
+        keyed = [] if key is None else [("INSERT INTO run_keys VALUES (?, ?)", (key, run.id))]
         try:
             self._write(
                 [
+                    *keyed,
                     (
                         "INSERT INTO runs (id, stand, operator, state, created, ended, run, "
                         "batches, rows, key_results, results, file_final) "
@@ -230,11 +242,16 @@ class Journal:
                             results,
                             int(file_final),
                         ),
-                    )
+                    ),
                 ]
             )
         except sqlite3.IntegrityError as exc:
-            raise RunExists(f"a run with id {run.id} is stored already") from exc
+            raise RunExists(f"a run with id {run.id} (or key) is stored already") from exc
+
+    def run_for_key(self, key: str) -> str | None:
+        """The run opened with the Idempotency-Key ``key``, if any."""
+        row = self._db.execute("SELECT run_id FROM run_keys WHERE key = ?", (key,)).fetchone()
+        return None if row is None else str(row[0])
 
     _RUN_COLUMNS = "run, batches, rows, file_final"
 

@@ -30,6 +30,7 @@ from rigserver.storage._checks import (
     new_run,
     padded,
     prepare,
+    reopened,
     retry_receipt,
     stored_receipt,
 )
@@ -65,6 +66,8 @@ class MemoryStore:
     def __init__(self) -> None:
         self._lock = threading.RLock()
         self._runs: dict[str, _Run] = {}
+        #: Idempotency-Key -> the run opened with it
+        self._keys: dict[str, str] = {}
         self._dir: Path | None = None
 
     def _get(self, run_id: str) -> _Run:
@@ -73,12 +76,16 @@ class MemoryStore:
             raise RunNotFound(f"no run with id {run_id}")
         return found
 
-    def create_run(self, run: Run) -> Run:
+    def create_run(self, run: Run, key: str | None = None) -> Run:
         stored = new_run(run)
         with self._lock:
+            if key is not None and key in self._keys:
+                return reopened(self._get(self._keys[key]).run, stored, key).model_copy(deep=True)
             if run.id in self._runs:
                 raise RunExists(f"a run with id {run.id} is stored already")
             self._runs[run.id] = _Run(stored)
+            if key is not None:
+                self._keys[key] = run.id
             return stored.model_copy(deep=True)
 
     def get_run(self, run_id: str) -> Run:

@@ -261,3 +261,17 @@ def test_openapi_is_complete(client: TestClient) -> None:
         assert p in paths
     body = paths["/api/v1/runs/{run_id}/readings"]["post"]["requestBody"]["content"]
     assert "application/x-npz" in body
+
+
+def test_a_retried_opening_with_its_key_gets_the_same_run(client: TestClient) -> None:
+    body = {"stand": "smts2", "operator": "Sidorova"}
+    headers = {**auth(WRITER), "Idempotency-Key": "5f0e7c1e-1b7a-4b1e-9d7a-3c2f1e0d9b8a"}
+    first = client.post(f"{API}/runs", json=body, headers=headers)
+    again = client.post(f"{API}/runs", json=body, headers=headers)
+    assert (first.status_code, again.status_code) == (201, 200)
+    assert again.json() == first.json()
+    other = client.post(f"{API}/runs", json={**body, "operator": "Petrov"}, headers=headers)
+    assert other.status_code == 409
+    assert other.json()["title"] == "Idempotency-Key reused"
+    plain = client.post(f"{API}/runs", json=body, headers=auth(WRITER))
+    assert plain.status_code == 201 and plain.json()["id"] != first.json()["id"]

@@ -253,3 +253,23 @@ def test_backoff_doubles_up_to_its_cap() -> None:
 def test_speed_must_be_positive() -> None:
     with pytest.raises(ValueError, match="speed must be > 0"):
         _client(FakeServer(), Clock()).run(_sim(), speed=0.0)
+
+
+def test_a_lost_opening_answer_is_retried_with_the_same_key() -> None:
+    server, clock = FakeServer(), Clock()
+    keys: list[str] = []
+
+    def open_then_drop(request: httpx.Request) -> httpx.Response:
+        keys.append(request.headers["idempotency-key"])
+        raise httpx.ReadTimeout("the answer was lost", request=request)
+
+    def record_key(request: httpx.Request) -> None:
+        keys.append(request.headers["idempotency-key"])
+
+    server.script = [open_then_drop, record_key]
+    run = _client(server, clock).create_run(BODY)
+    assert run.id == RUN_ID
+    assert len(keys) == 2 and keys[0] == keys[1]
+    server.script = [record_key]
+    _client(server, clock).create_run(BODY)  # another run: another key
+    assert keys[2] != keys[0]

@@ -59,6 +59,14 @@ def test_reopen_after_a_clean_close_keeps_everything(tmp_path: Path) -> None:
         np.testing.assert_array_equal(store.read(done.id, "measurements")["x_zero"], [1.5])
 
 
+def test_a_key_keeps_opening_the_same_run_after_reopening(tmp_path: Path) -> None:
+    with HDF5Store(tmp_path) as store:
+        first = store.create_run(make_run(), key="lab-pc-3/run-1")
+    with HDF5Store(tmp_path) as store:
+        assert store.create_run(make_run(), key="lab-pc-3/run-1").id == first.id
+        assert store.list_runs(RunQuery()).total == 1
+
+
 def test_a_retry_after_reopening_is_recognised(tmp_path: Path) -> None:
     # the largest stored seq of an open run is read back from the journal on opening
     with HDF5Store(tmp_path) as store:

@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 
 from rigserver.storage import (
+    KeyReused,
     RunExists,
     RunNotFound,
     RunNotOpen,
@@ -392,3 +393,15 @@ def test_the_callers_arrays_may_change_after_they_are_stored(store: RunStore) ->
     stored = store.read(run.id, "friction")
     for name, values in expected.items():
         np.testing.assert_array_equal(stored[name], values)
+
+
+def test_a_key_opens_one_run_however_often_it_is_sent(store: RunStore) -> None:
+    first = store.create_run(make_run(), key="9b2c6a0e-lab-pc-3")
+    again = store.create_run(make_run(), key="9b2c6a0e-lab-pc-3")  # another id proposed
+    assert again == first
+    assert store.list_runs(RunQuery()).total == 1
+    other = store.create_run(make_run(), key="another key")
+    assert other.id != first.id
+    with pytest.raises(KeyReused, match="9b2c6a0e-lab-pc-3"):
+        store.create_run(make_run(operator="Petrov"), key="9b2c6a0e-lab-pc-3")
+    assert store.list_runs(RunQuery()).total == 2

@@ -5,7 +5,7 @@ from __future__ import annotations
 from datetime import UTC, datetime
 from typing import Annotated, Any
 
-from fastapi import APIRouter, Query, status
+from fastapi import APIRouter, Header, Query, Response, status
 from pydantic import ValidationError
 
 from rigserver.api.deps import CallerDep, ReadAccess, Services, ServicesDep, require_write
@@ -34,9 +34,20 @@ def load_run(services: Services, run_id: str) -> Run:
     status_code=status.HTTP_201_CREATED,
     summary="Open a run on a stand",
     description="Needs a key with the scope `write:<stand>`. The run keeps a snapshot of the "
-    "stand's configuration with the overrides given here.",
+    "stand's configuration with the overrides given here. With an `Idempotency-Key` header "
+    "(any unique string, e.g. a UUID, sent again with every retry) a retried opening is "
+    "answered 200 with the run the first one opened; 409 if it asks for another.",
+    responses={200: {"description": "the run opened before with this Idempotency-Key"}},
 )
-def create_run(body: RunCreate, services: ServicesDep, caller: CallerDep) -> Run:
+def create_run(
+    body: RunCreate,
+    services: ServicesDep,
+    caller: CallerDep,
+    response: Response,
+    idempotency_key: Annotated[
+        str | None, Header(min_length=1, max_length=200, description="makes retries safe")
+    ] = None,
+) -> Run:
     require_write(caller, body.stand)
     stand = services.stands[body.stand]
     try:
@@ -64,7 +75,10 @@ def create_run(body: RunCreate, services: ServicesDep, caller: CallerDep) -> Run
         configuration=configuration.model_dump(mode="json"),
         created=datetime.now(UTC),
     )
-    return services.store.create_run(run)
+    stored = services.store.create_run(run, idempotency_key)
+    if stored.id != run.id:
+        response.status_code = status.HTTP_200_OK
+    return stored
 
 
 @router.get("", summary="List and search runs, newest first", dependencies=[ReadAccess])

@@ -89,6 +89,10 @@ class Channel(BaseModel):
     long_name: str
     limit: Limit = Limit()
     order: Order = Order.ANY
+    unit_from: str | None = Field(
+        default=None,
+        description="the configuration field that sets the unit (``unit`` is its default)",
+    )
 
     def unit_long_name(self) -> str:
         return UNITS[self.unit].long_name
@@ -111,6 +115,31 @@ class ChannelGroup(BaseModel):
     def quick_check(self) -> _QuickCheck:
         """The accept test of small batches (a group never changes: frozen)."""
         return _QuickCheck(self)
+
+
+def configured_groups(
+    groups: tuple[ChannelGroup, ...], configuration: Mapping[str, object]
+) -> tuple[ChannelGroup, ...]:
+    """The groups with the units that ``configuration`` sets (:attr:`Channel.unit_from`),
+    e.g. the slide-bearing manometers read in ``gauge_unit``; the same groups if none."""
+
+    def unit(c: Channel) -> object:
+        return c.unit if c.unit_from is None else configuration.get(c.unit_from, c.unit)
+
+    if all(unit(c) == c.unit for g in groups for c in g.channels):
+        return groups
+    return tuple(
+        ChannelGroup(
+            name=g.name,
+            long_name=g.long_name,
+            aligned=g.aligned,
+            channels=tuple(
+                c if unit(c) == c.unit else Channel.model_validate({**dict(c), "unit": unit(c)})
+                for c in g.channels
+            ),
+        )
+        for g in groups
+    )
 
 
 class Violation(BaseModel):

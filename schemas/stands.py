@@ -8,12 +8,13 @@ and the field's description says so.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from enum import StrEnum
 from typing import Literal
 
 from pydantic import BaseModel, ConfigDict
 
-from schemas.channels import Channel, ChannelGroup, Limit, Order
+from schemas.channels import Channel, ChannelGroup, Limit, Order, configured_groups
 from schemas.quantity import quantity
 from schemas.units import UnitSymbol
 
@@ -158,8 +159,16 @@ def _c(
     long_name: str,
     limit: Limit | None = None,
     order: Order = Order.ANY,
+    unit_from: str | None = None,
 ) -> Channel:
-    return Channel(name=name, unit=unit, long_name=long_name, limit=limit or Limit(), order=order)
+    return Channel(
+        name=name,
+        unit=unit,
+        long_name=long_name,
+        limit=limit or Limit(),
+        order=order,
+        unit_from=unit_from,
+    )
 
 
 _TIME = _c("time", "s", "time since the start of the run", Limit(low=0), Order.INCREASING)
@@ -218,7 +227,13 @@ SLIDE_BEARING_GROUPS = (
         channels=(
             _c("limb_angle", "deg", "φ_limb, loader limb angle", Limit(low=-360, high=720)),
             *(
-                _c(f"p{k}", "at", f"gauge pressure at manometer {k}", Limit(low=-1.0, high=100.0))
+                _c(
+                    f"p{k}",
+                    "at",
+                    f"gauge pressure at manometer {k}",
+                    Limit(low=-1.0, high=100.0),
+                    unit_from="gauge_unit",
+                )
                 for k in range(1, 6)
             ),
             _c("x", "div", "X, displacement gauge reading"),
@@ -331,6 +346,12 @@ class Stand(BaseModel):
     def group(self, name: str) -> ChannelGroup | None:
         return next((g for g in self.groups if g.name == name), None)
 
+    def for_run(self, configuration: Mapping[str, object]) -> Stand:
+        """The stand as a run with this configuration snapshot sees it: the units that the
+        configuration sets (the slide-bearing gauges' unit)."""
+        groups = configured_groups(self.groups, configuration)
+        return self if groups is self.groups else self.model_copy(update={"groups": groups})
+
 
 CONFIG_MODELS: dict[StandKind, type[_Config]] = {
     StandKind.SMTS2: Smts2Config,
@@ -387,7 +408,9 @@ def configure_stands(
         kind = StandKind(kind_name)
         stand = stands[kind]
         merged = with_overrides(stand.configuration, fields)
-        stands[kind] = stand.model_copy(update={"configuration": merged})
+        stands[kind] = stand.model_copy(update={"configuration": merged}).for_run(
+            merged.model_dump()
+        )
     return stands
 
 

@@ -18,6 +18,7 @@ from rigserver.api.ingest_queue import IngestQueue
 from rigserver.api.problems import ApiProblem
 from rigserver.api.settings import Settings
 from rigserver.storage.base import RunStore
+from schemas.runs import Run
 from schemas.stands import Stand, StandKind
 
 #: Runs whose stand the service remembers (the stand of a run never changes).
@@ -45,6 +46,10 @@ class Services:
             max_bytes=self.settings.ingest_queue_bytes,
             retry_after=self.settings.retry_after,
         )
+
+    def stand_of(self, run: Run) -> Stand:
+        """The run's stand as its configuration snapshot sets it (the gauges' unit)."""
+        return self.stands[run.stand].for_run(run.configuration)
 
     def remember_stand(self, run_id: str, stand: StandKind) -> None:
         self.run_stands[run_id] = stand

@@ -52,7 +52,7 @@ from numpy.typing import NDArray
 from rigserver.storage._checks import channel_group, channel_names, last_finite, stand_groups
 from rigserver.storage._results import CheckedResults
 from rigserver.storage._time import iso, now
-from schemas.channels import ChannelGroup, Order
+from schemas.channels import ChannelGroup, Order, configured_groups
 from schemas.runs import Run
 from schemas.stands import StandKind
 
@@ -110,7 +110,7 @@ class RunFile:
                 HDF5_Version=h5py.version.hdf5_version,
             )
             entry = f.create_group("entry")
-            groups = stand_groups(run.stand)
+            groups = configured_groups(stand_groups(run.stand), run.configuration)
             first_data = next((g.name for g in groups if g.aligned), groups[0].name)
             entry.attrs.update(
                 NX_class="NXentry",

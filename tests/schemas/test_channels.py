@@ -10,7 +10,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from schemas.channels import Channel, ChannelGroup, Limit, Order, _violations, check_columns
-from schemas.stands import StandKind, default_stands
+from schemas.stands import Stand, StandKind, configure_stands, default_stands
 
 SMTS2 = default_stands()[StandKind.SMTS2]
 FRICTION = SMTS2.group("friction")
@@ -194,3 +194,18 @@ def test_quick_accept_agrees_with_the_full_check(
 ) -> None:
     group, columns, last = batch
     assert group.quick_check.accepts(columns, last) is (_violations(group, columns, last) == [])
+
+
+def test_a_stands_configuration_sets_its_gauges_unit() -> None:
+    # the lab's stands file says its manometers read in physical atmospheres
+    stand = configure_stands({"slide_bearing": {"gauge_unit": "atm"}})[StandKind.SLIDE_BEARING]
+
+    def units(s: Stand) -> dict[str, str]:
+        rows = s.group("rows")
+        assert rows is not None
+        return {c.name: c.unit for c in rows.channels}
+
+    default = units(default_stands()[StandKind.SLIDE_BEARING])
+    manometers = {f"p{k}" for k in range(1, 6)}
+    assert units(stand) == {n: "atm" if n in manometers else u for n, u in default.items()}
+    assert units(stand.for_run({"gauge_unit": "at"})) == default  # a run's own snapshot

@@ -132,7 +132,7 @@ async def live(
     start: Annotated[int, Query(alias="from", ge=0, description="first row to send")] = 0,
 ) -> StreamingResponse:
     run = await run_in_threadpool(load_run, services, run_id)
-    chosen = live_group(services.stands[run.stand], group)
+    chosen = live_group(services.stand_of(run), group)
     seen = _first_row(request.headers.get("last-event-id"), start)
     return StreamingResponse(
         _stream(services, run.id, chosen.name, seen),

@@ -95,5 +95,5 @@ def run(
 ) -> HTMLResponse:
     chosen = negotiate(lang, request.headers.get("accept-language"))
     found = load_run(services, run_id)
-    html = run_page(run=found, stand=services.stands[found.stand], lang=chosen)
+    html = run_page(run=found, stand=services.stand_of(found), lang=chosen)
     return HTMLResponse(html, headers={"Content-Language": chosen, "Vary": "Accept-Language"})

@@ -251,7 +251,7 @@ def get_readings(
     stop: Annotated[int | None, Query(ge=0)] = None,
 ) -> Any:
     run = load_run(services, run_id)
-    stand = services.stands[run.stand]
+    stand = services.stand_of(run)
     if format == "hdf5":
         return FileResponse(
             services.store.run_file(run.id),

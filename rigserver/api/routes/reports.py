@@ -34,7 +34,7 @@ def _report_html(services: Services, run_id: str, lang: Lang) -> tuple[Run, str]
     run = load_run(services, run_id)
     report = build_report(
         run=run,
-        stand=services.stands[run.stand],
+        stand=services.stand_of(run),
         values=results_payload(services, run)["values"],
         readings=StoredReadings(services, run),
         lang=lang,
@@ -111,7 +111,7 @@ def _export(services: Services, run_id: str) -> tuple[Run, str]:
             export_zip(
                 target,
                 run=run,
-                stand=services.stands[run.stand],
+                stand=services.stand_of(run),
                 readings=StoredReadings(services, run),
                 payload=results_payload(services, run),
             )

@@ -16,6 +16,7 @@ from fastapi import Depends, Request
 from rigserver.api.auth import READ, ApiKey, Keyring, write_scope
 from rigserver.api.ingest_queue import IngestQueue
 from rigserver.api.problems import ApiProblem
+from rigserver.api.sessions import COOKIE, Sessions
 from rigserver.api.settings import Settings
 from rigserver.storage.base import RunStore
 from schemas.runs import Run
@@ -31,6 +32,7 @@ class Services:
     store: RunStore
     stands: dict[StandKind, Stand]
     keyring: Keyring
+    sessions: Sessions = field(default_factory=Sessions)
     run_locks: defaultdict[str, threading.Lock] = field(
         default_factory=lambda: defaultdict(threading.Lock)
     )
@@ -69,11 +71,21 @@ async def get_services(request: Request) -> Services:
 ServicesDep = Annotated[Services, Depends(get_services)]
 
 
+#: Methods that only read: the only ones a session cookie is taken for.
+_READING = frozenset({"GET", "HEAD"})
+
+
 def caller_of(request: Request, services: Services) -> ApiKey | None:
-    """The key the request presents (None without one); 401 for a key not configured."""
+    """The key the request presents (None without one); 401 for a key not configured.
+
+    Without an Authorization header, a read may present a session cookie
+    (:mod:`rigserver.api.sessions`); it reads as its key, with the scope ``read`` only."""
     header = request.headers.get("authorization", "")
     scheme, _, token = header.partition(" ")
     if scheme.lower() != "bearer" or not token:
+        session = request.cookies.get(COOKIE)
+        if session and request.method in _READING:
+            return services.sessions.find(session)
         return None
     key = services.keyring.find(token.strip())
     if key is None:

@@ -230,6 +230,17 @@ MESSAGES: dict[str, tuple[str, str]] = {
     "contact.plastic": ("plastic", "пластический"),
     # --- the web pages --------------------------------------------------------------------
     "page.runs": ("Runs", "Испытания"),
+    "page.login": ("Log in", "Вход"),
+    "page.login_why": (
+        "The pages show the runs to holders of a key with the scope read.",
+        "Страницы показывают испытания владельцам ключа с правом read.",
+    ),
+    "page.login_refused": (
+        "This key is not known to the server or may not read.",
+        "Сервер не знает этот ключ, или ключ не даёт права чтения.",
+    ),
+    "page.key": ("API key", "Ключ API"),
+    "page.logout": ("Log out", "Выйти"),
     "page.all": ("all", "все"),
     "page.since": ("from", "с"),
     "page.until": ("to", "по"),

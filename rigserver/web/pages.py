@@ -114,6 +114,15 @@ def runs_page(
     )
 
 
+def login_page(*, next_page: str, refused: bool, lang: Lang) -> str:
+    """The form that turns a key with the ``read`` scope into a session of the pages."""
+    return (
+        environment()
+        .get_template("login.html")
+        .render(t=Messages(lang), lang=lang, other=_other(lang), next=next_page, refused=refused)
+    )
+
+
 def run_page(*, run: Run, stand: Stand, lang: Lang) -> str:
     """A run: its particulars, the live chart of its record, its results, the downloads."""
     t = Messages(lang)

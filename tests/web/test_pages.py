@@ -14,11 +14,12 @@ from fastapi.testclient import TestClient
 from rigserver.api.app import create_app
 from rigserver.api.auth import ApiKey
 from rigserver.api.routes import pages
+from rigserver.api.sessions import SESSION_SECONDS, Sessions
 from rigserver.api.settings import Settings
 from rigserver.reports.formatting import fmt
 from rigserver.storage import MemoryStore
 from schemas.stands import StandKind, configure_stands
-from tests.api.conftest import KEYS, WRITER
+from tests.api.conftest import KEYS, MTOS_ONLY, READER, WRITER, auth
 from tests.reports.simulated import post, simulated
 
 
@@ -132,13 +133,72 @@ def test_an_unknown_run_page_is_a_404(site: tuple[TestClient, dict[str, str]]) -
     assert answer.headers["content-type"].startswith("application/problem+json")
 
 
-def test_pages_need_a_key_unless_reads_are_public(tmp_path: Path) -> None:
+def _private_site(tmp_path: Path) -> TestClient:
     app = create_app(
         Settings(data_dir=tmp_path),
         MemoryStore(),
         [ApiKey.model_validate(k) for k in KEYS],
         configure_stands(),
     )
-    with TestClient(app) as client:
-        assert client.get("/").status_code == 401
+    return TestClient(app, raise_server_exceptions=False, follow_redirects=False)
+
+
+def test_pages_send_a_browser_without_a_key_to_the_login(tmp_path: Path) -> None:
+    with _private_site(tmp_path) as client:
+        answer = client.get("/runs/20261122T114026Z-00000000?lang=ru")
+        assert answer.status_code == 303
+        assert answer.headers["location"] == (
+            "/login?next=%2Fruns%2F20261122T114026Z-00000000%3Flang%3Dru"
+        )
         assert client.get("/static/style.css").status_code == 200  # no data in it
+        assert client.get("/", headers=auth(MTOS_ONLY)).status_code == 403  # a key, no read
+
+
+def test_a_read_key_given_once_becomes_a_session_for_reads_only(tmp_path: Path) -> None:
+    with _private_site(tmp_path) as client:
+        form = client.get("/login?next=/runs/x")
+        assert form.status_code == 200 and 'name="key"' in form.text
+        answer = client.post("/login", data={"key": READER, "next": "/?lang=ru"})
+        assert answer.status_code == 303 and answer.headers["location"] == "/?lang=ru"
+        cookie = answer.headers["set-cookie"]
+        assert "HttpOnly" in cookie and "SameSite=strict" in cookie and READER not in cookie
+        assert client.get("/").status_code == 200
+        assert client.get("/api/v1/runs").status_code == 200  # the live page's API reads
+        opened = client.post("/api/v1/runs", json={"stand": "smts2", "operator": "X"})
+        assert opened.status_code == 401  # never a write by cookie
+        client.post("/logout")
+        assert client.get("/").status_code == 303
+
+
+@pytest.mark.parametrize(
+    ("key", "target", "status", "location"),
+    [
+        (MTOS_ONLY, "/", 401, None),  # a key that may not read
+        ("not-a-key-of-this-server", "/", 401, None),
+        (READER, "//elsewhere.example/", 303, "/"),  # no redirect off the site
+        (READER, "https://elsewhere.example/", 303, "/"),
+    ],
+)
+def test_the_login_refuses_keys_that_cannot_read_and_stays_on_the_site(
+    tmp_path: Path, key: str, target: str, status: int, location: str | None
+) -> None:
+    with _private_site(tmp_path) as client:
+        answer = client.post("/login", data={"key": key, "next": target})
+        assert answer.status_code == status
+        if location is None:
+            assert "set-cookie" not in answer.headers
+            assert key not in answer.text
+        else:
+            assert answer.headers["location"] == location
+
+
+def test_sessions_end_after_a_lab_day() -> None:
+    now = [0.0]
+    sessions = Sessions(clock=lambda: now[0])
+    token = sessions.open(ApiKey.model_validate(KEYS[1]))
+    reader = sessions.find(token)
+    assert reader is not None and reader.scopes == {"read"}  # the writer key reads only
+    now[0] = SESSION_SECONDS + 1
+    assert sessions.find(token) is None
+    with pytest.raises(ValueError, match="read"):
+        sessions.open(ApiKey.model_validate(KEYS[2]))

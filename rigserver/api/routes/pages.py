@@ -1,25 +1,51 @@
 """The web pages: ``/`` (the runs, filtered) and ``/runs/{id}`` (a run, live), and their
-static files under ``/static``. Reads follow the API's rule: a key, or ``--public-reads``."""
+static files under ``/static``. Reads follow the API's rule: a key, or ``--public-reads``;
+a browser without either is sent to ``/login``, where a key with the scope ``read``
+becomes a session cookie (:mod:`rigserver.api.sessions`)."""
 
 from __future__ import annotations
 
 from datetime import UTC, date, datetime, time, timedelta
 from typing import Annotated, TypeVar
+from urllib.parse import parse_qs, urlencode
 
-from fastapi import APIRouter, FastAPI, Query, Request
-from fastapi.responses import HTMLResponse
+from fastapi import APIRouter, Depends, FastAPI, Query, Request, Response
+from fastapi.responses import HTMLResponse, RedirectResponse
 from fastapi.staticfiles import StaticFiles
 
-from rigserver.api.deps import ReadAccess, ServicesDep
+from rigserver.api.auth import READ
+from rigserver.api.deps import ServicesDep, caller_of, require_scope
 from rigserver.api.problems import ApiProblem
 from rigserver.api.routes.runs import load_run
+from rigserver.api.sessions import COOKIE, SESSION_SECONDS
 from rigserver.reports.i18n import Lang, negotiate
-from rigserver.web.pages import run_page, runs_page
+from rigserver.web.pages import login_page, run_page, runs_page
 from schemas.channels import Violation
 from schemas.runs import RunQuery, RunState
 from schemas.stands import StandKind
 
-router = APIRouter(include_in_schema=False, dependencies=[ReadAccess])
+
+class _LoginFirst(Exception):
+    """A page asked for without a key or session: answered with the login page's address."""
+
+    def __init__(self, next_page: str) -> None:
+        self.next_page = next_page
+
+
+async def require_page_read(request: Request, services: ServicesDep) -> None:
+    if services.settings.public_reads:
+        return
+    caller = caller_of(request, services)
+    if caller is None:
+        query = f"?{request.url.query}" if request.url.query else ""
+        raise _LoginFirst(request.url.path + query)
+    require_scope(caller, READ)
+
+
+router = APIRouter(include_in_schema=False, dependencies=[Depends(require_page_read)])
+login_router = APIRouter(include_in_schema=False)
+#: The largest login form read, bytes.
+LOGIN_BODY_BYTES = 4096
 
 PAGE_SIZE = 50
 
@@ -28,8 +54,15 @@ Choice = TypeVar("Choice", StandKind, RunState)
 
 
 def install(app: FastAPI) -> None:
-    """Add the pages and their static files to the app."""
+    """Add the pages, the login and their static files to the app."""
+
+    async def to_login(request: Request, exc: Exception) -> Response:
+        assert isinstance(exc, _LoginFirst)
+        return RedirectResponse("/login?" + urlencode({"next": exc.next_page}), status_code=303)
+
+    app.add_exception_handler(_LoginFirst, to_login)
     app.include_router(router)
+    app.include_router(login_router)
     app.mount("/static", StaticFiles(packages=[("rigserver.web", "static")]), name="static")
 
 
@@ -97,3 +130,57 @@ def run(
     found = load_run(services, run_id)
     html = run_page(run=found, stand=services.stand_of(found), lang=chosen)
     return HTMLResponse(html, headers={"Content-Language": chosen, "Vary": "Accept-Language"})
+
+
+@login_router.get("/login", response_class=HTMLResponse)
+def login_form(
+    request: Request,
+    next: Annotated[str, Query(max_length=2000)] = "/",
+    lang: Lang | None = None,
+) -> HTMLResponse:
+    chosen = negotiate(lang, request.headers.get("accept-language"))
+    return HTMLResponse(login_page(next_page=_local(next), refused=False, lang=chosen))
+
+
+@login_router.post("/login")
+async def login(request: Request, services: ServicesDep, lang: Lang | None = None) -> Response:
+    """The login form posted (``key``, ``next``): a session and back to ``next``, or the form
+    again (401) if the key is unknown or may not read."""
+    body = await request.body()
+    if len(body) > LOGIN_BODY_BYTES:
+        raise ApiProblem(413, "Login form too large", f"send at most {LOGIN_BODY_BYTES} bytes")
+    form = parse_qs(body.decode("utf-8", "replace"), max_num_fields=4)
+    key, next_page = form.get("key", [""])[0].strip(), _local(form.get("next", ["/"])[0])
+    found = services.keyring.find(key) if key else None
+    if found is None or not found.allows(READ):
+        chosen = negotiate(lang, request.headers.get("accept-language"))
+        page = login_page(next_page=next_page, refused=True, lang=chosen)
+        return HTMLResponse(page, status_code=401)
+    response = RedirectResponse(next_page, status_code=303)
+    response.set_cookie(
+        COOKIE,
+        services.sessions.open(found),
+        max_age=SESSION_SECONDS,
+        path="/",
+        secure=request.url.scheme == "https",
+        httponly=True,
+        samesite="strict",
+    )
+    return response
+
+
+@login_router.post("/logout")
+def logout(request: Request, services: ServicesDep) -> Response:
+    token = request.cookies.get(COOKIE)
+    if token:
+        services.sessions.close(token)
+    response = RedirectResponse("/login", status_code=303)
+    response.delete_cookie(COOKIE, path="/")
+    return response
+
+
+def _local(target: str) -> str:
+    """``target`` if it is a path of this site, else ``/`` (no redirect elsewhere)."""
+    if target.startswith("/") and not target.startswith("//") and "\\" not in target:
+        return target
+    return "/"

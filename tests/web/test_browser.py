@@ -1,7 +1,8 @@
-"""In headless Chromium (Debian's, driven by Playwright): the runs page, a run watched while
-rigsim posts it (the live chart grows to every row), the PDF report downloaded.
+"""In headless Chromium (Debian's, driven by Playwright): the login with a read key, the
+runs page, a run watched while rigsim posts it (the live chart grows to every row), the PDF
+report downloaded.
 
-A real ``rigserver serve`` subprocess with public reads; rigsim's lab-PC client posts the
+A real ``rigserver serve`` subprocess (reads need a key); rigsim's lab-PC client posts the
 SMTs-2 run from a thread at about 200 times the stand's pace (some 8 s).
 """
 
@@ -19,7 +20,7 @@ import pytest
 
 from rigsim.client import LabClient, RunOutcome
 from rigsim.stands import smts2
-from tests.api.conftest import KEYS, WRITER, Server
+from tests.api.conftest import KEYS, READER, WRITER, Server, auth
 
 CHROMIUM = Path("/usr/bin/chromium")
 ARGS = [
@@ -45,7 +46,7 @@ pytestmark = [
 def server(tmp_path: Path) -> Iterator[Server]:
     keys_file = tmp_path / "keys.json"
     keys_file.write_text(json.dumps(KEYS))
-    srv = Server(tmp_path / "data", keys_file, public_reads=True)
+    srv = Server(tmp_path / "data", keys_file)
     srv.start()
     yield srv
     srv.stop()
@@ -72,7 +73,8 @@ def test_watch_a_run_live_and_download_its_report(server: Server, tmp_path: Path
     poster = threading.Thread(target=lab_pc, daemon=True)
     poster.start()
     deadline = time.monotonic() + 20
-    while not httpx.get(f"{server.url}/api/v1/runs", timeout=5).json()["runs"]:
+    runs = f"{server.url}/api/v1/runs"
+    while not httpx.get(runs, headers=auth(READER), timeout=5).json()["runs"]:
         assert time.monotonic() < deadline, "the run was not opened"
         time.sleep(0.05)
     with sync_playwright() as playwright:
@@ -86,7 +88,9 @@ def test_watch_a_run_live_and_download_its_report(server: Server, tmp_path: Path
         )
         try:
             page = context.new_page()
-            page.goto(f"{server.url}/")
+            page.goto(f"{server.url}/")  # no session yet: the login page
+            page.fill("input[name=key]", READER)
+            page.click("form.login button[type=submit]")
             page.click("table.runs a[href^='/runs/']")
             page.wait_for_selector("#live-chart")
             page.wait_for_function(

@@ -82,6 +82,7 @@ def runs_page(
     offset: int,
     limit: int,
     lang: Lang,
+    signed_in: bool = False,
 ) -> str:
     """The runs, newest first, with the filter form and links to the neighbouring pages.
 
@@ -101,6 +102,7 @@ def runs_page(
             t=t,
             lang=lang,
             other=_other(lang),
+            signed_in=signed_in,
             page=page,
             rows=[(run, key_results(t, run)) for run in page.runs],
             filters=filters,
@@ -123,7 +125,7 @@ def login_page(*, next_page: str, refused: bool, lang: Lang) -> str:
     )
 
 
-def run_page(*, run: Run, stand: Stand, lang: Lang) -> str:
+def run_page(*, run: Run, stand: Stand, lang: Lang, signed_in: bool = False) -> str:
     """A run: its particulars, the live chart of its record, its results, the downloads."""
     t = Messages(lang)
     record = next(g for g in stand.groups if g.aligned)
@@ -154,6 +156,7 @@ def run_page(*, run: Run, stand: Stand, lang: Lang) -> str:
             t=t,
             lang=lang,
             other=_other(lang),
+            signed_in=signed_in,
             run=run,
             stand=stand,
             groups=[g.name for g in stand.groups],

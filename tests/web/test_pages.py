@@ -162,7 +162,8 @@ def test_a_read_key_given_once_becomes_a_session_for_reads_only(tmp_path: Path) 
         assert answer.status_code == 303 and answer.headers["location"] == "/?lang=ru"
         cookie = answer.headers["set-cookie"]
         assert "HttpOnly" in cookie and "SameSite=strict" in cookie and READER not in cookie
-        assert client.get("/").status_code == 200
+        page = client.get("/")
+        assert page.status_code == 200 and 'action="/logout"' in page.text
         assert client.get("/api/v1/runs").status_code == 200  # the live page's API reads
         opened = client.post("/api/v1/runs", json={"stand": "smts2", "operator": "X"})
         assert opened.status_code == 401  # never a write by cookie

@@ -118,7 +118,14 @@ def runs(
     )
     page = services.store.list_runs(query)
     filters = {"stand": stand, "operator": operator, "state": state, "since": since, "until": until}
-    html = runs_page(page=page, filters=filters, offset=offset, limit=PAGE_SIZE, lang=chosen)
+    html = runs_page(
+        page=page,
+        filters=filters,
+        offset=offset,
+        limit=PAGE_SIZE,
+        lang=chosen,
+        signed_in=COOKIE in request.cookies,
+    )
     return HTMLResponse(html, headers={"Content-Language": chosen, "Vary": "Accept-Language"})
 
 
@@ -128,7 +135,12 @@ def run(
 ) -> HTMLResponse:
     chosen = negotiate(lang, request.headers.get("accept-language"))
     found = load_run(services, run_id)
-    html = run_page(run=found, stand=services.stand_of(found), lang=chosen)
+    html = run_page(
+        run=found,
+        stand=services.stand_of(found),
+        lang=chosen,
+        signed_in=COOKIE in request.cookies,
+    )
     return HTMLResponse(html, headers={"Content-Language": chosen, "Vary": "Accept-Language"})
 
 

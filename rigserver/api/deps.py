@@ -36,8 +36,8 @@ class Services:
     run_locks: defaultdict[str, threading.Lock] = field(
         default_factory=lambda: defaultdict(threading.Lock)
     )
-    #: run id -> stand, the most recently posted-to last
-    run_stands: OrderedDict[str, StandKind] = field(default_factory=OrderedDict)
+    #: run id -> its stand as its configuration sets it, the most recently posted-to last
+    run_stands: OrderedDict[str, Stand] = field(default_factory=OrderedDict)
     ingest: IngestQueue = field(init=False)
 
     def __post_init__(self) -> None:
@@ -53,7 +53,7 @@ class Services:
         """The run's stand as its configuration snapshot sets it (the gauges' unit)."""
         return self.stands[run.stand].for_run(run.configuration)
 
-    def remember_stand(self, run_id: str, stand: StandKind) -> None:
+    def remember_stand(self, run_id: str, stand: Stand) -> None:
         self.run_stands[run_id] = stand
         if len(self.run_stands) > RUN_STANDS:
             self.run_stands.popitem(last=False)

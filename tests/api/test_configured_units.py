@@ -51,3 +51,7 @@ def test_the_gauges_unit_is_the_runs(client: TestClient, gauge_unit: str) -> Non
     data = client.get(f"{API}/runs/{run_id}/readings?format=hdf5", headers=auth(READER)).content
     with h5py.File(io.BytesIO(data)) as f:
         assert f["entry/rows/p5"].attrs["units"] == gauge_unit
+    high = {"seq": 1, "group": "rows", "columns": {**ROW, "p2": [150.0]}}  # above 100
+    refused = client.post(f"{API}/runs/{run_id}/readings", json=high, headers=auth(WRITER))
+    assert refused.status_code == 422
+    assert refused.json()["errors"][0]["limit"] == f"-1 <= value <= 100 {gauge_unit}"

@@ -34,7 +34,7 @@ from rigserver.storage.base import Columns, NewBatch
 from schemas.channels import ChannelGroup, Violation, check_columns
 from schemas.readings import NPZ_MEDIA_TYPE, BatchReceipt, ReadingBatch
 from schemas.runs import Run
-from schemas.stands import Stand, StandKind
+from schemas.stands import Stand
 
 
 class _PlainRoute(APIRoute):
@@ -125,11 +125,12 @@ def _parse_json(body: bytes) -> ReadingBatch:
         raise ApiProblem(422, "Invalid batch", errors[0].message, errors) from None
 
 
-async def _stand_of(services: Services, run_id: str) -> StandKind:
-    """The run's stand: remembered, or looked up (404 for an unknown run)."""
+async def _stand_of(services: Services, run_id: str) -> Stand:
+    """The run's stand as its configuration sets it (the units in a refusal's message):
+    remembered, or looked up (404 for an unknown run)."""
     stand = services.run_stands.get(run_id)
     if stand is None:
-        stand = (await run_in_threadpool(load_run, services, run_id)).stand
+        stand = services.stand_of(await run_in_threadpool(load_run, services, run_id))
         services.remember_stand(run_id, stand)
     return stand
 
@@ -174,7 +175,7 @@ async def post_readings(request: Request) -> Response:
     run_id: str = request.path_params["run_id"]
     services = services_of(request)
     stand = await _stand_of(services, run_id)
-    require_write(caller_of(request, services), stand)
+    require_write(caller_of(request, services), stand.kind)
     media = request.headers.get("content-type", "application/json").split(";")[0].strip()
     if media not in ("application/json", NPZ_MEDIA_TYPE):
         raise ApiProblem(
@@ -193,7 +194,7 @@ async def post_readings(request: Request) -> Response:
             batch = _parse_json(body) if small else await run_in_threadpool(_parse_json, body)
             seq, group, columns = batch.seq, batch.group, batch.columns
         del body
-        decl = _group_of(services.stands[stand], group)
+        decl = _group_of(stand, group)
         check = partial(_refuse_violations, decl)
         try:
             receipt = await services.ingest.store(

@@ -22,7 +22,7 @@ import numpy as np
 import xxhash
 from numpy.typing import ArrayLike, NDArray
 
-from rigserver.storage.base import RunStore
+from rigserver.storage.base import NewBatch, RunStore
 from rigserver.storage.errors import KeyReused, SequenceConflict
 from schemas.channels import ChannelGroup
 from schemas.readings import BatchReceipt
@@ -86,9 +86,12 @@ def reopened(existing: Run, run: Run, key: str) -> Run:
     return existing
 
 
-def check_seq(seq: int) -> None:
-    if seq < 0:
-        raise ValueError(f"seq must be >= 0, not {seq}")
+def posted(nb: NewBatch) -> Batch:
+    """A posted batch as the stores keep it (:func:`prepare`); ``ValueError`` for a
+    negative seq (those number the batches taken back from a run file) or bad columns."""
+    if nb.seq < 0:
+        raise ValueError(f"seq must be >= 0, not {nb.seq}")
+    return prepare(nb.group, nb.columns)
 
 
 def prepare(group: str, columns: Mapping[str, ArrayLike]) -> Batch:

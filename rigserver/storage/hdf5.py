@@ -64,11 +64,11 @@ from rigserver.storage._checks import (
     StoredBatch,
     channel_group,
     check,
-    check_seq,
     chunks,
     last_finite,
     new_run,
     padded,
+    posted,
     prepare,
     reopened,
     retry_receipt,
@@ -745,10 +745,9 @@ class _Staged:
 
 
 def _prepared(nb: NewBatch) -> Batch | ValueError:
-    """The batch as stored (:func:`prepare`), or why it cannot be."""
+    """The batch as stored (:func:`posted`), or why it cannot be."""
     try:
-        check_seq(nb.seq)
-        return prepare(nb.group, nb.columns)
+        return posted(nb)
     except ValueError as exc:
         return exc
 

@@ -24,12 +24,11 @@ from rigserver.storage._checks import (
     channel_group,
     channel_names,
     check,
-    check_seq,
     chunks,
     last_finite,
     new_run,
     padded,
-    prepare,
+    posted,
     reopened,
     retry_receipt,
     stored_receipt,
@@ -118,8 +117,7 @@ class MemoryStore:
 
     def _append(self, nb: NewBatch) -> BatchReceipt:
         run_id, seq, group = nb.run_id, nb.seq, nb.group
-        check_seq(seq)
-        batch = prepare(group, nb.columns)
+        batch = posted(nb)
         stored_run = self._get(run_id)
         stored = stored_run.batches.get(seq)
         if stored is not None:

@@ -2,14 +2,23 @@
 
 from __future__ import annotations
 
+import itertools
 import math
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
-from schemas.channels import Channel, ChannelGroup, Limit, Order, _violations, check_columns
+from schemas.channels import (
+    Channel,
+    ChannelGroup,
+    Limit,
+    Order,
+    _in_order,
+    _violations,
+    check_columns,
+)
 from schemas.stands import Stand, StandKind, configure_stands, default_stands
 
 SMTS2 = default_stands()[StandKind.SMTS2]
@@ -194,6 +203,70 @@ def test_quick_accept_agrees_with_the_full_check(
 ) -> None:
     group, columns, last = batch
     assert group.quick_check.accepts(columns, last) is (_violations(group, columns, last) == [])
+
+
+CHANNELS = [ch for group in GROUPS for ch in group.channels]
+
+
+@st.composite
+def columns_at_edges(draw: st.DrawFn) -> tuple[Channel, np.ndarray]:
+    """A channel and a column of values at the edges of its limit, anywhere, or not finite."""
+    synthetic = GROUPS[-1].channels  # every kind of limit: drawn as often as all the rest
+    ch = draw(st.one_of(st.sampled_from(synthetic), st.sampled_from(CHANNELS)))
+    edge = st.sampled_from(_edges(ch) + _inside(ch, 1, None))
+    value = st.one_of(
+        edge,
+        edge,  # twice as likely: most columns should be good or broken at one edge
+        st.floats(-1e4, 1e4),
+        st.sampled_from([math.nan, math.inf, -math.inf, -0.0]),
+    )
+    return ch, np.array(draw(st.lists(value, min_size=1, max_size=6)), dtype=np.float64)
+
+
+def _channel(name: str) -> Channel:
+    return next(ch for ch in CHANNELS if ch.name == name)
+
+
+@settings(max_examples=500)
+@given(columns_at_edges())
+# each edge once for sure: on a limit (15 N·m, 190 N), on a band's ends (1000 rpm ± 10 %),
+# half a code, not finite where nothing else is limited
+@example((_channel("friction_moment"), np.array([3.0, 15.0])))
+@example((_channel("load"), np.array([190.0, 300.0])))
+@example((_channel("speed"), np.array([900.0, 1100.0])))
+@example((_channel("code"), np.array([1.0, 1.5])))
+@example((_channel("t"), np.array([0.0, math.inf])))
+def test_extremes_judge_a_column_as_the_mask_of_every_rule_does(
+    drawn: tuple[Channel, np.ndarray],
+) -> None:
+    # Limit.holds_for looks at the least and greatest value only; Limit.violations tests
+    # every value against every rule: the same verdict, but that a column spread over two
+    # nominal settings is left to the mask (its extremes cannot tell)
+    ch, values = drawn
+    lim = ch.limit
+    by_mask = bool(np.isfinite(values).all()) and not lim.violations(values).any()
+    one_setting = lim.nominal is None or any(
+        all(abs(x - v) <= lim.tolerance * abs(v) for x in values) for v in lim.nominal
+    )
+    assert lim.holds_for(values) is (by_mask and one_setting)
+
+
+@settings(max_examples=300)
+@given(
+    st.sampled_from(list(Order)),
+    st.lists(st.sampled_from([-1.0, 0.0, 0.5, 1.0, 1.0 + 1e-12, 2.0]), min_size=1, max_size=8),
+    st.one_of(st.none(), st.sampled_from([-1.0, 0.0, 1.0, 2.0])),
+)
+def test_in_order_is_pairwise_order(order: Order, values: list[float], last: float | None) -> None:
+    # each value against the one before it, the first against the last stored value
+    seq = values if last is None else [last, *values]
+    pairs = list(itertools.pairwise(seq))
+    expected = {
+        Order.ANY: True,
+        Order.INCREASING: all(b > a for a, b in pairs),
+        Order.NON_DECREASING: all(b >= a for a, b in pairs),
+    }[order]
+    assert _in_order(order, np.array(values), last) is expected
 
 
 def test_a_stands_configuration_sets_its_gauges_unit() -> None:

@@ -3,7 +3,7 @@
 ``POST /api/v1/runs/{run_id}/readings`` validates the same :class:`ReadingBatch` body and
 answers 201 with a receipt, storing nothing; ``POST /sink`` reads a body and answers 201
 (the ceiling of the batch generator). Started as ``python benchmarks/bare_app.py PORT``
-with the uvicorn settings of ``rigserver serve``.
+with the uvicorn and malloc settings of ``rigserver serve``.
 """
 
 from __future__ import annotations
@@ -16,6 +16,7 @@ from fastapi import FastAPI, Request, Response
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
+from rigserver.cli import keep_freed_memory
 from schemas.readings import BatchReceipt, ReadingBatch
 
 app = FastAPI()
@@ -35,4 +36,5 @@ async def sink(request: Request) -> Response:
 
 
 if __name__ == "__main__":
+    keep_freed_memory()  # as rigserver serve does
     uvicorn.run(app, host="127.0.0.1", port=int(sys.argv[1]), log_level="warning", access_log=False)

@@ -244,7 +244,8 @@ def _post_all(
     headers = {"Authorization": f"Bearer {KEY}"}
     headers["Content-Type"] = "application/json" if form == "json" else "application/x-npz"
     # http.client sends the body as it is (one sendall): the least work per byte
-    http = HTTPConnection(*urlsplit(url).netloc.split(":"), timeout=120)
+    address = urlsplit(url)
+    http = HTTPConnection(address.hostname or "127.0.0.1", address.port, timeout=120)
     try:
         first = made.get()
         start.wait()

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import json
 import os
 import socket
 import subprocess
@@ -107,13 +106,3 @@ class Server:
             except subprocess.TimeoutExpired:
                 self.proc.kill()
                 self.proc.wait()
-
-
-@pytest.fixture
-def server(tmp_path: Path) -> Iterator[Server]:
-    keys_file = tmp_path / "keys.json"
-    keys_file.write_text(json.dumps(KEYS))
-    srv = Server(tmp_path / "data", keys_file)
-    srv.start()
-    yield srv
-    srv.stop()

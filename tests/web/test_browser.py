@@ -8,10 +8,8 @@ SMTs-2 run from a thread at about 200 times the stand's pace (some 8 s).
 
 from __future__ import annotations
 
-import json
 import threading
 import time
-from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
@@ -20,7 +18,7 @@ import pytest
 
 from rigsim.client import LabClient, RunOutcome
 from rigsim.stands import smts2
-from tests.api.conftest import KEYS, READER, WRITER, Server, auth
+from tests.api.conftest import READER, WRITER, Server, auth
 
 CHROMIUM = Path("/usr/bin/chromium")
 ARGS = [
@@ -40,16 +38,6 @@ pytestmark = [
         "apt-get install chromium",
     ),
 ]
-
-
-@pytest.fixture
-def server(tmp_path: Path) -> Iterator[Server]:
-    keys_file = tmp_path / "keys.json"
-    keys_file.write_text(json.dumps(KEYS))
-    srv = Server(tmp_path / "data", keys_file)
-    srv.start()
-    yield srv
-    srv.stop()
 
 
 def points(page: Any) -> int:

@@ -324,7 +324,7 @@ def _value_violations(
         return []  # the common case, decided without a mask per rule
     found: list[Violation] = []
     finite = np.isfinite(values)
-    all_finite = bool(finite.all())  # the common case: skip the index searches
+    all_finite = bool(finite.all())  # then no index search for NaN and inf
     if not all_finite:
         for i in np.flatnonzero(~finite)[:MAX_VIOLATIONS]:
             found.append(

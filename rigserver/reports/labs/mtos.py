@@ -5,6 +5,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 import numpy as np
+from matplotlib.axes import Axes
 
 from rigserver.reports import blocks
 from rigserver.reports.context import Context, LabReport
@@ -176,23 +177,24 @@ def _processed_tables(
     return [first, second, third]
 
 
-def _regime_label(t: Messages, regime: str) -> str:
-    return t("m.f_exp", regime=t("regime." + regime))
+def _plot_measured(ax: Axes, t: Messages, v: MtosResults, x: str, line: str = "") -> None:
+    """f_э of every step against its field ``x``, one series per experiment (regime)."""
+    for regime in REGIMES:
+        steps = _of(v.steps, regime)
+        if steps:
+            ax.plot(
+                [getattr(s, x) for s in steps],
+                [s.friction_measured for s in steps],
+                MARKERS[regime] + line,
+                label=t("m.f_exp", regime=t("regime." + regime)),
+            )
 
 
 def _stribeck_svg(t: Messages, v: MtosResults, config: MtosConfig) -> str:
     """f_э of every step and f_T of the fluid steps against S1 = μ_t·ω/p̄ (4.21, E9), with
     the step of the largest eccentricity in experiment 1 marked (h_min = h0 - e_max)."""
     fig, (ax,) = axes(height=3.4)
-    for regime in REGIMES:
-        steps = _of(v.steps, regime)
-        if steps:
-            ax.plot(
-                [s.bearing_characteristic for s in steps],
-                [s.friction_measured for s in steps],
-                MARKERS[regime],
-                label=_regime_label(t, regime),
-            )
+    _plot_measured(ax, t, v, "bearing_characteristic")
     fluid = sorted(_of(v.steps, "fluid"), key=lambda s: s.bearing_characteristic)
     theory = [(s.bearing_characteristic, s.friction_theory) for s in fluid if s.friction_theory]
     if theory:
@@ -265,15 +267,7 @@ def _trajectory_svg(t: Messages, v: MtosResults, config: MtosConfig) -> str:
 
 def _friction_svg(t: Messages, v: MtosResults) -> str:
     fig, (ax,) = axes(height=3.2)
-    for regime in REGIMES:
-        steps = _of(v.steps, regime)
-        if steps:
-            ax.plot(
-                [s.load for s in steps],
-                [s.friction_measured for s in steps],
-                MARKERS[regime] + "-",
-                label=_regime_label(t, regime),
-            )
+    _plot_measured(ax, t, v, "load", "-")
     theory = [(s.load, s.friction_theory) for s in _of(v.steps, "fluid") if s.friction_theory]
     if theory:
         ax.plot(*zip(*theory, strict=True), "--", color="C3", label=t("m.f_theory"))

@@ -12,12 +12,11 @@ Tables::
                                 retried seq gets its first receipt; ``at`` and ``size``
                                 place its readings in the run's payload file
 
-The readings of a batch are written to ``payloads/<run id>.bin`` beside the database (the
-columns as raw little-endian float64, see _encode) before its transaction commits, and the
-file is deleted once the run file is final. Appending to a file costs one write; a blob in
-SQLite is written to the WAL, copied into the database at the checkpoint and freed page by
-page when dropped, and the database never shrinks. Bytes past the last committed batch
-(a write whose commit failed) are never read.
+The readings of a batch are appended to ``payloads/<run id>.bin`` beside the database
+(:mod:`~rigserver.storage.payloads`) before its transaction commits, and the file is
+deleted once the run file is final. Appending to a file costs one write; a blob in SQLite
+is written to the WAL, copied into the database at the checkpoint and freed page by page
+when dropped, and the database never shrinks.
 
 A batch is durable once its transaction commits. In WAL mode ``synchronous=NORMAL`` makes a
 commit survive the process being killed (kill -9, a crash of Python or of the library):
@@ -30,9 +29,7 @@ from __future__ import annotations
 
 import json
 import logging
-import os
 import sqlite3
-import struct
 import threading
 from collections.abc import Iterator
 from dataclasses import dataclass
@@ -45,6 +42,7 @@ from numpy.typing import NDArray
 from rigserver.storage._checks import Batch, StoredBatch
 from rigserver.storage._time import iso
 from rigserver.storage.errors import RunExists, RunNotFound, StorageUnavailable
+from rigserver.storage.payloads import PayloadFiles, decode, encode
 from schemas.runs import Run, RunPage, RunQuery
 
 Synchronous = Literal["normal", "full"]
@@ -88,37 +86,8 @@ log = logging.getLogger(__name__)
 
 #: Seconds between checkpoints of the WAL.
 CHECKPOINT_SECONDS = 1.0
-_HEADER = struct.Struct("<I")
-_IOV_MAX = 512
 #: SQLite's largest integer; an offset past it lists nothing, as any offset past the end
 _MAX_INTEGER = 2**63 - 1
-_COLUMN = struct.Struct("<HQ")
-
-
-def _encode(columns: dict[str, NDArray[np.float64]]) -> list[bytes | memoryview]:
-    """Channel count, then (name length, row count, name) per channel, then the values."""
-    head = [_HEADER.pack(len(columns))]
-    for name, values in columns.items():
-        raw = name.encode()
-        head.append(_COLUMN.pack(len(raw), len(values)))
-        head.append(raw)
-    return [b"".join(head), *(v.data for v in columns.values())]
-
-
-def _decode(data: bytes) -> dict[str, NDArray[np.float64]]:
-    (count,) = _HEADER.unpack_from(data, 0)
-    at = _HEADER.size
-    names: list[tuple[str, int]] = []
-    for _ in range(count):
-        size, rows = _COLUMN.unpack_from(data, at)
-        at += _COLUMN.size
-        names.append((data[at : at + size].decode(), rows))
-        at += size
-    out: dict[str, NDArray[np.float64]] = {}
-    for name, rows in names:
-        out[name] = np.frombuffer(data, dtype="<f8", count=rows, offset=at)
-        at += 8 * rows
-    return out
 
 
 @dataclass(frozen=True, slots=True)
@@ -139,11 +108,7 @@ class Journal:
 
     def __init__(self, path: Path, *, synchronous: Synchronous = "normal") -> None:
         self.path = path
-        self._payloads = path.parent / "payloads"
-        self._payloads.mkdir(exist_ok=True)
         self._full = synchronous == "full"
-        #: run id -> (descriptor, size) of the open payload files
-        self._files: dict[str, list[int]] = {}
         #: payload files written in the open transaction (fsynced before a full commit)
         self._dirty: set[str] = set()
         self._db = sqlite3.connect(path, isolation_level=None, check_same_thread=False)
@@ -167,13 +132,12 @@ class Journal:
         except BaseException:
             self._db.close()
             raise
+        self._payloads = PayloadFiles(path.parent / "payloads")
         self._checkpointer = _Checkpointer(path)
 
     def close(self) -> None:
         self._checkpointer.stop()
-        for fd, _ in self._files.values():
-            os.close(fd)
-        self._files.clear()
+        self._payloads.close()
         self._db.close()  # the last connection: SQLite checkpoints the WAL and removes it
 
     def _write(self, statements: list[tuple[str, tuple[object, ...]]]) -> None:
@@ -342,14 +306,11 @@ class Journal:
         self.drop_payloads(run_id)
 
     def drop_payloads(self, run_id: str) -> None:
-        found = self._files.pop(run_id, None)
-        if found is not None:
-            os.close(found[0])
-        (self._payloads / f"{run_id}.bin").unlink(missing_ok=True)
+        self._payloads.drop(run_id)
 
     def final_runs_with_payloads(self) -> list[str]:
         """Runs whose payload file outlived their final run file (a crash in between)."""
-        names = [p.stem for p in self._payloads.glob("*.bin")]
+        names = self._payloads.stored()
         final = {
             row[0]
             for row in self._db.execute("SELECT id FROM runs WHERE file_final = 1").fetchall()
@@ -383,7 +344,7 @@ class Journal:
         dirty, self._dirty = self._dirty, set()
         if self._full:
             for run_id in dirty:
-                os.fsync(self._files[run_id][0])
+                self._payloads.sync(run_id)
         self._db.execute("COMMIT")
 
     def rollback(self) -> None:
@@ -401,9 +362,9 @@ class Journal:
         """
         if not self._db.in_transaction:  # e.g. SQLite rolled the group back after a failure
             raise sqlite3.OperationalError("a batch is added inside a transaction only")
-        payload = self._payload_file(run_id)
-        parts = _encode(batch.columns)
-        at, size = payload[1], sum(memoryview(p).nbytes for p in parts)
+        parts = encode(batch.columns)
+        size = sum(memoryview(p).nbytes for p in parts)
+        at = self._payloads.end(run_id, committed=lambda: self._committed_end(run_id))
         try:
             self._db.execute(
                 "INSERT INTO batches (run_id, seq, grp, rows, group_rows, digest, at, size) "
@@ -412,17 +373,16 @@ class Journal:
             )
         except sqlite3.IntegrityError:
             return self.stored_batch(run_id, seq)
-        payload[1] += size  # and past whatever a failed write leaves
         self._dirty.add(run_id)
-        _write_all(payload[0], parts, at)
+        self._payloads.append(run_id, parts, size)
         return None
 
-    def _payload_file(self, run_id: str) -> list[int]:
-        found = self._files.get(run_id)
-        if found is None:
-            fd = os.open(self._payloads / f"{run_id}.bin", os.O_RDWR | os.O_CREAT, 0o644)
-            found = self._files[run_id] = [fd, os.fstat(fd).st_size]
-        return found
+    def _committed_end(self, run_id: str) -> int:
+        """The end of the run's last committed batch in its payload file (0 if none)."""
+        row = self._db.execute(
+            "SELECT COALESCE(MAX(at + size), 0) FROM batches WHERE run_id = ?", (run_id,)
+        ).fetchone()
+        return int(row[0])
 
     def set_counters(self, run: Run) -> None:
         """The run's batch count and rows per group, in the transaction of its batches."""
@@ -438,21 +398,9 @@ class Journal:
         ).fetchall()
         if not order:
             return
-        path = self._payloads / f"{run_id}.bin"
-        try:
-            fd = os.open(path, os.O_RDONLY)
-        except FileNotFoundError:
-            raise StorageUnavailable(
-                f"the readings of run {run_id} are no longer in the journal ({path} is missing)"
-            ) from None
-        try:
-            for group, at, size in order:
-                data = os.pread(fd, size, at)
-                if len(data) != size:
-                    raise StorageUnavailable(f"{path} is cut short at byte {at + len(data)}")
-                yield group, _decode(data)
-        finally:
-            os.close(fd)
+        places = [(at, size) for _, at, size in order]
+        for (group, _, _), data in zip(order, self._payloads.read(run_id, places), strict=True):
+            yield group, decode(data)
 
 
 class _Checkpointer:
@@ -478,16 +426,3 @@ class _Checkpointer:
     def stop(self) -> None:
         self._stop.set()
         self._thread.join()
-
-
-def _write_all(fd: int, parts: list[bytes | memoryview], at: int) -> None:
-    """Write the parts at offset ``at`` (pwritev returns short on large writes)."""
-    views = [memoryview(p).cast("B") for p in parts]
-    while views:
-        done = os.pwritev(fd, views[:_IOV_MAX], at)
-        at += done
-        while views and done >= len(views[0]):
-            done -= len(views[0])
-            views.pop(0)
-        if views and done:
-            views[0] = views[0][done:]

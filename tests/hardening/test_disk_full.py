@@ -19,7 +19,7 @@ import numpy as np
 import pytest
 from fastapi.testclient import TestClient
 
-from rigserver.storage import journal
+from rigserver.storage import payloads
 from rigserver.storage.journal import Journal
 from rigserver.storage.runfile import RunFile
 from tests.api.conftest import READER, WRITER, auth
@@ -57,7 +57,7 @@ def _full_run_file(*args: object, **kwargs: object) -> None:
 @pytest.mark.parametrize(
     ("target", "name", "fault"),
     [
-        (journal, "_write_all", _full_payload_file),  # the batch's readings
+        (payloads, "_write_all", _full_payload_file),  # the batch's readings
         (Journal, "commit", _full_sqlite),  # the journal's commit
     ],
     ids=["payload", "sqlite"],

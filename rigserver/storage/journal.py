@@ -132,7 +132,7 @@ class Journal:
         except BaseException:
             self._db.close()
             raise
-        self._payloads = PayloadFiles(path.parent / "payloads")
+        self._payloads = PayloadFiles(path.parent / "payloads", prepare=not self._full)
         self._checkpointer = _Checkpointer(path)
 
     def close(self) -> None:

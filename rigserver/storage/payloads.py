@@ -81,14 +81,20 @@ class _File:
 
 
 class PayloadFiles:
-    """The payload files in ``directory``; not thread-safe (the journal's caller serialises
-    the calls), but for the preparing thread, which only ever writes at or past ``ready``."""
+    """The payload files in ``directory``, prepared ahead unless ``prepare`` is false; not
+    thread-safe (the journal's caller serialises the calls), but for the preparing thread,
+    which only ever writes at or past ``ready``.
 
-    def __init__(self, directory: Path) -> None:
+    The journal does not prepare when every commit fsyncs its payload files
+    (``synchronous=full``): the fsync would write the zeros to disk, and then the batch
+    written over them again.
+    """
+
+    def __init__(self, directory: Path, *, prepare: bool = True) -> None:
         self.directory = directory
         directory.mkdir(exist_ok=True)
         self._files: dict[str, _File] = {}
-        self._preparer = _Preparer()
+        self._preparer = _Preparer() if prepare else None
 
     def _path(self, run_id: str) -> Path:
         return self.directory / f"{run_id}.bin"
@@ -111,9 +117,12 @@ class PayloadFiles:
         file = self._files[run_id]
         at = file.end
         file.end += size
-        self._preparer.claim(file, file.end)
+        if self._preparer is not None:
+            self._preparer.claim(file, file.end)
         _write_all(file.fd, parts, at)
-        self._preparer.want(file, file.end, ahead=min(PREPARE_MAX, max(PREPARE_STEP, 2 * size)))
+        if self._preparer is not None:
+            ahead = min(PREPARE_MAX, max(PREPARE_STEP, 2 * size))
+            self._preparer.want(file, file.end, ahead)
 
     def sync(self, run_id: str) -> None:
         """fsync the run's file."""
@@ -145,12 +154,14 @@ class PayloadFiles:
         """Close and delete the run's file."""
         found = self._files.pop(run_id, None)
         if found is not None:
-            self._preparer.forget(found)
+            if self._preparer is not None:
+                self._preparer.forget(found)
             os.close(found.fd)
         self._path(run_id).unlink(missing_ok=True)
 
     def close(self) -> None:
-        self._preparer.stop()
+        if self._preparer is not None:
+            self._preparer.stop()
         for file in self._files.values():
             os.close(file.fd)
         self._files.clear()

@@ -89,6 +89,18 @@ def test_the_file_is_prepared_ahead_of_its_end(tmp_path: Path, size: int, ahead:
         files.close()
 
 
+def test_files_of_a_journal_that_fsyncs_every_commit_are_not_prepared(tmp_path: Path) -> None:
+    files = PayloadFiles(tmp_path, prepare=False)
+    try:
+        files.end("run", committed=lambda: 0)
+        files.append("run", [_batch(3 * MiB, 1)], 3 * MiB)
+        time.sleep(0.05)
+        assert _size(tmp_path / "run.bin") == 3 * MiB
+        assert list(files.read("run", [(0, 3 * MiB)])) == [_batch(3 * MiB, 1)]
+    finally:
+        files.close()
+
+
 def test_small_batches_wake_the_preparer_once_a_half_step(tmp_path: Path) -> None:
     files = PayloadFiles(tmp_path)
     try:

@@ -14,7 +14,7 @@ from fastapi.testclient import TestClient
 from rigserver.api.app import create_app
 from rigserver.api.auth import ApiKey
 from rigserver.api.routes import pages
-from rigserver.api.sessions import SESSION_SECONDS, Sessions
+from rigserver.api.sessions import COOKIE, SESSION_SECONDS, Sessions
 from rigserver.api.settings import Settings
 from rigserver.reports.formatting import fmt
 from rigserver.storage import MemoryStore
@@ -169,6 +169,24 @@ def test_a_read_key_given_once_becomes_a_session_for_reads_only(tmp_path: Path) 
         assert opened.status_code == 401  # never a write by cookie
         client.post("/logout")
         assert client.get("/").status_code == 303
+
+
+def test_a_cookie_of_no_live_session_shows_no_log_out(
+    site: tuple[TestClient, dict[str, str]],
+) -> None:
+    """Public reads: a page is served to anyone, and a cookie left from an expired session
+    (or from before a restart) is no session to log out of."""
+    client, _ = site
+    client.cookies.set(COOKIE, "left-from-before-a-restart")
+    try:
+        page = client.get("/")
+        assert page.status_code == 200 and 'action="/logout"' not in page.text
+        client.cookies.delete(COOKIE)
+        answer = client.post("/login", data={"key": READER, "next": "/"}, follow_redirects=False)
+        assert answer.status_code == 303
+        assert 'action="/logout"' in client.get("/").text  # a live session: the button
+    finally:
+        client.cookies.clear()
 
 
 @pytest.mark.parametrize(

@@ -14,7 +14,7 @@ from fastapi.responses import HTMLResponse, RedirectResponse
 from fastapi.staticfiles import StaticFiles
 
 from rigserver.api.auth import READ
-from rigserver.api.deps import ServicesDep, caller_of, require_scope
+from rigserver.api.deps import Services, ServicesDep, caller_of, require_scope
 from rigserver.api.problems import ApiProblem
 from rigserver.api.routes.runs import load_run
 from rigserver.api.sessions import COOKIE, SESSION_SECONDS
@@ -124,7 +124,7 @@ def runs(
         offset=offset,
         limit=PAGE_SIZE,
         lang=chosen,
-        signed_in=COOKIE in request.cookies,
+        signed_in=_signed_in(request, services),
     )
     return HTMLResponse(html, headers={"Content-Language": chosen, "Vary": "Accept-Language"})
 
@@ -139,7 +139,7 @@ def run(
         run=found,
         stand=services.stand_of(found),
         lang=chosen,
-        signed_in=COOKIE in request.cookies,
+        signed_in=_signed_in(request, services),
     )
     return HTMLResponse(html, headers={"Content-Language": chosen, "Vary": "Accept-Language"})
 
@@ -189,6 +189,13 @@ def logout(request: Request, services: ServicesDep) -> Response:
     response = RedirectResponse("/login", status_code=303)
     response.delete_cookie(COOKIE, path="/")
     return response
+
+
+def _signed_in(request: Request, services: Services) -> bool:
+    """Whether the browser holds a live session (a cookie left from an expired session or
+    from before a restart is none: no log-out button for it)."""
+    token = request.cookies.get(COOKIE)
+    return token is not None and services.sessions.find(token) is not None
 
 
 def _local(target: str) -> str:

@@ -7,7 +7,7 @@ import errno
 import os
 import threading
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from pathlib import Path
 
 import numpy as np
@@ -47,15 +47,48 @@ def test_encode_and_decode_round_trip() -> None:
         np.testing.assert_array_equal(back[name], values)
 
 
+def _opened(directory: Path, *, prepare: bool = True) -> PayloadFiles:
+    files = PayloadFiles(directory, prepare=prepare)
+    files.end("run", committed=lambda: 0)
+    return files
+
+
+@pytest.fixture
+def files(tmp_path: Path) -> Iterator[PayloadFiles]:
+    """Payload files in ``tmp_path`` with the new file of run "run" open."""
+    opened = _opened(tmp_path)
+    yield opened
+    opened.close()
+
+
+@pytest.fixture
+def preparing(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Iterator[PayloadFiles]:
+    """As ``files``, after a batch of 100 bytes, while zeros are on their way to
+    [100, 100 + PREPARE_STEP): each write of zeros takes 0.2 s (a slow disk)."""
+    started = threading.Event()
+    write = os.pwrite
+
+    def slow(fd: int, data: bytes | memoryview, at: int) -> int:
+        started.set()
+        time.sleep(0.2)
+        return write(fd, data, at)
+
+    monkeypatch.setattr(payloads.os, "pwrite", slow)
+    opened = _opened(tmp_path)
+    opened.append("run", [b"a" * 100], 100)
+    assert started.wait(10)
+    yield opened
+    opened.close()
+
+
 # Batches of up to 3 MiB back to back keep the preparer busy right where the next batch
-# goes: a zero written over a batch (the writer not waiting for the step in progress)
-# shows as a difference.
+# goes: a zero written over a batch shows as a difference.
 @settings(max_examples=25, deadline=None)
 @given(sizes=st.lists(st.integers(1, 3 * MiB), min_size=1, max_size=12), seed=st.integers(0, 99))
 def test_batches_read_back_as_written_while_the_pages_are_prepared(
     tmp_path_factory: pytest.TempPathFactory, sizes: list[int], seed: int
 ) -> None:
-    files = PayloadFiles(tmp_path_factory.mktemp("payloads"))
+    files = _opened(tmp_path_factory.mktemp("payloads"))
     try:
         places, written = [], []
         for i, size in enumerate(sizes):
@@ -75,24 +108,19 @@ def test_batches_read_back_as_written_while_the_pages_are_prepared(
     [(100, PREPARE_STEP), (3 * MiB, 6 * MiB), (40 * MiB, PREPARE_MAX)],
     ids=["small: one step", "twice the batch", "at most PREPARE_MAX"],
 )
-def test_the_file_is_prepared_ahead_of_its_end(tmp_path: Path, size: int, ahead: int) -> None:
-    files = PayloadFiles(tmp_path)
-    try:
-        files.end("run", committed=lambda: 0)
-        files.append("run", [_batch(size, 1)], size)
-        assert _until(lambda: _size(tmp_path / "run.bin") >= size + ahead)
-        time.sleep(0.05)
-        assert _size(tmp_path / "run.bin") == size + ahead  # and no further
-        (data,) = files.read("run", [(0, size)])
-        assert data == _batch(size, 1)
-    finally:
-        files.close()
+def test_the_file_is_prepared_ahead_of_its_end(
+    files: PayloadFiles, tmp_path: Path, size: int, ahead: int
+) -> None:
+    files.append("run", [_batch(size, 1)], size)
+    assert _until(lambda: _size(tmp_path / "run.bin") >= size + ahead)
+    time.sleep(0.05)
+    assert _size(tmp_path / "run.bin") == size + ahead  # and no further
+    assert list(files.read("run", [(0, size)])) == [_batch(size, 1)]
 
 
 def test_files_of_a_journal_that_fsyncs_every_commit_are_not_prepared(tmp_path: Path) -> None:
-    files = PayloadFiles(tmp_path, prepare=False)
+    files = _opened(tmp_path, prepare=False)
     try:
-        files.end("run", committed=lambda: 0)
         files.append("run", [_batch(3 * MiB, 1)], 3 * MiB)
         time.sleep(0.05)
         assert _size(tmp_path / "run.bin") == 3 * MiB
@@ -101,24 +129,20 @@ def test_files_of_a_journal_that_fsyncs_every_commit_are_not_prepared(tmp_path: 
         files.close()
 
 
-def test_small_batches_wake_the_preparer_once_a_half_step(tmp_path: Path) -> None:
-    files = PayloadFiles(tmp_path)
-    try:
-        files.end("run", committed=lambda: 0)
-        files.append("run", [b"x" * 100], 100)
-        assert _until(lambda: _size(tmp_path / "run.bin") >= 100 + PREPARE_STEP)
-        for _ in range(99):  # 9 900 bytes more: less than half a step, asks for nothing
-            files.append("run", [b"y" * 100], 100)
-        time.sleep(0.05)
-        assert _size(tmp_path / "run.bin") == 100 + PREPARE_STEP
-    finally:
-        files.close()
+def test_small_batches_wake_the_preparer_once_a_half_step(
+    files: PayloadFiles, tmp_path: Path
+) -> None:
+    files.append("run", [b"x" * 100], 100)
+    assert _until(lambda: _size(tmp_path / "run.bin") >= 100 + PREPARE_STEP)
+    for _ in range(99):  # 9 900 bytes more: less than half a step, asks for nothing
+        files.append("run", [b"y" * 100], 100)
+    time.sleep(0.05)
+    assert _size(tmp_path / "run.bin") == 100 + PREPARE_STEP
 
 
 def test_a_reopened_file_goes_on_after_the_last_committed_batch(tmp_path: Path) -> None:
     """The zeros past the committed end (and a batch whose commit failed) are written over."""
-    files = PayloadFiles(tmp_path)
-    files.end("run", committed=lambda: 0)
+    files = _opened(tmp_path)
     files.append("run", [b"a" * 1000], 1000)
     files.append("run", [b"b" * 1000], 1000)  # say its commit failed
     assert _until(lambda: _size(tmp_path / "run.bin") >= 1000 + PREPARE_STEP)
@@ -134,7 +158,7 @@ def test_a_reopened_file_goes_on_after_the_last_committed_batch(tmp_path: Path) 
 
 
 def test_a_failure_to_prepare_leaves_the_batches_to_their_own_write(
-    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+    files: PayloadFiles, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     """The disk full for the zeros: the batch is written all the same (its own write
     reports a full disk), and preparing resumes once it succeeds."""
@@ -142,65 +166,27 @@ def test_a_failure_to_prepare_leaves_the_batches_to_their_own_write(
     def full(*args: object) -> int:
         raise OSError(errno.ENOSPC, "No space left on device")
 
-    files = PayloadFiles(tmp_path)
-    try:
-        with monkeypatch.context() as m:
-            m.setattr(payloads.os, "pwrite", full)
-            files.end("run", committed=lambda: 0)
-            files.append("run", [b"a" * 1000], 1000)
-            time.sleep(0.05)
-            assert _size(tmp_path / "run.bin") == 1000
-        files.append("run", [b"b" * 1000], 1000)
-        assert _until(lambda: _size(tmp_path / "run.bin") >= 2000 + PREPARE_STEP)
-        assert list(files.read("run", [(0, 1000), (1000, 1000)])) == [b"a" * 1000, b"b" * 1000]
-    finally:
-        files.close()
+    with monkeypatch.context() as m:
+        m.setattr(payloads.os, "pwrite", full)
+        files.append("run", [b"a" * 1000], 1000)
+        time.sleep(0.05)
+        assert _size(tmp_path / "run.bin") == 1000
+    files.append("run", [b"b" * 1000], 1000)
+    assert _until(lambda: _size(tmp_path / "run.bin") >= 2000 + PREPARE_STEP)
+    assert list(files.read("run", [(0, 1000), (1000, 1000)])) == [b"a" * 1000, b"b" * 1000]
 
 
-@pytest.fixture
-def slow_preparer(monkeypatch: pytest.MonkeyPatch) -> threading.Event:
-    """Each write of zeros takes 0.2 s (a slow disk): set once one has started."""
-    started = threading.Event()
-    write = os.pwrite
-
-    def slow(fd: int, data: bytes | memoryview, at: int) -> int:
-        started.set()
-        time.sleep(0.2)
-        return write(fd, data, at)
-
-    monkeypatch.setattr(payloads.os, "pwrite", slow)
-    return started
+def test_a_batch_waits_for_the_step_in_progress_where_it_goes(preparing: PayloadFiles) -> None:
+    batch = _batch(2 * PREPARE_STEP, 3)
+    preparing.append("run", [batch], len(batch))
+    time.sleep(0.3)  # the step done, had it not been waited for
+    assert list(preparing.read("run", [(100, len(batch))])) == [batch]
 
 
-def test_a_batch_waits_for_the_step_in_progress_where_it_goes(
-    tmp_path: Path, slow_preparer: threading.Event
-) -> None:
-    files = PayloadFiles(tmp_path)
-    try:
-        files.end("run", committed=lambda: 0)
-        files.append("run", [b"a" * 100], 100)
-        assert slow_preparer.wait(10)  # zeros on their way to [100, 100 + PREPARE_STEP)
-        batch = _batch(2 * PREPARE_STEP, 3)
-        files.append("run", [batch], len(batch))
-        time.sleep(0.3)  # the step done, had it not been waited for
-        assert list(files.read("run", [(100, len(batch))])) == [batch]
-    finally:
-        files.close()
-
-
-def test_dropping_a_file_while_it_is_prepared(
-    tmp_path: Path, slow_preparer: threading.Event
-) -> None:
-    files = PayloadFiles(tmp_path)
-    try:
-        files.end("run", committed=lambda: 0)
-        files.append("run", [b"a" * 100], 100)
-        assert slow_preparer.wait(10)
-        files.drop("run")
-        assert files.stored() == []
-        other = os.open(tmp_path / "other", os.O_RDWR | os.O_CREAT)  # may reuse the fd
-        time.sleep(0.3)
-        assert os.fstat(other).st_size == 0  # the preparer wrote to no reused descriptor
-        os.close(other)
-    finally:
-        files.close()
+def test_dropping_a_file_while_it_is_prepared(preparing: PayloadFiles, tmp_path: Path) -> None:
+    preparing.drop("run")
+    assert preparing.stored() == []
+    other = os.open(tmp_path / "other", os.O_RDWR | os.O_CREAT)  # may reuse the fd
+    time.sleep(0.3)
+    assert os.fstat(other).st_size == 0  # the preparer wrote to no reused descriptor
+    os.close(other)

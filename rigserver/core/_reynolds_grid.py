@@ -120,13 +120,19 @@ class Stencil:
 
     ``east[i, j]`` couples (i, j) with (i+1, j) (periodic); ``north[i, j]`` couples (i, j)
     with (i, j+1), and its last column is the face to the edge z = a (Π = 0 there);
-    ``diag`` is the sum of all face coefficients of the cell; ``rhs`` is b.
+    ``diag`` is the sum of all face coefficients of the cell; ``rhs`` is b. What b is made
+    of, per column i (shape (n_phi,)): ``couette[i] = 6μ̄·Δz·Ω·H(φ_i + Δφ/2)``, the Couette
+    flux through the east face of a full film, and ``squeeze[i] = 12μ̄·Δz·∫_cell ∂H/∂τ dφ``;
+    ``b = -(couette - couette_west + squeeze)·row_weight``.
     """
 
     east: FloatArray
     north: FloatArray
     diag: FloatArray
     rhs: FloatArray
+    couette: FloatArray
+    squeeze: FloatArray
+    row_weight: FloatArray
 
     def apply(self, values: FloatArray) -> FloatArray:
         """K·Π on the block (edge values 0; the mirror condition built in)."""
@@ -155,10 +161,11 @@ def stencil(
     """
     _, _, _, ce, se = _trig(grid.n_phi)
     h, h_east = film_thickness(grid, chi_x, chi_y)
-    h_west = np.roll(h_east, 1)
     # ∫ over the cell of ∂H/∂τ dφ, exactly: -vel_x·[sin φ] + vel_y·[cos φ] from west to east.
     sq = -vel_x * (se - np.roll(se, 1)) + vel_y * (ce - np.roll(ce, 1))
-    source = 6.0 * mu_bar * grid.d_z * (omega * (h_east - h_west) + 2.0 * sq)
+    couette = 6.0 * mu_bar * grid.d_z * omega * h_east
+    squeeze = 12.0 * mu_bar * grid.d_z * sq
+    source = couette - np.roll(couette, 1) + squeeze
     w = grid.row_weight
     m = grid.n_rows
     east = np.outer(h_east**3 * (grid.d_z / grid.d_phi), w)
@@ -170,7 +177,15 @@ def stencil(
     south[:, 0] = 0.0 if grid.mirror else north[:, 0]
     diag = east + np.roll(east, 1, axis=0) + north + south
     rhs = -np.outer(source, w)
-    return Stencil(east=east, north=north, diag=diag, rhs=rhs)
+    return Stencil(
+        east=east,
+        north=north,
+        diag=diag,
+        rhs=rhs,
+        couette=couette,
+        squeeze=squeeze,
+        row_weight=w,
+    )
 
 
 def sparse_operator(st: Stencil) -> sp.csr_matrix:

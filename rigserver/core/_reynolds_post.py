@@ -38,7 +38,7 @@ class Integrals:
     film_fraction: FloatArray
 
 
-def film_fraction(ruptured: BoolArray, film: FloatArray, omega: float) -> FloatArray:
+def streamer_fraction(ruptured: BoolArray, film: FloatArray, omega: float) -> FloatArray:
     """θ = H_r/H in the ruptured film, 1 elsewhere.
 
     Downstream of rupture the oil runs in streamers carried by the journal without a
@@ -126,18 +126,23 @@ def integrate(
     *,
     omega: float,
     mu_bar: float,
+    film_fraction: FloatArray | None = None,
 ) -> Integrals:
     """Integrals of the field ``p`` (edges included); see the module docstring for scales.
 
     Forces on the journal F = -∫∫Π·(cos φ, sin φ) dφ dz. Shear stress on the journal
     τ = θ·μ̄Ω/H + (H/2)∂Π/∂φ, on the bush θ·μ̄Ω/H - (H/2)∂Π/∂φ (Couette plus Poiseuille
-    parts of the film's velocity profile; Hamrock [1], ch. 10), θ the film fraction.
+    parts of the film's velocity profile; Hamrock [1], ch. 10), θ the film fraction: as
+    solved for (``film_fraction``, interior rows, shape (n_phi, n_z - 1)), else from the
+    streamers of :func:`streamer_fraction`.
     """
     dphi, dz = grid.d_phi, grid.d_z
     phi = grid.phi
     fx, fy = film_force(grid, p)
 
-    theta = film_fraction(ruptured[:, 1:-1], film, omega)
+    if film_fraction is None:
+        film_fraction = streamer_fraction(ruptured[:, 1:-1], film, omega)
+    theta = film_fraction
     theta = np.concatenate([theta[:, :1], theta, theta[:, -1:]], axis=1)
     zw = np.full(grid.n_z + 1, dz)
     zw[[0, -1]] = dz / 2.0

@@ -3,9 +3,10 @@
 Between the two asymptotes of lab work 3, the short bearing (3.10)-(3.12) and the infinitely
 long one (3.15), lies the real bearing of finite B/D. This module solves the manual's
 dimensionless Reynolds equation (3.1)-(3.6) for it, with the Reynolds (Swift-Stieber)
-cavitation condition as a complementarity problem, the half-Sommerfeld (Gümbel) condition,
-or none, and integrates what the design tables give: load, attitude, Sommerfeld number,
-friction, flows, pressure maximum; the inverse problem (load → eccentricity) and the eight
+cavitation condition or the mass-conserving Jakobsson-Floberg-Olsson one (film reformation)
+as complementarity problems, the half-Sommerfeld (Gümbel) condition, or none, and
+integrates what the design tables give: load, attitude, Sommerfeld number, friction, flows,
+pressure maximum; the inverse problem (load → eccentricity) and the eight
 linearised stiffness and damping coefficients.
 
 Frame and signs (figure 3.2 of the manual): the bush is fixed; φ is measured from the X axis
@@ -35,6 +36,7 @@ from scipy.optimize import brentq
 from rigserver.core import _reynolds_lcp as lcp
 from rigserver.core._checks import finite, non_negative, one_of, positive, within
 from rigserver.core._reynolds_grid import FloatArray, Grid, film_thickness, make_grid, stencil
+from rigserver.core._reynolds_jfo import solve_mass_conserving
 from rigserver.core._reynolds_lcp import BoolArray
 from rigserver.core._reynolds_post import Integrals, film_force, integrate
 from rigserver.core.errors import ModelInputError
@@ -59,9 +61,11 @@ __all__ = [
     "solve_reynolds",
 ]
 
-#: Cavitation conditions: Swift-Stieber as a complementarity problem, Gümbel's clipping of
-#: the Sommerfeld field, and none (negative pressures kept, the full Sommerfeld film).
-CAVITATION_MODELS = ("reynolds", "half_sommerfeld", "sommerfeld")
+#: Cavitation conditions: Swift-Stieber as a complementarity problem, the mass-conserving
+#: Jakobsson-Floberg-Olsson condition (Elrod's p-θ model, film reformation included) as
+#: another, Gümbel's clipping of the Sommerfeld field, and none (negative pressures kept, the
+#: full Sommerfeld film).
+CAVITATION_MODELS = ("reynolds", "jfo", "half_sommerfeld", "sommerfeld")
 #: Default grid: intervals in φ over 2π and in z over the full width (issue 5).
 DEFAULT_N_PHI = 144
 DEFAULT_N_Z = 48
@@ -140,7 +144,8 @@ class ReynoldsSolution:
         Nodes of the ruptured (cavitated) film; with the half-Sommerfeld condition, those where
         the Sommerfeld field was negative.
     film_fraction : ndarray, shape (n_phi, n_z + 1)
-        θ, the share of the clearance filled with oil (1 in the full film).
+        θ, the share of the clearance filled with oil (1 in the full film): solved for by
+        ``"jfo"``; otherwise carried from the rupture line by the streamers.
     force_x, force_y : float
         Film force on the journal in the bush frame, unit μ0ω0R⁴/h0².
     load : float
@@ -317,11 +322,13 @@ def _prolong(coarse: BoolArray, n_phi: int, n_z: int) -> BoolArray:
 
 @dataclass(frozen=True, slots=True)
 class _Field:
-    """Π and the ruptured set on the full node grid, the supply nodes, how the solve ended."""
+    """Π, the ruptured set and θ (solved for by "jfo", else None) on the full node grid, the
+    supply nodes, how the solve ended."""
 
     grid: Grid
     pressure: FloatArray
     ruptured: BoolArray
+    film_fraction: FloatArray | None
     fixed: BoolArray
     iterations: int
     converged: bool
@@ -350,7 +357,22 @@ def _field(
     fixed_full, values_full = _supply_nodes(grid, pb.supply)
     fixed, fixed_values = fixed_full[:, rows], values_full[:, rows]
     iterations, converged = 1, True
-    if pb.cavitation == "reynolds":
+    theta_block: FloatArray | None = None
+    if pb.cavitation == "jfo":
+        if guess is None:  # start from the Swift-Stieber rupture
+            reynolds = replace(pb, cavitation="reynolds")
+            guess = _field(reynolds, chi_x, chi_y, vel_x, vel_y, None).ruptured
+        jfo = solve_mass_conserving(
+            st,
+            fixed,
+            fixed_values,
+            guess[:, rows],
+            omega=pb.omega,
+            max_iter=MAX_ACTIVE_SET_ITERATIONS,
+        )
+        block, ruptured_block, theta_block = jfo.values, jfo.ruptured, jfo.film_fraction
+        iterations, converged = jfo.iterations, jfo.converged
+    elif pb.cavitation == "reynolds":
         coarse_pb = _coarser(pb) if guess is None else None
         if coarse_pb is not None:
             coarse = _field(coarse_pb, chi_x, chi_y, vel_x, vel_y, None)
@@ -373,11 +395,17 @@ def _field(
     ruptured = np.zeros(p.shape, dtype=bool)
     p[:, rows] = block
     ruptured[:, rows] = ruptured_block
+    theta = None
+    if theta_block is not None:
+        theta = np.ones(p.shape)
+        theta[:, rows] = theta_block
     if grid.mirror:
         mirrored = grid.n_z - np.arange(grid.first_row)  # z_j = -z_(n_z - j)
         p[:, : grid.first_row] = p[:, mirrored]
         ruptured[:, : grid.first_row] = ruptured[:, mirrored]
-    return _Field(grid, p, ruptured, fixed_full, iterations, converged)
+        if theta is not None:
+            theta[:, : grid.first_row] = theta[:, mirrored]
+    return _Field(grid, p, ruptured, theta, fixed_full, iterations, converged)
 
 
 def _solve(
@@ -392,7 +420,14 @@ def _solve(
     f = _field(pb, chi_x, chi_y, vel_x, vel_y, guess)
     h = film_thickness(f.grid, chi_x, chi_y)[0]
     ig: Integrals = integrate(
-        f.grid, f.pressure, f.ruptured, f.fixed, h, omega=pb.omega, mu_bar=pb.mu_bar
+        f.grid,
+        f.pressure,
+        f.ruptured,
+        f.fixed,
+        h,
+        omega=pb.omega,
+        mu_bar=pb.mu_bar,
+        film_fraction=None if f.film_fraction is None else f.film_fraction[:, 1:-1],
     )
     return ReynoldsSolution(
         phi=f.grid.phi,
@@ -432,6 +467,12 @@ def _problem(
 ) -> _Problem:
     a = float(positive("half_width", half_width))
     sup = _check_supply(supply, a)
+    if cavitation == "jfo" and not sup:
+        raise ModelInputError(
+            "cavitation 'jfo' conserves the oil's mass and needs a supply to fill the film "
+            "(supply=[SupplyGroove(...)] or [SupplyHole(...)]); without one the film is "
+            "starved"
+        )
     return _Problem(
         n_phi=_grid_size("n_phi", n_phi, DEFAULT_N_PHI, 16),
         n_z=_grid_size("n_z", n_z, DEFAULT_N_Z, 4),
@@ -481,8 +522,12 @@ def solve_reynolds(
 
     G = Ω - 2δ', E = 2χ' (3.3)-(3.4); Π = 0 at z = ±a, Π = Π_ok on the supplies (3.5), and
     the cavitation condition: ``"reynolds"`` Π ≥ 0 with ∂Π/∂n = 0 at rupture (solved as the
-    complementarity problem Π ≥ 0, KΠ - b ≥ 0, Π·(KΠ - b) = 0); ``"half_sommerfeld"`` the
-    full-film field with its negative part set to 0 (Gümbel); ``"sommerfeld"`` none.
+    complementarity problem Π ≥ 0, KΠ - b ≥ 0, Π·(KΠ - b) = 0); ``"jfo"`` the
+    mass-conserving Jakobsson-Floberg-Olsson condition, in which the ruptured film runs in
+    streamers filling a fraction θ of the clearance and reforms where they fill it again
+    (Elrod's p-θ model as the complementarity problem Π ≥ 0, 1 - θ ≥ 0, Π·(1 - θ) = 0;
+    needs a supply; the squeeze term takes θ frozen); ``"half_sommerfeld"`` the full-film
+    field with its negative part set to 0 (Gümbel); ``"sommerfeld"`` none.
 
     Parameters
     ----------
@@ -503,7 +548,7 @@ def solve_reynolds(
     n_phi, n_z : int, optional
         Grid intervals in φ (over 2π, >= 16) and in z (over the full width, >= 4);
         144 x 48 by default.
-    cavitation : {"reynolds", "half_sommerfeld", "sommerfeld"}
+    cavitation : {"reynolds", "jfo", "half_sommerfeld", "sommerfeld"}
         Condition where the film would go below ambient pressure.
     use_symmetry : bool
         Solve the upper half z >= 0 only when the problem is symmetric about z = 0 (no hole
@@ -680,8 +725,9 @@ def finite_bearing(
         B/D, > 0.
     n_phi, n_z : int, optional
         Grid (default 144 x 48, n_z over the full width).
-    cavitation : {"reynolds", "half_sommerfeld", "sommerfeld"}
-        Cavitation condition (see :func:`solve_reynolds`).
+    cavitation : {"reynolds", "jfo", "half_sommerfeld", "sommerfeld"}
+        Cavitation condition (see :func:`solve_reynolds`; with the groove at the thickest
+        film "jfo" gives the Reynolds condition's field, the film reforming at the groove).
 
     Returns
     -------

@@ -18,10 +18,14 @@ and Elrod's p-θ model [2] is the linear complementarity problem of Giacopini et
 active-set idea of :mod:`~rigserver.core._reynolds_lcp`: guess the ruptured set C, solve
 the linear system for Π off C and r on C (a sparse LU: G is not symmetric), move the nodes
 where Π < 0 into C and those where r < 0 (θ > 1) out of it, until C stops changing.
-Started from the Swift-Stieber solution's ruptured set, it ends in a few steps.
+Started from the Swift-Stieber solution's ruptured set, it ends in a few steps. The matrix
+is no M-matrix, and the iteration can cycle: a set seen before is then left by moving only
+the node that violates its condition most.
 
-A z line ruptured all round with no supply on it carries any amount of oil: the system is
-singular there and the iteration reports that it did not converge.
+A film fed by a supply at ambient pressure that does not reach every z line (a hole, a
+short groove) starves the lines it does not reach: no oil gets there, any amount could run
+round them, and the system is singular; the iteration then reports that it did not
+converge. A supply above ambient pressure, or a groove along the whole length, feeds them.
 
 References
 ----------
@@ -97,6 +101,7 @@ def solve_mass_conserving(
     pressure = np.zeros(st.rhs.size)
     missing = np.zeros(st.rhs.size)
     pressure[fixed_flat] = fixed_values.ravel()[fixed_flat]
+    seen: set[bytes] = set()
     it = 0
     for it in range(1, max_iter + 1):
         system = sp.hstack([k_rows[:, unknown[~in_c]], -g_rows[:, unknown[in_c]]]).tocsc()
@@ -112,11 +117,18 @@ def solve_mass_conserving(
         p_u, r_u = np.zeros(unknown.size), np.zeros(unknown.size)
         p_u[~in_c], r_u[in_c] = x[:n_full], x[n_full:]
         # Round-off must not flip nodes where Π = r = 0 back and forth.
-        tol_p = ROUND_OFF * float(np.max(np.abs(p_u), initial=0.0))
-        new = (in_c & (r_u >= -ROUND_OFF)) | (~in_c & (p_u < -tol_p))
+        scale_p = float(np.max(np.abs(p_u), initial=0.0))
+        violation = np.where(in_c, -r_u, -p_u / scale_p if scale_p > 0 else 0.0)
+        flip = violation > ROUND_OFF
         pressure[unknown], missing[unknown] = p_u, r_u
-        if np.array_equal(new, in_c):
+        if not flip.any():
             return _solution(pressure, missing, unknown[in_c], st.rhs.shape, it, converged=True)
+        seen.add(in_c.tobytes())
+        new = in_c ^ flip
+        if new.tobytes() in seen:  # a cycle (G is no M-matrix): flip the worst node alone
+            new = in_c.copy()
+            worst = int(np.argmax(violation))
+            new[worst] = not new[worst]
         in_c = new
     return _solution(pressure, missing, unknown[in_c], st.rhs.shape, it, converged=False)
 

@@ -102,6 +102,7 @@ def solve_mass_conserving(
     missing = np.zeros(st.rhs.size)
     pressure[fixed_flat] = fixed_values.ravel()[fixed_flat]
     seen: set[bytes] = set()
+    solved = in_c  # the set of the last solve
     it = 0
     for it in range(1, max_iter + 1):
         system = sp.hstack([k_rows[:, unknown[~in_c]], -g_rows[:, unknown[in_c]]]).tocsc()
@@ -120,7 +121,7 @@ def solve_mass_conserving(
         scale_p = float(np.max(np.abs(p_u), initial=0.0))
         violation = np.where(in_c, -r_u, -p_u / scale_p if scale_p > 0 else 0.0)
         flip = violation > ROUND_OFF
-        pressure[unknown], missing[unknown] = p_u, r_u
+        pressure[unknown], missing[unknown], solved = p_u, r_u, in_c
         if not flip.any():
             return _solution(pressure, missing, unknown[in_c], st.rhs.shape, it, converged=True)
         seen.add(in_c.tobytes())
@@ -130,7 +131,7 @@ def solve_mass_conserving(
             worst = int(np.argmax(violation))
             new[worst] = not new[worst]
         in_c = new
-    return _solution(pressure, missing, unknown[in_c], st.rhs.shape, it, converged=False)
+    return _solution(pressure, missing, unknown[solved], st.rhs.shape, it, converged=False)
 
 
 def _solution(

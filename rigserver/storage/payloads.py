@@ -104,9 +104,10 @@ class PayloadFiles:
         asked when the file is opened), over whatever a failed write or preparing left."""
         found = self._files.get(run_id)
         if found is None:
+            end = committed()
             fd = os.open(self._path(run_id), os.O_RDWR | os.O_CREAT, 0o644)
             size = os.fstat(fd).st_size
-            found = self._files[run_id] = _File(fd, committed(), size, size)
+            found = self._files[run_id] = _File(fd, end, size, size)
         return found.end
 
     def append(self, run_id: str, parts: Sequence[bytes | memoryview], size: int) -> None:

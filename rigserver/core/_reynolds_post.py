@@ -140,9 +140,11 @@ def integrate(
     phi = grid.phi
     fx, fy = film_force(grid, p)
 
-    if film_fraction is None:
-        film_fraction = streamer_fraction(ruptured[:, 1:-1], film, omega)
-    theta = film_fraction
+    theta = (
+        streamer_fraction(ruptured[:, 1:-1], film, omega)
+        if film_fraction is None
+        else film_fraction
+    )
     theta = np.concatenate([theta[:, :1], theta, theta[:, -1:]], axis=1)
     zw = np.full(grid.n_z + 1, dz)
     zw[[0, -1]] = dz / 2.0

@@ -191,8 +191,9 @@ class _Preparer:
                 file.ready = max(file.ready, end)
 
     def want(self, file: _File, end: int, ahead: int) -> None:
-        """Prepare ``file`` up to ``end + ahead``, if that is at least half of ``ahead`` or a
-        step past what it was asked before (small batches wake the thread once a step)."""
+        """Prepare ``file`` up to ``end + ahead``, if that is past what it was asked before
+        by half of ``ahead`` or a step, whichever is less (small batches wake the thread once
+        per half step)."""
         with self._cond:
             if end + ahead - file.wanted >= min(ahead // 2, PREPARE_STEP):
                 file.wanted = end + ahead

@@ -35,6 +35,19 @@ def auth(key: str) -> dict[str, str]:
     return {"Authorization": f"Bearer {key}"}
 
 
+def read_columns(url: str, run_id: str, group: str) -> dict[str, list[float]]:
+    """A stored run's channel group as columns, read over HTTP from the server at ``url``."""
+    r = httpx.get(
+        f"{url}/api/v1/runs/{run_id}/readings",
+        params={"group": group},
+        headers=auth(READER),
+        timeout=60,
+    )
+    r.raise_for_status()
+    columns: dict[str, list[float]] = r.json()[group]["columns"]
+    return columns
+
+
 @pytest.fixture
 def client(tmp_path: Path) -> Iterator[TestClient]:
     settings = Settings(data_dir=tmp_path)

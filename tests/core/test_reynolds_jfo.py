@@ -86,7 +86,9 @@ def test_what_leaves_the_hole_leaves_through_the_ends() -> None:
         from_supply = float(np.sum(balance[supply_mask(s, (HOLE,))]))
         edges = from_supply + float(np.sum(balance[~supply_mask(s, (HOLE,))]))
         assert (abs(edges - from_supply) < 1e-9 * from_supply) is closes
-        assert edges == pytest.approx(s.side_flow, rel=0.05)  # the solver's own side flow
+        # the solver's side flow takes the edge gradient to second order, this sum the
+        # scheme's faces: the same outflow up to the discretisation (2 % here with Reynolds)
+        assert edges == pytest.approx(s.side_flow, rel=0.05)
 
 
 def grooves(

@@ -12,22 +12,10 @@ import pytest
 
 from rigsim.client import LabClient, RunOutcome
 from rigsim.stands import simulate
-from tests.api.conftest import READER, WRITER, auth
+from tests.api.conftest import WRITER, auth, read_columns
 from tests.hardening.conftest import API, friction, npz_body, open_run, serve
 
 DEADLINE = 120.0  # s: a thread still running then is a deadlock
-
-
-def readings(url: str, run_id: str, group: str) -> dict[str, list[float]]:
-    r = httpx.get(
-        f"{url}{API}/runs/{run_id}/readings",
-        params={"group": group},
-        headers=auth(READER),
-        timeout=60,
-    )
-    r.raise_for_status()
-    columns: dict[str, list[float]] = r.json()[group]["columns"]
-    return columns
 
 
 @pytest.mark.slow
@@ -63,7 +51,7 @@ def test_eight_simulated_stands_post_to_eight_runs_at_once(tmp_path: Path) -> No
             assert outcome.run.batches == len(sim.batches)
             assert outcome.results["values"]
             for group in outcome.run.rows:
-                stored = readings(server.url, outcome.run.id, group)
+                stored = read_columns(server.url, outcome.run.id, group)
                 expected = sim.columns(group)
                 assert outcome.run.rows[group] == sim.rows(group)
                 for name, values in expected.items():
@@ -133,7 +121,7 @@ def test_two_clients_race_on_one_run_with_interleaved_and_repeated_seqs(tmp_path
         fresh = [r for r in receipts[0] + receipts[1] if not r["duplicate"]]
         assert sorted(r["seq"] for r in fresh) == list(range(n))  # stored once each
         assert [first[s]["group_rows"] for s in range(n)] == [(s + 1) * rows for s in range(n)]
-        stored = readings(server.url, run_id, "friction")
+        stored = read_columns(server.url, run_id, "friction")
         np.testing.assert_array_equal(stored["time"], np.arange(n * rows))
     finally:
         server.stop()

@@ -12,7 +12,6 @@ import sys
 import threading
 import time
 
-import httpx
 import numpy as np
 import pytest
 
@@ -20,21 +19,9 @@ from rigsim.client import LabClient, RetryPolicy
 from rigsim.errors import ServerRefused
 from rigsim.instruments import Fault
 from rigsim.stands import mtos, profilometer, simulate, slide_bearing, smts2
-from tests.api.conftest import READER, WRITER, Server, auth
+from tests.api.conftest import WRITER, Server, read_columns
 
 pytestmark = pytest.mark.slow
-
-
-def _rows(server: Server, run_id: str, group: str) -> dict[str, list[float]]:
-    answer = httpx.get(
-        f"{server.url}/api/v1/runs/{run_id}/readings",
-        params={"group": group},
-        headers=auth(READER),
-        timeout=30,
-    )
-    answer.raise_for_status()
-    columns: dict[str, list[float]] = answer.json()[group]["columns"]
-    return columns
 
 
 def test_smts2(server: Server) -> None:
@@ -112,7 +99,7 @@ def test_client_survives_a_server_restart_and_stores_every_reading_once(server: 
         finished = client.finish(run.id)
     assert finished.batches == len(sim.batches)
     assert finished.rows["friction"] == sim.rows("friction")
-    stored = _rows(server, run.id, "friction")
+    stored = read_columns(server.url, run.id, "friction")
     for name, values in sim.columns("friction").items():
         assert np.array_equal(np.asarray(stored[name]), values), name
 

@@ -19,6 +19,7 @@ from rigserver.api.app import create_app
 from rigserver.api.auth import ApiKey, load_keys
 from rigserver.api.settings import Settings
 from rigserver.storage import HDF5Store
+from rigserver.storage.series import SqliteSeries
 from schemas.stands import configure_stands
 
 
@@ -73,7 +74,8 @@ def build_app(settings: Settings) -> FastAPI:
     )
     settings.data_dir.mkdir(parents=True, exist_ok=True)
     store = HDF5Store(settings.data_dir, synchronous=settings.synchronous)  # type: ignore[arg-type]
-    return create_app(settings, store, keys, configure_stands(overrides))
+    series = SqliteSeries(settings.data_dir / "series.sqlite")
+    return create_app(settings, store, keys, configure_stands(overrides), series)
 
 
 def main(argv: Sequence[str] | None = None) -> int:

@@ -14,9 +14,11 @@ from rigserver.api.body_limit import BodyLimit
 from rigserver.api.deps import Services
 from rigserver.api.rate_limit import RateLimit
 from rigserver.api.routes import live, models, pages, readings, reports, results, runs
+from rigserver.api.routes import series as series_routes
 from rigserver.api.routes import stands as stand_routes
 from rigserver.api.settings import Settings
 from rigserver.storage.base import RunStore
+from rigserver.storage.series import SeriesStore, SqliteSeries
 from schemas.stands import Stand, StandKind
 
 API_PREFIX = "/api/v1"
@@ -27,13 +29,18 @@ def create_app(
     store: RunStore,
     keys: list[ApiKey],
     stands: dict[StandKind, Stand],
+    series: SeriesStore | None = None,
 ) -> FastAPI:
-    """Build the service. Nothing is built at import time; the store is closed on shutdown."""
+    """Build the service. Nothing is built at import time; the stores are closed on shutdown.
+
+    Without a series store the series live in memory (tests, and stores without a disk)."""
+    series_store = series if series is not None else SqliteSeries(":memory:")
 
     @asynccontextmanager
     async def lifespan(app: FastAPI) -> AsyncIterator[None]:
         yield
         store.close()
+        series_store.close()
 
     app = FastAPI(
         title="rig",
@@ -45,7 +52,11 @@ def create_app(
         lifespan=lifespan,
     )
     app.state.services = Services(
-        settings=settings, store=store, stands=stands, keyring=Keyring(keys)
+        settings=settings,
+        store=store,
+        stands=stands,
+        keyring=Keyring(keys),
+        series=series_store,
     )
     problems.install(app)
     for router in (  # the ingest route first: routes are matched in order
@@ -56,6 +67,7 @@ def create_app(
         models.router,
         reports.router,
         live.router,
+        series_routes.router,
     ):
         app.include_router(router, prefix=API_PREFIX)
     pages.install(app)

@@ -19,6 +19,7 @@ from rigserver.api.problems import ApiProblem
 from rigserver.api.sessions import COOKIE, Sessions
 from rigserver.api.settings import Settings
 from rigserver.storage.base import RunStore
+from rigserver.storage.series import SeriesStore
 from schemas.runs import Run
 from schemas.stands import Stand, StandKind
 
@@ -32,6 +33,7 @@ class Services:
     store: RunStore
     stands: dict[StandKind, Stand]
     keyring: Keyring
+    series: SeriesStore
     sessions: Sessions = field(default_factory=Sessions)
     run_locks: defaultdict[str, threading.Lock] = field(
         default_factory=lambda: defaultdict(threading.Lock)

@@ -18,10 +18,13 @@ from starlette.routing import Match
 from rigserver.core.errors import ModelInputError
 from rigserver.storage.errors import (
     KeyReused,
+    MemberExists,
+    MemberNotFound,
     RunExists,
     RunNotFound,
     RunNotOpen,
     SequenceConflict,
+    SeriesNotFound,
     StorageError,
     StorageFull,
 )
@@ -75,6 +78,9 @@ _STORAGE_STATUS: list[tuple[type[StorageError], int, str]] = [
     (RunNotOpen, 409, "Run is not open"),
     (SequenceConflict, 409, "Sequence number reused"),
     (StorageFull, 507, "Storage full"),
+    (SeriesNotFound, 404, "Series not found"),
+    (MemberExists, 409, "Run in the series already"),
+    (MemberNotFound, 404, "Run not in the series"),
 ]
 
 

@@ -230,6 +230,7 @@ MESSAGES: dict[str, tuple[str, str]] = {
     "contact.plastic": ("plastic", "пластический"),
     # --- the web pages --------------------------------------------------------------------
     "page.runs": ("Runs", "Испытания"),
+    "page.series": ("Series", "Серии"),
     "page.login": ("Log in", "Вход"),
     "page.login_why": (
         "The pages show the runs to holders of a key with the scope read.",

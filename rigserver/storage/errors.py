@@ -9,7 +9,10 @@
      ├── RunNotOpen           the run is finished or aborted: it takes no more readings
      ├── SequenceConflict     a seq number reused with different content
      ├── StorageFull          the disk is full (the batch was not acknowledged)
-     └── StorageUnavailable   any other failure to make a batch durable
+     ├── StorageUnavailable   any other failure to make a batch durable
+     ├── SeriesNotFound       no series with that id
+     ├── MemberExists         the run is in the series already
+     └── MemberNotFound       the run is not in the series
 """
 
 from __future__ import annotations
@@ -44,4 +47,16 @@ class StorageFull(StorageError):
 
 
 class StorageUnavailable(StorageError):
+    pass
+
+
+class SeriesNotFound(StorageError):
+    pass
+
+
+class MemberExists(StorageError):
+    pass
+
+
+class MemberNotFound(StorageError):
     pass

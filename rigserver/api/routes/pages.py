@@ -17,9 +17,12 @@ from rigserver.api.auth import READ
 from rigserver.api.deps import Services, ServicesDep, caller_of, require_scope
 from rigserver.api.problems import ApiProblem
 from rigserver.api.routes.runs import load_run
+from rigserver.api.routes.series import series_view
 from rigserver.api.sessions import COOKIE, SESSION_SECONDS
 from rigserver.reports.i18n import Lang, negotiate
+from rigserver.reports.series_report import render_series_body
 from rigserver.web.pages import login_page, run_page, runs_page
+from rigserver.web.series_pages import series_list_page, series_page
 from schemas.channels import Violation
 from schemas.runs import RunQuery, RunState
 from schemas.stands import StandKind
@@ -138,6 +141,31 @@ def run(
     html = run_page(
         run=found,
         stand=services.stand_of(found),
+        lang=chosen,
+        signed_in=_signed_in(request, services),
+    )
+    return HTMLResponse(html, headers={"Content-Language": chosen, "Vary": "Accept-Language"})
+
+
+@router.get("/series", response_class=HTMLResponse)
+def series_list(request: Request, services: ServicesDep, lang: Lang | None = None) -> HTMLResponse:
+    chosen = negotiate(lang, request.headers.get("accept-language"))
+    html = series_list_page(
+        series=services.series.list(), lang=chosen, signed_in=_signed_in(request, services)
+    )
+    return HTMLResponse(html, headers={"Content-Language": chosen, "Vary": "Accept-Language"})
+
+
+@router.get("/series/{series_id}", response_class=HTMLResponse)
+def series(
+    series_id: str, request: Request, services: ServicesDep, lang: Lang | None = None
+) -> HTMLResponse:
+    chosen = negotiate(lang, request.headers.get("accept-language"))
+    detail, context = series_view(services, series_id, chosen)
+    html = series_page(
+        detail=detail,
+        context=context,
+        body=render_series_body(context),
         lang=chosen,
         signed_in=_signed_in(request, services),
     )

@@ -158,6 +158,7 @@ class ResultStatistics(BaseModel):
     """The statistics of one headline result across the series."""
 
     key: str = Field(description="path of the result in a run's results, e.g. friction_steady")
+    symbol: str = Field(description="the manual's symbol; per load step with the step's number")
     unit: str
     description: str
     values: list[RunValue]

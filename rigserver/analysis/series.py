@@ -41,36 +41,38 @@ _EACH = "[]"
 
 @dataclass(frozen=True, slots=True)
 class Headline:
-    """A result a series compares: its path in the results, and its uncertainty's path."""
+    """A result a series compares: its path in the results, its symbol (the manual's), and
+    the path of the run's own standard uncertainty of it, where the results hold one."""
 
     path: str
+    symbol: str
     uncertainty: str | None = None
 
 
 HEADLINES: dict[StandKind, tuple[Headline, ...]] = {
     StandKind.SMTS2: (
-        Headline("friction_steady"),
-        Headline("experimental.intensity"),
-        Headline("experimental.volume"),
-        Headline("experimental.mass_loss"),
+        Headline("friction_steady", "f"),
+        Headline("experimental.intensity", "I_h"),
+        Headline("experimental.volume", "V"),
+        Headline("experimental.mass_loss", "Δm"),
     ),
     StandKind.SLIDE_BEARING: (
-        Headline("chi_mean"),
-        Headline("pressure_max"),
-        Headline("phi_max"),
+        Headline("chi_mean", "χ_ср"),
+        Headline("pressure_max", "p_max"),
+        Headline("phi_max", "φ_{p max}"),
     ),
     StandKind.MTOS: (
-        Headline("friction_fluid"),
-        Headline("h_min_smallest"),
-        Headline("steps[].friction_measured"),
-        Headline("steps[].chi"),
+        Headline("friction_fluid", "f_э"),
+        Headline("h_min_smallest", "h_min"),
+        Headline("steps[].friction_measured", "f_э"),
+        Headline("steps[].chi", "χ"),
     ),
     StandKind.PROFILOMETER: (
-        Headline("ra"),
-        Headline("rz"),
-        Headline("rq"),
-        Headline("rmax"),
-        Headline("sm"),
+        Headline("ra", "R_a"),
+        Headline("rz", "R_z"),
+        Headline("rq", "R_q"),
+        Headline("rmax", "R_max"),
+        Headline("sm", "S_m"),
     ),
 }
 
@@ -166,6 +168,7 @@ def _result_statistics(
     ]
     result = ResultStatistics(
         key=key,
+        symbol=_symbol(key, headline),
         unit=units.get(generic, "1"),
         description=described.get(generic, key),
         values=values,
@@ -234,6 +237,15 @@ def _comparison(levels: Mapping[str, list[RunValue]], notes: list[str]) -> Compa
         difference_low=found.difference_low,
         difference_high=found.difference_high,
     )
+
+
+def _symbol(key: str, headline: Headline) -> str:
+    """``f_э`` of the load step ``steps[2]`` -> ``f_{э,3}`` (steps counted from 1)."""
+    if _EACH not in headline.path:
+        return headline.symbol
+    step = int(key.partition("[")[2].partition("]")[0]) + 1
+    base, _, sub = headline.symbol.partition("_")
+    return f"{base}_{{{sub.strip('{}')},{step}}}" if sub else f"{base}_{step}"
 
 
 def _generic(key: str) -> str:

@@ -88,7 +88,9 @@ class Summary:
         The ``confidence`` interval of the mean, x̄ ∓ t_{(1+c)/2, n-1}·s/√n (Student's t).
     confidence : float
     grubbs : Grubbs or None
-        Grubbs' test, for n >= 3 with s > 0.
+        Grubbs' test, for three distinct values or more (with ties down to two values,
+        as a balance's resolution makes them, the farthest value of three is always at
+        the test's largest possible G, (n-1)/√n, and would be flagged by rounding alone).
     """
 
     n: int
@@ -215,7 +217,7 @@ def summarise(values: Sequence[float] | np.ndarray, *, confidence: float = CONFI
     std = float(np.std(x, ddof=1))
     sem = std / math.sqrt(n)
     half = float(stats.t.ppf((1.0 + confidence) / 2.0, n - 1)) * sem
-    test = grubbs(x, alpha=1.0 - confidence) if n >= 3 and std > 0.0 else None
+    test = grubbs(x, alpha=1.0 - confidence) if np.unique(x).size >= 3 else None
     return Summary(n, mean, std, sem, mean - half, mean + half, confidence, test)
 
 

@@ -21,7 +21,7 @@ from markupsafe import Markup
 from rigserver.analysis import Readings
 from rigserver.reports.downsample import min_max
 from rigserver.reports.formatting import fmt
-from rigserver.reports.i18n import Lang
+from rigserver.reports.i18n import Lang, Messages
 from rigserver.reports.render import render
 from rigserver.reports.series_plots import Curve, overlay
 from schemas.series import ResultStatistics, SeriesDetail, SeriesPurpose
@@ -148,6 +148,7 @@ def series_context(
         "lang": lang,
         "t": t,
         "fmt": fmt,
+        "unit": Messages(lang).unit,
         "detail": detail,
         "purpose": purpose,
         "rows": [_statistics_row(s) for s in detail.statistics],

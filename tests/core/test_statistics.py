@@ -147,3 +147,10 @@ def test_anova_is_scipys_and_pooled_sd_is_the_within_mean_square(
     assert found.repeatability_std == pytest.approx(
         math.sqrt(within / (len(a) + len(b) + len(c) - 3)), rel=1e-9
     )
+
+
+def test_no_grubbs_on_ties_of_a_balances_resolution() -> None:
+    # Masses 6.8, 6.5, 6.8 mg: G = (n-1)/√n = 1.1547, the largest any three values reach,
+    # just above G_crit = 1.1543: the test would flag the rounding, so it is not applied.
+    assert summarise([6.8e-6, 6.5e-6, 6.8e-6]).grubbs is None
+    assert summarise([6.8e-6, 6.5e-6, 6.7e-6]).grubbs is not None

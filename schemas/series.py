@@ -154,6 +154,9 @@ class RunValue(BaseModel):
     uncertainty: float | None = Field(None, description="the run's own uncertainty, same unit")
 
 
+Untested = Literal["no_values", "one_level", "few_runs", "no_spread"]
+
+
 class ResultStatistics(BaseModel):
     """The statistics of one headline result across the series."""
 
@@ -168,6 +171,9 @@ class ResultStatistics(BaseModel):
     )
     levels: list[LevelSummary] = Field(default_factory=list)
     comparison: ComparisonResult | None = None
+    untested: Untested | None = Field(
+        None, description="why no statistics, or no comparison of the levels, were possible"
+    )
     notes: list[str] = Field(default_factory=list)
 
 

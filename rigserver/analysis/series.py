@@ -17,7 +17,6 @@ from typing import Any
 from pydantic import BaseModel
 
 from rigserver.core import statistics
-from rigserver.core.errors import ModelInputError
 from schemas.quantity import description_paths, unit_paths
 from schemas.results import MtosResults, ProfilometerResults, SlideBearingResults, Smts2Results
 from schemas.runs import Run, RunState
@@ -32,8 +31,17 @@ from schemas.series import (
     SeriesPurpose,
     SeriesRun,
     Summary,
+    Untested,
 )
 from schemas.stands import StandKind
+
+#: Why a result's levels were not compared, as the API says it (the pages translate the code).
+UNTESTED: dict[Untested, str] = {
+    "no_values": "no run has this result yet",
+    "one_level": "a comparison needs runs at two levels or more",
+    "few_runs": "a comparison needs at least two runs at every level",
+    "no_spread": "the runs within each level agree exactly: no spread to test against",
+}
 
 #: Paths of a list of per-step results: one headline per step, keyed by the step's index.
 _EACH = "[]"
@@ -174,7 +182,8 @@ def _result_statistics(
         values=values,
     )
     if not values:
-        result.notes.append("no run has this result yet")
+        result.untested = "no_values"
+        result.notes.append(UNTESTED["no_values"])
         return result
     numbers = [v.value for v in values]
     result.overall = _summary(numbers, [v.run_id for v in values])
@@ -191,7 +200,11 @@ def _result_statistics(
             )
             for name, group in levels.items()
         ]
-        result.comparison = _comparison(levels, result.notes)
+        result.untested = _untested(levels, result.repeatability_std)
+        if result.untested is None:
+            result.comparison = _comparison(levels)
+        else:
+            result.notes.append(UNTESTED[result.untested])
     return result
 
 
@@ -218,15 +231,21 @@ def _summary(values: list[float], run_ids: list[str]) -> Summary:
     )
 
 
-def _comparison(levels: Mapping[str, list[RunValue]], notes: list[str]) -> ComparisonResult | None:
+def _untested(
+    levels: Mapping[str, list[RunValue]], repeatability_std: float | None
+) -> Untested | None:
+    """Why the levels cannot be compared (None when they can)."""
     if len(levels) < 2:
-        notes.append("a comparison needs runs at two levels or more")
-        return None
-    try:
-        found = statistics.compare({k: [v.value for v in g] for k, g in levels.items()})
-    except ModelInputError as exc:
-        notes.append(str(exc))
-        return None
+        return "one_level"
+    if min(len(group) for group in levels.values()) < 2:
+        return "few_runs"
+    if not repeatability_std:
+        return "no_spread"
+    return None
+
+
+def _comparison(levels: Mapping[str, list[RunValue]]) -> ComparisonResult:
+    found = statistics.compare({k: [v.value for v in g] for k, g in levels.items()})
     return ComparisonResult(
         test="welch" if found.test == "welch" else "anova",
         statistic=found.statistic,

@@ -51,6 +51,24 @@ def level_band(
     return grid, stack.mean(axis=0), stack.std(axis=0, ddof=1)
 
 
+def paired_band(
+    curves: Sequence[Curve],
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]] | None:
+    """Point by point over runs whose points pair up (the same load steps in the same
+    order): the mean x, the mean y and y's sample standard deviation at each point.
+
+    Runs of different lengths pair over the points all of them have; None for fewer than
+    two runs."""
+    if len(curves) < 2:
+        return None
+    points = min(c.x.size for c in curves)
+    if points == 0:
+        return None
+    xs = np.vstack([c.x[:points] for c in curves])
+    ys = np.vstack([c.y[:points] for c in curves])
+    return xs.mean(axis=0), ys.mean(axis=0), ys.std(axis=0, ddof=1)
+
+
 def overlay(
     levels: Mapping[str, Sequence[Curve]],
     *,
@@ -58,11 +76,35 @@ def overlay(
     ylabel: str,
     mean_label: str,
     markers: bool = False,
+    paired: bool = False,
 ) -> str:
-    """One axes: the runs of each level in the level's colour, its mean and ±s band (SVG)."""
+    """One axes: the runs of each level in the level's colour, its mean and ±s band (SVG).
+
+    ``paired``: the runs' points pair up by position (load steps): each run is drawn as
+    points, the level's mean as points with ±s bars (no interpolation across steps)."""
     fig, (ax,) = axes(height=3.4)
     for i, (level, curves) in enumerate(levels.items()):
         colour = COLOURS[i % len(COLOURS)]
+        name = f"{level}: {mean_label}" if level else mean_label
+        if paired:
+            for curve in curves:
+                ax.plot(curve.x, curve.y, "o", color=colour, markersize=3, alpha=0.5)
+            pairs = paired_band(curves)
+            if pairs is not None:
+                x, mean, std = pairs
+                ax.errorbar(
+                    x,
+                    mean,
+                    yerr=std,
+                    fmt="s",
+                    color=colour,
+                    markersize=4,
+                    capsize=2,
+                    label=f"{name} ± s",
+                )
+            elif level:
+                ax.plot([], [], "o", color=colour, label=level)
+            continue
         for curve in curves:
             x, y = _sorted(curve)
             ax.plot(
@@ -75,7 +117,6 @@ def overlay(
                 markersize=3,
             )
         band = level_band(curves)
-        name = f"{level}: {mean_label}" if level else mean_label
         if band is not None:
             grid, mean, std = band
             ax.plot(grid, mean, color=colour, linewidth=2.0, label=f"{name} ± s")

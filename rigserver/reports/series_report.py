@@ -19,6 +19,7 @@ import numpy as np
 from markupsafe import Markup
 
 from rigserver.analysis import Readings
+from rigserver.reports.blocks import axis
 from rigserver.reports.downsample import min_max
 from rigserver.reports.formatting import fmt
 from rigserver.reports.i18n import Lang, Messages
@@ -71,6 +72,22 @@ TEXT: dict[str, tuple[str, str]] = {
     "missing": ("Runs that could not be read", "Испытания, которые не удалось прочитать"),
     "empty": ("The series has no runs yet.", "В серии ещё нет испытаний."),
     "none": ("No series yet.", "Серий пока нет."),
+    "why.no_values": (
+        "no run has this result yet",
+        "ни в одном испытании этого результата ещё нет",
+    ),
+    "why.one_level": (
+        "a comparison needs runs at two levels or more",
+        "для сравнения нужны испытания хотя бы на двух уровнях",
+    ),
+    "why.few_runs": (
+        "a comparison needs at least two runs at every level",
+        "для сравнения нужно не меньше двух испытаний на каждом уровне",
+    ),
+    "why.no_spread": (
+        "the runs within each level agree exactly: no spread to test against",
+        "испытания внутри уровней совпадают точно: разброса для критерия нет",
+    ),
     "runs_csv": ("Runs and their results, CSV", "Испытания и их результаты, CSV"),
     "mean_curve": ("mean", "среднее"),
     "plot.friction": (
@@ -90,6 +107,8 @@ TEXT: dict[str, tuple[str, str]] = {
     "state.aborted": ("aborted", "прервано"),
 }
 
+#: Per-step results (``steps[3].chi``) are in the statistics table only, not in the runs'.
+_PER_STEP = "["
 #: Points of a profile drawn per run (min-max decimation; the statistics use every reading).
 PROFILE_POINTS = 800
 
@@ -139,6 +158,7 @@ def series_context(
     ``values`` are each run's results (by run id), ``readings`` each run's readings (for
     the profiles of the profilometer)."""
     t = text(lang)
+    rows = [_statistics_row(s) for s in detail.statistics]
     purpose = (
         t("comparison", factor=detail.factor or "")
         if detail.purpose is SeriesPurpose.COMPARISON
@@ -151,8 +171,10 @@ def series_context(
         "unit": Messages(lang).unit,
         "detail": detail,
         "purpose": purpose,
-        "rows": [_statistics_row(s) for s in detail.statistics],
-        "plots": _plots(detail, values, readings, t),
+        "rows": rows,
+        "run_columns": [r for r in rows if _PER_STEP not in r["stats"].key],
+        "own_uncertainty": any(r["own_uncertainty"] is not None for r in rows),
+        "plots": _plots(detail, values, readings, t, Messages(lang)),
     }
 
 
@@ -179,6 +201,7 @@ def _plots(
     values: Mapping[str, Mapping[str, Any] | None],
     readings: Mapping[str, Readings],
     t: Callable[..., str],
+    m: Messages,
 ) -> list[tuple[str, str]]:
     by_level: dict[str, list[str]] = {}
     for row in detail.runs:
@@ -206,37 +229,46 @@ def _plots(
     plots: list[tuple[str, str]] = []
     v = values
     if detail.stand is StandKind.SMTS2:
-        draw("plot.friction", "L, m", "f", curves(lambda r: _friction(r, v[r])))
+        draw("plot.friction", axis(m, "L", "m"), axis(m, "f"), curves(lambda r: _friction(r, v[r])))
     elif detail.stand is StandKind.MTOS:
         draw(
             "plot.mtos_f",
-            "N, N",
-            "f_э",
+            axis(m, "N", "N"),
+            axis(m, "f_э"),
             curves(lambda r: _rows(r, v[r], "steps", "load", "friction_measured")),
-            markers=True,
+            paired=True,
         )
         draw(
             "plot.stribeck",
-            "S_1",
-            "f_э",
+            axis(m, "S_1"),
+            axis(m, "f_э"),
             curves(
                 lambda r: _rows(r, v[r], "steps", "bearing_characteristic", "friction_measured")
             ),
-            markers=True,
+            paired=True,
         )
     elif detail.stand is StandKind.SLIDE_BEARING:
         draw(
             "plot.pressure",
-            "φ, °",
-            "Π_э",
+            axis(m, "φ", "deg"),
+            axis(m, "Π_э"),
             curves(lambda r: _rows(r, v[r], "table", "phi_model", "pi_measured")),
             markers=True,
         )
     elif detail.stand is StandKind.PROFILOMETER:
         draw(
-            "plot.bearing", "ε", "t_p", curves(lambda r: _pairs(r, v[r], "eps", "tp")), markers=True
+            "plot.bearing",
+            axis(m, "ε"),
+            axis(m, "t_p"),
+            curves(lambda r: _pairs(r, v[r], "eps", "tp")),
+            markers=True,
         )
-        draw("plot.profile", "x, mm", "y, μm", curves(lambda r: _profile(r, readings.get(r))))
+        draw(
+            "plot.profile",
+            axis(m, "x", "mm"),
+            axis(m, "y", "um"),
+            curves(lambda r: _profile(r, readings.get(r))),
+        )
     return plots
 
 

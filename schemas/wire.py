@@ -99,6 +99,27 @@ def _utc(value: datetime) -> datetime:
         ) from None
 
 
+def unstorable(value: object, path: str) -> str | None:
+    """Where a JSON-like ``value`` (e.g. a stored configuration) holds what the wire
+    refuses, and what: ``"configuration.pin.hardness: null"``; ``None`` if nowhere. A null
+    is what an older build stored for a NaN or an infinity."""
+    if isinstance(value, dict):
+        for key, item in value.items():
+            found = unstorable(key, f"{path}[key]") or unstorable(item, f"{path}.{key}")
+            if found:
+                return found
+        return None
+    if isinstance(value, list):
+        return next(
+            (f for i, item in enumerate(value) if (f := unstorable(item, f"{path}.{i}"))), None
+        )
+    if isinstance(value, str):
+        return None if _UNSTORABLE.search(value) is None else f"{path}: {shown(value)}"
+    if value is None or not (isinstance(value, bool) or is_finite_number(value)):
+        return f"{path}: {shown(value)}"
+    return None
+
+
 def shown(value: object) -> str:
     """A short, printable text of a refused value (for messages)."""
     if isinstance(value, float):

@@ -1,7 +1,7 @@
 """``rigserver check``: which runs of a data directory are damaged, and how; read-only.
 
 A run is damaged when its catalogue row holds what the service refuses today (a NaN that
-an older build stored as null, a NUL character, a configuration its stand does not take),
+an older build stored as null, a NUL character),
 when its final file is missing, unreadable, or disagrees with the catalogue on its rows, or
 when the journal lacks readings it lists for an open run. A run file that no catalogue row
 names is reported too. Nothing is changed, and a running server may keep the directory.

@@ -45,7 +45,7 @@ from rigserver.storage._time import iso
 from rigserver.storage.errors import RunDamaged, RunExists, RunNotFound, StorageUnavailable
 from rigserver.storage.payloads import PayloadFiles, decode, encode
 from schemas.runs import Run, RunPage, RunQuery
-from schemas.stands import CONFIG_MODELS
+from schemas.wire import unstorable
 
 Synchronous = Literal["normal", "full"]
 
@@ -107,21 +107,21 @@ Row = tuple[str, str, int, str, int, str, str, str, str]
 
 def catalogue_entry(row: Row) -> CatalogueEntry:
     """The entry of a catalogue row (:data:`CATALOGUE_COLUMNS`); ``RunDamaged`` if the row
-    holds what the service would refuse today (e.g. a NaN that an older build stored as
-    null, a NUL character) or a configuration its stand does not take."""
+    holds what the service refuses today (e.g. a NaN that an older build stored as null, a
+    NUL character)."""
     run_id = row[0]
     try:
         run = Run.model_validate_json(row[1])
         run = run.model_copy(update={"batches": row[2], "rows": json.loads(row[3])})
-        CONFIG_MODELS[run.stand].model_validate(run.configuration)
     except ValidationError as exc:
         first = exc.errors()[0]
         where = ".".join(str(p) for p in first["loc"]) or "run"
-        if exc.title != Run.__name__:
-            where = f"configuration.{where}"
         raise RunDamaged(f"run {run_id} is damaged: {where}: {first['msg']}") from None
     except ValueError as exc:
         raise RunDamaged(f"run {run_id} is damaged: its row counts are not JSON ({exc})") from None
+    found = unstorable(run.configuration, "configuration")
+    if found is not None:
+        raise RunDamaged(f"run {run_id} is damaged: {found}")
     return CatalogueEntry(run=run, file_final=bool(row[4]))
 
 

@@ -13,6 +13,7 @@ from pydantic import BaseModel, ConfigDict, Field, StringConstraints, model_vali
 
 from schemas.runs import RunId, RunState
 from schemas.stands import StandKind
+from schemas.wire import Text
 
 SERIES_ID_PATTERN = r"^s-[0-9a-f]{12}$"
 _SERIES_ID = re.compile(SERIES_ID_PATTERN)
@@ -21,7 +22,7 @@ _SERIES_ID = re.compile(SERIES_ID_PATTERN)
 SERIES_RUNS_LIMIT = 100
 
 SeriesId = Annotated[str, StringConstraints(pattern=SERIES_ID_PATTERN, max_length=14)]
-Level = Annotated[str, StringConstraints(min_length=1, max_length=100)]
+Level = Annotated[Text, StringConstraints(min_length=1, max_length=100)]
 
 
 def new_series_id() -> str:
@@ -58,12 +59,12 @@ class SeriesCreate(BaseModel):
         },
     )
 
-    name: Annotated[str, StringConstraints(min_length=1, max_length=200)]
+    name: Annotated[Text, StringConstraints(min_length=1, max_length=200)]
     purpose: SeriesPurpose
-    factor: Annotated[str, StringConstraints(min_length=1, max_length=100)] | None = Field(
+    factor: Annotated[Text, StringConstraints(min_length=1, max_length=100)] | None = Field(
         default=None, description="the factor compared (comparison only), e.g. oil or load"
     )
-    notes: Annotated[str, StringConstraints(max_length=5000)] = ""
+    notes: Annotated[Text, StringConstraints(max_length=5000)] = ""
 
     @model_validator(mode="after")
     def _factor_with_comparison(self) -> SeriesCreate:

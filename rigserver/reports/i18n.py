@@ -249,6 +249,7 @@ MESSAGES: dict[str, tuple[str, str]] = {
     "page.reset": ("Reset", "Сбросить"),
     "page.key_result": ("Key results", "Основные результаты"),
     "page.none": ("No run matches.", "Испытаний не найдено."),
+    "page.damaged": ("damaged", "повреждено"),
     "page.newer": ("← newer", "← новее"),
     "page.older": ("older →", "старше →"),
     "page.shown": ("{first}–{last} of {total}", "{first}–{last} из {total}"),

@@ -4,6 +4,7 @@
 
     StorageError
      ├── RunNotFound          no run with that id
+     ├── RunDamaged           the run's catalogue entry or file cannot be read
      ├── RunExists            a run with that id is stored already
      ├── KeyReused            an Idempotency-Key that opened a run asks for another
      ├── RunNotOpen           the run is finished or aborted: it takes no more readings
@@ -23,6 +24,10 @@ class StorageError(Exception):
 
 
 class RunNotFound(StorageError):
+    pass
+
+
+class RunDamaged(StorageError):
     pass
 
 

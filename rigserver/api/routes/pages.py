@@ -26,6 +26,7 @@ from rigserver.web.series_pages import series_list_page, series_page
 from schemas.channels import Violation
 from schemas.runs import RunQuery, RunState
 from schemas.stands import StandKind
+from schemas.wire import Text
 
 
 class _LoginFirst(Exception):
@@ -52,7 +53,7 @@ LOGIN_BODY_BYTES = 4096
 
 PAGE_SIZE = 50
 
-Text = Annotated[str, Query(max_length=100)]
+Filter = Annotated[Text, Query(max_length=100)]
 Choice = TypeVar("Choice", StandKind, RunState)
 
 
@@ -94,6 +95,8 @@ def _day(field: str, value: str, *, end: bool = False) -> datetime | None:
         raise ApiProblem(
             422, "Invalid filter", f"{field} must be a date like 2026-11-22, got {value[:40]!r}"
         ) from None
+    if end and day == date.max:
+        return None  # the end of the last day there is: no bound
     return datetime.combine(day + timedelta(days=1 if end else 0), time(), tzinfo=UTC)
 
 
@@ -101,11 +104,11 @@ def _day(field: str, value: str, *, end: bool = False) -> datetime | None:
 def runs(
     request: Request,
     services: ServicesDep,
-    stand: Text = "",
-    operator: Text = "",
-    state: Text = "",
-    since: Text = "",
-    until: Text = "",
+    stand: Filter = "",
+    operator: Filter = "",
+    state: Filter = "",
+    since: Filter = "",
+    until: Filter = "",
     offset: Annotated[int, Query(ge=0)] = 0,
     lang: Lang | None = None,
 ) -> HTMLResponse:
@@ -175,7 +178,7 @@ def series(
 @login_router.get("/login", response_class=HTMLResponse)
 def login_form(
     request: Request,
-    next: Annotated[str, Query(max_length=2000)] = "/",
+    next: Annotated[Text, Query(max_length=2000)] = "/",
     lang: Lang | None = None,
 ) -> HTMLResponse:
     chosen = negotiate(lang, request.headers.get("accept-language"))

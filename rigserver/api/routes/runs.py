@@ -9,13 +9,16 @@ from fastapi import APIRouter, Header, Query, Response, status
 from pydantic import ValidationError
 
 from rigserver.api.deps import CallerDep, ReadAccess, Services, ServicesDep, require_write
-from rigserver.api.problems import ApiProblem
+from rigserver.api.problems import ApiProblem, violations
 from rigserver.api.run_results import compute_results
-from schemas.channels import Violation
+from rigserver.api.strict_json import StrictJsonRoute
 from schemas.runs import Run, RunCreate, RunPage, RunQuery, RunState, is_run_id, new_run_id
 from schemas.stands import with_overrides
 
-router = APIRouter(prefix="/runs", tags=["runs"])
+#: An Idempotency-Key: printable ASCII, no spaces (a UUID, a counter, a hash).
+IDEMPOTENCY_KEY_PATTERN = r"^[!-~]+$"
+
+router = APIRouter(prefix="/runs", tags=["runs"], route_class=StrictJsonRoute)
 
 
 def load_run(services: Services, run_id: str) -> Run:
@@ -36,7 +39,9 @@ def load_run(services: Services, run_id: str) -> Run:
     description="Needs a key with the scope `write:<stand>`. The run keeps a snapshot of the "
     "stand's configuration with the overrides given here. With an `Idempotency-Key` header "
     "(any unique string, e.g. a UUID, sent again with every retry) a retried opening is "
-    "answered 200 with the run the first one opened; 409 if it asks for another.",
+    "answered 200 with the run the first one opened; 409 if it asks for another. Values "
+    "that cannot be stored or shown are refused (422 naming the field): NaN, infinities and "
+    "numbers beyond a double's range, whole numbers beyond ±2^63, NUL characters.",
     responses={200: {"description": "the run opened before with this Idempotency-Key"}},
 )
 def create_run(
@@ -45,7 +50,13 @@ def create_run(
     caller: CallerDep,
     response: Response,
     idempotency_key: Annotated[
-        str | None, Header(min_length=1, max_length=200, description="makes retries safe")
+        str | None,
+        Header(
+            min_length=1,
+            max_length=200,
+            pattern=IDEMPOTENCY_KEY_PATTERN,
+            description="makes retries safe: printable ASCII without spaces, e.g. a UUID",
+        ),
     ] = None,
 ) -> Run:
     require_write(caller, body.stand)
@@ -53,17 +64,8 @@ def create_run(
     try:
         configuration = with_overrides(stand.configuration, body.configuration)
     except ValidationError as exc:
-        errors = [
-            Violation(
-                field="configuration." + ".".join(str(p) for p in e["loc"]),
-                value=e["input"] if isinstance(e.get("input"), int | float | str) else None,
-                message=f"configuration.{'.'.join(str(p) for p in e['loc'])}: {e['msg']}",
-            )
-            for e in exc.errors()[:20]
-        ]
-        raise ApiProblem(
-            422, "Invalid configuration", errors[0].message if errors else str(exc), errors
-        ) from None
+        errors = violations(exc.errors(), "configuration.")
+        raise ApiProblem(422, "Invalid configuration", errors[0].message, errors) from None
     run = Run(
         id=new_run_id(),
         stand=body.stand,

@@ -205,3 +205,28 @@ def test_report_pdf(lab: tuple[TestClient, list[str], str]) -> None:
     add(client, sid, runs[0])
     answer = client.get(f"/api/v1/series/{sid}/report.pdf", headers=auth(READER))
     assert answer.status_code == 200 and answer.content.startswith(b"%PDF")
+
+
+@pytest.mark.parametrize(
+    ("body", "field"),
+    [
+        ('{"name": "a\\u0000b", "purpose": "repeatability"}', "name"),
+        ('{"name": "\\ud800", "purpose": "repeatability"}', "name"),
+        ('{"name": "x", "purpose": "comparison", "factor": "oil\\u0000"}', "factor"),
+        ('{"name": "x", "purpose": "repeatability", "notes": "\\udc00"}', "notes"),
+        ('{"name": "x", "name": "y", "purpose": "repeatability"}', "name"),  # duplicate key
+    ],
+)
+def test_unstorable_series_values_are_refused_and_nothing_stored(
+    lab: tuple[TestClient, list[str], str], body: str, field: str
+) -> None:
+    client, _, _ = lab
+    before = len(client.get("/api/v1/series", headers=auth(READER)).json())
+    answer = client.post(
+        "/api/v1/series",
+        content=body.encode(),
+        headers={**auth(WRITER), "content-type": "application/json"},
+    )
+    assert answer.status_code == 422, answer.text
+    assert field in answer.text
+    assert len(client.get("/api/v1/series", headers=auth(READER)).json()) == before

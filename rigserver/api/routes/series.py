@@ -15,6 +15,7 @@ from rigserver.api.deps import CallerDep, ReadAccess, Services, ServicesDep, req
 from rigserver.api.problems import ApiProblem
 from rigserver.api.routes.runs import load_run
 from rigserver.api.run_results import StoredReadings, results_payload
+from rigserver.api.strict_json import StrictJsonRoute
 from rigserver.reports.i18n import Lang, negotiate
 from rigserver.reports.pdf import html_to_pdf
 from rigserver.reports.series_report import render_series_report, series_context, series_csv
@@ -30,7 +31,7 @@ from schemas.series import (
     is_series_id,
 )
 
-router = APIRouter(prefix="/series", tags=["series"])
+router = APIRouter(prefix="/series", tags=["series"], route_class=StrictJsonRoute)
 
 #: The scope that creates series and changes their runs (``write:*`` has it too).
 WRITE_SERIES = "write:series"

@@ -7,7 +7,7 @@ from __future__ import annotations
 
 from datetime import UTC, date, datetime, time, timedelta
 from typing import Annotated, TypeVar
-from urllib.parse import parse_qs, urlencode
+from urllib.parse import parse_qs, urlencode, urlsplit
 
 from fastapi import APIRouter, Depends, FastAPI, Query, Request, Response
 from fastapi.responses import HTMLResponse, RedirectResponse
@@ -46,8 +46,35 @@ async def require_page_read(request: Request, services: ServicesDep) -> None:
     require_scope(caller, READ)
 
 
+def same_origin(request: Request) -> None:
+    """403 for a form posted from another site (cross-site request forgery): a browser
+    says where a post comes from (``Sec-Fetch-Site``, ``Origin``); a client that says
+    neither is no browser, and no other site's page can make it post."""
+    site = request.headers.get("sec-fetch-site")
+    origin = request.headers.get("origin")
+    if (site is not None and site not in ("same-origin", "none")) or (
+        origin is not None and _host_of(origin) != request.headers.get("host")
+    ):
+        raise ApiProblem(
+            403,
+            "Cross-site form refused",
+            f"{request.url.path} takes forms of this site's own pages only "
+            f"(Origin {origin!r:.60}, Sec-Fetch-Site {site!r:.30})",
+        )
+
+
+def _host_of(origin: str) -> str | None:
+    """The host (and port) of an ``Origin`` header; None for ``null`` or nonsense."""
+    try:
+        return urlsplit(origin).netloc or None
+    except ValueError:
+        return None
+
+
 router = APIRouter(include_in_schema=False, dependencies=[Depends(require_page_read)])
 login_router = APIRouter(include_in_schema=False)
+#: Forms of this site only.
+SameOrigin = Depends(same_origin)
 #: The largest login form read, bytes.
 LOGIN_BODY_BYTES = 4096
 
@@ -185,7 +212,7 @@ def login_form(
     return HTMLResponse(login_page(next_page=_local(next), refused=False, lang=chosen))
 
 
-@login_router.post("/login")
+@login_router.post("/login", dependencies=[SameOrigin])
 async def login(request: Request, services: ServicesDep, lang: Lang | None = None) -> Response:
     """The login form posted (``key``, ``next``): a session and back to ``next``, or the form
     again (401) if the key is unknown or may not read."""
@@ -212,7 +239,7 @@ async def login(request: Request, services: ServicesDep, lang: Lang | None = Non
     return response
 
 
-@login_router.post("/logout")
+@login_router.post("/logout", dependencies=[SameOrigin])
 def logout(request: Request, services: ServicesDep) -> Response:
     token = request.cookies.get(COOKIE)
     if token:

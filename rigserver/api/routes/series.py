@@ -11,7 +11,14 @@ from fastapi.concurrency import run_in_threadpool
 from fastapi.responses import HTMLResponse, Response
 
 from rigserver.analysis.series import Member, series_statistics
-from rigserver.api.deps import CallerDep, ReadAccess, Services, ServicesDep, require_scope
+from rigserver.api.deps import (
+    CallerDep,
+    ReadAccess,
+    Services,
+    ServicesDep,
+    WriteAccess,
+    require_scope,
+)
 from rigserver.api.problems import ApiProblem
 from rigserver.api.routes.runs import load_run
 from rigserver.api.run_results import StoredReadings, results_payload
@@ -78,6 +85,7 @@ def _detail(services: Services, series_id: str) -> tuple[SeriesDetail, list[Memb
     status_code=status.HTTP_201_CREATED,
     summary="Open a series: repeats of one test, or a comparison by a named factor",
     description=f"Needs a key with the scope `{WRITE_SERIES}` (or `write:*`).",
+    dependencies=[WriteAccess],
 )
 def create_series(body: SeriesCreate, services: ServicesDep, caller: CallerDep) -> Series:
     require_scope(caller, WRITE_SERIES)
@@ -139,6 +147,7 @@ def _add(services: Services, series_id: str, body: SeriesMemberAdd) -> Series:
     summary="Add a run to a series (a run may belong to several)",
     description=f"Needs the scope `{WRITE_SERIES}`. All runs of a series are of one stand; "
     "in a comparison each run has a level of the factor.",
+    dependencies=[WriteAccess],
 )
 async def add_run(
     series_id: str, body: SeriesMemberAdd, services: ServicesDep, caller: CallerDep
@@ -151,6 +160,7 @@ async def add_run(
     "/{series_id}/runs/{run_id}",
     summary="Take a run out of a series (the run itself stays)",
     description=f"Needs the scope `{WRITE_SERIES}`.",
+    dependencies=[WriteAccess],
 )
 def remove_run(series_id: str, run_id: str, services: ServicesDep, caller: CallerDep) -> Series:
     require_scope(caller, WRITE_SERIES)

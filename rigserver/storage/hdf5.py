@@ -256,11 +256,20 @@ class HDF5Store:
                 self._journal.end_run(ended)
             del self._live[run_id]
             self._files.pop(run_id, None)
-            with failures_as(doing):
-                try:
-                    rf.finalize(ended)
-                finally:
-                    rf.close()
+            try:
+                with failures_as(doing):
+                    try:
+                        rf.finalize(ended)
+                    finally:
+                        rf.close()
+            except StorageError as exc:
+                # The file failed where the journal did not (a write of its cached chunks
+                # on a disk that was full): the final file is written anew from the journal.
+                log.warning(
+                    "finalizing run %s: %s; its file is written from the journal", run_id, exc
+                )
+                self._finish_file(ended)
+                return ended.model_copy(deep=True)
             self._finishing.add(run_id)
         try:
             with failures_as(doing):

@@ -184,8 +184,8 @@ async def post_readings(request: Request) -> Response:
         )
     seq, group = _binary_query(request) if media == NPZ_MEDIA_TYPE else (0, "")
     stand = await _stand_of(services, run_id)
-    require_write(caller, stand.kind)
-    with services.ingest.admit(_declared_length(request)):
+    writer = require_write(caller, stand.kind)
+    with services.ingest.admit(_declared_length(request), writer.fingerprint):
         body = await request.body()
         small = len(body) <= SMALL_BODY_BYTES
         if media == NPZ_MEDIA_TYPE:

@@ -172,8 +172,8 @@ def _declared_length(request: Request) -> int:
 
 async def post_readings(request: Request) -> Response:
     # the hot path of ingest, a _PlainRoute: run_id, seq and group are documented in
-    # _BATCH_BODY
-    # authenticate (rigserver.api.gate did), parse what precedes the body, authorise
+    # _BATCH_BODY. Authenticated (rigserver.api.gate); the head parsed, the scope checked,
+    # and only then a place in the queue taken and the body read.
     run_id: str = request.path_params["run_id"]
     services = services_of(request)
     caller = caller_of(request, services)

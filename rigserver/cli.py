@@ -121,6 +121,16 @@ def main(argv: Sequence[str] | None = None) -> int:
         help="bytes of batch bodies admitted at once (RIG_INGEST_QUEUE_BYTES)",
     )
     serve.add_argument(
+        "--ingest-key-share",
+        type=float,
+        help="share of the ingest queue one API key may hold (RIG_INGEST_KEY_SHARE)",
+    )
+    serve.add_argument(
+        "--body-timeout",
+        type=float,
+        help="seconds a request body may take to arrive, 408 after (RIG_BODY_TIMEOUT)",
+    )
+    serve.add_argument(
         "--rate-limit",
         type=float,
         help="requests per second per key or address, 0 for none (RIG_RATE_LIMIT)",
@@ -151,6 +161,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         "max_body_bytes": args.max_body_bytes,
         "ingest_queue": args.ingest_queue,
         "ingest_queue_bytes": args.ingest_queue_bytes,
+        "ingest_key_share": args.ingest_key_share,
+        "body_timeout": args.body_timeout,
         "rate_limit": args.rate_limit,
         "rate_burst": args.rate_burst,
         "cors_origins": tuple(args.cors_origins) if args.cors_origins else None,

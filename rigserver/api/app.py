@@ -77,7 +77,7 @@ def create_app(
         app.include_router(router, prefix=API_PREFIX)
     pages.install(app)
     # the last added is the outermost: rate, then key, then size
-    app.add_middleware(BodyLimit, max_bytes=settings.max_body_bytes)
+    app.add_middleware(BodyLimit, max_bytes=settings.max_body_bytes, timeout=settings.body_timeout)
     services = app.state.services
     api_routes = [route for router in API_ROUTERS for route in router.routes]
     app.add_middleware(Gate, services=services, prefix=API_PREFIX, routes=api_routes)

@@ -50,6 +50,7 @@ class Services:
             self.run_locks.__getitem__,
             max_batches=self.settings.ingest_queue,
             max_bytes=self.settings.ingest_queue_bytes,
+            share=self.settings.ingest_key_share,
             retry_after=self.settings.retry_after,
         )
 
@@ -148,12 +149,13 @@ def key_required(scope: str | None = None) -> ApiProblem:
     )
 
 
-def require_scope(caller: ApiKey | None, scope: str) -> None:
-    """401 without a key, 403 when the key lacks ``scope`` (the message names it)."""
+def require_scope(caller: ApiKey | None, scope: str) -> ApiKey:
+    """The caller's key; 401 without one, 403 when it lacks ``scope`` (named)."""
     if caller is None:
         raise key_required(scope)
     if not caller.allows(scope):
         raise ApiProblem(403, "Scope missing", f"this key lacks the scope '{scope}'")
+    return caller
 
 
 async def require_read(services: ServicesDep, caller: CallerDep) -> None:
@@ -173,5 +175,5 @@ ReadAccess = Depends(require_read)
 WriteAccess = Depends(require_key)
 
 
-def require_write(caller: ApiKey | None, stand: StandKind) -> None:
-    require_scope(caller, write_scope(stand.value))
+def require_write(caller: ApiKey | None, stand: StandKind) -> ApiKey:
+    return require_scope(caller, write_scope(stand.value))

@@ -32,10 +32,12 @@ CENTRAL = struct.Struct("<4sHHHHHHIIIHHHHHII")
 END = struct.Struct("<4sHHHHIIH")
 
 
-def npy(descr: str, shape: str, data: bytes, *, version: int = 1, length: int = -1) -> bytes:
+def npy(
+    descr: str, shape: str, data: bytes, *, version: int = 1, length: int = -1, order: str = "False"
+) -> bytes:
     """A .npy file (NEP 1): magic, version, header length, the header dict, the data.
     ``length`` (if given) replaces the header length field."""
-    header = f"{{'descr': {descr}, 'fortran_order': False, 'shape': {shape}, }}"
+    header = f"{{'descr': {descr}, 'fortran_order': {order}, 'shape': {shape}, }}"
     size = struct.Struct("<H" if version == 1 else "<I")
     pad = 64 - (6 + 2 + size.size + len(header) + 1) % 64
     text = (header + " " * pad + "\n").encode("latin1")
@@ -90,9 +92,11 @@ GOOD = npy("'<f8'", "(3,)", F8)
 def test_the_hand_packed_archive_is_read_as_numpy_would() -> None:
     """The packer itself is right: an honest archive of it is read back (stored and
     deflated), so each refusal below is the lie's doing."""
-    for deflate in (False, True):
-        arrays = parse_npz(archive(Member("time.npy", GOOD, deflate=deflate)), 1 << 20)
-        np.testing.assert_array_equal(arrays["time"], [0.0, 1.0, 2.0])
+    fortran = npy("'<f8'", "(3,)", F8, order="True")  # the same bytes for a 1-D array
+    for member in (GOOD, fortran):
+        for deflate in (False, True):
+            arrays = parse_npz(archive(Member("time.npy", member, deflate=deflate)), 1 << 20)
+            np.testing.assert_array_equal(arrays["time"], [0.0, 1.0, 2.0])
 
 
 #: .npy headers that lie; each is tried stored and deflated.
@@ -113,6 +117,8 @@ NPY_LIES = {
     "records": (npy("[('a', '<f8')]", "(3,)", F8), "descr"),
     "sub-arrays": (npy("('<f8', (3,))", "(1,)", F8), "descr"),
     "not a dtype": (npy("'<q17'", "(3,)", F8), "header"),
+    "fortran_order not a bool": (npy("'<f8'", "(3,)", F8, order="'yes'"), "header"),
+    "a header of other keys": (npy("'<f8'", "(3,)", F8, order="False, 'x': 1"), "header"),
     "header longer than the member": (npy("'<f8'", "(3,)", F8, length=60_000), "header"),
     "header length beyond the member (v2)": (
         npy("'<f8'", "(3,)", F8, version=2, length=2**31),

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import threading
 import time
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -44,6 +45,15 @@ def points(page: Any) -> int:
     return int(page.get_attribute("#live-chart", "data-points"))
 
 
+def until(condition: Callable[[], bool], seconds: float = 30.0) -> None:
+    """Wait for ``condition``, polled from here: a predicate evaluated in the page is an
+    eval, which the pages' Content-Security-Policy forbids."""
+    deadline = time.monotonic() + seconds
+    while not condition():
+        assert time.monotonic() < deadline, "timed out"
+        time.sleep(0.05)
+
+
 def test_watch_a_run_live_and_download_its_report(server: Server, tmp_path: Path) -> None:
     from playwright.sync_api import sync_playwright
 
@@ -71,6 +81,11 @@ def test_watch_a_run_live_and_download_its_report(server: Server, tmp_path: Path
         )
         try:
             page = context.new_page()
+            refused: list[str] = []  # what the pages' policy blocked (Chromium logs it)
+            page.on(
+                "console",
+                lambda m: refused.append(m.text) if "Content Security Policy" in m.text else None,
+            )
             page.goto(f"{server.url}/")  # no session yet: the login page
             page.fill("input[name=key]", READER)
             page.click("form.login button[type=submit]")
@@ -84,23 +99,14 @@ def test_watch_a_run_live_and_download_its_report(server: Server, tmp_path: Path
             page.reload()
             page.click("table.runs a[href^='/runs/']")
             page.wait_for_selector("#live-chart")
-            page.wait_for_function(
-                "Number(document.getElementById('live-chart').dataset.points) > 0"
-            )
+            until(lambda: points(page) > 0)
             first = points(page)
             assert first < total, "the run should still be posting"
-            page.wait_for_function(
-                f"Number(document.getElementById('live-chart').dataset.points) > {first}"
-            )
-            assert points(page) > first  # the chart grows as batches arrive
-            page.wait_for_function(
-                "document.getElementById('live-status').dataset.state === 'ended'",
-                timeout=60_000,
-            )
-            page.wait_for_function(
-                f"Number(document.getElementById('live-chart').dataset.points) === {total}"
-            )
+            until(lambda: points(page) > first)  # the chart grows as batches arrive
+            until(lambda: page.get_attribute("#live-status", "data-state") == "ended", 60)
+            until(lambda: points(page) == total)
             assert page.text_content("#live-rows") == str(total)
+            assert refused == []
             page.screenshot(path=str(tmp_path / "run.png"), full_page=True)
             with page.expect_download() as download:
                 page.click("#report-pdf")

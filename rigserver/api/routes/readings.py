@@ -187,8 +187,8 @@ def _declared_length(request: Request) -> int:
 
 async def post_readings(request: Request) -> Response:
     # the hot path of ingest, a _PlainRoute: run_id, seq and group are documented in
-    # _BATCH_BODY
-    # authenticate (rigserver.api.gate did), parse what precedes the body, authorise
+    # _BATCH_BODY. Authenticated (rigserver.api.gate); the head parsed, the scope checked,
+    # and only then a place in the queue taken and the body read.
     run_id: str = request.path_params["run_id"]
     services = services_of(request)
     caller = caller_of(request, services)
@@ -199,8 +199,8 @@ async def post_readings(request: Request) -> Response:
         )
     seq, group = _binary_query(request) if media == NPZ_MEDIA_TYPE else (0, "")
     stand = await _stand_of(services, run_id)
-    require_write(caller, stand.kind)
-    with services.ingest.admit(_declared_length(request)):
+    writer = require_write(caller, stand.kind)
+    with services.ingest.admit(_declared_length(request), writer.fingerprint):
         body = await request.body()
         small = len(body) <= SMALL_BODY_BYTES
         if media == NPZ_MEDIA_TYPE:

@@ -12,11 +12,13 @@ from rigserver.api import problems
 from rigserver.api.auth import ApiKey, Keyring
 from rigserver.api.body_limit import BodyLimit
 from rigserver.api.deps import Services
+from rigserver.api.openapi import add_components
 from rigserver.api.rate_limit import RateLimit
-from rigserver.api.routes import live, models, pages, readings, reports, results, runs
+from rigserver.api.routes import api_docs, live, models, pages, readings, reports, results, runs
 from rigserver.api.routes import stands as stand_routes
 from rigserver.api.settings import Settings
 from rigserver.storage.base import RunStore
+from schemas.readings import ReadingBatch
 from schemas.stands import Stand, StandKind
 
 API_PREFIX = "/api/v1"
@@ -43,6 +45,8 @@ def create_app(
         "stands; the service stores each run in HDF5 and computes what the lab manual asks "
         "for. Errors are application/problem+json naming the field, the value and the limit.",
         lifespan=lifespan,
+        docs_url=None,  # served by api_docs, without a CDN
+        redoc_url=None,
     )
     app.state.services = Services(
         settings=settings, store=store, stands=stands, keyring=Keyring(keys)
@@ -58,6 +62,8 @@ def create_app(
         live.router,
     ):
         app.include_router(router, prefix=API_PREFIX)
+    add_components(app, [ReadingBatch])  # the ingest route parses its body itself
+    api_docs.install(app)
     pages.install(app)
     app.add_middleware(BodyLimit, max_bytes=settings.max_body_bytes)
     if settings.rate_limit:

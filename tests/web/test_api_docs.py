@@ -1,0 +1,101 @@
+"""In headless Chromium with the network cut: ``/docs`` (Swagger UI) and ``/redoc`` (ReDoc)
+render every operation of the OpenAPI document from the service's own assets, no request
+leaves the loopback, and the pages run under the Content-Security-Policy they are sent with
+(scripts from the server only: no inline script, no eval).
+
+A real ``rigserver serve`` subprocess (the ``server`` fixture)."""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from pathlib import Path
+from typing import Any
+from urllib.parse import urlsplit
+
+import httpx
+import pytest
+
+from rigserver.api.routes.api_docs import POLICY
+from tests.api.conftest import Server
+from tests.web.test_browser import ARGS, CHROMIUM
+
+pytestmark = [
+    pytest.mark.slow,
+    pytest.mark.skipif(
+        not CHROMIUM.exists(),
+        reason="the browser test drives Debian's chromium at /usr/bin/chromium: "
+        "apt-get install chromium",
+    ),
+]
+
+#: Records the page's CSP violations (an init script runs outside the page's policy).
+RECORD_VIOLATIONS = """
+window.cspViolations = [];
+document.addEventListener("securitypolicyviolation", (e) => {
+  window.cspViolations.push(e.violatedDirective + " " + e.blockedURI);
+});
+"""
+#: ReDoc's footer logo, from its CDN: blocked by the page's policy before any request.
+REDOC_LOGO = "img-src https://cdn.redoc.ly/redoc/logo-mini.svg"
+
+
+def summaries(server: Server) -> list[str]:
+    """Every operation's summary, as the OpenAPI document gives them."""
+    spec = httpx.get(f"{server.url}/openapi.json", timeout=10).json()
+    return sorted(op["summary"] for ops in spec["paths"].values() for op in ops.values())
+
+
+@pytest.fixture
+def offline_page(server: Server, tmp_path: Path) -> Iterator[tuple[Any, list[str]]]:
+    """A Chromium page that reaches only the server, and the requests it tried elsewhere."""
+    from playwright.sync_api import Route, sync_playwright
+
+    elsewhere: list[str] = []
+
+    def loopback_only(route: Route) -> None:
+        if urlsplit(route.request.url).hostname == "127.0.0.1":
+            route.continue_()
+        else:
+            elsewhere.append(route.request.url)
+            route.abort("internetdisconnected")
+
+    with sync_playwright() as playwright:
+        context = playwright.chromium.launch_persistent_context(
+            str(tmp_path / "chromium-profile"),
+            executable_path=str(CHROMIUM),
+            headless=True,
+            args=ARGS,
+            viewport={"width": 1280, "height": 900},
+        )
+        try:
+            context.route("**/*", loopback_only)
+            context.add_init_script(RECORD_VIOLATIONS)
+            yield context.new_page(), elsewhere
+        finally:
+            context.close()
+
+
+def test_swagger_ui_renders_every_operation_offline(
+    server: Server, offline_page: tuple[Any, list[str]]
+) -> None:
+    page, elsewhere = offline_page
+    response = page.goto(f"{server.url}/docs")
+    assert response.headers["content-security-policy"] == POLICY
+    page.wait_for_selector(".opblock-summary")
+    shown = page.locator(".opblock-summary-description").all_text_contents()
+    assert sorted(shown) == summaries(server)
+    assert page.evaluate("window.cspViolations") == []
+    assert elsewhere == []
+
+
+def test_redoc_renders_every_operation_offline(
+    server: Server, offline_page: tuple[Any, list[str]]
+) -> None:
+    page, elsewhere = offline_page
+    response = page.goto(f"{server.url}/redoc")
+    assert response.headers["content-security-policy"] == POLICY
+    page.wait_for_selector("[data-section-id*='operation/'] h2")
+    shown = page.locator("[data-section-id*='operation/'] h2").all_text_contents()
+    assert sorted(h.strip() for h in shown) == summaries(server)
+    assert set(page.evaluate("window.cspViolations")) <= {REDOC_LOGO}
+    assert elsewhere == []

@@ -17,16 +17,10 @@ import pytest
 
 from rigserver.api.routes.api_docs import POLICY
 from tests.api.conftest import Server
+from tests.web import test_browser
 from tests.web.test_browser import ARGS, CHROMIUM
 
-pytestmark = [
-    pytest.mark.slow,
-    pytest.mark.skipif(
-        not CHROMIUM.exists(),
-        reason="the browser test drives Debian's chromium at /usr/bin/chromium: "
-        "apt-get install chromium",
-    ),
-]
+pytestmark = test_browser.pytestmark  # slow; needs Debian's chromium
 
 #: Records the page's CSP violations (an init script runs outside the page's policy).
 RECORD_VIOLATIONS = """
@@ -75,27 +69,25 @@ def offline_page(server: Server, tmp_path: Path) -> Iterator[tuple[Any, list[str
             context.close()
 
 
-def test_swagger_ui_renders_every_operation_offline(
-    server: Server, offline_page: tuple[Any, list[str]]
+@pytest.mark.parametrize(
+    ("path", "operation", "allowed"),
+    [
+        ("/docs", ".opblock-summary-description", set()),  # Swagger UI: a summary per block
+        ("/redoc", "[data-section-id*='operation/'] h2", {REDOC_LOGO}),  # ReDoc: a heading
+    ],
+)
+def test_the_docs_page_renders_every_operation_offline(
+    server: Server,
+    offline_page: tuple[Any, list[str]],
+    path: str,
+    operation: str,
+    allowed: set[str],
 ) -> None:
     page, elsewhere = offline_page
-    response = page.goto(f"{server.url}/docs")
+    response = page.goto(f"{server.url}{path}")
     assert response.headers["content-security-policy"] == POLICY
-    page.wait_for_selector(".opblock-summary")
-    shown = page.locator(".opblock-summary-description").all_text_contents()
-    assert sorted(shown) == summaries(server)
-    assert page.evaluate("window.cspViolations") == []
-    assert elsewhere == []
-
-
-def test_redoc_renders_every_operation_offline(
-    server: Server, offline_page: tuple[Any, list[str]]
-) -> None:
-    page, elsewhere = offline_page
-    response = page.goto(f"{server.url}/redoc")
-    assert response.headers["content-security-policy"] == POLICY
-    page.wait_for_selector("[data-section-id*='operation/'] h2")
-    shown = page.locator("[data-section-id*='operation/'] h2").all_text_contents()
+    page.wait_for_selector(operation)
+    shown = page.locator(operation).all_text_contents()
     assert sorted(h.strip() for h in shown) == summaries(server)
-    assert set(page.evaluate("window.cspViolations")) <= {REDOC_LOGO}
+    assert set(page.evaluate("window.cspViolations")) <= allowed
     assert elsewhere == []

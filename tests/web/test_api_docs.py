@@ -18,7 +18,7 @@ import pytest
 from rigserver.api.routes.api_docs import POLICY
 from tests.api.conftest import Server
 from tests.web import test_browser
-from tests.web.test_browser import ARGS, CHROMIUM
+from tests.web.test_browser import chromium
 
 pytestmark = test_browser.pytestmark  # slow; needs Debian's chromium
 
@@ -54,13 +54,7 @@ def offline_page(server: Server, tmp_path: Path) -> Iterator[tuple[Any, list[str
             route.abort("internetdisconnected")
 
     with sync_playwright() as playwright:
-        context = playwright.chromium.launch_persistent_context(
-            str(tmp_path / "chromium-profile"),
-            executable_path=str(CHROMIUM),
-            headless=True,
-            args=ARGS,
-            viewport={"width": 1280, "height": 900},
-        )
+        context = chromium(playwright, tmp_path / "chromium-profile")
         try:
             context.route("**/*", loopback_only)
             context.add_init_script(RECORD_VIOLATIONS)

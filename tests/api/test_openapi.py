@@ -79,11 +79,19 @@ def test_the_batch_component_is_the_batch_the_route_parses(client: TestClient) -
     document = client.get("/openapi.json").json()
     batch = resolve(document, "#/components/schemas/ReadingBatch")
     assert set(batch["required"]) == {"seq", "group", "columns"}
-    assert batch["additionalProperties"] is False  # extra="forbid": a stray key is refused
-    r = client.post(
-        "/api/v1/runs/x/readings", json={"seq": 0, "group": "friction", "columns": {}, "extra": 1}
+    assert batch["additionalProperties"] is False
+    # what the document refuses, the route refuses: a key beside seq, group and columns
+    run = client.post(
+        "/api/v1/runs", json={"stand": "smts2", "operator": "x"}, headers=auth(WRITER)
     )
-    assert r.status_code in (401, 404)  # authenticated before parsing: no key here
+    (example,) = batch["examples"]
+    r = client.post(
+        f"/api/v1/runs/{run.json()['id']}/readings",
+        json={**example, "extra": 1},
+        headers=auth(WRITER),
+    )
+    assert r.status_code == 422
+    assert r.json()["errors"][0]["field"] == "extra"
 
 
 def test_every_request_body_has_an_example_the_service_takes(client: TestClient) -> None:

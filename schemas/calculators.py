@@ -16,7 +16,9 @@ def _defaults_as_example(schema: dict[str, Any], model: type[BaseModel]) -> None
 
 
 class _Input(BaseModel):
-    model_config = ConfigDict(extra="forbid", json_schema_extra=_defaults_as_example)
+    model_config = ConfigDict(
+        extra="forbid", allow_inf_nan=False, json_schema_extra=_defaults_as_example
+    )
 
 
 class WearTheoryInput(_Input):

@@ -94,22 +94,39 @@ def test_the_batch_component_is_the_batch_the_route_parses(client: TestClient) -
     assert r.json()["errors"][0]["field"] == "extra"
 
 
+def body_examples(document: dict[str, Any], path: str) -> list[Any]:
+    """The JSON example values of ``POST path``'s body."""
+    media = document["paths"][path]["post"]["requestBody"]["content"][JSON]
+    return [e["value"] for e in examples(document, media)]
+
+
+def made_for(
+    client: TestClient, document: dict[str, Any], path: str, value: Any
+) -> tuple[str, str]:
+    """``path`` with a new run and series of its own in place of ``{run_id}`` and
+    ``{series_id}`` (the readings of one run increase; a run at a level needs a
+    comparison), made from the document's own examples; and the run's id."""
+    opening = body_examples(document, "/api/v1/runs")[0]
+    run = client.post("/api/v1/runs", json=opening, headers=auth(WRITER)).json()["id"]
+    purpose = "comparison" if isinstance(value, dict) and value.get("level") else "repeatability"
+    series_body = next(
+        e for e in body_examples(document, "/api/v1/series") if e["purpose"] == purpose
+    )
+    series = client.post("/api/v1/series", json=series_body, headers=auth(WRITER))
+    return path.replace("{run_id}", run).replace("{series_id}", series.json()["id"]), run
+
+
 def test_every_request_body_has_an_example_the_service_takes(client: TestClient) -> None:
     document = client.get("/openapi.json").json()
-    paths = document["paths"]
-    (opening,) = examples(document, paths["/api/v1/runs"]["post"]["requestBody"]["content"][JSON])
     posted = 0
-    for path, operations in paths.items():
+    for path, operations in document["paths"].items():
         for method, operation in operations.items():
             for media_type, media in operation.get("requestBody", {}).get("content", {}).items():
                 found = examples(document, media)
                 assert found, f"{method.upper()} {path} {media_type}: no example"
                 for example in found:
-                    url = path
-                    if "{run_id}" in path:  # a run of its own: the readings of one run increase
-                        r = client.post("/api/v1/runs", json=opening["value"], headers=auth(WRITER))
-                        url = path.replace("{run_id}", r.json()["id"])
                     if "externalValue" in example:  # a binary body; its query from the examples
+                        url, _ = made_for(client, document, path, None)
                         content = client.get(example["externalValue"]).content
                         params = {
                             p["name"]: p["example"]
@@ -118,7 +135,11 @@ def test_every_request_body_has_an_example_the_service_takes(client: TestClient)
                         }
                     else:
                         assert media_type == JSON
-                        content, params = json.dumps(example["value"]).encode(), {}
+                        value, params = example["value"], {}
+                        url, run = made_for(client, document, path, value)
+                        if isinstance(value, dict) and "run_id" in value:  # a run that exists
+                            value = {**value, "run_id": run}
+                        content = json.dumps(value).encode()
                     r = client.request(
                         method,
                         url,
@@ -128,7 +149,7 @@ def test_every_request_body_has_an_example_the_service_takes(client: TestClient)
                     )
                     assert r.is_success, f"{method.upper()} {path} {media_type}: {r.text}"
                     posted += 1
-    assert posted >= 8  # readings (JSON, npz), runs, the five calculators
+    assert posted >= 11  # readings (JSON, npz), a run, 5 calculators, 2 series, a member
 
 
 def test_the_binary_example_is_the_json_example_as_npz(client: TestClient) -> None:

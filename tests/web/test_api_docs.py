@@ -15,7 +15,7 @@ from urllib.parse import urlsplit
 import httpx
 import pytest
 
-from rigserver.api.routes.api_docs import POLICY
+from rigserver.api.page_policy import DOCS
 from tests.api.conftest import Server
 from tests.web import test_browser
 from tests.web.test_browser import chromium
@@ -79,7 +79,7 @@ def test_the_docs_page_renders_every_operation_offline(
 ) -> None:
     page, elsewhere = offline_page
     response = page.goto(f"{server.url}{path}")
-    assert response.headers["content-security-policy"] == POLICY
+    assert response.headers["content-security-policy"] == DOCS
     page.wait_for_selector(operation)
     shown = page.locator(operation).all_text_contents()
     assert sorted(h.strip() for h in shown) == summaries(server)

@@ -6,7 +6,7 @@ The assets are those the ``fastapi-offline`` package ships (Swagger UI 5 and ReD
 current by its maintainer; why this package in ``docs/api-docs.md``), under
 ``/docs-assets``. The pages hold no inline script: Swagger UI is started by
 ``/docs-assets/swagger-init.js``, which reads the document's address from the page. The
-pages are sent with a Content-Security-Policy (:data:`POLICY`) that holds them to this
+pages' Content-Security-Policy (:data:`rigserver.api.page_policy.DOCS`) holds them to this
 server: ReDoc's footer asks a CDN for a logo, which the policy blocks (ReDoc then hides it).
 """
 
@@ -30,14 +30,10 @@ ASSETS = "/docs-assets"
 #: OpenAPI document.
 NPZ_EXAMPLE = "/docs/examples/readings.npz"
 
-#: Scripts, styles, images and workers from this server only. Swagger UI and ReDoc write
-#: their styles into <style> elements as they run ('unsafe-inline' styles; scripts stay
-#: 'self'), ReDoc draws icons from data: URLs and builds its search index in a blob: worker.
-POLICY = (
-    "default-src 'self'; script-src 'self'; style-src 'self' 'unsafe-inline'; "
-    "img-src 'self' data:; worker-src 'self' blob:; object-src 'none'; base-uri 'none'; "
-    "frame-ancestors 'none'"
-)
+SWAGGER_UI = "/docs"
+REDOC = "/redoc"
+#: The two pages, for the page policy (rigserver.api.page_policy).
+PAGES = (SWAGGER_UI, REDOC)
 
 router = APIRouter(include_in_schema=False)
 
@@ -66,7 +62,7 @@ def _paths(request: Request) -> tuple[str, str]:
     return root + ASSETS, root + openapi_url
 
 
-@router.get("/docs")
+@router.get(SWAGGER_UI)
 async def swagger_ui(request: Request) -> HTMLResponse:
     assets, openapi_url = _paths(request)
     page = _SWAGGER_PAGE.format(
@@ -74,21 +70,19 @@ async def swagger_ui(request: Request) -> HTMLResponse:
         assets=escape(assets),
         openapi_url=escape(openapi_url),
     )
-    return HTMLResponse(page, headers={"Content-Security-Policy": POLICY})
+    return HTMLResponse(page)
 
 
-@router.get("/redoc")
+@router.get(REDOC)
 async def redoc(request: Request) -> HTMLResponse:
     assets, openapi_url = _paths(request)
-    page = get_redoc_html(
+    return get_redoc_html(
         openapi_url=openapi_url,
         title=f"{request.app.title} - API",
         redoc_js_url=f"{assets}/redoc.standalone.js",
         redoc_favicon_url=f"{assets}/favicon.png",
         with_google_fonts=False,
     )
-    page.headers["Content-Security-Policy"] = POLICY
-    return page
 
 
 @lru_cache(maxsize=1)

@@ -2,13 +2,23 @@
 
 from __future__ import annotations
 
+from typing import Any
+
 from pydantic import BaseModel, ConfigDict
 
 from schemas.quantity import quantity
 
 
+def _defaults_as_example(schema: dict[str, Any], model: type[BaseModel]) -> None:
+    """The inputs' defaults (the manual's data where the class names an item) as the
+    OpenAPI example."""
+    schema["examples"] = [model().model_dump(mode="json")]
+
+
 class _Input(BaseModel):
-    model_config = ConfigDict(extra="forbid", allow_inf_nan=False)
+    model_config = ConfigDict(
+        extra="forbid", allow_inf_nan=False, json_schema_extra=_defaults_as_example
+    )
 
 
 class WearTheoryInput(_Input):

@@ -15,7 +15,7 @@ from math import inf, isfinite, nan
 
 import numpy as np
 from numpy.typing import NDArray
-from pydantic import BaseModel, ConfigDict, Field
+from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 from schemas.units import UNITS, UnitSymbol
 
@@ -132,6 +132,24 @@ class ChannelGroup(BaseModel):
     long_name: str
     aligned: bool
     channels: tuple[Channel, ...]
+    signals: tuple[str, ...] = Field(
+        default=(),
+        description="the measured quantities the group's default plot shows, the first the "
+        "main one (NeXus NXdata @signal, the others @auxiliary_signals)",
+    )
+    axis: str | None = Field(
+        default=None, description="the channel they are plotted against (NXdata @axes)"
+    )
+
+    @model_validator(mode="after")
+    def _plot_names_channels(self) -> ChannelGroup:
+        names = {c.name for c in self.channels}
+        for name in (*self.signals, *([self.axis] if self.axis else [])):
+            if name not in names:
+                raise ValueError(f"group {self.name!r} plots {name!r}, not one of its channels")
+        if self.axis in self.signals:
+            raise ValueError(f"group {self.name!r} plots {self.axis!r} against itself")
+        return self
 
     def channel(self, name: str) -> Channel | None:
         return next((c for c in self.channels if c.name == name), None)
@@ -154,14 +172,13 @@ def configured_groups(
     if all(unit(c) == c.unit for g in groups for c in g.channels):
         return groups
     return tuple(
-        ChannelGroup(
-            name=g.name,
-            long_name=g.long_name,
-            aligned=g.aligned,
-            channels=tuple(
-                c if unit(c) == c.unit else Channel.model_validate({**dict(c), "unit": unit(c)})
-                for c in g.channels
-            ),
+        g.model_copy(
+            update={
+                "channels": tuple(
+                    c if unit(c) == c.unit else Channel.model_validate({**dict(c), "unit": unit(c)})
+                    for c in g.channels
+                )
+            }
         )
         for g in groups
     )

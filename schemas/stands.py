@@ -179,6 +179,8 @@ SMTS2_GROUPS = (
         name="friction",
         long_name="friction record (SMTs-2 recorder)",
         aligned=True,
+        signals=("friction_moment",),
+        axis="time",
         channels=(
             _TIME,
             _c("load", "N", "N, normal load on the pin", Limit(low=190.0, high=5250.0)),
@@ -225,6 +227,8 @@ SLIDE_BEARING_GROUPS = (
         name="rows",
         long_name="one row of table 3.1 per position of the loader limb",
         aligned=True,
+        signals=("p1", "p2", "p3", "p4", "p5"),
+        axis="limb_angle",
         channels=(
             _c("limb_angle", "deg", "φ_limb, loader limb angle", Limit(low=-360, high=720)),
             *(
@@ -261,6 +265,8 @@ MTOS_GROUPS = (
         name="steps",
         long_name="one row of tables 4.1-4.3 per load step",
         aligned=True,
+        signals=("indicator",),
+        axis="load",
         channels=(
             _c("load", "N", "N, load from the dynamometer", Limit(low=0.0, high=10_000.0)),
             _c(
@@ -305,6 +311,8 @@ PROFILOMETER_GROUPS = (
         name="profile",
         long_name="profile trace y(x)",
         aligned=True,
+        signals=("y",),
+        axis="x",
         channels=(
             _c(
                 "x",

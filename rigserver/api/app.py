@@ -13,14 +13,16 @@ from rigserver.api.auth import ApiKey, Keyring
 from rigserver.api.body_limit import BodyLimit
 from rigserver.api.deps import Services
 from rigserver.api.gate import Gate
+from rigserver.api.openapi import add_components
 from rigserver.api.page_policy import PagePolicy
 from rigserver.api.rate_limit import RateLimit
-from rigserver.api.routes import live, models, pages, readings, reports, results, runs
+from rigserver.api.routes import api_docs, live, models, pages, readings, reports, results, runs
 from rigserver.api.routes import series as series_routes
 from rigserver.api.routes import stands as stand_routes
 from rigserver.api.settings import Settings
 from rigserver.storage.base import RunStore
 from rigserver.storage.series import SeriesStore, SqliteSeries
+from schemas.readings import ReadingBatch
 from schemas.stands import Stand, StandKind
 
 API_PREFIX = "/api/v1"
@@ -64,6 +66,8 @@ def create_app(
         "stands; the service stores each run in HDF5 and computes what the lab manual asks "
         "for. Errors are application/problem+json naming the field, the value and the limit.",
         lifespan=lifespan,
+        docs_url=None,  # served by api_docs, without a CDN
+        redoc_url=None,
     )
     app.state.services = Services(
         settings=settings,
@@ -75,6 +79,8 @@ def create_app(
     problems.install(app)
     for router in API_ROUTERS:
         app.include_router(router, prefix=API_PREFIX)
+    add_components(app, [ReadingBatch])  # the ingest route parses its body itself
+    api_docs.install(app)
     pages.install(app)
     # the last added is the outermost: rate, then key, then size
     app.add_middleware(BodyLimit, max_bytes=settings.max_body_bytes, timeout=settings.body_timeout)
@@ -92,6 +98,5 @@ def create_app(
             allow_methods=["GET", "POST"],
             allow_headers=["Authorization", "Content-Type"],
         )
-    docs = (app.docs_url, app.redoc_url, app.swagger_ui_oauth2_redirect_url)
-    app.add_middleware(PagePolicy, api=API_PREFIX, docs=[path for path in docs if path])
+    app.add_middleware(PagePolicy, api=API_PREFIX, docs=api_docs.PAGES)
     return app

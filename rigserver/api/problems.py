@@ -18,6 +18,7 @@ from fastapi.responses import JSONResponse
 from starlette.exceptions import HTTPException as StarletteHTTPException
 from starlette.routing import Match
 
+from rigserver.api.openapi import component_schemas
 from rigserver.core.errors import ModelInputError
 from rigserver.storage.errors import (
     KeyReused,
@@ -161,15 +162,7 @@ def _document(app: FastAPI) -> None:
     app.openapi = openapi  # type: ignore[method-assign]
 
 
-_PROBLEM_SCHEMAS: dict[str, Any] = Problem.model_json_schema(
-    ref_template="#/components/schemas/{model}"
-).pop("$defs", {}) | {
-    "Problem": {
-        k: v
-        for k, v in Problem.model_json_schema(ref_template="#/components/schemas/{model}").items()
-        if k != "$defs"
-    }
-}
+_PROBLEM_SCHEMAS: dict[str, Any] = component_schemas(Problem)
 
 
 def _allowed_methods(request: Request) -> list[str]:

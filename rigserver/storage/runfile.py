@@ -11,8 +11,10 @@ Layout::
       start_time, end_time    ISO 8601 strings (end_time once the run ends)
       title                   string
       <group>/                one per channel group of the stand: @NX_class=NXdata for an
-                              aligned group (@signal, @axes: its increasing channel, if any),
-                              NXcollection for the single measurements; @long_name
+                              aligned group, plotting what the stand measures against what
+                              it is measured along (@signal, @auxiliary_signals, @axes: the
+                              group's declared signals and axis, e.g. friction_moment against
+                              time), NXcollection for the single measurements; @long_name
         <channel>             float64, 1-D, chunked, resizable (maxshape None)
                               @units (symbol of schemas.units, e.g. "N*m") @long_name
       results/                NXcollection, once results are stored
@@ -294,15 +296,16 @@ class RunFile:
 def _create_group(entry: h5py.Group, decl: ChannelGroup) -> None:
     g = entry.create_group(decl.name, track_order=True)
     g.attrs["long_name"] = decl.long_name
-    axis = _axis(decl)
-    if decl.aligned:
-        signal = next(c.name for c in decl.channels if c.name != axis)
-        g.attrs.update(NX_class="NXdata", signal=signal, axes=axis or ".")
-        if axis is not None:
-            g.attrs[f"{axis}_indices"] = 0
+    if decl.aligned and decl.signals:  # the default plot: what the stand measures
+        signal, *auxiliary = decl.signals
+        g.attrs.update(NX_class="NXdata", signal=signal, axes=decl.axis or ".")
+        if auxiliary:
+            g.attrs["auxiliary_signals"] = auxiliary
+        if decl.axis is not None:
+            g.attrs[f"{decl.axis}_indices"] = 0
     else:
         g.attrs["NX_class"] = "NXcollection"
-    chunk = STREAM_CHUNK_ROWS if decl.aligned and axis is not None else TABLE_CHUNK_ROWS
+    chunk = STREAM_CHUNK_ROWS if decl.aligned and _axis(decl) is not None else TABLE_CHUNK_ROWS
     for ch in decl.channels:
         ds = g.create_dataset(ch.name, shape=(0,), maxshape=(None,), chunks=(chunk,), dtype="f8")
         ds.attrs.update(units=ch.unit, long_name=ch.long_name)

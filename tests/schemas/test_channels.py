@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 from hypothesis import example, given, settings
 from hypothesis import strategies as st
+from pydantic import ValidationError
 
 from schemas.channels import (
     Channel,
@@ -282,3 +283,31 @@ def test_a_stands_configuration_sets_its_gauges_unit() -> None:
     manometers = {f"p{k}" for k in range(1, 6)}
     assert units(stand) == {n: "atm" if n in manometers else u for n, u in default.items()}
     assert units(stand.for_run({"gauge_unit": "at"})) == default  # a run's own snapshot
+
+
+# --- the default plot of a group ------------------------------------------------------------
+
+
+def test_every_aligned_group_declares_its_plot() -> None:
+    for stand in default_stands().values():
+        for group in stand.groups:
+            assert bool(group.signals) == group.aligned, group.name
+            assert (group.axis is not None) == group.aligned, group.name
+
+
+@pytest.mark.parametrize(
+    ("signals", "axis", "match"),
+    [(("t",), "clock", "'clock', not one of its channels"), (("t",), "t", "against itself")],
+)
+def test_a_plot_names_channels_of_its_group(
+    signals: tuple[str, ...], axis: str, match: str
+) -> None:
+    with pytest.raises(ValidationError, match=match):
+        ChannelGroup(
+            name="g",
+            long_name="",
+            aligned=True,
+            channels=(Channel(name="t", unit="s", long_name=""),),
+            signals=signals,
+            axis=axis,
+        )

@@ -41,6 +41,18 @@ pytestmark = [
 ]
 
 
+def chromium(playwright: Any, profile: Path, **options: Any) -> Any:
+    """A headless Chromium context (Debian's, a fresh profile at ``profile``), 1280 x 900."""
+    return playwright.chromium.launch_persistent_context(
+        str(profile),
+        executable_path=str(CHROMIUM),
+        headless=True,
+        args=ARGS,
+        viewport={"width": 1280, "height": 900},
+        **options,
+    )
+
+
 def points(page: Any) -> int:
     return int(page.get_attribute("#live-chart", "data-points"))
 
@@ -71,14 +83,7 @@ def test_watch_a_run_live_and_download_its_report(server: Server, tmp_path: Path
     poster = threading.Thread(target=lab_pc, daemon=True)
     runs = f"{server.url}/api/v1/runs"
     with sync_playwright() as playwright:
-        context = playwright.chromium.launch_persistent_context(
-            str(tmp_path / "chromium-profile"),
-            executable_path=str(CHROMIUM),
-            headless=True,
-            args=ARGS,
-            accept_downloads=True,
-            viewport={"width": 1280, "height": 900},
-        )
+        context = chromium(playwright, tmp_path / "chromium-profile", accept_downloads=True)
         try:
             page = context.new_page()
             refused: list[str] = []  # what the pages' policy blocked (Chromium logs it)

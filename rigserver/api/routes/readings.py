@@ -30,6 +30,7 @@ from rigserver.api.deps import (
 )
 from rigserver.api.npz import parse_npz
 from rigserver.api.problems import ApiProblem, violations
+from rigserver.api.routes.api_docs import NPZ_EXAMPLE
 from rigserver.api.routes.runs import load_run
 from rigserver.api.run_results import StoredReadings
 from rigserver.api.strict_json import JsonRefused, strict_loads
@@ -65,9 +66,18 @@ _BATCH_BODY: dict[str, Any] = {
         "content": {
             "application/json": {"schema": {"$ref": "#/components/schemas/ReadingBatch"}},
             NPZ_MEDIA_TYPE: {
-                "schema": {"type": "string", "format": "binary"},
-                "description": "numpy.savez archive, one 1-D array per channel; "
-                "seq and group in the query",
+                "schema": {
+                    "type": "string",
+                    "format": "binary",
+                    "description": "numpy.savez archive, one 1-D array per channel; "
+                    "seq and group in the query",
+                },
+                "examples": {
+                    "friction": {
+                        "summary": "the JSON example's columns as numpy.savez writes them",
+                        "externalValue": NPZ_EXAMPLE,
+                    }
+                },
             },
         },
     },
@@ -79,6 +89,7 @@ _BATCH_BODY: dict[str, Any] = {
             "required": False,
             "description": "binary form only: the batch's sequence number",
             "schema": {"type": "integer", "minimum": 0, "maximum": 2**62},
+            "example": 1,
         },
         {
             "name": "group",
@@ -86,6 +97,7 @@ _BATCH_BODY: dict[str, Any] = {
             "required": False,
             "description": "binary form only: the channel group",
             "schema": {"type": "string", "maxLength": 40},
+            "example": "friction",
         },
     ],
 }

@@ -53,10 +53,10 @@ class Sender(threading.Thread):
         self.binary = binary
         self.state = SenderState()
         self.wake = threading.Event()
-        self._stop = threading.Event()
+        self._halt = threading.Event()
 
     def stop(self, timeout: float | None = None) -> None:
-        self._stop.set()
+        self._halt.set()
         self.wake.set()
         if self.is_alive():
             self.join(timeout)
@@ -65,7 +65,7 @@ class Sender(threading.Thread):
         spool = Spool(self.directory)
         attempt = 0
         try:
-            while not self._stop.is_set():
+            while not self._halt.is_set():
                 self.wake.clear()
                 try:
                     answer = deliver_one(spool, self.api, self.binary, self.state)
@@ -77,7 +77,7 @@ class Sender(threading.Thread):
                     attempt += 1
                     self.state.retries += 1
                     self.state.waiting = answer.reason
-                    self._stop.wait(self.api.retry.delay(attempt, self.api.rng, answer.retry_after))
+                    self._halt.wait(self.api.retry.delay(attempt, self.api.rng, answer.retry_after))
                 else:
                     attempt = 0
                     self.state.waiting = None

@@ -227,6 +227,12 @@ class Spool:
     def close(self) -> None:
         self._db.close()
 
+    def __enter__(self) -> Spool:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
     @contextmanager
     def _write(self, what: str) -> Iterator[sqlite3.Connection]:
         """One immediate transaction; sqlite3 errors translated, nothing committed on error."""

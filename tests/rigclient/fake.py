@@ -22,6 +22,8 @@ class FakeServer:
         self.state = "open"
         self.calls: list[str] = []
         self.script: list[Callable[[httpx.Request], httpx.Response | None]] = []
+        self.down = False  # True: every request meets a refused connection
+        self.keys: list[str] = []  # the Idempotency-Keys of the openings
 
     def run_json(self) -> dict[str, object]:
         return {
@@ -34,6 +36,8 @@ class FakeServer:
         }
 
     def __call__(self, request: httpx.Request) -> httpx.Response:
+        if self.down:
+            raise httpx.ConnectError("connection refused", request=request)
         self.calls.append(f"{request.method} {request.url.path}")
         if self.script:
             answer = self.script.pop(0)(request)
@@ -41,6 +45,7 @@ class FakeServer:
                 return answer
         path = request.url.path
         if path == "/api/v1/runs":
+            self.keys.append(request.headers.get("idempotency-key", ""))
             return httpx.Response(201, json=self.run_json())
         if path.endswith("/readings"):
             if request.headers["content-type"] == NPZ_MEDIA_TYPE:

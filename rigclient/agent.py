@@ -145,6 +145,7 @@ class Agent:
         self._rows: list[list[float]] = []
         self._rejects: list[Reject] = []
         self._first = 0.0
+        self._mark = (0, 0)  # end offset and number of the last line taken
         self.progress: Callable[[int], None] = lambda done: None  # bytes read so far
 
     def _table(self, header: str) -> Table:
@@ -175,6 +176,7 @@ class Agent:
         if found is not None:
             run, cursor = found
             self.follower.open(cursor)
+            self._mark = (self.follower.position, self.follower.line)
             self.say(
                 f"{self.path}: going on with run {run.local_id} from line {self.follower.line + 1}"
             )
@@ -182,34 +184,33 @@ class Agent:
             run = self.client.open_run(
                 **self.metadata,
                 constants=constants(self.stand, self.mapping),
-                cursor=self.follower.cursor(self.key),
+                cursor=self.follower.cursor(self.key, 0, 0),
             )
         self.on_run(run)
         outcome = Outcome(run)
         idle_since = time.monotonic()
         try:
             while True:
+                change = self.follower.changed() if follow else None
+                if change is not None:
+                    table = self._switch(change, run, table, outcome)
+                    idle_since = time.monotonic()
+                    continue
                 lines = self.follower.lines(final=not follow)
                 self.progress(self.follower.size_read)
                 for line in lines:
                     table = self._take(line, table, outcome)
+                    if len(self._rows) >= self.batching.rows:
+                        self._flush(run, table, outcome)
                 now = time.monotonic()
                 if lines:
                     idle_since = now
-                if self._rows and (
-                    len(self._rows) >= self.batching.rows
-                    or now - self._first >= self.batching.seconds
-                ):
+                if self._rows and now - self._first >= self.batching.seconds:
                     self._flush(run, table, outcome)
                 if lines:
                     continue
                 if not follow or stop.is_set():
                     break
-                change = self.follower.changed()
-                if change is not None:
-                    table = self._switch(change, run, table, outcome)
-                    idle_since = time.monotonic()
-                    continue
                 idle = self.batching.finish_after_idle
                 if idle is not None and now - idle_since >= idle:
                     self.say(f"{self.path}: no new row for {idle:g} s, finishing")
@@ -228,6 +229,7 @@ class Agent:
         return outcome
 
     def _take(self, line: Line, table: Table, outcome: Outcome) -> Table:
+        self._mark = (line.end, line.number)
         if line.number == 1:  # the header of a file (the first, or after a rotation)
             return self._table(line.text)
         if not line.text.strip() or line.text.lstrip().startswith("#"):
@@ -245,7 +247,7 @@ class Agent:
         return table
 
     def _flush(self, run: RunHandle, table: Table, outcome: Outcome) -> None:
-        cursor = self.follower.cursor(self.key)
+        cursor = self.follower.cursor(self.key, *self._mark)
         rejects = tuple(self._rejects)
         if self._rows:
             run.post(self.group.name, table.columns(self._rows), cursor=cursor, rejects=rejects)
@@ -265,5 +267,6 @@ class Agent:
             self.say(f"{self.path}:{self.follower.line + 1}: the old file ended in a partial line")
         self.say(f"{self.path}: the file was {change}; reading the new one from its start")
         self.follower.open()
-        run.mark(self.follower.cursor(self.key))
+        self._mark = (0, 0)
+        run.mark(self.follower.cursor(self.key, *self._mark))
         return table

@@ -4,7 +4,8 @@ Only complete lines (ending in a newline) are given; a partial last line waits f
 The file is known by its device and inode: when the name points to another file (the stand's
 software rotated it: renamed the old one and started a new one) the old file is read to its
 end and the new one from its start; a file that got shorter than what was read (truncated in
-place) is read again from its start.
+place, or rewritten from its start: the end of the last line read is no longer where it
+was) is read again from its start.
 """
 
 from __future__ import annotations
@@ -18,6 +19,7 @@ from rigclient.spool import Cursor
 
 Change = Literal["rotated", "truncated"]
 CHUNK = 1 << 20
+TAIL = 256  # bytes of the last line that tell a rewritten file from the same one
 
 
 @dataclass(frozen=True, slots=True)
@@ -40,6 +42,7 @@ class Follower:
         self.position = 0  # offset after the last line given
         self.line = 0  # number of the last line given
         self._buffer = b""
+        self._tail = b""  # the last bytes of the last line given: the file's fingerprint
 
     @property
     def is_open(self) -> bool:
@@ -68,7 +71,14 @@ class Follower:
         ):
             handle.seek(cursor.position)
             self.position, self.line = cursor.position, cursor.line
+        self._tail = self._read_back(TAIL)
         return True
+
+    def _read_back(self, size: int) -> bytes:
+        """The ``size`` bytes before the position (fewer at the file's start)."""
+        assert self._file is not None
+        size = min(size, self.position)
+        return os.pread(self._file.fileno(), size, self.position - size) if size else b""
 
     def header(self) -> str | None:
         """The file's first line if it is complete, read without moving."""
@@ -99,6 +109,7 @@ class Follower:
     def _line(self, raw: bytes) -> Line:
         self.position += len(raw)
         self.line += 1
+        self._tail = raw[-TAIL:]
         return Line(raw.decode(self.encoding, errors="replace"), self.line, self.position)
 
     @property
@@ -118,9 +129,10 @@ class Follower:
             return None  # between the rename and the new file: wait
         if (st.st_dev, st.st_ino) != (self.device, self.inode):
             return "rotated"
-        if st.st_size < self.size_read:
-            return "truncated"
+        if st.st_size < self.size_read or self._read_back(len(self._tail)) != self._tail:
+            return "truncated"  # shorter, or rewritten from the start past where we were
         return None
 
-    def cursor(self, key: str) -> Cursor:
-        return Cursor(key, str(self.path), self.device, self.inode, self.position, self.line)
+    def cursor(self, key: str, position: int, line: int) -> Cursor:
+        """The file's identity with a position in it (after a line taken)."""
+        return Cursor(key, str(self.path), self.device, self.inode, position, line)

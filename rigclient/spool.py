@@ -204,8 +204,8 @@ def new_local_id() -> str:
 
 
 class Spool:
-    """The spool in ``directory`` (made if missing). One per thread: connections are not
-    shared."""
+    """The spool in ``directory`` (made if missing). One connection: calls from several
+    threads take a lock (:class:`rigclient.Client` holds one); the sender has its own."""
 
     def __init__(
         self, directory: str | Path, limits: SpoolLimits | None = None, *, create: bool = True
@@ -217,7 +217,9 @@ class Spool:
             raise SpoolError(f"no spool in {self.directory} (no {FILENAME})")
         try:
             self.directory.mkdir(parents=True, exist_ok=True)
-            self._db = sqlite3.connect(self.path, timeout=30.0, isolation_level=None)
+            self._db = sqlite3.connect(
+                self.path, timeout=30.0, isolation_level=None, check_same_thread=False
+            )
             self._db.execute("PRAGMA journal_mode=WAL")
             self._db.execute("PRAGMA synchronous=FULL")
             self._db.executescript(_SCHEMA)

@@ -11,10 +11,17 @@ import pytest
 from rigclient.errors import InputError
 from rigclient.mapping import load_map, unit_factor
 from rigclient.table import Table, split_header
+from schemas.channels import ChannelGroup
 from schemas.stands import StandKind, default_stands
 
-FRICTION = default_stands()[StandKind.SMTS2].group("friction")
-assert FRICTION is not None
+
+def _friction() -> ChannelGroup:
+    group = default_stands()[StandKind.SMTS2].group("friction")
+    assert group is not None
+    return group
+
+
+FRICTION = _friction()
 
 MAP = """
 stand = "smts2"

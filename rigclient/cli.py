@@ -243,7 +243,7 @@ def _import(
             mapping=mapping,
             metadata=metadata,
             batching=batching,
-            say=lambda text: bar.console.print(text, markup=False, highlight=False),
+            say=lambda text: bar.console.print(text, markup=False, highlight=False, soft_wrap=True),
             on_run=lambda run: _announce(run, args.id_wait),
             kind="import",
         )

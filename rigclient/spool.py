@@ -22,6 +22,7 @@ nothing of the call was committed.
 
 from __future__ import annotations
 
+import errno
 import io
 import json
 import secrets
@@ -42,6 +43,8 @@ from rigclient.errors import SpoolError, SpoolFull, UnknownRun
 from rigclient.http import npz_bytes
 
 FILENAME = "spool.sqlite"
+#: SQLite's answers to a write that found no room (ENOSPC; EFBIG past a file size limit).
+_NO_ROOM = ("SQLITE_FULL", "SQLITE_IOERR_WRITE")
 
 _SCHEMA = """
 CREATE TABLE IF NOT EXISTS runs (
@@ -414,11 +417,13 @@ class Spool:
             raise UnknownRun(f"no run {local_id} in the spool {self.path}")
         return json.loads(row[0]), str(row[1])
 
-    def next_batch(self, local_id: str) -> Pending | None:
+    def next_batch(self, local_id: str, seq: int = 0) -> Pending | None:
+        """The run's first batch not acknowledged from ``seq`` on."""
         row = self._db.execute(
             "SELECT b.local_id, r.server_id, b.seq, b.grp, b.payload FROM batches b "
-            "JOIN runs r USING (local_id) WHERE b.local_id = ? ORDER BY b.seq LIMIT 1",
-            (local_id,),
+            "JOIN runs r USING (local_id) WHERE b.local_id = ? AND b.seq >= ? "
+            "ORDER BY b.seq LIMIT 1",
+            (local_id, seq),
         ).fetchone()
         return None if row is None else Pending(*row)
 
@@ -473,8 +478,10 @@ def _translate(exc: BaseException, what: str) -> SpoolError:
     """A sqlite3 or OS error as the spool's own: a full disk (or a file size limit) is
     :class:`SpoolFull`."""
     text = str(exc)
-    code = getattr(exc, "sqlite_errorcode", None)
-    full = code == sqlite3.SQLITE_FULL or "full" in text or getattr(exc, "errno", None) == 28
-    if full:
-        return SpoolFull(f"could not {what}: the disk is full ({text}); nothing was spooled")
+    name = getattr(exc, "sqlite_errorname", "")
+    if name in _NO_ROOM or getattr(exc, "errno", None) in (errno.ENOSPC, errno.EFBIG):
+        return SpoolFull(
+            f"could not {what}: no room on the disk ({name or text}: the disk is full or the "
+            "spool's file may not grow); nothing was spooled"
+        )
     return SpoolError(f"could not {what}: {text}; nothing was spooled")

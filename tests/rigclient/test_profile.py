@@ -49,14 +49,16 @@ def write_all(directory: Path) -> dict[str, Path]:
         f.write("# ABRIS-PM7 trace\n")
         f.writelines(f"{a:.6f}  {b:.9f}\n" for a, b in zip(x, y, strict=True))
     x3pio.write(files["x3p"], y * 1e-6, x_scale=STEP_MM * 1e-3)
-    for name, fmt in (("sdf-ascii", sdfio.FileFormat.ASCII), ("sdf-binary", None)):
-        options = {} if fmt is None else {"format": fmt}
+    for name, fmt in (
+        ("sdf-ascii", sdfio.FileFormat.ASCII),
+        ("sdf-binary", sdfio.FileFormat.BINARY),
+    ):
         sdfio.write(
             files[name],
             (y * 1e-6).reshape(1, -1),
             x_scale=STEP_MM * 1e-3,
             y_scale=STEP_MM * 1e-3,
-            **options,
+            format=fmt,
         )
     return files
 

@@ -3,11 +3,13 @@
 from __future__ import annotations
 
 import json
+import re
 from pathlib import Path
 
 import numpy as np
 import pytest
 
+from rigclient.agent import constants
 from rigclient.errors import InputError
 from rigclient.mapping import load_map, unit_factor
 from rigclient.table import Table, split_header
@@ -129,3 +131,26 @@ def test_columns_keep_the_rows_in_order() -> None:
     table = Table.from_header(header, file="f.csv", group=FRICTION, mapping=None)
     rows = [table.parse(f"{k},300,1000,3,{k}", line=k + 2) for k in range(5)]
     np.testing.assert_array_equal(table.columns(rows)["time"], np.arange(5.0))
+
+
+def test_the_readmes_maps_read_a_file_of_their_stand(tmp_path: Path) -> None:
+    """Each map in the README's "Connect a real stand" section is a valid map: a header of
+    its columns (and the channels it leaves to the header) reads, its constants convert."""
+    readme = (Path(__file__).parents[2] / "README.md").read_text(encoding="utf-8")
+    blocks = re.findall(r"```toml\n(.*?)```", readme, flags=re.S)
+    assert len(blocks) == 4
+    seen = set()
+    for k, block in enumerate(blocks):
+        path = tmp_path / f"map{k}.toml"
+        path.write_text(block, encoding="utf-8")
+        mapping = load_map(path)
+        stand = default_stands()[StandKind(mapping.stand or "profilometer")]
+        group = stand.group(mapping.group or "profile")
+        assert group is not None
+        mapped = {c.channel for c in mapping.columns.values()}
+        header = [*mapping.columns, *(c.name for c in group.channels if c.name not in mapped)]
+        table = Table.from_header(";".join(header), file=str(path), group=group, mapping=mapping)
+        assert sorted(table.channels) == sorted(c.name for c in group.channels)
+        constants(stand, mapping)
+        seen.add(stand.kind)
+    assert seen == set(StandKind)

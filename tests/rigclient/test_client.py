@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 
 from rigclient import Client, InputError, RetryPolicy, SpoolFull, SpoolLimits
+from rigclient.cli import main
 from rigclient.spool import Spool
 from tests.rigclient.fake import RUN_ID, FakeServer, problem
 
@@ -191,3 +192,36 @@ def test_names_are_checked_before_spooling(tmp_path: Path) -> None:
         with pytest.raises(InputError, match="missing: y"):
             run.post("profile", {"x": [1.0]})
         assert run.status().batches == 0
+
+
+def test_batches_go_as_json_columns_when_asked(tmp_path: Path) -> None:
+    server = FakeServer()
+    seen: list[str] = []
+
+    def content_type(request: httpx.Request) -> None:
+        seen.append(request.headers["content-type"])
+
+    server.script = [lambda r: None, content_type]
+    with _client(server, tmp_path, binary=False) as client:
+        run = client.open_run(stand="profilometer", operator="Petrov")
+        run.post("profile", _profile(0.0))
+        assert client.wait(10)
+    assert seen == ["application/json"]
+    assert server.stored[0]["x"] == [0.0, 1.0, 2.0]
+
+
+def test_status_lists_pending_acknowledged_and_refused(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    server = FakeServer()
+    server.script = [lambda r: None, lambda r: problem(422, "Readings refused", "y[0] too high")]
+    with _client(server, tmp_path) as client:
+        run = client.open_run(stand="profilometer", operator="Petrov", title="trace 7")
+        run.post("profile", _profile(0.0))
+        run.post("profile", _profile(3.0))
+        assert not client.wait(10)
+    assert main(["status", "--spool", str(tmp_path)]) == 0
+    out = capsys.readouterr().out
+    assert "trace 7" in out and "refused" in out and "batch 0: 422 y[0] too high" in out
+    assert main(["status", "--spool", str(tmp_path / "nowhere")]) == 1
+    assert "no spool in" in capsys.readouterr().err

@@ -33,7 +33,7 @@ from rich.progress import (
 )
 from rich.table import Table as RichTable
 
-from rigclient.agent import Agent, Batching, constants, run_metadata, stand_of
+from rigclient.agent import Agent, Batching, Outcome, constants, run_metadata, stand_of
 from rigclient.client import Client, RunHandle
 from rigclient.errors import RigclientError
 from rigclient.mapping import StandMap, load_map
@@ -190,21 +190,19 @@ def _tail(args: argparse.Namespace, *, follow: bool) -> int:
     )
     stop = _stop_on_signals()
     with _client(args) as client:
-        if follow:
-            agent = Agent(
-                client,
-                args.file,
-                stand=stand,
-                group=group,
-                mapping=mapping,
-                metadata=metadata,
-                batching=batching,
-                say=_say,
-                on_run=lambda run: _announce(run, args.id_wait),
-            )
-            outcome = agent.run(stop)
-        else:
-            outcome = _import(client, args, stand, group, mapping, metadata, batching, stop)
+        agent = Agent(
+            client,
+            args.file,
+            stand=stand,
+            group=group,
+            mapping=mapping,
+            metadata=metadata,
+            batching=batching,
+            say=_say,
+            on_run=lambda run: _announce(run, args.id_wait),
+            kind="tail" if follow else "import",
+        )
+        outcome = agent.run(stop) if follow else _import(client, agent, args.drain, stop)
         if outcome is None:
             _say(f"{args.file}: stopped before the file had a header; no run opened")
             return 1
@@ -215,42 +213,24 @@ def _tail(args: argparse.Namespace, *, follow: bool) -> int:
         return _finish_up(client, outcome.run, args.drain)
 
 
-def _import(
-    client: Client,
-    args: argparse.Namespace,
-    stand: str,
-    group: str,
-    mapping: StandMap | None,
-    metadata: dict[str, Any],
-    batching: Batching,
-    stop: threading.Event,
-) -> Any:
-    console = Console(stderr=True)
-    size = args.file.stat().st_size if args.file.exists() else 0
+def _import(client: Client, agent: Agent, drain: float, stop: threading.Event) -> Outcome | None:
+    """The whole file through ``agent``, then its delivery, with progress bars."""
+    size = agent.path.stat().st_size if agent.path.exists() else 0
     with Progress(
         TextColumn("{task.description}"),
         BarColumn(),
         MofNCompleteColumn(),
         TimeElapsedColumn(),
-        console=console,
+        console=Console(stderr=True),
     ) as bar:
-        task = bar.add_task(f"spooling {args.file.name} (bytes)", total=size)
-        agent = Agent(
-            client,
-            args.file,
-            stand=stand,
-            group=group,
-            mapping=mapping,
-            metadata=metadata,
-            batching=batching,
-            say=lambda text: bar.console.print(text, markup=False, highlight=False, soft_wrap=True),
-            on_run=lambda run: _announce(run, args.id_wait),
-            kind="import",
+        task = bar.add_task(f"spooling {agent.path.name} (bytes)", total=size)
+        agent.say = lambda text: bar.console.print(
+            text, markup=False, highlight=False, soft_wrap=True
         )
         agent.progress = lambda done: bar.update(task, completed=done)
         outcome = agent.run(stop, follow=False)
         if outcome is not None:
-            _deliver(client, outcome.run, bar, args.drain)
+            _deliver(client, outcome.run, bar, drain)
     return outcome
 
 

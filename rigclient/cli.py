@@ -18,7 +18,8 @@ import signal
 import sys
 import threading
 import time
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
+from contextlib import contextmanager
 from pathlib import Path
 from types import FrameType
 from typing import Any
@@ -125,17 +126,24 @@ def _client(args: argparse.Namespace) -> Client:
     return Client(args.url, args.key, spool=args.spool, limits=limits)
 
 
-def _stop_on_signals() -> threading.Event:
-    """An event set by SIGTERM, and by SIGINT unless the shell ignores it."""
+@contextmanager
+def _stop_on_signals() -> Iterator[threading.Event]:
+    """An event set by SIGTERM, and by SIGINT unless the shell ignores it; the handlers
+    before are restored at the end."""
     stop = threading.Event()
 
     def handler(signum: int, frame: FrameType | None) -> None:
         stop.set()
 
+    before = {s: signal.getsignal(s) for s in (signal.SIGTERM, signal.SIGINT)}
     signal.signal(signal.SIGTERM, handler)
-    if signal.getsignal(signal.SIGINT) is not signal.SIG_IGN:
+    if before[signal.SIGINT] is not signal.SIG_IGN:
         signal.signal(signal.SIGINT, handler)
-    return stop
+    try:
+        yield stop
+    finally:
+        for signum, previous in before.items():
+            signal.signal(signum, previous)
 
 
 def _say(message: str) -> None:
@@ -146,8 +154,15 @@ def _announce(run: RunHandle, wait: float) -> None:
     """The run id on the first line of output: the server's, or the local one while the
     server is out of reach."""
     deadline = time.monotonic() + wait
-    while run.server_id is None and time.monotonic() < deadline:
+    record = run.status()
+    while record.server_id is None and record.refused is None and time.monotonic() < deadline:
         time.sleep(0.05)
+        record = run.status()
+    if record.refused is not None:
+        raise RigclientError(
+            f"the server refused the run's {record.refused_what}: {record.refused.get('status')} "
+            f"{record.refused.get('detail')} (kept in the spool {run.local_id}; see `status`)"
+        )
     print(run.server_id or run.local_id, flush=True)
     if run.server_id is None:
         _say(f"run {run.local_id}: the server has not answered yet; the readings are spooled")
@@ -188,8 +203,7 @@ def _tail(args: argparse.Namespace, *, follow: bool) -> int:
         finish_after_idle=getattr(args, "finish_after_idle", None),
         poll=getattr(args, "poll", 0.2),
     )
-    stop = _stop_on_signals()
-    with _client(args) as client:
+    with _stop_on_signals() as stop, _client(args) as client:
         agent = Agent(
             client,
             args.file,

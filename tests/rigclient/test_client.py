@@ -225,3 +225,19 @@ def test_status_lists_pending_acknowledged_and_refused(
     assert "trace 7" in out and "refused" in out and "batch 0: 422 y[0] too high" in out
     assert main(["status", "--spool", str(tmp_path / "nowhere")]) == 1
     assert "no spool in" in capsys.readouterr().err
+
+
+def test_tail_with_the_server_out_of_reach_prints_the_local_id_and_keeps_the_rows(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    path = tmp_path / "trace.csv"
+    path.write_text("x;y\n0;1\n0,5;2\n", encoding="utf-8")
+    spool = tmp_path / "spool"
+    args = ["tail", str(path), "--stand", "profilometer", "--group", "profile", "--id-wait", "1"]
+    args += ["--url", "http://127.0.0.1:9", "--spool", str(spool)]  # nothing listens there
+    assert main([*args, "--finish-after-idle", "0.5", "--drain", "0.5"]) == 0
+    out, err = capsys.readouterr()
+    assert out.startswith("local-") and "1 batches wait in the spool" in err
+    with Spool(spool) as opened:
+        (record,) = opened.runs()
+    assert (record.pending, record.finish_queued, record.server_id) == (1, True, None)

@@ -142,3 +142,18 @@ def test_import_refuses_a_malformed_line_and_delivers_the_rest(
     report = "\n".join(status.output())
     assert status.proc.returncode == 0, log.read_text()
     assert '"line": 8' in report and '"column": "load"' in report
+
+
+def test_tail_stops_at_once_when_the_server_refuses_the_opening(
+    server: Server, agents: list[AgentProcess], tmp_path: Path
+) -> None:
+    """A key without the scope: the agent says so instead of spooling rows for nobody."""
+    path = tmp_path / "smts2.csv"
+    path.write_text(HEADER + row(0), encoding="utf-8")
+    log = tmp_path / "agent.log"
+    args = ["tail", str(path), "--stand", "smts2", "--group", "friction", "--url", server.url]
+    args += ["--key", READER, "--spool", str(tmp_path / "spool")]
+    agents.append(AgentProcess(args, log))
+    assert agents[-1].output(60) == []
+    assert agents[-1].proc.returncode == 1
+    assert "the server refused the run's opening: 403" in log.read_text()

@@ -309,7 +309,7 @@ def _status(args: argparse.Namespace) -> int:
             str(r.pending),
             why,
         )
-    Console(width=200).print(table)
+    Console(width=None if sys.stdout.isatty() else 200).print(table)
     return 0
 
 

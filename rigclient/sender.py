@@ -71,6 +71,8 @@ class Sender(threading.Thread):
                     answer = deliver_one(spool, self.api, self.binary, self.state)
                 except SpoolError as exc:  # the receipt could not be recorded: try again
                     answer = TryLater(str(exc))
+                except (ValueError, httpx.HTTPError) as exc:  # e.g. a proxy's page, not JSON
+                    answer = TryLater(f"unexpected answer: {type(exc).__name__}: {exc}", None, exc)
                 if answer == "idle":
                     self.wake.wait(IDLE_POLL)
                 elif isinstance(answer, TryLater):

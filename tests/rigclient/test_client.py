@@ -241,3 +241,16 @@ def test_tail_with_the_server_out_of_reach_prints_the_local_id_and_keeps_the_row
     with Spool(spool) as opened:
         (record,) = opened.runs()
     assert (record.pending, record.finish_queued, record.server_id) == (1, True, None)
+
+
+def test_an_answer_that_is_not_the_apis_is_tried_again(tmp_path: Path) -> None:
+    """A proxy's HTML page where the receipt should be: not delivered, tried again."""
+    server = FakeServer()
+    page = httpx.Response(200, text="<html>Welcome to the lab network</html>")
+    server.script = [lambda r: None, lambda r: page]
+    with _client(server, tmp_path) as client:
+        run = client.open_run(stand="profilometer", operator="Petrov")
+        run.post("profile", _profile(0.0))
+        assert client.wait(10)
+        assert client.status().retries == 1
+    assert sorted(server.stored) == [0]

@@ -1,5 +1,6 @@
 """The agent against a real ``rigserver serve``: the server killed for a while, the agent
-killed -9 twice, and every row of the file stored exactly once, in order, in a finished run.
+killed -9 twice, the file rotated, and every row stored exactly once, in order, in a finished
+run.
 
 The issue asks for a 30 s outage; CI runs it scaled down (RIG_OUTAGE_SECONDS, default 3).
 """
@@ -42,6 +43,11 @@ class Stand:
                 f.write(row(self.rows))
             self.rows += 1
             time.sleep(pause)
+
+    def rotate(self) -> None:
+        """The file renamed aside and a new one started with the header."""
+        self.path.rename(self.path.with_suffix(".csv.1"))
+        self.path.write_text(HEADER, encoding="utf-8")
 
     def write_split(self) -> None:
         """One row written in two pieces, a while apart (a partial last line)."""
@@ -103,7 +109,9 @@ def test_outage_and_two_kills_store_every_row_once_in_order(
     stand.write(20)
     time.sleep(outage / 2)
     server.start()
-    stand.write(20)
+    stand.write(10)
+    stand.rotate()  # the stand's software starts a new file mid-run
+    stand.write(10)
     deadline = time.monotonic() + 60
     while friction_rows(state := run_state(server.url, run_id)) != stand.rows:
         assert time.monotonic() < deadline, f"{state}: {log.read_text()[-2000:]}"

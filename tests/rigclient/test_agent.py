@@ -92,6 +92,7 @@ def test_a_rotated_file_is_followed(server: FakeServer, tmp_path: Path, how: str
     path = tmp_path / "smts2.csv"
     write(path, HEADER + "".join(row(k) for k in range(10)), "w")
     agent = Running(server, path, tmp_path / "spool")
+    wait_for(lambda: agent.agent.follower.is_open)  # a file renamed before is another file
     if how == "renamed":
         path.rename(tmp_path / "smts2.csv.1")  # rows not read yet are read from the old file
     else:  # copytruncate: what was not read before the truncation is gone, so wait for it

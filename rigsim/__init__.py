@@ -4,7 +4,8 @@
   (the run to open, its batches in stand order, and the truth).
 - :mod:`rigsim.instruments`: offsets, drift, noise, quantisation and faults.
 - :mod:`rigsim.bearing_model`, :mod:`rigsim.thermal`: the physics behind the bearing stands.
-- :mod:`rigsim.client`: the lab-PC client (retries, pacing, sequence numbers).
+- :mod:`rigsim.client`: the simulated lab PC (pacing, sequence numbers), posting through
+  :mod:`rigclient.http` (retries, backoff, Retry-After, duplicate receipts).
 - :mod:`rigsim.cli`: ``rigsim run`` and ``rigsim demo``.
 """
 

@@ -22,7 +22,7 @@ from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, T
 
 from rigsim.bearing_model import MODELS
 from rigsim.client import LabClient
-from rigsim.errors import RigsimError
+from rigsim.errors import RigsimError, ServerError
 from rigsim.instruments import FAULT_KINDS, Fault
 from rigsim.report import print_results
 from rigsim.stands import SIMULATORS
@@ -166,7 +166,7 @@ def main(argv: Sequence[str] | None = None) -> int:
             seed=args.seed,
             console=console,
         )
-    except RigsimError as exc:
+    except (RigsimError, ServerError) as exc:
         console.print(f"[bold red]rigsim:[/] {exc}")
         return 1
     except KeyboardInterrupt:

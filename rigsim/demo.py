@@ -24,7 +24,7 @@ import httpx
 from rich.console import Console
 
 from rigsim.client import LabClient, RunOutcome
-from rigsim.errors import RigsimError, ServerUnavailable
+from rigsim.errors import RigsimError, ServerError, ServerUnavailable
 from rigsim.stands import simulate
 from schemas.stands import StandKind
 
@@ -93,7 +93,7 @@ def run_demo(
                 sim = simulate(kind, seed=stand_seed)
                 with LabClient(url, key, seed=stand_seed) as client:
                     outcomes[label] = client.run(sim, speed=speed)
-            except RigsimError as exc:
+            except (RigsimError, ServerError) as exc:
                 outcomes[label] = f"failed: {exc}"
 
         jobs = [(kind.value, kind, seed + i) for i, kind in enumerate(StandKind)]

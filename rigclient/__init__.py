@@ -1,0 +1,47 @@
+"""rigclient: the lab PC's side of rig. A client library with a durable spool, and an agent.
+
+- :class:`Client`: ``open_run`` -> :class:`RunHandle`; ``post`` returns once the batch is
+  durable in the local spool; a sender thread delivers it (retries, backoff, Retry-After).
+- :mod:`rigclient.spool`: the spool (SQLite in WAL mode).
+- :mod:`rigclient.http`: the server's API, one request at a time or retried.
+- :mod:`rigclient.cli`: ``rigclient tail | import | profile | status | send``.
+
+Needs httpx, numpy, pydantic (the wire schemas), rich, x3pio and sdfio; none of the
+server's packages.
+"""
+
+from rigclient.client import Client, ClientStatus, RunHandle
+from rigclient.errors import (
+    InputError,
+    RigclientError,
+    ServerError,
+    ServerRefused,
+    ServerUnavailable,
+    SpoolError,
+    SpoolFull,
+    UnknownRun,
+)
+from rigclient.http import Api, RetryPolicy, problem_of, retry_after
+from rigclient.spool import Cursor, Reject, RunRecord, SpoolLimits
+
+__all__ = [
+    "Api",
+    "Client",
+    "ClientStatus",
+    "Cursor",
+    "InputError",
+    "Reject",
+    "RetryPolicy",
+    "RigclientError",
+    "RunHandle",
+    "RunRecord",
+    "ServerError",
+    "ServerRefused",
+    "ServerUnavailable",
+    "SpoolError",
+    "SpoolFull",
+    "SpoolLimits",
+    "UnknownRun",
+    "problem_of",
+    "retry_after",
+]

@@ -1,0 +1,295 @@
+"""The lab PC's client: runs and batches go to the durable spool; a sender delivers them.
+
+::
+
+    client = Client("http://rig:8000", key, spool="C:/rig-spool")
+    run = client.open_run(stand="smts2", operator="Ivanova", title="St3sp on R9")
+    run.post("friction", {"time": t, "load": n, ...})   # returns once durable on disk
+    run.finish()                                        # queued after the last batch
+    client.wait(60)                                     # True once the server has it all
+
+``post`` checks the group and channel names against the stand's declaration (schemas) and
+returns when the batch is committed to the spool (SQLite WAL, fsync'd): never after the
+network. A full disk, or a spool past its size or age bound, raises :class:`SpoolFull`
+before anything is acknowledged.
+"""
+
+from __future__ import annotations
+
+import threading
+import time
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, TypeVar
+
+import httpx
+import numpy as np
+from numpy.typing import ArrayLike
+from pydantic import ValidationError
+
+from rigclient.errors import InputError
+from rigclient.http import Api, RetryPolicy
+from rigclient.sender import Sender
+from rigclient.spool import Cursor, Reject, RunRecord, Spool, SpoolLimits
+from schemas.runs import RunCreate
+from schemas.stands import Stand, default_stands
+from schemas.wire import Scalar
+
+T = TypeVar("T")
+WAIT_POLL = 0.05  # s between looks at the spool while waiting
+
+
+@dataclass(frozen=True, slots=True)
+class ClientStatus:
+    """The spool's runs, and what the sender last met.
+
+    Attributes
+    ----------
+    runs : list of RunRecord
+        Every run in the spool, oldest first (pending, acknowledged, refused).
+    waiting : str or None
+        Why the sender is waiting to try again (no network, 503 ...), or None.
+    retries : int
+        Tries the sender made again since the client started.
+    duplicates : int
+        Batches the server answered as stored before (a retry whose answer was lost).
+    """
+
+    runs: list[RunRecord]
+    waiting: str | None
+    retries: int
+    duplicates: int
+
+    @property
+    def pending(self) -> int:
+        return sum(r.pending for r in self.runs)
+
+    @property
+    def refused(self) -> list[RunRecord]:
+        return [r for r in self.runs if r.refused is not None]
+
+
+class RunHandle:
+    """A run opened through the spool; ``local_id`` at once, ``server_id`` once delivered."""
+
+    def __init__(self, client: Client, local_id: str, stand: Stand) -> None:
+        self._client = client
+        self.local_id = local_id
+        self.stand = stand
+
+    def __repr__(self) -> str:
+        return f"RunHandle({self.local_id!r}, stand={self.stand.kind.value!r})"
+
+    @property
+    def server_id(self) -> str | None:
+        """The server's run id, or None while the opening is not delivered."""
+        return self.status().server_id
+
+    def status(self) -> RunRecord:
+        return self._client._locked(lambda s: s.runs(self.local_id)[0])
+
+    def post(
+        self,
+        group: str,
+        columns: Mapping[str, ArrayLike],
+        *,
+        cursor: Cursor | None = None,
+        rejects: tuple[Reject, ...] = (),
+    ) -> int:
+        """Spool a batch of ``group`` (channel -> values in the channel's unit); its seq.
+
+        Returns once the batch is durable on the lab PC's disk. ``cursor`` (where a followed
+        file stands after these rows) and ``rejects`` (lines that could not be read) are
+        written in the same transaction.
+        """
+        arrays = check_columns(self.stand, group, columns)
+        seq = self._client._locked(
+            lambda s: s.append(self.local_id, group, arrays, cursor=cursor, rejects=rejects)
+        )
+        self._client._sender.wake.set()
+        assert seq is not None
+        return seq
+
+    def mark(self, cursor: Cursor | None, rejects: tuple[Reject, ...] = ()) -> None:
+        """Record a file position and rejected lines without a batch."""
+        self._client._locked(
+            lambda s: s.append(self.local_id, None, None, cursor=cursor, rejects=rejects)
+        )
+
+    def finish(self) -> None:
+        """Queue the run's finish after its last batch."""
+        self._client._locked(lambda s: s.queue_finish(self.local_id))
+        self._client._sender.wake.set()
+
+
+def check_columns(
+    stand: Stand, group: str, columns: Mapping[str, ArrayLike]
+) -> dict[str, np.ndarray[Any, np.dtype[np.float64]]]:
+    """The columns as float arrays, if the group and channels are the stand's and an
+    aligned group's columns have one length; else :class:`InputError` naming them."""
+    decl = stand.group(group)
+    if decl is None:
+        known = ", ".join(g.name for g in stand.groups)
+        raise InputError(
+            f"stand {stand.kind.value!r} has no channel group {group!r}; known: {known}"
+        )
+    names = {c.name for c in decl.channels}
+    unknown = sorted(set(columns) - names)
+    if unknown or not columns:
+        raise InputError(
+            f"group {group!r} of {stand.kind.value!r} has the channels {', '.join(sorted(names))}; "
+            f"got {', '.join(unknown) or 'none'}"
+        )
+    try:
+        arrays = {k: np.atleast_1d(np.asarray(v, dtype=np.float64)) for k, v in columns.items()}
+    except (TypeError, ValueError) as exc:
+        raise InputError(f"group {group!r}: the values are not numbers ({exc})") from exc
+    lengths = {k: v.size for k, v in arrays.items()}
+    if any(v.ndim != 1 for v in arrays.values()):
+        raise InputError(f"group {group!r}: every column must be 1-D")
+    if decl.aligned:
+        missing = sorted(names - set(columns))
+        if missing:
+            raise InputError(f"group {group!r} needs every channel; missing: {', '.join(missing)}")
+        if len(set(lengths.values())) > 1:
+            raise InputError(f"group {group!r}: columns of different lengths {lengths}")
+    return arrays
+
+
+class Client:
+    """A lab PC's connection to a rigserver, through a durable spool.
+
+    Parameters
+    ----------
+    url : str
+        The server, e.g. ``http://rig.lab:8000``.
+    key : str or None
+        API key with the scope ``write:<stand>``.
+    spool : str or Path
+        Directory of the spool (made if missing); the same directory after a crash or a
+        reboot resumes delivery where it stopped.
+    limits : SpoolLimits
+        Size and age bounds of the spool.
+    binary : bool
+        Send batches as npz archives (default) or JSON columns.
+    transport, retry, seed
+        As :class:`rigclient.http.Api` (tests pass an :class:`httpx.MockTransport`).
+    start : bool
+        Start the sender (False: only spool, e.g. ``rigclient status``).
+    """
+
+    def __init__(
+        self,
+        url: str,
+        key: str | None = None,
+        *,
+        spool: str | Path,
+        limits: SpoolLimits | None = None,
+        binary: bool = True,
+        transport: httpx.BaseTransport | None = None,
+        retry: RetryPolicy | None = None,
+        seed: int | None = None,
+        start: bool = True,
+    ) -> None:
+        self.directory = Path(spool)
+        self._spool = Spool(self.directory, limits)
+        self._lock = threading.Lock()
+        self._api = Api(url, key, transport=transport, retry=retry, seed=seed)
+        self._sender = Sender(self.directory, self._api, binary=binary)
+        if start:
+            self._sender.start()
+
+    def __enter__(self) -> Client:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+    def close(self) -> None:
+        """Stop the sender (what it has not delivered stays in the spool)."""
+        self._sender.stop(timeout=30.0)
+        self._api.close()
+        self._spool.close()
+
+    def _locked(self, action: Callable[[Spool], T]) -> T:
+        with self._lock:
+            return action(self._spool)
+
+    def open_run(
+        self,
+        *,
+        stand: str,
+        operator: str,
+        title: str = "",
+        specimen: Mapping[str, Scalar] | None = None,
+        test_plan: Mapping[str, Scalar | list[float]] | None = None,
+        configuration: Mapping[str, Any] | None = None,
+        notes: str = "",
+        constants: Mapping[str, Mapping[str, ArrayLike]] | None = None,
+        cursor: Cursor | None = None,
+    ) -> RunHandle:
+        """Spool the opening of a run (and its ``constants``: group -> columns, e.g. the
+        masses and zero readings; and the file ``cursor`` it follows); its handle."""
+        try:
+            body = RunCreate(
+                stand=stand,
+                operator=operator,
+                title=title,
+                specimen=dict(specimen or {}),
+                test_plan=dict(test_plan or {}),
+                configuration=dict(configuration or {}),
+                notes=notes,
+            )
+        except ValidationError as exc:
+            first = exc.errors()[0]
+            field = ".".join(str(p) for p in first["loc"])
+            raise InputError(f"the run's {field}: {first['msg']}") from None
+        decl = default_stands()[body.stand].for_run(body.configuration)
+        checked = {g: check_columns(decl, g, cols) for g, cols in (constants or {}).items()}
+        local_id = self._locked(
+            lambda s: s.open_run(
+                body.stand.value, body.model_dump(mode="json"), constants=checked, cursor=cursor
+            )
+        )
+        self._sender.wake.set()
+        return RunHandle(self, local_id, decl)
+
+    def run(self, local_id: str) -> RunHandle:
+        """The handle of a run already in the spool (after a restart)."""
+        record = self._locked(lambda s: s.runs(local_id)[0])
+        body, _ = self._locked(lambda s: s.opening(local_id))
+        stand = default_stands()[RunCreate.model_validate(body).stand]
+        return RunHandle(self, record.local_id, stand.for_run(body.get("configuration", {})))
+
+    def source(self, key: str) -> tuple[RunHandle, Cursor] | None:
+        """The run that follows the file ``key`` and where it stopped, if one does."""
+        cursor: Cursor | None = self._locked(lambda s: s.source(key))
+        local_id: str | None = self._locked(lambda s: s.source_run(key))
+        if cursor is None or local_id is None:
+            return None
+        return self.run(local_id), cursor
+
+    def status(self) -> ClientStatus:
+        state = self._sender.state
+        return ClientStatus(
+            runs=self._locked(lambda s: s.runs()),
+            waiting=state.waiting,
+            retries=state.retries,
+            duplicates=state.duplicates,
+        )
+
+    def wait(self, timeout: float | None = None) -> bool:
+        """Wait until the server has everything the spool holds; False at ``timeout`` (s) or
+        as soon as all that is left was refused."""
+        deadline = None if timeout is None else time.monotonic() + timeout
+        while True:
+            runs = self._locked(lambda s: s.runs())
+            left = [r for r in runs if not r.done]
+            if not left:
+                return True
+            if all(r.refused is not None for r in left):
+                return False
+            if deadline is not None and time.monotonic() >= deadline:
+                return False
+            time.sleep(WAIT_POLL)

@@ -1,0 +1,156 @@
+"""The map and the rows of a stand's file: units, decimal commas, errors that say where."""
+
+from __future__ import annotations
+
+import json
+import re
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from rigclient.agent import constants
+from rigclient.errors import InputError
+from rigclient.mapping import load_map, unit_factor
+from rigclient.table import Table, split_header
+from schemas.channels import ChannelGroup
+from schemas.stands import StandKind, default_stands
+
+
+def _friction() -> ChannelGroup:
+    group = default_stands()[StandKind.SMTS2].group("friction")
+    assert group is not None
+    return group
+
+
+FRICTION = _friction()
+
+MAP = """
+stand = "smts2"
+group = "friction"
+
+[run]
+operator = "Ivanova"
+specimen = { pin = "St3sp", disc = "R9" }
+
+[columns]
+"t" = "time"
+"F" = { channel = "load", unit = "kN" }
+"n" = "speed"
+"M" = { channel = "friction_moment", factor = 0.01 }
+"counter" = "revolutions"
+"comment" = ""
+
+[measurements]
+pin_mass_before = 12.3456
+disc_ra = { value = 320, unit = "nm" }
+"""
+
+
+def test_header_units_in_brackets_parentheses_or_after_a_comma() -> None:
+    assert split_header("load [kN]", ";") == ("load", "kN")
+    assert split_header("load (N*m)", ",") == ("load", "N*m")
+    assert split_header("load, kN", ";") == ("load", "kN")
+    assert split_header("load", ";") == ("load", None)
+
+
+def test_unit_factors() -> None:
+    assert unit_factor("kN", "N") == 1000.0
+    assert unit_factor("nm", "um") == pytest.approx(1e-3)
+    assert unit_factor("kgf/cm^2", "at") == 1.0  # the technical atmosphere is 1 kgf/cm²
+    with pytest.raises(InputError, match="cannot be a 'N' channel"):
+        unit_factor("mm", "N")
+    with pytest.raises(InputError, match="unknown unit 'furlong'"):
+        unit_factor("furlong", "m")
+
+
+def test_a_header_naming_the_channels_needs_no_map() -> None:
+    header = "time [s];load [kN];speed [rpm];friction_moment [N*m];revolutions [100 rev]\n"
+    table = Table.from_header(header, file="f.csv", group=FRICTION, mapping=None)
+    assert table.delimiter == ";" and table.decimal_comma
+    row = table.parse("0,5;0,3;1000;2,95;0\n", line=2)
+    assert row == pytest.approx([0.5, 300.0, 1000.0, 2.95, 0.0])
+
+
+def test_the_map_names_columns_converts_them_and_leaves_some_out(tmp_path: Path) -> None:
+    path = tmp_path / "smts2.toml"
+    path.write_text(MAP, encoding="utf-8")
+    mapping = load_map(path)
+    assert mapping.run["operator"] == "Ivanova" and mapping.stand == "smts2"
+    table = Table.from_header(
+        "t\tF\tn\tM\tcounter\tcomment", file="f.tsv", group=FRICTION, mapping=mapping
+    )
+    assert table.ignored == ("comment",)
+    columns = table.columns([table.parse("1,0\t0,3\t1000\t295\t2\tok", line=2)])
+    assert columns["load"][0] == pytest.approx(300.0)  # kN -> N
+    assert columns["friction_moment"][0] == pytest.approx(2.95)  # divisions x 0.01
+    # the same map as JSON
+    as_json = tmp_path / "smts2.json"
+    as_json.write_text(
+        json.dumps({"columns": {"t": "time", "F": {"channel": "load", "unit": "kN"}}}),
+        encoding="utf-8",
+    )
+    assert load_map(as_json).columns["F"].unit == "kN"
+
+
+def test_a_bad_cell_names_file_line_and_column() -> None:
+    header = "time,load [N],speed,friction_moment,revolutions"
+    table = Table.from_header(header, file="run.csv", group=FRICTION, mapping=None)
+    with pytest.raises(InputError, match=r"^run\.csv:7, column 'load \[N\]': 'abc' is not a"):
+        table.parse("1.0,abc,1000,2.9,0", line=7)
+    with pytest.raises(InputError, match=r"^run\.csv:8.*: 3 cells where the header has 5"):
+        table.parse("1.0,300,1000", line=8)
+
+
+def test_a_header_that_misses_a_channel_or_names_a_stranger() -> None:
+    with pytest.raises(InputError, match=r"f\.csv:1: no column for revolutions"):
+        Table.from_header(
+            "time,load,speed,friction_moment", file="f.csv", group=FRICTION, mapping=None
+        )
+    with pytest.raises(InputError, match=r"column 'torque': 'torque' is not a channel"):
+        Table.from_header(
+            "time,load,speed,torque,revolutions", file="f.csv", group=FRICTION, mapping=None
+        )
+
+
+def test_map_errors_name_the_file_and_the_key(tmp_path: Path) -> None:
+    path = tmp_path / "bad.toml"
+    path.write_text('[columns]\n"F" = { channel = "load", unit = "kN", factor = 2 }\n')
+    with pytest.raises(InputError, match=r"bad\.toml, column 'F': .* either unit or factor"):
+        load_map(path)
+    path.write_text("[colums]\n")
+    with pytest.raises(InputError, match=r"bad\.toml: unknown keys colums"):
+        load_map(path)
+    path.write_text("[columns\n")
+    with pytest.raises(InputError, match=r"bad\.toml: not TOML"):
+        load_map(path)
+
+
+def test_columns_keep_the_rows_in_order() -> None:
+    header = "time,load,speed,friction_moment,revolutions"
+    table = Table.from_header(header, file="f.csv", group=FRICTION, mapping=None)
+    rows = [table.parse(f"{k},300,1000,3,{k}", line=k + 2) for k in range(5)]
+    np.testing.assert_array_equal(table.columns(rows)["time"], np.arange(5.0))
+
+
+def test_the_readmes_maps_read_a_file_of_their_stand(tmp_path: Path) -> None:
+    """Each map in the README's "Connect a real stand" section is a valid map: a header of
+    its columns (and the channels it leaves to the header) reads, its constants convert."""
+    readme = (Path(__file__).parents[2] / "README.md").read_text(encoding="utf-8")
+    blocks = re.findall(r"```toml\n(.*?)```", readme, flags=re.S)
+    assert len(blocks) == 4
+    seen = set()
+    for k, block in enumerate(blocks):
+        path = tmp_path / f"map{k}.toml"
+        path.write_text(block, encoding="utf-8")
+        mapping = load_map(path)
+        stand = default_stands()[StandKind(mapping.stand or "profilometer")]
+        group = stand.group(mapping.group or "profile")
+        assert group is not None
+        mapped = {c.channel for c in mapping.columns.values()}
+        header = [*mapping.columns, *(c.name for c in group.channels if c.name not in mapped)]
+        table = Table.from_header(";".join(header), file=str(path), group=group, mapping=mapping)
+        assert sorted(table.channels) == sorted(c.name for c in group.channels)
+        constants(stand, mapping)
+        seen.add(stand.kind)
+    assert seen == set(StandKind)

@@ -1,4 +1,5 @@
-"""``rigserver serve``: run the service on uvicorn with the embedded HDF5 storage."""
+"""``rigserver serve``: run the service on uvicorn, with the embedded HDF5 storage or, given
+a database URL, as one worker of a cluster (:class:`~rigserver.storage.PostgresStore`)."""
 
 from __future__ import annotations
 
@@ -18,7 +19,7 @@ from pydantic import ValidationError
 from rigserver.api.app import create_app
 from rigserver.api.auth import ApiKey, load_keys
 from rigserver.api.settings import Settings
-from rigserver.storage import HDF5Store
+from rigserver.storage import HDF5Store, PostgresStore, RunStore
 from schemas.stands import configure_stands
 
 
@@ -72,7 +73,11 @@ def build_app(settings: Settings) -> FastAPI:
         else None
     )
     settings.data_dir.mkdir(parents=True, exist_ok=True)
-    store = HDF5Store(settings.data_dir, synchronous=settings.synchronous)  # type: ignore[arg-type]
+    store: RunStore
+    if settings.database_url:
+        store = PostgresStore(settings.database_url, files_dir=settings.data_dir)
+    else:
+        store = HDF5Store(settings.data_dir, synchronous=settings.synchronous)  # type: ignore[arg-type]
     return create_app(settings, store, keys, configure_stands(overrides))
 
 
@@ -114,6 +119,11 @@ def main(argv: Sequence[str] | None = None) -> int:
         choices=("normal", "full"),
         help="journal durability: normal survives a crash, full a power loss (RIG_SYNCHRONOUS)",
     )
+    serve.add_argument(
+        "--database-url",
+        help="PostgreSQL of a cluster: catalogue and journal shared by the workers "
+        "(RIG_DATABASE_URL); the data dir then holds the run files materialised",
+    )
     serve.add_argument("--log-level", default="info")
     args = parser.parse_args(argv)
     given = {
@@ -128,6 +138,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         "rate_burst": args.rate_burst,
         "cors_origins": tuple(args.cors_origins) if args.cors_origins else None,
         "synchronous": args.synchronous,
+        "database_url": args.database_url,
     }
     settings = Settings(**{k: v for k, v in given.items() if v is not None})
     logging.basicConfig(
@@ -137,7 +148,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     keep_freed_memory()
     gc.collect()
     gc.freeze()  # what was built to start is never garbage: keep it out of the collections
-    print(f"rigserver: data in {settings.data_dir.resolve()}", file=sys.stderr)
+    where = "run files (journal in PostgreSQL)" if settings.database_url else "data"
+    print(f"rigserver: {where} in {settings.data_dir.resolve()}", file=sys.stderr)
     uvicorn.run(app, host=args.host, port=args.port, log_level=args.log_level, access_log=False)
     return 0
 

@@ -172,8 +172,13 @@ class PostgresStore:
                 min_size=1,
                 max_size=pool_size,
                 timeout=CONNECT_SECONDS,
+                # give up reconnecting soon: the next request starts afresh (1 s backoff),
+                # so a restarted server is in use again within a second or two
+                reconnect_timeout=CONNECT_SECONDS,
                 open=False,
                 name="rig",
+                # a connection broken by a restart of the server is replaced when taken
+                check=psycopg_pool.ConnectionPool.check_connection,
             )
             self._pool.open(wait=True, timeout=CONNECT_SECONDS)
             try:

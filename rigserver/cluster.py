@@ -49,8 +49,21 @@ def _postgres_of(directory: Path) -> LocalPostgres:
     return LocalPostgres(directory / "postgres", int(state["postgres_port"]))
 
 
-def start_worker(directory: Path, n: int, url: str, *, args: Sequence[str] = ()) -> str:
-    """Start worker ``n`` (its own process group) on a free port; its URL once it answers."""
+def write_keys(directory: Path) -> str:
+    """A new API key with every scope in ``directory/keys.json`` (mode 600); the key."""
+    key = secrets.token_urlsafe(32)
+    keys_file = directory / "keys.json"
+    keys_file.write_text(
+        json.dumps([{"key": key, "scopes": ["read", "write:*"], "name": "cluster"}], indent=2),
+        encoding="utf-8",
+    )
+    keys_file.chmod(0o600)
+    return key
+
+
+def start_worker(directory: Path, n: int, url: str | None, *, args: Sequence[str] = ()) -> str:
+    """Start worker ``n`` (its own process group) on a free port with the database ``url``
+    (``None``: the embedded store in ``directory/files``); its URL once it answers."""
     port = free_port()
     key = json.loads((directory / "keys.json").read_text(encoding="utf-8"))[0]["key"]
     command = [
@@ -66,8 +79,7 @@ def start_worker(directory: Path, n: int, url: str, *, args: Sequence[str] = ())
         str(directory / "files"),
         "--keys-file",
         str(directory / "keys.json"),
-        "--database-url",
-        url,
+        *(["--database-url", url] if url else []),
         "--log-level",
         "warning",
         *args,
@@ -106,10 +118,7 @@ def up(directory: Path, workers: int) -> list[str]:
     port = free_port()
     (directory / "cluster.json").write_text(json.dumps({"postgres_port": port}), encoding="utf-8")
     server = start_local(directory / "postgres", port)
-    keys = [{"key": secrets.token_urlsafe(32), "scopes": ["read", "write:*"], "name": "cluster"}]
-    keys_file = directory / "keys.json"
-    keys_file.write_text(json.dumps(keys, indent=2), encoding="utf-8")
-    keys_file.chmod(0o600)
+    write_keys(directory)
     urls = []
     try:
         for n in range(1, workers + 1):

@@ -19,7 +19,8 @@ from pydantic import ValidationError
 from rigserver.api.app import create_app
 from rigserver.api.auth import ApiKey, load_keys
 from rigserver.api.settings import Settings
-from rigserver.storage import HDF5Store, PostgresStore, RunStore
+from rigserver.storage import HDF5Store, PostgresStore, RunStore, StorageError
+from rigserver.storage.migrate import MigrationMismatch, migrate
 from schemas.stands import configure_stands
 
 
@@ -81,6 +82,19 @@ def build_app(settings: Settings) -> FastAPI:
     return create_app(settings, store, keys, configure_stands(overrides))
 
 
+def _migrate(source: Path, target: str) -> int:
+    """``rigserver migrate``: every run of ``source`` copied into ``target`` and verified."""
+    if not (source / "journal.sqlite").exists():
+        raise SystemExit(f"rigserver: {source} is not a data directory (no journal.sqlite)")
+    with PostgresStore(target) as cluster:
+        try:
+            done = migrate(source, cluster, progress=lambda line: print(line, file=sys.stderr))
+        except (StorageError, MigrationMismatch) as exc:
+            raise SystemExit(f"rigserver: the migration stopped: {exc}") from None
+    print(f"rigserver: {done.copied} runs copied, {done.verified} there already; all verified")
+    return 0
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="rigserver", description=__doc__)
     sub = parser.add_subparsers(dest="command", required=True)
@@ -125,7 +139,14 @@ def main(argv: Sequence[str] | None = None) -> int:
         "(RIG_DATABASE_URL); the data dir then holds the run files materialised",
     )
     serve.add_argument("--log-level", default="info")
+    move = sub.add_parser(
+        "migrate", help="move an embedded data directory into a cluster (resumable, verified)"
+    )
+    move.add_argument("--from", dest="source", type=Path, required=True, help="DATA_DIR")
+    move.add_argument("--to", dest="target", required=True, help="the cluster's database URL")
     args = parser.parse_args(argv)
+    if args.command == "migrate":
+        return _migrate(args.source, args.target)
     given = {
         "data_dir": args.data_dir,
         "keys_file": args.keys_file,

@@ -413,6 +413,15 @@ class HDF5Store:
                     return None
             return stored_receipt(run_id, seq, stored, duplicate=True)
 
+    def history(self, run_id: str) -> tuple[str | None, list[tuple[int, StoredBatch]]]:
+        """The run's Idempotency-Key and its batches' receipts in the order stored (for
+        ``rigserver migrate``); ``RunNotFound``."""
+        with self._lock:
+            self._check_open()
+            with failures_as(f"reading the batches of run {run_id}"):
+                self._journal.entry(run_id)
+                return self._journal.key_of(run_id), self._journal.stored_batches(run_id)
+
     def last_values(self, run_id: str, group: str) -> dict[str, float]:
         """The last non-NaN value of each channel of ``group`` (cached for open runs)."""
         with self._lock:

@@ -326,6 +326,19 @@ class Journal:
         ).fetchone()
         return None if row is None else StoredBatch(row[0], row[1], row[2], bytes(row[3]))
 
+    def stored_batches(self, run_id: str) -> list[tuple[int, StoredBatch]]:
+        """Every batch of the run as (seq, what is remembered of it), in the order stored."""
+        rows = self._db.execute(
+            "SELECT seq, grp, rows, group_rows, digest FROM batches WHERE run_id = ? ORDER BY n",
+            (run_id,),
+        ).fetchall()
+        return [(r[0], StoredBatch(r[1], r[2], r[3], bytes(r[4]))) for r in rows]
+
+    def key_of(self, run_id: str) -> str | None:
+        """The Idempotency-Key the run was opened with, if any."""
+        row = self._db.execute("SELECT key FROM run_keys WHERE run_id = ?", (run_id,)).fetchone()
+        return None if row is None else str(row[0])
+
     def max_seq(self, run_id: str) -> int:
         """The largest seq stored for the run (-1 if none)."""
         row = self._db.execute("SELECT MAX(seq) FROM batches WHERE run_id = ?", (run_id,))

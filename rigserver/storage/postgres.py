@@ -42,7 +42,7 @@ import os
 import shutil
 import tempfile
 import threading
-from collections.abc import Iterator, Mapping, Sequence
+from collections.abc import Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -518,6 +518,67 @@ class PostgresStore:
                 write_file(own, run, _file_batches(conn, run), results, final=final)
             os.replace(own, path)
 
+    def import_run(
+        self,
+        run: Run,
+        key: str | None,
+        results: Mapping[str, Any] | None,
+        batches: Iterable[tuple[int, StoredBatch, Mapping[str, NDArray[np.float64]]]],
+    ) -> bool:
+        """Store a run of another store whole, in one transaction: its catalogue entry as it
+        is (state, times, counters, results) and its batches (seq, receipt, every channel),
+        in the order stored; False, and nothing changes, if a run with its id is here
+        already (``rigserver migrate``)."""
+        text = None if results is None else check_results(results, run.key_results).text
+        max_seq = -1
+        doing = f"importing run {run.id}"
+        with (
+            failures_as(doing, PG_FAILURES),
+            self._pool.connection() as conn,
+            conn.transaction(),
+        ):
+            inserted = conn.execute(
+                "INSERT INTO rig_runs (id, stand, operator, state, created, ended, run, "
+                "batches, rows, max_seq, key_results, results, idem_key) "
+                "VALUES (%s, %s, %s, %s, %s, %s, %s, %s, %s, -1, %s, %s, %s) "
+                "ON CONFLICT (id) DO NOTHING RETURNING id",
+                (
+                    run.id,
+                    run.stand.value,
+                    run.operator,
+                    run.state.value,
+                    as_utc(run.created),
+                    None if run.ended is None else as_utc(run.ended),
+                    run.model_dump_json(),
+                    run.batches,
+                    json.dumps(run.rows),
+                    json.dumps(run.key_results),
+                    text,
+                    key,
+                ),
+            ).fetchone()
+            if inserted is None:
+                return False
+            with conn.cursor() as cur:
+                for seq, stored, columns in batches:
+                    cur.execute(
+                        "INSERT INTO rig_batches "
+                        "(run_id, seq, grp, rows, group_rows, digest, payload) "
+                        "VALUES (%s, %s, %s, %s, %s, %s, %s)",
+                        (
+                            run.id,
+                            seq,
+                            stored.group,
+                            stored.rows,
+                            stored.group_rows,
+                            stored.digest,
+                            _encoded(dict(columns)),
+                        ),
+                    )
+                    max_seq = max(max_seq, seq)
+            conn.execute("UPDATE rig_runs SET max_seq = %s WHERE id = %s", (max_seq, run.id))
+        return True
+
     def close(self) -> None:
         """Close the pool; remove the files directory if it was this process's own."""
         self._pool.close()
@@ -554,7 +615,11 @@ def _locked_run(conn: psycopg.Connection[Any], run_id: str) -> Run:
 
 
 def _payload(batch: Batch) -> bytes:
-    return b"".join(bytes(p) for p in encode(batch.columns))
+    return _encoded(batch.columns)
+
+
+def _encoded(columns: dict[str, NDArray[np.float64]]) -> bytes:
+    return b"".join(bytes(p) for p in encode(columns))
 
 
 def _prepared(nb: NewBatch) -> Batch | ValueError:

@@ -78,7 +78,7 @@ from rigserver.storage.errors import (
     SequenceConflict,
 )
 from rigserver.storage.payloads import decode, encode
-from rigserver.storage.runfile import write_file
+from rigserver.storage.runfile import RunFile, write_file
 from schemas.readings import BatchReceipt
 from schemas.runs import Run, RunPage, RunQuery, RunState
 
@@ -180,13 +180,15 @@ class PostgresStore:
                 # a connection broken by a restart of the server is replaced when taken
                 check=psycopg_pool.ConnectionPool.check_connection,
             )
-            self._pool.open(wait=True, timeout=CONNECT_SECONDS)
             try:
+                self._pool.open(wait=True, timeout=CONNECT_SECONDS)
                 with self._pool.connection() as conn, conn.transaction():
                     conn.execute("SELECT pg_advisory_xact_lock(%s)", (_SCHEMA_LOCK,))
                     conn.execute(_SCHEMA)
             except BaseException:
                 self._pool.close()
+                if self._own_dir:
+                    shutil.rmtree(self.files_dir, ignore_errors=True)
                 raise
 
     def __enter__(self) -> PostgresStore:
@@ -427,11 +429,20 @@ class PostgresStore:
         start: int = 0,
         stop: int | None = None,
     ) -> dict[str, NDArray[np.float64]]:
-        """Rows ``start:stop`` (slice semantics) of the channels, from the batches holding
-        them."""
+        """Rows ``start:stop`` (slice semantics) of the channels: from an ended run's
+        materialised file if it is there, else from the batches holding them."""
         run = self.get_run(run_id)
         decl = channel_group(run.stand, group)
         names = channel_names(decl, channels)
+        if run.state is not RunState.OPEN:
+            with failures_as(f"reading the file of run {run_id}"):
+                try:
+                    rf = RunFile.open(self._final_path(run_id), writable=False)
+                except FileNotFoundError:
+                    pass
+                else:
+                    with rf:
+                        return rf.read(group, names, start, stop)
         lo, hi, _ = slice(start, stop).indices(run.rows.get(group, 0))
         if hi <= lo:
             return {n: np.empty(0) for n in names}
@@ -494,7 +505,7 @@ class PostgresStore:
         """The ended run's final file (materialised once); a fresh snapshot for an open run."""
         run = self.get_run(run_id)
         if run.state is not RunState.OPEN:
-            path = self.files_dir / "runs" / f"{run_id}.h5"
+            path = self._final_path(run_id)
             if not path.exists():
                 self._final_file(run)
             return path
@@ -503,8 +514,11 @@ class PostgresStore:
             self._materialise(run, snapshot, final=False)
         return snapshot
 
+    def _final_path(self, run_id: str) -> Path:
+        return self.files_dir / "runs" / f"{run_id}.h5"
+
     def _final_file(self, run: Run) -> None:
-        self._materialise(run, self.files_dir / "runs" / f"{run.id}.h5", final=True)
+        self._materialise(run, self._final_path(run.id), final=True)
 
     def _materialise(self, run: Run, path: Path, *, final: bool) -> None:
         """Write the run's file from the journal: under a name of this process and thread,

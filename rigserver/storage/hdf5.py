@@ -69,7 +69,7 @@ from rigserver.storage._checks import (
     last_finite,
     new_run,
     padded,
-    posted,
+    posted_or_refusal,
     prepare,
     reopened,
     retry_receipt,
@@ -298,7 +298,7 @@ class HDF5Store:
         outcomes: list[BatchReceipt | Exception | None] = [None] * len(batches)
         staged: list[_Staged] = []
         saved: dict[str, _Saved] = {}
-        prepared = [_prepared(nb) for nb in batches]  # copies and digests: outside the lock
+        prepared = [posted_or_refusal(nb) for nb in batches]  # copies and digests: outside the lock
         with self._lock:
             try:
                 self._check_open()
@@ -752,14 +752,6 @@ class _Staged:
     seq: int
     columns: dict[str, NDArray[np.float64]]
     stored: StoredBatch
-
-
-def _prepared(nb: NewBatch) -> Batch | ValueError:
-    """The batch as stored (:func:`posted`), or why it cannot be."""
-    try:
-        return posted(nb)
-    except ValueError as exc:
-        return exc
 
 
 def _remember_last(live: _Live, batch: Batch) -> None:

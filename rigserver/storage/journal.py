@@ -33,6 +33,7 @@ import sqlite3
 import threading
 from collections.abc import Iterator
 from dataclasses import dataclass
+from datetime import datetime
 from pathlib import Path
 from typing import Literal
 
@@ -40,7 +41,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from rigserver.storage._checks import Batch, StoredBatch
-from rigserver.storage._time import iso
+from rigserver.storage._time import as_utc, iso
 from rigserver.storage.errors import RunExists, RunNotFound, StorageUnavailable
 from rigserver.storage.payloads import PayloadFiles, decode, encode
 from schemas.runs import Run, RunPage, RunQuery
@@ -96,6 +97,24 @@ class CatalogueEntry:
 
     run: Run
     file_final: bool
+
+
+def run_filters(query: RunQuery) -> list[tuple[str, str, object]]:
+    """The catalogue columns ``query`` filters on: (column, operator, value), values as
+    text but the times (``since <= created < until``), which are aware UTC."""
+    found: list[tuple[str, str, object]] = [
+        (column, "=", getattr(value, "value", value))
+        for column, value in (
+            ("stand", query.stand),
+            ("operator", query.operator),
+            ("state", query.state),
+        )
+        if value is not None
+    ]
+    for bound, op in ((query.since, ">="), (query.until, "<")):
+        if bound is not None:
+            found.append(("created", op, as_utc(bound)))
+    return found
 
 
 class Journal:
@@ -243,22 +262,10 @@ class Journal:
 
     def list_runs(self, query: RunQuery) -> RunPage:
         """Runs matching ``query`` (``since <= created < until``), newest first."""
-        where: list[str] = []
-        params: list[object] = []
-        for column, value in (
-            ("stand", query.stand),
-            ("operator", query.operator),
-            ("state", query.state),
-        ):
-            if value is not None:
-                where.append(f"{column} = ?")
-                params.append(str(value))
-        if query.since is not None:
-            where.append("created >= ?")
-            params.append(iso(query.since))
-        if query.until is not None:
-            where.append("created < ?")
-            params.append(iso(query.until))
+        found = run_filters(query)
+        where = [f"{column} {op} ?" for column, op, _ in found]
+        # times as the catalogue keeps them: ISO 8601 text in UTC, sortable
+        params = [iso(v) if isinstance(v, datetime) else v for _, _, v in found]
         sql_where = f" WHERE {' AND '.join(where)}" if where else ""
         total = self._db.execute(f"SELECT COUNT(*) FROM runs{sql_where}", params).fetchone()[0]
         rows = self._db.execute(

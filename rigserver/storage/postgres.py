@@ -62,7 +62,7 @@ from rigserver.storage._checks import (
     last_finite,
     new_run,
     padded,
-    posted,
+    posted_or_refusal,
     reopened,
     retry_receipt,
     stored_receipt,
@@ -77,6 +77,7 @@ from rigserver.storage.errors import (
     RunNotOpen,
     SequenceConflict,
 )
+from rigserver.storage.journal import run_filters
 from rigserver.storage.payloads import decode, encode
 from rigserver.storage.runfile import RunFile, write_file
 from schemas.readings import BatchReceipt
@@ -209,20 +210,7 @@ class PostgresStore:
             try:
                 with self._pool.connection() as conn:
                     conn.execute(
-                        "INSERT INTO rig_runs (id, stand, operator, state, created, ended, "
-                        "run, batches, rows, key_results, idem_key) "
-                        "VALUES (%s, %s, %s, %s, %s, NULL, %s, 0, %s, %s, %s)",
-                        (
-                            stored.id,
-                            stored.stand.value,
-                            stored.operator,
-                            stored.state.value,
-                            as_utc(stored.created),
-                            stored.model_dump_json(),
-                            json.dumps(stored.rows),
-                            json.dumps(stored.key_results),
-                            key,
-                        ),
+                        f"INSERT INTO rig_runs {_INSERT_RUN}", _run_values(stored, None, key)
                     )
             except psycopg.errors.UniqueViolation as exc:
                 found = None if key is None else self._run_for_key(key)
@@ -239,29 +227,13 @@ class PostgresStore:
     def get_run(self, run_id: str) -> Run:
         doing = f"reading the catalogue entry of run {run_id}"
         with failures_as(doing, PG_FAILURES), self._pool.connection() as conn:
-            row = conn.execute(
-                f"SELECT {_RUN_COLUMNS} FROM rig_runs WHERE id = %s", (run_id,)
-            ).fetchone()
-        if row is None:
-            raise RunNotFound(f"no run with id {run_id}")
-        return _run(row)
+            return _select_run(conn, run_id)
 
     def list_runs(self, query: RunQuery) -> RunPage:
         """Runs matching the query, newest first (``since <= created < until``)."""
-        where: list[str] = []
-        params: list[object] = []
-        for column, value in (
-            ("stand", query.stand),
-            ("operator", query.operator),
-            ("state", query.state),
-        ):
-            if value is not None:
-                where.append(f"{column} = %s")
-                params.append(getattr(value, "value", value))
-        for bound, op in ((query.since, ">="), (query.until, "<")):
-            if bound is not None:
-                where.append(f"created {op} %s")
-                params.append(as_utc(bound))
+        found = run_filters(query)
+        where = [f"{column} {op} %s" for column, op, _ in found]
+        params = [value for _, _, value in found]
         sql_where = f" WHERE {' AND '.join(where)}" if where else ""
         with failures_as("listing runs", PG_FAILURES), self._pool.connection() as conn:
             count = conn.execute(f"SELECT COUNT(*) FROM rig_runs{sql_where}", params).fetchone()
@@ -284,7 +256,7 @@ class PostgresStore:
             self._pool.connection() as conn,
             conn.transaction(),
         ):
-            run = _locked_run(conn, run_id)
+            run = _select_run(conn, run_id, lock=True)
             if run.state is not RunState.OPEN:
                 raise RunNotOpen(f"run {run_id} is already {run.state.value}")
             ended = run.model_copy(update={"state": state, "ended": now()})
@@ -311,7 +283,7 @@ class PostgresStore:
         :meth:`HDF5Store.append_many <rigserver.storage.HDF5Store.append_many>` refuses it.
         A failure of the database refuses every batch its checks did not refuse."""
         outcomes: list[BatchReceipt | Exception | None] = [None] * len(batches)
-        prepared = [_prepared(nb) for nb in batches]
+        prepared = [posted_or_refusal(nb) for nb in batches]
         run_ids = sorted({nb.run_id for nb in batches})
         doing = f"storing {len(batches)} batch(es)"
         try:
@@ -481,7 +453,8 @@ class PostgresStore:
             self._pool.connection() as conn,
             conn.transaction(),
         ):
-            run = _locked_run(conn, run_id).model_copy(update={"key_results": checked.key_results})
+            run = _select_run(conn, run_id, lock=True)
+            run = run.model_copy(update={"key_results": checked.key_results})
             conn.execute(
                 "UPDATE rig_runs SET run = %s, key_results = %s, results = %s WHERE id = %s",
                 (run.model_dump_json(), json.dumps(checked.key_results), checked.text, run_id),
@@ -552,24 +525,8 @@ class PostgresStore:
             conn.transaction(),
         ):
             inserted = conn.execute(
-                "INSERT INTO rig_runs (id, stand, operator, state, created, ended, run, "
-                "batches, rows, max_seq, key_results, results, idem_key) "
-                "VALUES (%s, %s, %s, %s, %s, %s, %s, %s, %s, -1, %s, %s, %s) "
-                "ON CONFLICT (id) DO NOTHING RETURNING id",
-                (
-                    run.id,
-                    run.stand.value,
-                    run.operator,
-                    run.state.value,
-                    as_utc(run.created),
-                    None if run.ended is None else as_utc(run.ended),
-                    run.model_dump_json(),
-                    run.batches,
-                    json.dumps(run.rows),
-                    json.dumps(run.key_results),
-                    text,
-                    key,
-                ),
+                f"INSERT INTO rig_runs {_INSERT_RUN} ON CONFLICT (id) DO NOTHING RETURNING id",
+                _run_values(run, text, key),
             ).fetchone()
             if inserted is None:
                 return False
@@ -613,15 +570,41 @@ def _safe(url: str) -> str:
     return " ".join(f"{k}={v}" for k, v in info.items() if k != "password")
 
 
+#: The columns of a new catalogue entry (:func:`_run_values`)
+_INSERT_RUN = (
+    "(id, stand, operator, state, created, ended, run, batches, rows, key_results, results, "
+    "idem_key) VALUES (%s, %s, %s, %s, %s, %s, %s, %s, %s, %s, %s, %s)"
+)
+
+
+def _run_values(run: Run, results: str | None, key: str | None) -> tuple[object, ...]:
+    return (
+        run.id,
+        run.stand.value,
+        run.operator,
+        run.state.value,
+        as_utc(run.created),
+        None if run.ended is None else as_utc(run.ended),
+        run.model_dump_json(),
+        run.batches,
+        json.dumps(run.rows),
+        json.dumps(run.key_results),
+        results,
+        key,
+    )
+
+
 def _run(row: tuple[Any, ...]) -> Run:
     run = Run.model_validate_json(row[0])
     return run.model_copy(update={"batches": int(row[1]), "rows": json.loads(row[2])})
 
 
-def _locked_run(conn: psycopg.Connection[Any], run_id: str) -> Run:
-    """The run, its catalogue row locked until the transaction ends; ``RunNotFound``."""
+def _select_run(conn: psycopg.Connection[Any], run_id: str, *, lock: bool = False) -> Run:
+    """The run (with ``lock``, its catalogue row locked until the transaction ends);
+    ``RunNotFound``."""
     row = conn.execute(
-        f"SELECT {_RUN_COLUMNS} FROM rig_runs WHERE id = %s FOR UPDATE", (run_id,)
+        f"SELECT {_RUN_COLUMNS} FROM rig_runs WHERE id = %s{' FOR UPDATE' if lock else ''}",
+        (run_id,),
     ).fetchone()
     if row is None:
         raise RunNotFound(f"no run with id {run_id}")
@@ -634,13 +617,6 @@ def _payload(batch: Batch) -> bytes:
 
 def _encoded(columns: dict[str, NDArray[np.float64]]) -> bytes:
     return b"".join(bytes(p) for p in encode(columns))
-
-
-def _prepared(nb: NewBatch) -> Batch | ValueError:
-    try:
-        return posted(nb)
-    except ValueError as exc:
-        return exc
 
 
 def _stored_batch(conn: psycopg.Connection[Any], run_id: str, seq: int) -> StoredBatch | None:

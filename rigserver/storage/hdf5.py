@@ -503,6 +503,16 @@ class HDF5Store:
                 text = self._journal.results(run_id)
         return None if text is None else dict(json.loads(text))
 
+    def readings_version(self, run_id: str) -> int:
+        """The run's batch count (:meth:`RunStore.readings_version`)."""
+        with self._lock:
+            self._check_open()
+            live = self._live.get(run_id)
+            if live is not None:
+                return live.run.batches
+            with failures_as(f"reading the catalogue entry of run {run_id}"):
+                return self._journal.entry(run_id).run.batches
+
     def run_file(self, run_id: str) -> Path:
         """The final file of an ended run; a fresh snapshot copy for an open run."""
         with self._lock:

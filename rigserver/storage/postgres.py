@@ -20,9 +20,9 @@ in id order: no deadlock), so the row counts, the retry lookups and the last val
 batch is checked against are those of the batches committed before it, whichever worker
 took them; ending a run takes the same lock and happens once. Every read goes to the
 database, so a worker sees what the others stored as soon as it is committed; the live
-stream polls the run's row counts (:meth:`get_run`). ``get_run(id).batches`` grows with
-every stored batch: with the state, it is the run's readings version, which a results
-cache in any process compares to see that it is stale.
+stream polls the run's row counts (:meth:`get_run`). :meth:`readings_version` (the run's
+batch count) grows with every stored batch: a results cache in any process compares it to
+see that it is stale.
 
 The arrays are read from the journal (the batches overlapping the rows asked for). A run's
 HDF5 file (:meth:`run_file`) is materialised from the journal into ``files_dir``: once for
@@ -473,6 +473,15 @@ class PostgresStore:
         if row is None:
             raise RunNotFound(f"no run with id {run_id}")
         return None if row[0] is None else str(row[0])
+
+    def readings_version(self, run_id: str) -> int:
+        """The run's batch count in the catalogue, as every worker sees it once committed."""
+        doing = f"reading the catalogue entry of run {run_id}"
+        with failures_as(doing, PG_FAILURES), self._pool.connection() as conn:
+            row = conn.execute("SELECT batches FROM rig_runs WHERE id = %s", (run_id,)).fetchone()
+        if row is None:
+            raise RunNotFound(f"no run with id {run_id}")
+        return int(row[0])
 
     def run_file(self, run_id: str) -> Path:
         """The ended run's final file (materialised once); a fresh snapshot for an open run."""

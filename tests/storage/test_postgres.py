@@ -35,6 +35,7 @@ def test_each_worker_sees_what_the_other_stored(workers: tuple[PostgresStore, ..
         got = store.get_run(run.id)
         assert (got.batches, got.rows["friction"]) == (2, 10)
         np.testing.assert_array_equal(store.read(run.id, "friction")["time"], 0.5 * np.arange(10))
+    assert a.readings_version(run.id) == b.readings_version(run.id) == 2
     b.end_run(run.id, RunState.FINISHED)
     with pytest.raises(RunNotOpen):
         a.end_run(run.id, RunState.ABORTED)

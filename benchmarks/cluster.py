@@ -6,8 +6,10 @@ Run from the repository root (needs the Debian ``postgresql`` package)::
 
 Prints one JSON object. Four client threads in this process each post binary (``.npz``)
 batches of the SMTs-2 friction record to a run of their own for a fixed time, thread k to
-worker k mod N, with the bodies made before the clock starts (``benchmarks/ingest.py``'s
-``body``). ``readings_per_s`` counts rows (of five channels) acknowledged per second.
+worker k mod N. Each body is made once, the first ones before the clock starts
+(``benchmarks/ingest.py``'s ``body``: batch k holds rows from k*20000 on, so its times
+follow the batch before). ``readings_per_s`` counts rows (of five channels) acknowledged
+per second.
 
 ``embedded``
     ``rigserver serve`` on a data directory (SQLite journal, HDF5 run files): the baseline.
@@ -57,7 +59,15 @@ def _open_run(url: str, key: str) -> str:
 
 def ingest(urls: list[str], key: str, seconds: float) -> dict[str, Any]:
     """Readings per second acknowledged by ``urls`` from :data:`CLIENTS` client threads."""
-    bodies = [body("npz", seq, ROWS) for seq in range(64)]
+    bodies = [body("npz", seq, ROWS) for seq in range(16)]  # more made as the clients go
+    made = threading.Lock()
+
+    def body_of(seq: int) -> bytes:
+        with made:
+            while len(bodies) <= seq:
+                bodies.append(body("npz", len(bodies), ROWS))
+            return bodies[seq]
+
     runs = [(urls[k % len(urls)], _open_run(urls[k % len(urls)], key)) for k in range(CLIENTS)]
     start = threading.Barrier(CLIENTS + 1)
     stop = threading.Event()
@@ -74,7 +84,7 @@ def ingest(urls: list[str], key: str, seconds: float) -> dict[str, Any]:
         try:
             while not stop.is_set():
                 path = f"{API}/runs/{run_id}/readings?seq={seq}&group=friction"
-                http.request("POST", path, body=bodies[seq % len(bodies)], headers=headers)
+                http.request("POST", path, body=body_of(seq), headers=headers)
                 r = http.getresponse()
                 answer = r.read()
                 if r.status != 201:

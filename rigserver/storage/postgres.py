@@ -89,6 +89,8 @@ log = logging.getLogger(__name__)
 CONNECT_SECONDS = 5.0
 #: Batches fetched at a time when looking back for a group's last values
 _LOOK_BACK = 16
+#: Groups whose last values a worker keeps (the cache is emptied beyond)
+_CACHED_GROUPS = 4096
 #: The advisory lock key under which the tables are created
 _SCHEMA_LOCK = 0x716753
 
@@ -310,6 +312,8 @@ class PostgresStore:
                 for o in outcomes
             ]
         with self._cache_lock:
+            if len(self._last_cache) > _CACHED_GROUPS:  # ended runs' entries go, in time
+                self._last_cache.clear()
             for lr in locked.values():
                 for group, values in lr.last.items():
                     self._last_cache[(lr.run.id, group)] = (lr.run.batches, dict(values))

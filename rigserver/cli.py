@@ -1,5 +1,7 @@
 """``rigserver serve``: run the service on uvicorn, with the embedded HDF5 storage or, given
-a database URL, as one worker of a cluster (:class:`~rigserver.storage.PostgresStore`)."""
+a database URL, as one worker of a cluster (:class:`~rigserver.storage.PostgresStore`);
+``rigserver check``: list the damaged runs of a data directory; ``rigserver migrate``:
+move a data directory into a cluster."""
 
 from __future__ import annotations
 
@@ -8,6 +10,7 @@ import ctypes
 import gc
 import json
 import logging
+import sqlite3
 import sys
 from collections.abc import Sequence
 from pathlib import Path
@@ -20,7 +23,9 @@ from rigserver.api.app import create_app
 from rigserver.api.auth import ApiKey, load_keys
 from rigserver.api.settings import Settings
 from rigserver.storage import HDF5Store, PostgresStore, RunStore, StorageError
+from rigserver.storage.check import check_data_dir
 from rigserver.storage.migrate import MigrationMismatch, migrate
+from rigserver.storage.series import SqliteSeries
 from schemas.stands import configure_stands
 
 
@@ -79,7 +84,26 @@ def build_app(settings: Settings) -> FastAPI:
         store = PostgresStore(settings.database_url, files_dir=settings.data_dir)
     else:
         store = HDF5Store(settings.data_dir, synchronous=settings.synchronous)  # type: ignore[arg-type]
-    return create_app(settings, store, keys, configure_stands(overrides))
+    series = SqliteSeries(settings.data_dir / "series.sqlite")
+    return create_app(settings, store, keys, configure_stands(overrides), series)
+
+
+def check_command(data_dir: Path) -> int:
+    """Print each damaged run of ``data_dir`` and what is wrong with it: 1 if any, else 0
+    (and one line saying so); 2 if ``data_dir`` is no data directory."""
+    try:
+        report = check_data_dir(data_dir)
+    except (OSError, sqlite3.Error) as exc:
+        print(f"rigserver check: {exc}", file=sys.stderr)
+        return 2
+    for damage in report.damaged:
+        print(f"{damage.run_id}: {damage.what}")
+    if report.damaged:
+        runs = len({d.run_id for d in report.damaged})
+        print(f"rigserver check: {runs} of the runs in {data_dir} damaged", file=sys.stderr)
+        return 1
+    print(f"rigserver check: {data_dir}: {report.runs} runs, none damaged")
+    return 0
 
 
 def _migrate(source: Path, target: str) -> int:
@@ -139,12 +163,16 @@ def main(argv: Sequence[str] | None = None) -> int:
         "(RIG_DATABASE_URL); the data dir then holds the run files materialised",
     )
     serve.add_argument("--log-level", default="info")
+    check = sub.add_parser("check", help="list the damaged runs of a data directory")
+    check.add_argument("--data-dir", type=Path, required=True, help="the data directory")
     move = sub.add_parser(
         "migrate", help="move an embedded data directory into a cluster (resumable, verified)"
     )
     move.add_argument("--from", dest="source", type=Path, required=True, help="DATA_DIR")
     move.add_argument("--to", dest="target", required=True, help="the cluster's database URL")
     args = parser.parse_args(argv)
+    if args.command == "check":
+        return check_command(args.data_dir)
     if args.command == "migrate":
         return _migrate(args.source, args.target)
     given = {

@@ -230,6 +230,7 @@ MESSAGES: dict[str, tuple[str, str]] = {
     "contact.plastic": ("plastic", "пластический"),
     # --- the web pages --------------------------------------------------------------------
     "page.runs": ("Runs", "Испытания"),
+    "page.series": ("Series", "Серии"),
     "page.login": ("Log in", "Вход"),
     "page.login_why": (
         "The pages show the runs to holders of a key with the scope read.",
@@ -248,6 +249,7 @@ MESSAGES: dict[str, tuple[str, str]] = {
     "page.reset": ("Reset", "Сбросить"),
     "page.key_result": ("Key results", "Основные результаты"),
     "page.none": ("No run matches.", "Испытаний не найдено."),
+    "page.damaged": ("damaged", "повреждено"),
     "page.newer": ("← newer", "← новее"),
     "page.older": ("older →", "старше →"),
     "page.shown": ("{first}–{last} of {total}", "{first}–{last} из {total}"),

@@ -59,12 +59,7 @@ def test_watch_a_run_live_and_download_its_report(server: Server, tmp_path: Path
             outcome["run"] = exc
 
     poster = threading.Thread(target=lab_pc, daemon=True)
-    poster.start()
-    deadline = time.monotonic() + 20
     runs = f"{server.url}/api/v1/runs"
-    while not httpx.get(runs, headers=auth(READER), timeout=5).json()["runs"]:
-        assert time.monotonic() < deadline, "the run was not opened"
-        time.sleep(0.05)
     with sync_playwright() as playwright:
         context = playwright.chromium.launch_persistent_context(
             str(tmp_path / "chromium-profile"),
@@ -79,6 +74,14 @@ def test_watch_a_run_live_and_download_its_report(server: Server, tmp_path: Path
             page.goto(f"{server.url}/")  # no session yet: the login page
             page.fill("input[name=key]", READER)
             page.click("form.login button[type=submit]")
+            # The stand starts posting once the browser is up and signed in: a slow start of
+            # the browser (a loaded machine) cannot let the whole run arrive before the page.
+            poster.start()
+            deadline = time.monotonic() + 20
+            while not httpx.get(runs, headers=auth(READER), timeout=5).json()["runs"]:
+                assert time.monotonic() < deadline, "the run was not opened"
+                time.sleep(0.05)
+            page.reload()
             page.click("table.runs a[href^='/runs/']")
             page.wait_for_selector("#live-chart")
             page.wait_for_function(
@@ -108,6 +111,7 @@ def test_watch_a_run_live_and_download_its_report(server: Server, tmp_path: Path
         finally:
             context.close()
     poster.join(timeout=60)
+    assert not poster.is_alive()
     result = outcome["run"]
     assert isinstance(result, RunOutcome), result
     assert result.run.rows["friction"] == total

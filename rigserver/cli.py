@@ -1,5 +1,7 @@
-"""``rigserver serve``: run the service on uvicorn with the embedded HDF5 storage;
-``rigserver check``: list the damaged runs of a data directory."""
+"""``rigserver serve``: run the service on uvicorn, with the embedded HDF5 storage or, given
+a database URL, as one worker of a cluster (:class:`~rigserver.storage.PostgresStore`);
+``rigserver check``: list the damaged runs of a data directory; ``rigserver migrate``:
+move a data directory into a cluster."""
 
 from __future__ import annotations
 
@@ -20,8 +22,9 @@ from pydantic import ValidationError
 from rigserver.api.app import create_app
 from rigserver.api.auth import ApiKey, load_keys
 from rigserver.api.settings import Settings
-from rigserver.storage import HDF5Store
+from rigserver.storage import HDF5Store, PostgresStore, RunStore, StorageError
 from rigserver.storage.check import check_data_dir
+from rigserver.storage.migrate import MigrationMismatch, migrate
 from rigserver.storage.series import SqliteSeries
 from schemas.stands import configure_stands
 
@@ -76,7 +79,11 @@ def build_app(settings: Settings) -> FastAPI:
         else None
     )
     settings.data_dir.mkdir(parents=True, exist_ok=True)
-    store = HDF5Store(settings.data_dir, synchronous=settings.synchronous)  # type: ignore[arg-type]
+    store: RunStore
+    if settings.database_url:
+        store = PostgresStore(settings.database_url, files_dir=settings.data_dir)
+    else:
+        store = HDF5Store(settings.data_dir, synchronous=settings.synchronous)  # type: ignore[arg-type]
     series = SqliteSeries(settings.data_dir / "series.sqlite")
     return create_app(settings, store, keys, configure_stands(overrides), series)
 
@@ -96,6 +103,19 @@ def check_command(data_dir: Path) -> int:
         print(f"rigserver check: {runs} of the runs in {data_dir} damaged", file=sys.stderr)
         return 1
     print(f"rigserver check: {data_dir}: {report.runs} runs, none damaged")
+    return 0
+
+
+def _migrate(source: Path, target: str) -> int:
+    """``rigserver migrate``: every run of ``source`` copied into ``target`` and verified."""
+    if not (source / "journal.sqlite").exists():
+        raise SystemExit(f"rigserver: {source} is not a data directory (no journal.sqlite)")
+    with PostgresStore(target) as cluster:
+        try:
+            done = migrate(source, cluster, progress=lambda line: print(line, file=sys.stderr))
+        except (StorageError, MigrationMismatch) as exc:
+            raise SystemExit(f"rigserver: the migration stopped: {exc}") from None
+    print(f"rigserver: {done.copied} runs copied, {done.verified} there already; all verified")
     return 0
 
 
@@ -147,12 +167,24 @@ def main(argv: Sequence[str] | None = None) -> int:
         choices=("normal", "full"),
         help="journal durability: normal survives a crash, full a power loss (RIG_SYNCHRONOUS)",
     )
+    serve.add_argument(
+        "--database-url",
+        help="PostgreSQL of a cluster: catalogue and journal shared by the workers "
+        "(RIG_DATABASE_URL); the data dir then holds the run files materialised",
+    )
     serve.add_argument("--log-level", default="info")
     check = sub.add_parser("check", help="list the damaged runs of a data directory")
     check.add_argument("--data-dir", type=Path, required=True, help="the data directory")
+    move = sub.add_parser(
+        "migrate", help="move an embedded data directory into a cluster (resumable, verified)"
+    )
+    move.add_argument("--from", dest="source", type=Path, required=True, help="DATA_DIR")
+    move.add_argument("--to", dest="target", required=True, help="the cluster's database URL")
     args = parser.parse_args(argv)
     if args.command == "check":
         return check_command(args.data_dir)
+    if args.command == "migrate":
+        return _migrate(args.source, args.target)
     given = {
         "data_dir": args.data_dir,
         "keys_file": args.keys_file,
@@ -167,6 +199,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         "rate_burst": args.rate_burst,
         "cors_origins": tuple(args.cors_origins) if args.cors_origins else None,
         "synchronous": args.synchronous,
+        "database_url": args.database_url,
     }
     settings = Settings(**{k: v for k, v in given.items() if v is not None})
     logging.basicConfig(
@@ -176,7 +209,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     keep_freed_memory()
     gc.collect()
     gc.freeze()  # what was built to start is never garbage: keep it out of the collections
-    print(f"rigserver: data in {settings.data_dir.resolve()}", file=sys.stderr)
+    where = "run files (journal in PostgreSQL)" if settings.database_url else "data"
+    print(f"rigserver: {where} in {settings.data_dir.resolve()}", file=sys.stderr)
     uvicorn.run(app, host=args.host, port=args.port, log_level=args.log_level, access_log=False)
     return 0
 

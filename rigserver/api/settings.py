@@ -58,6 +58,12 @@ class Settings(BaseSettings):
         pattern="^(normal|full)$",
         description="journal durability: 'normal' survives a crash, 'full' a power loss",
     )
+    database_url: str | None = Field(
+        default=None,
+        description="PostgreSQL URL of a cluster's catalogue and journal (several rigservers "
+        "share it); none: the embedded store in data_dir. Run files are then materialised "
+        "into data_dir, which the workers may share",
+    )
 
 
 @lru_cache

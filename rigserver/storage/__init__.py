@@ -1,5 +1,5 @@
-"""Run storage: the :class:`RunStore` protocol, the HDF5 store on local disk, the in-memory
-store for tests, and the storage error tree.
+"""Run storage: the :class:`RunStore` protocol, the HDF5 store on local disk, the PostgreSQL
+store of a cluster, the in-memory store for tests, and the storage error tree.
 
 ::
 
@@ -30,6 +30,7 @@ from rigserver.storage.errors import (
 )
 from rigserver.storage.hdf5 import HDF5Store
 from rigserver.storage.memory import MemoryStore
+from rigserver.storage.postgres import PostgresStore
 
 __all__ = [
     "BatchCheck",
@@ -38,6 +39,7 @@ __all__ = [
     "KeyReused",
     "MemoryStore",
     "NewBatch",
+    "PostgresStore",
     "RunDamaged",
     "RunExists",
     "RunNotFound",

@@ -94,6 +94,14 @@ def posted(nb: NewBatch) -> Batch:
     return prepare(nb.group, nb.columns)
 
 
+def posted_or_refusal(nb: NewBatch) -> Batch | ValueError:
+    """The batch as stored (:func:`posted`), or why it cannot be."""
+    try:
+        return posted(nb)
+    except ValueError as exc:
+        return exc
+
+
 def prepare(group: str, columns: Mapping[str, ArrayLike]) -> Batch:
     """The batch as contiguous float64 columns of its own with its digest; ``ValueError``
     if a column is not a flat list of numbers."""

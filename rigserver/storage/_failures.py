@@ -43,9 +43,9 @@ def translated(exc: BaseException, doing: str) -> StorageError:
 
 
 @contextmanager
-def failures_as(doing: str) -> Iterator[None]:
-    """Translate the low-level failures raised in the block (``raise ... from``)."""
+def failures_as(doing: str, kinds: tuple[type[Exception], ...] = LOW_LEVEL) -> Iterator[None]:
+    """Translate the low-level failures (``kinds``) raised in the block (``raise ... from``)."""
     try:
         yield
-    except LOW_LEVEL as exc:
+    except kinds as exc:
         raise translated(exc, doing) from exc

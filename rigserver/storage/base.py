@@ -110,6 +110,12 @@ class RunStore(Protocol):
         """Path of a consistent HDF5 file of the run (a snapshot for an open run)."""
         ...
 
+    def readings_version(self, run_id: str) -> int:
+        """A number that grows whenever a batch of the run is stored, by any process sharing
+        the store (the run's batch count; a retry changes nothing): a results cache keyed
+        by it sees that it is stale. ``RunNotFound``."""
+        ...
+
     def close(self) -> None:
         """Flush and release everything; the store can be opened again later."""
         ...

@@ -69,7 +69,7 @@ from rigserver.storage._checks import (
     last_finite,
     new_run,
     padded,
-    posted,
+    posted_or_refusal,
     prepare,
     reopened,
     retry_receipt,
@@ -312,7 +312,7 @@ class HDF5Store:
         outcomes: list[BatchReceipt | Exception | None] = [None] * len(batches)
         staged: list[_Staged] = []
         saved: dict[str, _Saved] = {}
-        prepared = [_prepared(nb) for nb in batches]  # copies and digests: outside the lock
+        prepared = [posted_or_refusal(nb) for nb in batches]  # copies and digests: outside the lock
         with self._lock:
             try:
                 self._check_open()
@@ -427,6 +427,15 @@ class HDF5Store:
                     return None
             return stored_receipt(run_id, seq, stored, duplicate=True)
 
+    def history(self, run_id: str) -> tuple[str | None, list[tuple[int, StoredBatch]]]:
+        """The run's Idempotency-Key and its batches' receipts in the order stored (for
+        ``rigserver migrate``); ``RunNotFound``."""
+        with self._lock:
+            self._check_open()
+            with failures_as(f"reading the batches of run {run_id}"):
+                self._journal.entry(run_id)
+                return self._journal.key_of(run_id), self._journal.stored_batches(run_id)
+
     def last_values(self, run_id: str, group: str) -> dict[str, float]:
         """The last non-NaN value of each channel of ``group`` (cached for open runs)."""
         with self._lock:
@@ -501,6 +510,16 @@ class HDF5Store:
             with failures_as(f"reading the results of run {run_id}"):
                 text = self._journal.results(run_id)
         return None if text is None else dict(json.loads(text))
+
+    def readings_version(self, run_id: str) -> int:
+        """The run's batch count (:meth:`RunStore.readings_version`)."""
+        with self._lock:
+            self._check_open()
+            live = self._live.get(run_id)
+            if live is not None:
+                return live.run.batches
+            with failures_as(f"reading the catalogue entry of run {run_id}"):
+                return self._journal.entry(run_id).run.batches
 
     def run_file(self, run_id: str) -> Path:
         """The final file of an ended run; a fresh snapshot copy for an open run."""
@@ -766,14 +785,6 @@ class _Staged:
     seq: int
     columns: dict[str, NDArray[np.float64]]
     stored: StoredBatch
-
-
-def _prepared(nb: NewBatch) -> Batch | ValueError:
-    """The batch as stored (:func:`posted`), or why it cannot be."""
-    try:
-        return posted(nb)
-    except ValueError as exc:
-        return exc
 
 
 def _damaged(run_id: str, path: Path, exc: Exception) -> RunDamaged:

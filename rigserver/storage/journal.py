@@ -33,6 +33,7 @@ import sqlite3
 import threading
 from collections.abc import Iterator
 from dataclasses import dataclass
+from datetime import datetime
 from pathlib import Path
 from typing import Literal
 
@@ -41,7 +42,7 @@ from numpy.typing import NDArray
 from pydantic import ValidationError
 
 from rigserver.storage._checks import Batch, StoredBatch
-from rigserver.storage._time import iso
+from rigserver.storage._time import as_utc, iso
 from rigserver.storage.errors import RunDamaged, RunExists, RunNotFound, StorageUnavailable
 from rigserver.storage.payloads import PayloadFiles, decode, encode
 from schemas.runs import Run, RunPage, RunQuery
@@ -98,6 +99,24 @@ class CatalogueEntry:
 
     run: Run
     file_final: bool
+
+
+def run_filters(query: RunQuery) -> list[tuple[str, str, object]]:
+    """The catalogue columns ``query`` filters on: (column, operator, value), values as
+    text but the times (``since <= created < until``), which are aware UTC."""
+    found: list[tuple[str, str, object]] = [
+        (column, "=", getattr(value, "value", value))
+        for column, value in (
+            ("stand", query.stand),
+            ("operator", query.operator),
+            ("state", query.state),
+        )
+        if value is not None
+    ]
+    for bound, op in ((query.since, ">="), (query.until, "<")):
+        if bound is not None:
+            found.append(("created", op, as_utc(bound)))
+    return found
 
 
 #: The columns of a catalogue row that :func:`catalogue_entry` and :func:`listed` read.
@@ -293,22 +312,10 @@ class Journal:
     def list_runs(self, query: RunQuery) -> RunPage:
         """Runs matching ``query`` (``since <= created < until``), newest first; a damaged
         run is listed with what is wrong with it (:func:`listed`)."""
-        where: list[str] = []
-        params: list[object] = []
-        for column, value in (
-            ("stand", query.stand),
-            ("operator", query.operator),
-            ("state", query.state),
-        ):
-            if value is not None:
-                where.append(f"{column} = ?")
-                params.append(str(value))
-        if query.since is not None:
-            where.append("created >= ?")
-            params.append(iso(query.since))
-        if query.until is not None:
-            where.append("created < ?")
-            params.append(iso(query.until))
+        found = run_filters(query)
+        where = [f"{column} {op} ?" for column, op, _ in found]
+        # times as the catalogue keeps them: ISO 8601 text in UTC, sortable
+        params = [iso(v) if isinstance(v, datetime) else v for _, _, v in found]
         sql_where = f" WHERE {' AND '.join(where)}" if where else ""
         total = self._db.execute(f"SELECT COUNT(*) FROM runs{sql_where}", params).fetchone()[0]
         rows = self._db.execute(
@@ -384,6 +391,19 @@ class Journal:
             (run_id, seq),
         ).fetchone()
         return None if row is None else StoredBatch(row[0], row[1], row[2], bytes(row[3]))
+
+    def stored_batches(self, run_id: str) -> list[tuple[int, StoredBatch]]:
+        """Every batch of the run as (seq, what is remembered of it), in the order stored."""
+        rows = self._db.execute(
+            "SELECT seq, grp, rows, group_rows, digest FROM batches WHERE run_id = ? ORDER BY n",
+            (run_id,),
+        ).fetchall()
+        return [(r[0], StoredBatch(r[1], r[2], r[3], bytes(r[4]))) for r in rows]
+
+    def key_of(self, run_id: str) -> str | None:
+        """The Idempotency-Key the run was opened with, if any."""
+        row = self._db.execute("SELECT key FROM run_keys WHERE run_id = ?", (run_id,)).fetchone()
+        return None if row is None else str(row[0])
 
     def max_seq(self, run_id: str) -> int:
         """The largest seq stored for the run (-1 if none)."""

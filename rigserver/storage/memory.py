@@ -202,6 +202,10 @@ class MemoryStore:
             run.ended = now()
             return run.model_copy(deep=True)
 
+    def readings_version(self, run_id: str) -> int:
+        with self._lock:
+            return self._get(run_id).run.batches
+
     def run_file(self, run_id: str) -> Path:
         """A run file written now into this store's temporary directory."""
         with self._lock:

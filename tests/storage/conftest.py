@@ -11,8 +11,10 @@ import pytest
 from numpy.typing import NDArray
 
 from rigserver.storage import HDF5Store, MemoryStore, RunStore
+from rigserver.storage.postgres import PostgresStore
 from schemas.runs import Run, new_run_id
 from schemas.stands import StandKind
+from tests.postgres import postgres_server, postgres_url  # noqa: F401 (fixtures)
 
 T0 = datetime(2024, 3, 1, 9, 0, tzinfo=UTC)
 
@@ -47,8 +49,18 @@ def friction(start: int, n: int) -> dict[str, NDArray[np.float64]]:
     }
 
 
-@pytest.fixture(params=["memory", "hdf5"])
+def open_store(deployment: str, tmp_path: Path, request: pytest.FixtureRequest) -> RunStore:
+    """A store of the deployment: "memory", "hdf5" (embedded) or "postgres" (cluster)."""
+    if deployment == "memory":
+        return MemoryStore()
+    if deployment == "hdf5":
+        return HDF5Store(tmp_path / "data")
+    url = request.getfixturevalue("postgres_url")
+    return PostgresStore(url, files_dir=tmp_path / "files")
+
+
+@pytest.fixture(params=["memory", "hdf5", "postgres"])
 def store(request: pytest.FixtureRequest, tmp_path: Path) -> Iterator[RunStore]:
-    s: RunStore = MemoryStore() if request.param == "memory" else HDF5Store(tmp_path / "data")
+    s = open_store(request.param, tmp_path, request)
     yield s
     s.close()

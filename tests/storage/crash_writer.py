@@ -1,8 +1,10 @@
-"""Append to an HDF5Store until killed, printing what was acknowledged (for test_crash.py).
+"""Append to a store until killed, printing what was acknowledged (for test_crash.py).
 
-Usage: ``python crash_writer.py DATA_DIR RUN_ID FIRST_SEQ``. Prints ``ready`` once the store
-is open, ``ack SEQ`` after each batch of RUN_ID is acknowledged, and ``ended RUN_ID`` after a
-side run (created, two batches, results, finished) is ended; one side run every 40 seqs.
+Usage: ``python crash_writer.py STORE RUN_ID FIRST_SEQ FILES_DIR``, STORE a data directory
+(HDF5Store) or a ``postgresql:`` URL (PostgresStore, its run files in FILES_DIR). Prints
+``ready`` once the store is open, ``ack SEQ`` after each batch of RUN_ID is acknowledged,
+and ``ended RUN_ID`` after a side run (created, two batches, results, finished) is ended;
+one side run every 40 seqs.
 """
 
 from __future__ import annotations
@@ -14,7 +16,7 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import NDArray
 
-from rigserver.storage import HDF5Store
+from rigserver.storage import HDF5Store, PostgresStore, RunStore
 from schemas.runs import Run, RunState, new_run_id
 
 
@@ -33,7 +35,15 @@ def batch_of(seq: int) -> tuple[str, dict[str, NDArray[np.float64]]]:
     }
 
 
-def side_run(store: HDF5Store) -> str:
+def open_store(target: str, files_dir: Path) -> RunStore:
+    """The store at ``target``: a ``postgresql:`` URL (run files in ``files_dir``) or a
+    data directory."""
+    if target.startswith("postgresql:"):
+        return PostgresStore(target, files_dir=files_dir)
+    return HDF5Store(Path(target))
+
+
+def side_run(store: RunStore) -> str:
     run = store.create_run(
         Run(
             id=new_run_id(),
@@ -50,8 +60,8 @@ def side_run(store: HDF5Store) -> str:
     return run.id
 
 
-def main(data_dir: str, run_id: str, first_seq: str) -> None:
-    store = HDF5Store(Path(data_dir))
+def main(target: str, run_id: str, first_seq: str, files_dir: str) -> None:
+    store = open_store(target, Path(files_dir))
     print("ready", flush=True)
     seq = int(first_seq)
     while True:
@@ -63,4 +73,4 @@ def main(data_dir: str, run_id: str, first_seq: str) -> None:
 
 
 if __name__ == "__main__":
-    main(*sys.argv[1:4])
+    main(*sys.argv[1:5])

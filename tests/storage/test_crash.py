@@ -1,5 +1,6 @@
-"""Kill -9 a process appending to an HDF5Store at random moments; nothing acknowledged is
-lost, nothing is stored twice, every run file opens with plain h5py, appending goes on."""
+"""Kill -9 a process appending to a store (HDF5Store, PostgresStore) at random moments;
+nothing acknowledged is lost, nothing is stored twice, every run file opens with plain h5py,
+appending goes on."""
 
 from __future__ import annotations
 
@@ -8,18 +9,18 @@ import signal
 import subprocess
 import sys
 import time
+from contextlib import closing
 from pathlib import Path
 
 import h5py
 import numpy as np
 import pytest
 
-from rigserver.storage import HDF5Store
 from rigserver.storage._checks import channel_group, padded
 from schemas.runs import RunQuery, RunState
 from schemas.stands import StandKind
 from tests.storage.conftest import make_run
-from tests.storage.crash_writer import batch_of
+from tests.storage.crash_writer import batch_of, open_store
 
 WRITER = Path(__file__).with_name("crash_writer.py")
 ROUNDS = 10
@@ -38,9 +39,11 @@ def _expected(last_seq: int) -> dict[str, dict[str, np.ndarray]]:
     }
 
 
-def _kill_while_writing(data_dir: Path, run_id: str, first_seq: int, rng: random.Random) -> str:
+def _kill_while_writing(
+    target: str, files: Path, run_id: str, first_seq: int, rng: random.Random
+) -> str:
     with subprocess.Popen(
-        [sys.executable, str(WRITER), str(data_dir), run_id, str(first_seq)],
+        [sys.executable, str(WRITER), target, run_id, str(first_seq), str(files)],
         stdout=subprocess.PIPE,
         text=True,
     ) as proc:
@@ -57,14 +60,20 @@ def _kill_while_writing(data_dir: Path, run_id: str, first_seq: int, rng: random
 
 
 @pytest.mark.slow
-def test_kill_9_at_random_moments_loses_nothing_acknowledged(tmp_path: Path) -> None:
+@pytest.mark.parametrize("deployment", ["hdf5", "postgres"])
+def test_kill_9_at_random_moments_loses_nothing_acknowledged(
+    deployment: str, tmp_path: Path, request: pytest.FixtureRequest
+) -> None:
     rng = random.Random(20240301)
-    with HDF5Store(tmp_path) as store:
+    target = str(tmp_path) if deployment == "hdf5" else str(request.getfixturevalue("postgres_url"))
+    files_dir = tmp_path / "files"
+    store = open_store(target, files_dir)
+    with closing(store):
         run_id = store.create_run(make_run()).id
     acked: list[int] = []
     ended: set[str] = set()
     for _ in range(ROUNDS):
-        out = _kill_while_writing(tmp_path, run_id, (acked[-1] + 1) if acked else 0, rng)
+        out = _kill_while_writing(target, files_dir, run_id, (acked[-1] + 1) if acked else 0, rng)
         for line in out.splitlines(keepends=True):
             if not line.endswith("\n"):
                 continue  # cut by the kill: not acknowledged
@@ -76,7 +85,8 @@ def test_kill_9_at_random_moments_loses_nothing_acknowledged(tmp_path: Path) -> 
     assert acked == sorted(set(acked)), "a seq was acknowledged twice"
     assert len(acked) > 20, "the writer hardly wrote: the test proves little"
 
-    with HDF5Store(tmp_path) as store:
+    store = open_store(target, files_dir)
+    with closing(store):
         # the batch after the last acknowledged one may have been stored, unacknowledged
         last = acked[-1] + (store.receipt(run_id, acked[-1] + 1) is not None)
         assert all(store.receipt(run_id, seq) is not None for seq in range(last + 1))
@@ -88,9 +98,15 @@ def test_kill_9_at_random_moments_loses_nothing_acknowledged(tmp_path: Path) -> 
             for name, values in columns.items():
                 np.testing.assert_array_equal(got[name], values, err_msg=f"{group}/{name}")
         runs = store.list_runs(RunQuery(limit=500)).runs
+        # every run file opens with plain h5py and holds what the catalogue says (the
+        # embedded store's files themselves; the cluster's as materialised from the journal)
+        files = {
+            r.id: tmp_path / "runs" / f"{r.id}.h5" if deployment == "hdf5" else store.run_file(r.id)
+            for r in runs
+        }
     assert ended <= {r.id for r in runs}
-    for run in runs:  # every run file opens with plain h5py and holds what the catalogue says
-        with h5py.File(tmp_path / "runs" / f"{run.id}.h5", "r") as f:
+    for run in runs:
+        with h5py.File(files[run.id], "r") as f:
             for group, rows in run.rows.items():
                 for ds in f["entry"][group].values():
                     assert ds.shape == (rows,)
@@ -100,9 +116,10 @@ def test_kill_9_at_random_moments_loses_nothing_acknowledged(tmp_path: Path) -> 
             if run.id in ended:
                 assert run.state is RunState.FINISHED
 
-    with HDF5Store(tmp_path) as store:
+    store = open_store(target, files_dir)
+    with closing(store):
         receipt = store.append(run_id, last + 1, *batch_of(last + 1))
         assert not receipt.duplicate
         assert store.end_run(run_id, RunState.FINISHED).batches == last + 2
-    with h5py.File(tmp_path / "runs" / f"{run_id}.h5", "r") as f:
-        assert bool(f["entry"].attrs["finalized"])
+        with h5py.File(store.run_file(run_id), "r") as f:
+            assert bool(f["entry"].attrs["finalized"])

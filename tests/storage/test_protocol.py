@@ -405,3 +405,17 @@ def test_a_key_opens_one_run_however_often_it_is_sent(store: RunStore) -> None:
     with pytest.raises(KeyReused, match="9b2c6a0e-lab-pc-3"):
         store.create_run(make_run(operator="Petrov"), key="9b2c6a0e-lab-pc-3")
     assert store.list_runs(RunQuery()).total == 2
+
+
+def test_the_readings_version_grows_with_every_batch_stored(store: RunStore) -> None:
+    run = store.create_run(make_run())
+    assert store.readings_version(run.id) == 0
+    store.append(run.id, 0, "friction", friction(0, 3))
+    store.append(run.id, 1, "measurements", {"pin_mass_before": np.array([1.0])})
+    assert store.readings_version(run.id) == 2
+    store.append(run.id, 0, "friction", friction(0, 3))  # a retry stores nothing
+    assert store.readings_version(run.id) == 2
+    store.end_run(run.id, RunState.FINISHED)
+    assert store.readings_version(run.id) == 2
+    with pytest.raises(RunNotFound):
+        store.readings_version("no-such-run")

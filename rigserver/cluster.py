@@ -1,0 +1,196 @@
+"""``scripts/cluster up|down``: a local cluster, PostgreSQL and N rigserver workers.
+
+``up --workers N --dir DIR`` makes a PostgreSQL server in ``DIR/postgres`` (``initdb``, as
+an unprivileged user when run as root; it listens on a unix socket in that directory
+only), writes an API key with every scope to ``DIR/keys.json``, starts N ``rigserver
+serve`` workers on free loopback ports sharing the database and the run files directory
+``DIR/files``, writes each worker's process id to ``DIR/worker-N.pid`` and its log to
+``DIR/worker-N.log``, and prints one line per worker: its URL. ``down --dir DIR`` stops
+exactly those workers (their process groups) and that server (``pg_ctl stop``).
+
+HSDS is not started: the cluster's arrays are read from the PostgreSQL journal and its run
+files materialised into ``DIR/files`` (docs/scale-out.md says why).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import secrets
+import signal
+import socket
+import subprocess
+import sys
+import time
+from collections.abc import Sequence
+from pathlib import Path
+
+import httpx
+
+from rigserver.storage.pgserver import LocalPostgres, NoPostgres, start_local
+
+#: Seconds a worker has to answer after it was started, and to stop after SIGTERM
+START_SECONDS = 60.0
+STOP_SECONDS = 15.0
+#: The workers this process started, by process id (waited for when stopped)
+_STARTED: dict[int, subprocess.Popen[bytes]] = {}
+
+
+def free_port() -> int:
+    """A loopback port free now (the OS picks it)."""
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return int(s.getsockname()[1])
+
+
+def _postgres_of(directory: Path) -> LocalPostgres:
+    state = json.loads((directory / "cluster.json").read_text(encoding="utf-8"))
+    return LocalPostgres(directory / "postgres", int(state["postgres_port"]))
+
+
+def write_keys(directory: Path) -> str:
+    """A new API key with every scope in ``directory/keys.json`` (mode 600); the key."""
+    key = secrets.token_urlsafe(32)
+    keys_file = directory / "keys.json"
+    keys_file.write_text(
+        json.dumps([{"key": key, "scopes": ["read", "write:*"], "name": "cluster"}], indent=2),
+        encoding="utf-8",
+    )
+    keys_file.chmod(0o600)
+    return key
+
+
+def start_worker(directory: Path, n: int, url: str | None, *, args: Sequence[str] = ()) -> str:
+    """Start worker ``n`` (its own process group) on a free port with the database ``url``
+    (``None``: the embedded store in ``directory/files``); its URL once it answers."""
+    port = free_port()
+    key = json.loads((directory / "keys.json").read_text(encoding="utf-8"))[0]["key"]
+    command = [
+        sys.executable,
+        "-m",
+        "rigserver.cli",
+        "serve",
+        "--host",
+        "127.0.0.1",
+        "--port",
+        str(port),
+        "--data-dir",
+        str(directory / "files"),
+        "--keys-file",
+        str(directory / "keys.json"),
+        *(["--database-url", url] if url else []),
+        "--log-level",
+        "warning",
+        *args,
+    ]
+    log = directory / f"worker-{n}.log"
+    with log.open("ab") as out:
+        proc = subprocess.Popen(
+            command,
+            stdout=out,
+            stderr=out,
+            stdin=subprocess.DEVNULL,
+            start_new_session=True,
+            env={**os.environ, "PYTHONUNBUFFERED": "1"},
+        )
+    _STARTED[proc.pid] = proc
+    (directory / f"worker-{n}.pid").write_text(f"{proc.pid}\n", encoding="utf-8")
+    base = f"http://127.0.0.1:{port}"
+    deadline = time.monotonic() + START_SECONDS
+    while time.monotonic() < deadline:
+        if proc.poll() is not None:
+            raise RuntimeError(f"worker {n} exited: {log.read_text(errors='replace')[-1500:]}")
+        try:
+            headers = {"Authorization": f"Bearer {key}"}
+            httpx.get(f"{base}/api/v1/stands", headers=headers, timeout=1)
+            return base
+        except httpx.TransportError:
+            time.sleep(0.1)
+    raise RuntimeError(f"worker {n} did not answer within {START_SECONDS:.0f} s (see {log})")
+
+
+def up(directory: Path, workers: int) -> list[str]:
+    """Start the database and the workers; the workers' URLs."""
+    directory.mkdir(parents=True, exist_ok=True)
+    directory.chmod(0o711)  # the database's user (not root) passes through it
+    (directory / "files").mkdir(exist_ok=True)
+    port = free_port()
+    (directory / "cluster.json").write_text(json.dumps({"postgres_port": port}), encoding="utf-8")
+    server = start_local(directory / "postgres", port)
+    write_keys(directory)
+    urls = []
+    try:
+        for n in range(1, workers + 1):
+            urls.append(start_worker(directory, n, server.url))
+    except BaseException:
+        down(directory)
+        raise
+    return urls
+
+
+def stop_worker(pid_file: Path) -> None:
+    """SIGTERM the worker's process group, SIGKILL it if it has not gone in time."""
+    pid = int(pid_file.read_text(encoding="utf-8"))
+    try:
+        os.killpg(pid, signal.SIGTERM)
+    except ProcessLookupError:
+        pid_file.unlink()
+        return
+    deadline = time.monotonic() + STOP_SECONDS
+    while time.monotonic() < deadline:
+        try:
+            os.killpg(pid, 0)
+        except ProcessLookupError:
+            break
+        _reap(pid)
+        time.sleep(0.1)
+    else:
+        os.killpg(pid, signal.SIGKILL)
+        proc = _STARTED.pop(pid, None)
+        if proc is not None:
+            proc.wait(STOP_SECONDS)
+    pid_file.unlink()
+
+
+def _reap(pid: int) -> None:
+    """Collect the worker's exit if this process started it (``up`` and ``down`` in one)."""
+    proc = _STARTED.get(pid)
+    if proc is not None and proc.poll() is not None:
+        del _STARTED[pid]
+
+
+def down(directory: Path) -> None:
+    """Stop the workers ``up`` started in ``directory``, then its database."""
+    for pid_file in sorted(directory.glob("worker-*.pid")):
+        stop_worker(pid_file)
+    if (directory / "cluster.json").exists():
+        _postgres_of(directory).stop()
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(prog="scripts/cluster", description=__doc__)
+    sub = parser.add_subparsers(dest="command", required=True)
+    start = sub.add_parser("up", help="start PostgreSQL and N workers")
+    start.add_argument("--workers", type=int, default=2)
+    start.add_argument("--dir", type=Path, required=True)
+    stop = sub.add_parser("down", help="stop what up started")
+    stop.add_argument("--dir", type=Path, required=True)
+    args = parser.parse_args(argv)
+    if args.command == "down":
+        down(args.dir)
+        return 0
+    if args.workers < 1:
+        parser.error(f"--workers must be at least 1, not {args.workers}")
+    try:
+        urls = up(args.dir, args.workers)
+    except NoPostgres as exc:
+        print(f"cluster: {exc}", file=sys.stderr)
+        return 1
+    for url in urls:
+        print(url)
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

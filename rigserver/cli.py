@@ -25,7 +25,8 @@ from rigserver.api.settings import Settings
 from rigserver.storage import HDF5Store, PostgresStore, RunStore, StorageError
 from rigserver.storage.check import check_data_dir
 from rigserver.storage.migrate import MigrationMismatch, migrate
-from rigserver.storage.series import SqliteSeries
+from rigserver.storage.series import SeriesStore, SqliteSeries
+from rigserver.storage.series_postgres import PostgresSeries
 from schemas.stands import configure_stands
 
 
@@ -80,11 +81,13 @@ def build_app(settings: Settings) -> FastAPI:
     )
     settings.data_dir.mkdir(parents=True, exist_ok=True)
     store: RunStore
+    series: SeriesStore
     if settings.database_url:
         store = PostgresStore(settings.database_url, files_dir=settings.data_dir)
+        series = PostgresSeries(settings.database_url)
     else:
         store = HDF5Store(settings.data_dir, synchronous=settings.synchronous)  # type: ignore[arg-type]
-    series = SqliteSeries(settings.data_dir / "series.sqlite")
+        series = SqliteSeries(settings.data_dir / "series.sqlite")
     return create_app(settings, store, keys, configure_stands(overrides), series)
 
 

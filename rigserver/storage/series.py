@@ -2,7 +2,7 @@
 
 A series holds references to runs, not readings, so it keeps its own small SQLite database
 (WAL mode) beside the journal: ``series.sqlite`` in the data directory, or in memory for
-tests. Tables::
+tests; a cluster keeps them in its PostgreSQL database (:mod:`.series_postgres`). Tables::
 
     series(id, name, purpose, factor, notes, created)
     members(series_id, run_id, level, added, n)   n orders the runs as they joined
@@ -15,9 +15,10 @@ from __future__ import annotations
 
 import sqlite3
 import threading
+from collections.abc import Sequence
 from datetime import datetime
 from pathlib import Path
-from typing import Protocol
+from typing import Any, Protocol
 
 from rigserver.storage._time import as_utc, iso, now
 from rigserver.storage.errors import (
@@ -86,14 +87,7 @@ class SqliteSeries:
         self._lock = threading.Lock()
 
     def create(self, body: SeriesCreate) -> Series:
-        series = Series(
-            id=new_series_id(),
-            name=body.name,
-            purpose=body.purpose,
-            factor=body.factor,
-            notes=body.notes,
-            created=now(),
-        )
+        series = new_series(body)
         with self._lock, self._db:
             self._db.execute(
                 "INSERT INTO series VALUES (?, ?, ?, ?, ?, ?)",
@@ -150,21 +144,40 @@ class SqliteSeries:
             "SELECT id, name, purpose, factor, notes, created FROM series WHERE id = ?",
             (series_id,),
         ).fetchone()
-        if row is None:
-            raise SeriesNotFound(f"no series {series_id}")
-        members = [
+        members = self._db.execute(
+            "SELECT run_id, level, added FROM members WHERE series_id = ? ORDER BY n",
+            (series_id,),
+        ).fetchall()
+        return series_of(series_id, row, members)
+
+
+def new_series(body: SeriesCreate) -> Series:
+    return Series(
+        id=new_series_id(),
+        name=body.name,
+        purpose=body.purpose,
+        factor=body.factor,
+        notes=body.notes,
+        created=now(),
+    )
+
+
+def series_of(
+    series_id: str, row: Sequence[Any] | None, members: Sequence[Sequence[Any]]
+) -> Series:
+    """The series of its row ``(id, name, purpose, factor, notes, created)`` and its members'
+    rows ``(run_id, level, added)``; ``SeriesNotFound`` without a row. Times are ISO text."""
+    if row is None:
+        raise SeriesNotFound(f"no series {series_id}")
+    return Series(
+        id=row[0],
+        name=row[1],
+        purpose=row[2],
+        factor=row[3],
+        notes=row[4],
+        created=as_utc(datetime.fromisoformat(row[5])),
+        members=[
             SeriesMember(run_id=run_id, level=level, added=as_utc(datetime.fromisoformat(added)))
-            for run_id, level, added in self._db.execute(
-                "SELECT run_id, level, added FROM members WHERE series_id = ? ORDER BY n",
-                (series_id,),
-            )
-        ]
-        return Series(
-            id=row[0],
-            name=row[1],
-            purpose=row[2],
-            factor=row[3],
-            notes=row[4],
-            created=as_utc(datetime.fromisoformat(row[5])),
-            members=members,
-        )
+            for run_id, level, added in members
+        ],
+    )

@@ -1,4 +1,8 @@
-"""``rigserver serve``: run the service on uvicorn with the embedded HDF5 storage."""
+"""``rigserver serve``: run the service on uvicorn with the embedded HDF5 storage.
+
+SIGTERM and Ctrl-C stop it cleanly: no new connections, the requests under way get
+``SHUTDOWN_GRACE`` seconds, the store is closed.
+"""
 
 from __future__ import annotations
 
@@ -8,8 +12,10 @@ import gc
 import json
 import logging
 import sys
+import threading
 from collections.abc import Sequence
 from pathlib import Path
+from types import FrameType
 
 import uvicorn
 from fastapi import FastAPI
@@ -61,6 +67,24 @@ def keep_freed_memory() -> bool:
     return bool(mallopt(m_mmap_threshold, HEAP_UP_TO)) and bool(
         mallopt(m_trim_threshold, KEEP_FREED)
     )
+
+
+#: Seconds the requests under way (a live stream, a report) get to end once SIGTERM or
+#: Ctrl-C asks the server to stop; then they are cancelled and the store is closed.
+SHUTDOWN_GRACE = 5
+
+
+class _Server(uvicorn.Server):
+    """uvicorn's server that also tells the app when it is asked to stop (SIGTERM,
+    Ctrl-C), so that live streams end at once instead of holding the shutdown."""
+
+    def __init__(self, config: uvicorn.Config, stopping: threading.Event) -> None:
+        super().__init__(config)
+        self._stopping = stopping
+
+    def handle_exit(self, sig: int, frame: FrameType | None) -> None:
+        self._stopping.set()
+        super().handle_exit(sig, frame)
 
 
 def build_app(settings: Settings) -> FastAPI:
@@ -138,7 +162,18 @@ def main(argv: Sequence[str] | None = None) -> int:
     gc.collect()
     gc.freeze()  # what was built to start is never garbage: keep it out of the collections
     print(f"rigserver: data in {settings.data_dir.resolve()}", file=sys.stderr)
-    uvicorn.run(app, host=args.host, port=args.port, log_level=args.log_level, access_log=False)
+    config = uvicorn.Config(
+        app,
+        host=args.host,
+        port=args.port,
+        log_level=args.log_level,
+        access_log=False,
+        timeout_graceful_shutdown=SHUTDOWN_GRACE,
+    )
+    try:
+        _Server(config, app.state.services.stopping).run()
+    except KeyboardInterrupt:  # uvicorn stopped on Ctrl-C, then raised it again
+        return 130
     return 0
 
 

@@ -7,6 +7,7 @@
           ├── SettingsError (also ValueError)
           │                          a stand setting the simulated stand cannot run
           │                          (names the setting, its value and the limit)
+          ├── PortInUse              the demo's port is taken (another demo or server)
           └── ServerError            the server could not take what the lab PC sent
                ├── ServerRefused     an answer that a retry would not change (4xx, 500):
                │                     the problem's title, detail and fields
@@ -28,6 +29,10 @@ class RigsimError(Exception):
 
 class SettingsError(RigsimError, ValueError):
     """A setting outside what the simulated stand can do."""
+
+
+class PortInUse(RigsimError):
+    """Something already listens on the port the demo would serve on."""
 
 
 class ServerError(RigsimError):

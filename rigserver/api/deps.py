@@ -36,6 +36,8 @@ class Services:
     run_locks: defaultdict[str, threading.Lock] = field(
         default_factory=lambda: defaultdict(threading.Lock)
     )
+    #: set when the server is asked to stop: long requests (live streams) end by themselves
+    stopping: threading.Event = field(default_factory=threading.Event)
     #: run id -> its stand as its configuration sets it, the most recently posted-to last
     run_stands: OrderedDict[str, Stand] = field(default_factory=OrderedDict)
     ingest: IngestQueue = field(init=False)

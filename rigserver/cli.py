@@ -134,6 +134,11 @@ def main(argv: Sequence[str] | None = None) -> int:
         help="an origin allowed by CORS, repeatable (RIG_CORS_ORIGINS); none by default",
     )
     serve.add_argument(
+        "--results-workers",
+        type=int,
+        help="runs whose results are computed at once, more answered 503 (RIG_RESULTS_WORKERS)",
+    )
+    serve.add_argument(
         "--synchronous",
         choices=("normal", "full"),
         help="journal durability: normal survives a crash, full a power loss (RIG_SYNCHRONOUS)",
@@ -152,6 +157,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         "rate_burst": args.rate_burst,
         "cors_origins": tuple(args.cors_origins) if args.cors_origins else None,
         "synchronous": args.synchronous,
+        "results_workers": args.results_workers,
     }
     settings = Settings(**{k: v for k, v in given.items() if v is not None})
     logging.basicConfig(

@@ -16,6 +16,7 @@ from fastapi import Depends, Request
 from rigserver.api.auth import READ, ApiKey, Keyring, write_scope
 from rigserver.api.ingest_queue import IngestQueue
 from rigserver.api.problems import ApiProblem
+from rigserver.api.results_cache import ResultsCache
 from rigserver.api.sessions import COOKIE, Sessions
 from rigserver.api.settings import Settings
 from rigserver.storage.base import RunStore
@@ -24,6 +25,8 @@ from schemas.stands import Stand, StandKind
 
 #: Runs whose stand the service remembers (the stand of a run never changes).
 RUN_STANDS = 4096
+#: Runs whose last computed results the service keeps (rigserver.api.results_cache).
+RESULTS_KEPT = 128
 
 
 @dataclass
@@ -41,8 +44,14 @@ class Services:
     #: run id -> its stand as its configuration sets it, the most recently posted-to last
     run_stands: OrderedDict[str, Stand] = field(default_factory=OrderedDict)
     ingest: IngestQueue = field(init=False)
+    results: ResultsCache = field(init=False)
 
     def __post_init__(self) -> None:
+        self.results = ResultsCache(
+            workers=self.settings.results_workers,
+            runs=RESULTS_KEPT,
+            retry_after=self.settings.retry_after,
+        )
         self.ingest = IngestQueue(
             self.store,
             self.run_locks.__getitem__,

@@ -77,9 +77,18 @@ def test_results_are_printed_with_units() -> None:
     assert "truth: steps" in text and "representable" in text
 
 
-def _demo(port: int, data_dir: Path, out: Path) -> subprocess.Popen[bytes]:
+#: ``rigsim demo`` with Ctrl-C heard, as in a terminal, however the tests were launched
+#: (a process started with SIGINT ignored passes that on to its children)
+_WITH_CTRL_C = (
+    "import runpy, signal, sys; signal.signal(signal.SIGINT, signal.default_int_handler); "
+    "sys.argv[0] = 'rigsim'; runpy.run_module('rigsim.cli', run_name='__main__')"
+)
+
+
+def _demo(port: int, data_dir: Path, out: Path, *, ctrl_c: bool = False) -> subprocess.Popen[bytes]:
     """``rigsim demo`` in its own process group, its output into ``out``."""
-    cmd = [sys.executable, "-m", "rigsim.cli", "demo", "--port", str(port)]
+    start = ["-c", _WITH_CTRL_C] if ctrl_c else ["-m", "rigsim.cli"]
+    cmd = [sys.executable, *start, "demo", "--port", str(port)]
     cmd += ["--data-dir", str(data_dir), "--speed", "max"]
     env = {**os.environ, "PYTHONUNBUFFERED": "1", "COLUMNS": "120"}
     with out.open("wb") as sink:
@@ -119,6 +128,21 @@ def test_demo_serves_four_finished_runs_until_terminated(tmp_path: Path) -> None
     finally:
         stop(proc)
     assert "Traceback" not in out.read_text(errors="replace")
+
+
+def test_ctrl_c_while_the_demo_posts_stops_it_and_its_server(tmp_path: Path) -> None:
+    port, out = free_port(), tmp_path / "demo.out"
+    proc = _demo(port, tmp_path / "data", out, ctrl_c=True)
+    try:
+        assert "posting the four" in _wait_for(out, "posting the four", proc, 60)
+        os.killpg(proc.pid, signal.SIGINT)  # Ctrl-C reaches the terminal's whole group
+        assert proc.wait(timeout=30) == 130
+        with pytest.raises(httpx.TransportError):
+            httpx.get(f"http://127.0.0.1:{port}/api/v1/runs", timeout=2)
+    finally:
+        stop(proc)
+    text = out.read_text(errors="replace")
+    assert "interrupted" in text and "Traceback" not in text
 
 
 def test_a_second_demo_on_a_busy_port_says_so_in_one_line(server: Server) -> None:

@@ -11,11 +11,11 @@ client). Every GET route is then timed twice, by sequential requests from this p
 ``idle``
     the server doing nothing else (the baseline, measured in the same run);
 ``busy``
-    while ``--stands`` simulated stands post runs (rigsim's client in another process, each
-    run at a pace that ends it within the phase, one after another until the phase ends)
-    and ``--viewers`` viewers (another process) each hold a live page: the SSE stream
-    ``/runs/{id}/live`` of an open run and ``GET /runs/{id}/results`` every 5 s, as the
-    page does.
+    while ``--stands`` simulated stands post runs (rigsim's client in another process; each
+    run lasts ``RUN_SECONDS``, its batches paced accordingly, and the next starts when it
+    has finished) and ``--viewers`` viewers (another process) each hold a live page: the
+    SSE stream ``/runs/{id}/live`` of an open run and ``GET /runs/{id}/results`` every
+    5 s, as the page does.
 
 For each route: p50 and p99 in ms, idle and busy, and their ratios (busy / idle); the
 routes of an open run are timed on one of the runs being posted. ``load`` counts what the
@@ -57,9 +57,8 @@ from schemas.stands import StandKind  # noqa: E402
 TARGET_P99_MS = 100.0
 #: Routes that render plots or a PDF by design: timed, reported, not held to the target.
 RENDERS = ("report.html", "report.pdf", "export.zip")
-#: Seconds of the stand's own time a simulated run lasts (rigsim's runs: 1 200-1 800 s).
-STAND_SECONDS = 1800.0
-#: Wall seconds a simulated run lasts under load: its batches come 40 times as fast.
+#: Wall seconds a simulated run lasts under load, whatever its stand's own pace (rigsim's
+#: runs take 1 200-1 800 s, a profile 1.6 s): its batches come that much faster or slower.
 RUN_SECONDS = 45.0
 #: The live page asks for the results this often, s.
 RESULTS_EVERY = 5.0
@@ -163,8 +162,8 @@ def dump_every_second(counts: dict[str, int], out: Path, stop_at: float) -> None
 
 
 def post_stands(url: str, stands: int, seconds: float, out: Path) -> None:
-    """``stands`` simulated stands posting runs back to back, each run over ``RUN_SECONDS``
-    of wall time, until killed or ``seconds`` have passed; counts into ``out``."""
+    """``stands`` simulated stands posting runs back to back, each over ``RUN_SECONDS``,
+    until killed or ``seconds`` have passed; counts into ``out``."""
     kinds = list(StandKind)
     stop_at = time.monotonic() + seconds
     counts = {"runs_finished": 0, "batches": 0, "failures": 0}
@@ -177,7 +176,8 @@ def post_stands(url: str, stands: int, seconds: float, out: Path) -> None:
             seed += stands
             try:
                 with LabClient(url, KEY, seed=seed) as client:
-                    outcome = client.run(sim, speed=STAND_SECONDS / RUN_SECONDS)
+                    lasts = max(sim.batches[-1].at, 1.0)  # the stand's own seconds
+                    outcome = client.run(sim, speed=lasts / RUN_SECONDS)
                 with lock:
                     counts["runs_finished"] += 1
                     counts["batches"] += len(outcome.receipts)

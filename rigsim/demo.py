@@ -10,6 +10,7 @@ port where something already listens it says so and exits with status 1.
 
 from __future__ import annotations
 
+import errno
 import json
 import os
 import secrets
@@ -55,15 +56,18 @@ def demo_key(data_dir: Path) -> tuple[Path, str]:
 def check_port_free(host: str, port: int) -> None:
     """Refuse to start when something already listens on ``host:port`` (a second demo):
     the new server could not bind, and the readiness check would find the other one."""
-    with socket.socket() as probe:
-        probe.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)  # as uvicorn binds
-        try:
+    try:
+        family = socket.getaddrinfo(host, port, type=socket.SOCK_STREAM)[0][0]
+        with socket.socket(family) as probe:
+            probe.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)  # as uvicorn binds
             probe.bind((host, port))
-        except OSError as exc:
-            raise PortInUse(
-                f"{host}:{port} is in use ({exc.strerror}): is a demo or a rigserver already "
-                f"serving there? Stop it or pick another --port"
-            ) from None
+    except OSError as exc:
+        if exc.errno != errno.EADDRINUSE:
+            return  # another trouble (an unknown host, a privileged port): the server says
+        raise PortInUse(
+            f"{host}:{port} is in use: is a demo or a rigserver already serving there? "
+            f"Stop it or pick another --port"
+        ) from None
 
 
 def start_server(host: str, port: int, data_dir: Path, keys_file: Path) -> subprocess.Popen[bytes]:

@@ -298,12 +298,14 @@ def bench(quick: bool, stands: int, viewers: int) -> dict[str, Any]:
         work = Path(tmp)
         with rigserver(work, "reads") as (url, _pid):
             finished = seed_finished(url)
-            with LabClient(url, KEY, seed=1) as client:  # an open run for the idle phase
+            with LabClient(url, KEY, seed=1) as client:  # an open run, for the idle phase only
                 sim = simulate(StandKind.MTOS, seed=7)
                 idle_open = client.create_run(sim.run_create).id
                 for seq, batch in enumerate(sim.batches):
                     client.post_batch(idle_open, seq, batch)
             idle = measure(url, routes(finished, lambda: idle_open), samples)
+            with httpx.Client(base_url=url, headers=AUTH, timeout=30) as http:
+                http.post(f"{API}/runs/{idle_open}/abort").raise_for_status()  # viewers watch
             with load(url, stands, viewers, work) as outs:
                 time.sleep(WARM_UP)  # the stands open their runs, the viewers connect
                 started = time.monotonic()

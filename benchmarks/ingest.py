@@ -42,6 +42,7 @@ import multiprocessing as mp
 import os
 import queue
 import shutil
+import signal
 import socket
 import subprocess
 import sys
@@ -94,8 +95,10 @@ def free_port() -> int:
 def serving(cmd: list[str], port: int, log: Path) -> Iterator[subprocess.Popen[bytes]]:
     """Run a server command until it accepts connections on ``port``; stop it after."""
     env = {**os.environ, "PYTHONUNBUFFERED": "1", "OPENBLAS_NUM_THREADS": "1"}
-    with log.open("ab") as out:
-        proc = subprocess.Popen(cmd, env=env, stdout=out, stderr=out, cwd=ROOT)
+    with log.open("ab") as out:  # its own process group, stopped as one
+        proc = subprocess.Popen(
+            cmd, env=env, stdout=out, stderr=out, cwd=ROOT, start_new_session=True
+        )
     try:
         deadline = time.monotonic() + 60
         while True:
@@ -110,12 +113,13 @@ def serving(cmd: list[str], port: int, log: Path) -> Iterator[subprocess.Popen[b
                 time.sleep(0.1)
         yield proc
     finally:
-        proc.terminate()
-        try:
+        with contextlib.suppress(ProcessLookupError):
+            os.killpg(proc.pid, signal.SIGTERM)
+        with contextlib.suppress(subprocess.TimeoutExpired):
             proc.wait(timeout=30)
-        except subprocess.TimeoutExpired:
-            proc.kill()
-            proc.wait()
+        with contextlib.suppress(ProcessLookupError):
+            os.killpg(proc.pid, signal.SIGKILL)  # whatever of the group is left
+        proc.wait()
 
 
 @contextlib.contextmanager

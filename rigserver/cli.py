@@ -1,7 +1,11 @@
 """``rigserver serve``: run the service on uvicorn, with the embedded HDF5 storage or, given
 a database URL, as one worker of a cluster (:class:`~rigserver.storage.PostgresStore`);
 ``rigserver check``: list the damaged runs of a data directory; ``rigserver migrate``:
-move a data directory into a cluster."""
+move a data directory into a cluster.
+
+SIGTERM and Ctrl-C stop ``serve`` cleanly: no new connections, the requests under way get
+``SHUTDOWN_GRACE`` seconds, the store is closed.
+"""
 
 from __future__ import annotations
 
@@ -12,8 +16,10 @@ import json
 import logging
 import sqlite3
 import sys
+import threading
 from collections.abc import Sequence
 from pathlib import Path
+from types import FrameType
 
 import uvicorn
 from fastapi import FastAPI
@@ -69,6 +75,24 @@ def keep_freed_memory() -> bool:
     return bool(mallopt(m_mmap_threshold, HEAP_UP_TO)) and bool(
         mallopt(m_trim_threshold, KEEP_FREED)
     )
+
+
+#: Seconds the requests under way (a live stream, a report) get to end once SIGTERM or
+#: Ctrl-C asks the server to stop; then they are cancelled and the store is closed.
+SHUTDOWN_GRACE = 5
+
+
+class _Server(uvicorn.Server):
+    """uvicorn's server that also tells the app when it is asked to stop (SIGTERM,
+    Ctrl-C), so that live streams end at once instead of holding the shutdown."""
+
+    def __init__(self, config: uvicorn.Config, stopping: threading.Event) -> None:
+        super().__init__(config)
+        self._stopping = stopping
+
+    def handle_exit(self, sig: int, frame: FrameType | None) -> None:
+        self._stopping.set()
+        super().handle_exit(sig, frame)
 
 
 def build_app(settings: Settings) -> FastAPI:
@@ -166,6 +190,11 @@ def main(argv: Sequence[str] | None = None) -> int:
         help="an origin allowed by CORS, repeatable (RIG_CORS_ORIGINS); none by default",
     )
     serve.add_argument(
+        "--results-workers",
+        type=int,
+        help="runs whose results are computed at once, more answered 503 (RIG_RESULTS_WORKERS)",
+    )
+    serve.add_argument(
         "--synchronous",
         choices=("normal", "full"),
         help="journal durability: normal survives a crash, full a power loss (RIG_SYNCHRONOUS)",
@@ -203,6 +232,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         "cors_origins": tuple(args.cors_origins) if args.cors_origins else None,
         "synchronous": args.synchronous,
         "database_url": args.database_url,
+        "results_workers": args.results_workers,
     }
     settings = Settings(**{k: v for k, v in given.items() if v is not None})
     logging.basicConfig(
@@ -214,7 +244,18 @@ def main(argv: Sequence[str] | None = None) -> int:
     gc.freeze()  # what was built to start is never garbage: keep it out of the collections
     where = "run files (journal in PostgreSQL)" if settings.database_url else "data"
     print(f"rigserver: {where} in {settings.data_dir.resolve()}", file=sys.stderr)
-    uvicorn.run(app, host=args.host, port=args.port, log_level=args.log_level, access_log=False)
+    config = uvicorn.Config(
+        app,
+        host=args.host,
+        port=args.port,
+        log_level=args.log_level,
+        access_log=False,
+        timeout_graceful_shutdown=SHUTDOWN_GRACE,
+    )
+    try:
+        _Server(config, app.state.services.stopping).run()
+    except KeyboardInterrupt:  # uvicorn stopped on Ctrl-C, then raised it again
+        return 130
     return 0
 
 

@@ -167,7 +167,7 @@ def main(argv: Sequence[str] | None = None) -> int:
             console=console,
         )
     except (RigsimError, ServerError) as exc:
-        console.print(f"[bold red]rigsim:[/] {exc}")
+        console.print(f"[bold red]rigsim:[/] {exc}", soft_wrap=True)
         return 1
     except KeyboardInterrupt:
         console.print("interrupted")

@@ -4,15 +4,18 @@ Starts ``rigserver serve`` as a subprocess (its own process: rigsim reaches the 
 over HTTP) on a data directory, with public reads and a demo key generated into
 ``<data dir>/demo-keys.json`` (reused on the next start), waits until it answers, runs the
 four simulated stands against it in threads at an accelerated pace, prints where to look,
-and keeps the server running until Ctrl-C.
+and keeps the server running until Ctrl-C or SIGTERM (either stops the server too). On a
+port where something already listens it says so and exits with status 1.
 """
 
 from __future__ import annotations
 
+import errno
 import json
 import os
 import secrets
 import signal
+import socket
 import subprocess
 import sys
 import threading
@@ -24,12 +27,14 @@ import httpx
 from rich.console import Console
 
 from rigsim.client import LabClient, RunOutcome
-from rigsim.errors import RigsimError, ServerError, ServerUnavailable
+from rigsim.errors import PortInUse, RigsimError, ServerError, ServerUnavailable
 from rigsim.stands import simulate
 from schemas.stands import StandKind
 
 KEYS_FILE = "demo-keys.json"
 STARTUP_TIMEOUT = 60.0
+#: Seconds the server has to stop after SIGTERM before it is killed.
+STOP_TIMEOUT = 15.0
 
 
 def demo_key(data_dir: Path) -> tuple[Path, str]:
@@ -48,22 +53,63 @@ def demo_key(data_dir: Path) -> tuple[Path, str]:
     return path, key
 
 
+def check_port_free(host: str, port: int) -> None:
+    """Refuse to start when something already listens on ``host:port`` (a second demo):
+    the new server could not bind, and the readiness check would find the other one."""
+    try:
+        family = socket.getaddrinfo(host, port, type=socket.SOCK_STREAM)[0][0]
+        with socket.socket(family) as probe:
+            probe.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)  # as uvicorn binds
+            probe.bind((host, port))
+    except OSError as exc:
+        if exc.errno != errno.EADDRINUSE:
+            return  # another trouble (an unknown host, a privileged port): the server says
+        raise PortInUse(
+            f"{host}:{port} is in use: is a demo or a rigserver already serving there? "
+            f"Stop it or pick another --port"
+        ) from None
+
+
 def start_server(host: str, port: int, data_dir: Path, keys_file: Path) -> subprocess.Popen[bytes]:
-    """``rigserver serve`` in a subprocess, once it answers on ``/api/v1/stands``."""
+    """``rigserver serve`` in a subprocess (in this process's group, so that Ctrl-C reaches
+    both), once it answers on ``/api/v1/stands``; stopped again if it does not."""
     cmd = [sys.executable, "-m", "rigserver.cli", "serve", "--host", host, "--port", str(port)]
     cmd += ["--data-dir", str(data_dir), "--keys-file", str(keys_file), "--public-reads"]
     proc = subprocess.Popen(cmd, env={**os.environ, "PYTHONUNBUFFERED": "1"})
-    deadline = time.monotonic() + STARTUP_TIMEOUT
-    while time.monotonic() < deadline:
-        if proc.poll() is not None:
-            raise ServerUnavailable(f"rigserver exited with status {proc.returncode}")
+    try:
+        deadline = time.monotonic() + STARTUP_TIMEOUT
+        while time.monotonic() < deadline:
+            if proc.poll() is not None:
+                raise ServerUnavailable(f"rigserver exited with status {proc.returncode}")
+            try:
+                httpx.get(f"http://{host}:{port}/api/v1/stands", timeout=1.0)
+                return proc
+            except httpx.TransportError:
+                time.sleep(0.2)
+        raise ServerUnavailable(f"rigserver did not answer on port {port} in {STARTUP_TIMEOUT:g} s")
+    except BaseException:
+        stop_server(proc)
+        raise
+
+
+def stop_server(proc: subprocess.Popen[bytes]) -> None:
+    """SIGTERM, then SIGKILL after ``STOP_TIMEOUT`` s; returns once the server is gone."""
+    if proc.poll() is None:
+        proc.terminate()
         try:
-            httpx.get(f"http://{host}:{port}/api/v1/stands", timeout=1.0)
-            return proc
-        except httpx.TransportError:
-            time.sleep(0.2)
-    proc.terminate()
-    raise ServerUnavailable(f"rigserver did not answer on port {port} in {STARTUP_TIMEOUT:g} s")
+            proc.wait(timeout=STOP_TIMEOUT)
+        except subprocess.TimeoutExpired:
+            proc.kill()
+            proc.wait()
+
+
+def stop_on_signals() -> None:
+    """SIGTERM (and SIGHUP, unless nohup ignores it) end the demo like Ctrl-C does: through
+    the ``finally`` that stops the server. SIGINT keeps Python's KeyboardInterrupt, or stays
+    ignored when whoever started the demo ignores it (a background job)."""
+    for sig in (signal.SIGTERM, signal.SIGHUP):
+        if signal.getsignal(sig) is not signal.SIG_IGN:
+            signal.signal(sig, _exit_on_signal)
 
 
 def run_demo(
@@ -76,10 +122,11 @@ def run_demo(
     console: Console,
 ) -> int:
     """Serve, post the four stands concurrently, then serve until Ctrl-C (or SIGTERM)."""
+    check_port_free(host, port)
     keys_file, key = demo_key(data_dir)
     url = f"http://{host}:{port}"
+    stop_on_signals()
     proc = start_server(host, port, data_dir, keys_file)
-    signal.signal(signal.SIGTERM, _exit_on_term)  # so that the server is stopped with us
     try:
         console.print(f"rigserver is up: data in {data_dir.resolve()}")
         console.print(f"  runs page       {url}/")
@@ -130,12 +177,7 @@ def run_demo(
         proc.wait()
         return proc.returncode or 0
     finally:
-        if proc.poll() is None:
-            proc.terminate()
-            try:
-                proc.wait(timeout=10)
-            except subprocess.TimeoutExpired:
-                proc.kill()
+        stop_server(proc)
 
 
 def demo_series(url: str, key: str, run_ids: list[str]) -> str:
@@ -157,7 +199,7 @@ def demo_series(url: str, key: str, run_ids: list[str]) -> str:
     return series_id
 
 
-def _exit_on_term(signum: int, frame: object) -> None:
+def _exit_on_signal(signum: int, frame: object) -> None:
     raise SystemExit(128 + signum)
 
 

@@ -10,6 +10,7 @@ import pytest
 from hypothesis import settings
 
 from tests.api.conftest import KEYS, Server
+from tests.processes import kill_leftovers, leftovers
 
 settings.register_profile("ci", derandomize=True, print_blob=True)
 if os.environ.get("CI"):
@@ -23,5 +24,17 @@ def server(tmp_path: Path) -> Iterator[Server]:
     keys_file.write_text(json.dumps(KEYS))
     srv = Server(tmp_path / "data", keys_file)
     srv.start()
-    yield srv
-    srv.stop()
+    try:
+        yield srv
+    finally:
+        srv.stop()
+
+
+@pytest.fixture(scope="session", autouse=True)
+def no_process_left_behind() -> Iterator[None]:
+    """The session ends with no ``rigserver`` or ``rigsim`` process of its own running
+    (issue 14, item 7): every test stops the process groups it started."""
+    yield
+    stray = leftovers()
+    kill_leftovers()
+    assert not stray, f"processes left behind by the tests: {stray}"

@@ -6,8 +6,9 @@ from typing import Literal
 
 import numpy as np
 
+from rigserver.analysis.finite_steps import FiniteBearingSteps
 from rigserver.analysis.readings import Readings
-from rigserver.core import bearing, film, reynolds, stands
+from rigserver.core import bearing, film, stands
 from rigserver.core.errors import ModelInputError
 from schemas.results import MtosResults, MtosStep
 from schemas.runs import Run
@@ -19,6 +20,11 @@ REGIMES: dict[int, Literal["fluid", "mixed", "boundary"]] = {1: "fluid", 2: "mix
 _M_PER_UM = UNITS["um"].factor
 _M_PER_MM = UNITS["mm"].factor
 _N_PER_M = UNITS["N/mm"].factor
+#: The finite bearing's figures by (χ, B/D), shared by every run's results.
+FINITE = FiniteBearingSteps()
+#: Load steps of a run whose finite bearing (3.1) is solved, about 10 ms each (the manual's
+#: run has 12): the bound of one results computation; later steps leave it empty, noted.
+MAX_FINITE_STEPS = 500
 
 
 def analyse(run: Run, readings: Readings) -> MtosResults:
@@ -67,6 +73,12 @@ def analyse(run: Run, readings: Readings) -> MtosResults:
         f"t{k}": stands.temperature_rise(t=rows[f"t{k}"], t_in=rows["t1"]) for k in (2, 3, 4, 5)
     }
     h_min = film.minimum_film_thickness(clearance=c.clearance, chi=np.minimum(ecc.chi, 1.0))
+    solved = ecc.chi[:MAX_FINITE_STEPS]
+    FINITE.solve_all(solved[(solved >= 0.0) & (solved < 1.0)], c.width / c.diameter)
+    if load.size > MAX_FINITE_STEPS:
+        result.notes.append(
+            f"the finite bearing (3.1) is solved for the first {MAX_FINITE_STEPS} steps only"
+        )
     for i in range(load.size):
         regime = REGIMES[int(rows["regime"][i])]
         try:
@@ -76,7 +88,11 @@ def analyse(run: Run, readings: Readings) -> MtosResults:
             angle = 0.0
             result.notes.append(f"step {i}: journal centred, the angle (4.12) is undefined")
         f_theory = f_error = None
-        f_finite, load_finite = _finite(c, float(ecc.chi[i]), float(oil.mean[i]), float(load[i]))
+        f_finite, load_finite = (
+            _finite(c, float(ecc.chi[i]), float(oil.mean[i]), float(load[i]))
+            if i < MAX_FINITE_STEPS
+            else (None, None)
+        )
         if regime == "fluid":
             try:
                 f_t = bearing.friction_coefficient_theoretical(
@@ -133,11 +149,12 @@ def _finite(
 
     The scales of (3.6) with μ0 = μ_t and ω0 = ω: forces in μωR⁴/h0², torques in μωR⁴/h0.
     f = M/(N·R1) with the full-film shear torque, the convention of (4.1) and (4.10).
+    Solved once per (χ, B/D): see :mod:`rigserver.analysis.finite_steps`.
     """
     if not 0.0 <= chi < 1.0:
         return None, None
     radius = c.diameter / 2.0
-    solution = reynolds.solve_reynolds(chi=chi, half_width=c.width / c.diameter)
+    solution = FINITE.figures(chi=chi, half_width=c.width / c.diameter)
     torque_scale = viscosity * c.omega * radius**4 / c.clearance
     moment = solution.journal_torque_full_film * torque_scale
     return moment / (load * (radius - c.clearance)), solution.load * torque_scale / c.clearance

@@ -18,6 +18,7 @@ from starlette.types import Scope
 from rigserver.api.auth import READ, ApiKey, Keyring, write_scope
 from rigserver.api.ingest_queue import IngestQueue
 from rigserver.api.problems import ApiProblem
+from rigserver.api.results_cache import ResultsCache
 from rigserver.api.sessions import COOKIE, Sessions
 from rigserver.api.settings import Settings
 from rigserver.storage.base import RunStore
@@ -27,6 +28,8 @@ from schemas.stands import Stand, StandKind
 
 #: Runs whose stand the service remembers (the stand of a run never changes).
 RUN_STANDS = 4096
+#: Runs whose last computed results the service keeps (rigserver.api.results_cache).
+RESULTS_KEPT = 128
 
 
 @dataclass
@@ -40,11 +43,19 @@ class Services:
     run_locks: defaultdict[str, threading.Lock] = field(
         default_factory=lambda: defaultdict(threading.Lock)
     )
+    #: set when the server is asked to stop: long requests (live streams) end by themselves
+    stopping: threading.Event = field(default_factory=threading.Event)
     #: run id -> its stand as its configuration sets it, the most recently posted-to last
     run_stands: OrderedDict[str, Stand] = field(default_factory=OrderedDict)
     ingest: IngestQueue = field(init=False)
+    results: ResultsCache = field(init=False)
 
     def __post_init__(self) -> None:
+        self.results = ResultsCache(
+            workers=self.settings.results_workers,
+            runs=RESULTS_KEPT,
+            retry_after=self.settings.retry_after,
+        )
         self.ingest = IngestQueue(
             self.store,
             self.run_locks.__getitem__,

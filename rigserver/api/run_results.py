@@ -2,14 +2,18 @@
 
 from __future__ import annotations
 
+import asyncio
 from collections.abc import Iterator
+from concurrent.futures import Future
 from typing import Any
 
 import numpy as np
+from fastapi.concurrency import run_in_threadpool
 from numpy.typing import NDArray
 
 from rigserver.analysis import AnalysisResult, analyse
 from rigserver.api.deps import Services
+from rigserver.api.results_cache import Computed
 from schemas.runs import Run, RunState
 from schemas.stands import MEASUREMENTS
 
@@ -47,10 +51,29 @@ def compute_results(services: Services, run: Run) -> AnalysisResult:
     return analyse(run, StoredReadings(services, run))
 
 
+def stored_results(services: Services, run: Run) -> dict[str, Any] | None:
+    """The results stored when the run finished; None for a run that has not."""
+    return services.store.results(run.id) if run.state is RunState.FINISHED else None
+
+
+def submit_results(services: Services, run: Run) -> Future[Computed]:
+    """The results on what has arrived: cached, shared or started (rigserver.api.results_cache);
+    503 when the server computes as many runs' results as it may."""
+    return services.results.submit(run, lambda: compute_results(services, run))
+
+
 def results_payload(services: Services, run: Run) -> dict[str, Any]:
-    """The results stored when the run finished, or computed now on what has arrived."""
-    if run.state is RunState.FINISHED:
-        stored = services.store.results(run.id)
-        if stored is not None:
-            return stored
-    return compute_results(services, run).payload
+    """The results stored when the run finished, or those on what has arrived (blocks)."""
+    stored = stored_results(services, run)
+    if stored is not None:
+        return stored
+    return submit_results(services, run).result().payload
+
+
+async def results_payload_async(services: Services, run: Run) -> dict[str, Any]:
+    """:func:`results_payload` that waits for a computation without holding a thread."""
+    stored = await run_in_threadpool(stored_results, services, run)
+    if stored is not None:
+        return stored
+    computed = await asyncio.wrap_future(submit_results(services, run))
+    return computed.payload

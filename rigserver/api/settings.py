@@ -53,6 +53,12 @@ class Settings(BaseSettings):
     )
     rate_burst: int = Field(default=200, gt=0, description="requests allowed in a burst")
     cors_origins: tuple[str, ...] = Field(default=(), description="origins allowed by CORS")
+    results_workers: int = Field(
+        default=2,
+        gt=0,
+        description="runs whose results are computed at once; a request that would start "
+        "one more is answered 503",
+    )
     synchronous: str = Field(
         default="normal",
         pattern="^(normal|full)$",

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+import signal
 import socket
 import subprocess
 import sys
@@ -19,6 +20,7 @@ from rigserver.api.auth import ApiKey
 from rigserver.api.settings import Settings
 from rigserver.storage import MemoryStore
 from schemas.stands import configure_stands
+from tests.processes import spawn, stop
 
 READER = "reader-key-00000000000000"
 WRITER = "writer-key-00000000000000"
@@ -93,10 +95,11 @@ class Server:
         cmd += self.args
         env = {**os.environ, "PYTHONUNBUFFERED": "1", **self.env}
         with self.log.open("ab") as log:
-            self.proc = subprocess.Popen(cmd, env=env, stdout=log, stderr=log)
+            self.proc = spawn(cmd, env=env, stdout=log, stderr=log)
         deadline = time.monotonic() + 30
         while time.monotonic() < deadline:
             if self.proc.poll() is not None:
+                self.stop()
                 tail = self.log.read_text(errors="replace")[-2000:]
                 raise RuntimeError(f"rigserver exited: {tail}")
             try:
@@ -104,18 +107,15 @@ class Server:
                 return
             except httpx.TransportError:
                 time.sleep(0.1)
+        self.stop()
         raise RuntimeError("rigserver did not start in 30 s")
 
     def kill(self) -> None:
-        if self.proc and self.proc.poll() is None:
-            self.proc.kill()
-            self.proc.wait()
+        """kill -9 of the server's process group (a crash)."""
+        if self.proc:
+            stop(self.proc, sig=signal.SIGKILL)
 
     def stop(self) -> None:
-        if self.proc and self.proc.poll() is None:
-            self.proc.terminate()
-            try:
-                self.proc.wait(timeout=10)
-            except subprocess.TimeoutExpired:
-                self.proc.kill()
-                self.proc.wait()
+        """SIGTERM to the server's process group, SIGKILL if it has not stopped in time."""
+        if self.proc:
+            stop(self.proc)

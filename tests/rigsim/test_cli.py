@@ -6,7 +6,6 @@ import argparse
 import json
 import os
 import signal
-import socket
 import subprocess
 import sys
 import time
@@ -22,6 +21,8 @@ from rigsim.instruments import Fault
 from rigsim.report import print_results
 from rigsim.stands import mtos, smts2
 from schemas.stands import StandKind
+from tests.api.conftest import READER, Server, auth, free_port
+from tests.processes import spawn, stop
 
 
 @pytest.mark.parametrize(
@@ -76,29 +77,42 @@ def test_results_are_printed_with_units() -> None:
     assert "truth: steps" in text and "representable" in text
 
 
-def _free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return int(s.getsockname()[1])
+#: ``rigsim demo`` with Ctrl-C heard, as in a terminal, however the tests were launched
+#: (a process started with SIGINT ignored passes that on to its children)
+_WITH_CTRL_C = (
+    "import runpy, signal, sys; signal.signal(signal.SIGINT, signal.default_int_handler); "
+    "sys.argv[0] = 'rigsim'; runpy.run_module('rigsim.cli', run_name='__main__')"
+)
+
+
+def _demo(port: int, data_dir: Path, out: Path, *, ctrl_c: bool = False) -> subprocess.Popen[bytes]:
+    """``rigsim demo`` in its own process group, its output into ``out``."""
+    start = ["-c", _WITH_CTRL_C] if ctrl_c else ["-m", "rigsim.cli"]
+    cmd = [sys.executable, *start, "demo", "--port", str(port)]
+    cmd += ["--data-dir", str(data_dir), "--speed", "max"]
+    env = {**os.environ, "PYTHONUNBUFFERED": "1", "COLUMNS": "120"}
+    with out.open("wb") as sink:
+        return spawn(cmd, stdout=sink, stderr=subprocess.STDOUT, env=env)
+
+
+def _wait_for(out: Path, marker: str, proc: subprocess.Popen[bytes], seconds: float) -> str:
+    deadline = time.monotonic() + seconds
+    while time.monotonic() < deadline:
+        text = out.read_text(errors="replace")
+        if marker in text or proc.poll() is not None:
+            return text
+        time.sleep(0.2)
+    return out.read_text(errors="replace")
 
 
 @pytest.mark.slow
-def test_demo_serves_four_finished_runs_until_interrupted(tmp_path: Path) -> None:
-    port = _free_port()
-    cmd = [sys.executable, "-m", "rigsim.cli", "demo", "--port", str(port)]
-    cmd += ["--data-dir", str(tmp_path / "data"), "--speed", "max"]
-    env = {**os.environ, "PYTHONUNBUFFERED": "1", "COLUMNS": "120"}
-    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, env=env)
+def test_demo_serves_four_finished_runs_until_terminated(tmp_path: Path) -> None:
+    """Whatever launched the tests (a terminal, a background job with SIGINT ignored, a CI
+    runner without a terminal), SIGTERM stops the demo and the server it started."""
+    port, out = free_port(), tmp_path / "demo.out"
+    proc = _demo(port, tmp_path / "data", out)
     try:
-        assert proc.stdout is not None
-        lines: list[str] = []
-        deadline = time.monotonic() + 90
-        while time.monotonic() < deadline:
-            line = proc.stdout.readline().decode()
-            lines.append(line)
-            if "Ctrl-C stops the server" in line or not line:
-                break
-        text = "".join(lines)
+        text = _wait_for(out, "Ctrl-C stops the server", proc, 90)
         assert f"http://127.0.0.1:{port}/docs" in text
         runs = httpx.get(f"http://127.0.0.1:{port}/api/v1/runs", timeout=10).json()["runs"]
         for r in runs:  # each run's page is printed, and it opens
@@ -111,14 +125,45 @@ def test_demo_serves_four_finished_runs_until_interrupted(tmp_path: Path) -> Non
         (series,) = httpx.get(f"http://127.0.0.1:{port}/api/v1/series", timeout=10).json()
         assert series["purpose"] == "repeatability" and len(series["members"]) == 3
         assert f"http://127.0.0.1:{port}/series/{series['id']}" in text
+        proc.send_signal(signal.SIGTERM)  # the demo alone: it must stop its server itself
+        assert proc.wait(timeout=30) == 128 + signal.SIGTERM
+        with pytest.raises(httpx.TransportError):
+            httpx.get(f"http://127.0.0.1:{port}/api/v1/runs", timeout=2)
     finally:
-        proc.send_signal(signal.SIGINT)
-        proc.wait(timeout=30)
-        if proc.stdout is not None:
-            proc.stdout.close()
-    assert proc.returncode == 130  # interrupted, the server stopped with it
-    with pytest.raises(httpx.TransportError):
-        httpx.get(f"http://127.0.0.1:{port}/api/v1/runs", timeout=2)
+        stop(proc)
+    assert "Traceback" not in out.read_text(errors="replace")
+
+
+def test_ctrl_c_while_the_demo_posts_stops_it_and_its_server(tmp_path: Path) -> None:
+    port, out = free_port(), tmp_path / "demo.out"
+    proc = _demo(port, tmp_path / "data", out, ctrl_c=True)
+    try:
+        assert "posting the four" in _wait_for(out, "posting the four", proc, 60)
+        os.killpg(proc.pid, signal.SIGINT)  # Ctrl-C reaches the terminal's whole group
+        assert proc.wait(timeout=30) == 130
+        with pytest.raises(httpx.TransportError):
+            httpx.get(f"http://127.0.0.1:{port}/api/v1/runs", timeout=2)
+    finally:
+        stop(proc)
+    text = out.read_text(errors="replace")
+    assert "interrupted" in text and "Traceback" not in text
+
+
+def test_a_second_demo_on_a_busy_port_says_so_in_one_line(server: Server) -> None:
+    """A second ``make run`` while one serves: one line, a non-zero status, nothing posted
+    to the server that holds the port."""
+    out = server.data_dir.parent / "second.out"
+    proc = _demo(server.port, server.data_dir.parent / "second", out)
+    try:
+        status = proc.wait(timeout=60)
+    finally:
+        stop(proc)
+    lines = [line for line in out.read_text(errors="replace").splitlines() if line.strip()]
+    assert status != 0
+    assert len(lines) == 1, lines
+    assert f"127.0.0.1:{server.port} is in use" in lines[0]
+    runs = httpx.get(f"{server.url}/api/v1/runs", headers=auth(READER), timeout=10).json()
+    assert runs["total"] == 0
 
 
 def test_parse_fault() -> None:

@@ -7,7 +7,8 @@ resumes where it broke, with no row lost or repeated (``?from=`` sets the first 
 new connection). When the run has ended and every row is sent, an ``end`` event carries
 its state and the stream closes. The store is polled for the run's row counts, a cheap
 catalogue look-up. A connection is closed after ``MAX_SECONDS`` (the client reconnects and
-resumes), so no stream holds up a server's shutdown for long; a client that goes away is
+resumes), and at the next poll once the server is asked to stop, so no stream holds up a
+server's shutdown; a client that goes away is
 noticed at the next write (a keep-alive comment at the latest).
 """
 
@@ -109,7 +110,7 @@ async def _stream(services: Services, run_id: str, group: str, seen: int) -> Asy
             yield _event("end", {"state": run.state.value, "rows": seen})
             return
         now = time.monotonic()
-        if now - opened > MAX_SECONDS:
+        if now - opened > MAX_SECONDS or services.stopping.is_set():
             return
         if now - last_sent > KEEPALIVE_SECONDS:
             yield ": keep-alive\n\n"

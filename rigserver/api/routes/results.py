@@ -9,7 +9,7 @@ from fastapi.concurrency import run_in_threadpool
 
 from rigserver.api.deps import ReadAccess, ServicesDep
 from rigserver.api.routes.runs import load_run
-from rigserver.api.run_results import results_payload
+from rigserver.api.run_results import results_payload_async
 
 router = APIRouter(prefix="/runs/{run_id}/results", tags=["results"], dependencies=[ReadAccess])
 
@@ -18,8 +18,11 @@ router = APIRouter(prefix="/runs/{run_id}/results", tags=["results"], dependenci
     "",
     summary="The run's results with units",
     description="For a finished run, the results stored when it finished; for an open run, "
-    "computed on the readings that have arrived so far.",
+    "computed on the readings that have arrived so far (once per new batch, shared by "
+    "every request; 503 with Retry-After when the server already computes as many runs' "
+    "results as `--results-workers` allows).",
+    responses={503: {"description": "every results worker is busy with other runs"}},
 )
 async def get_results(run_id: str, services: ServicesDep) -> dict[str, Any]:
     run = await run_in_threadpool(load_run, services, run_id)
-    return await run_in_threadpool(results_payload, services, run)
+    return await results_payload_async(services, run)

@@ -125,13 +125,19 @@ def get_run(run_id: str, services: ServicesDep) -> Run:
 def _end(run_id: str, services: Services, caller: Any, state: RunState) -> Run:
     run = load_run(services, run_id)
     require_write(caller, run.stand)
-    if run.state is not RunState.OPEN:
-        raise ApiProblem(409, "Run is not open", f"run {run_id} is already {run.state.value}")
+    _require_open(run)
     with services.run_locks[run_id]:
+        run = services.store.get_run(run_id)  # as the lock leaves it: no batch lands now
+        _require_open(run)  # a concurrent finish or abort came first
         if state is RunState.FINISHED:
-            results = compute_results(services, run)
+            results = services.results.for_finish(run, lambda: compute_results(services, run))
             services.store.set_results(run_id, results.payload, results.key_results)
         return services.store.end_run(run_id, state)
+
+
+def _require_open(run: Run) -> None:
+    if run.state is not RunState.OPEN:
+        raise ApiProblem(409, "Run is not open", f"run {run.id} is already {run.state.value}")
 
 
 @router.post(

@@ -33,6 +33,9 @@ class ExperimentalWearResult(BaseModel):
     wear_depth: float = quantity(..., "m", "h = V/(π r1²) (2.11)")
     sliding_distance: float = quantity(..., "m", "L = 2π r2 M_rev (2.12)")
     intensity: float = quantity(..., "1", "I_h = h/L (2.13)")
+    specific_wear_rate: float = quantity(
+        ..., "m^2/N", "k = V/(F·L), the pin's specific wear rate (ASTM G99), m³/(N·m)"
+    )
 
 
 class TheoreticalWearResult(BaseModel):
@@ -49,6 +52,30 @@ class TheoreticalWearResult(BaseModel):
     beta: float = quantity(..., "1", "β = 1/(1+2ν)")
     k_nu: float = quantity(..., "1", "k_ν of (2.1)")
     k_f: float = quantity(..., "1", "k_f of the contact mode")
+
+
+class WearValidityResult(BaseModel):
+    """Whether (2.1) applies to the run: its own applicability figures (docs/validity.md)."""
+
+    within_range: bool = Field(description="the branch chosen by (2.7) applies")
+    reasons: list[str] = Field(default_factory=list, description="why not, if not")
+    approach: float = quantity(..., "1", "ε = a/Rmax, relative approach at p_c")
+    real_area_ratio: float = quantity(..., "1", "η_r = A_r/A_c = b·ε^ν/2")
+    real_contact_pressure: float = quantity(..., "Pa", "p_r = p_c/η_r, elastic asperities")
+    hardness: float = quantity(..., "Pa", "HB of the pin, against p_r")
+    asperity_stress: float = quantity(..., "Pa", "σ = k_f^y·p_r")
+    fatigue_strength: float = quantity(..., "Pa", "σ0 of n = (σ0/σ)^t (σ_B in (2.1))")
+    cycles_to_failure: float = quantity(..., "1", "n = (σ0/σ)^t, needs n ≫ 1")
+    plastic_k_f: float | None = quantity(None, "1", "k_f^n; empty when σ_T <= 2f·HB")
+
+
+class SensitivityPoint(BaseModel):
+    """I_h of (2.1) at one t and σ0/σ_B, the run's other data unchanged."""
+
+    fatigue_t: float = quantity(..., "1", "t")
+    strength_ratio: float = quantity(..., "1", "σ0/σ_B")
+    intensity: float | None = quantity(None, "1", "I_h (2.1)")
+    cycles_to_failure: float | None = quantity(None, "1", "n = (σ0/σ)^t")
 
 
 class AdequacyResult(BaseModel):
@@ -72,6 +99,14 @@ class Smts2Results(BaseModel):
     experimental: ExperimentalWearResult | None = None
     theoretical: TheoreticalWearResult | None = None
     adequacy: AdequacyResult | None = None
+    validity: WearValidityResult | None = None
+    verdict: str | None = Field(
+        default=None,
+        description="(2.15)'s verdict, or 'theory outside its range' with the reason",
+    )
+    sensitivity: list[SensitivityPoint] = Field(
+        default_factory=list, description="I_h against t (table 2.1's range) and σ0/σ_B"
+    )
     pending: list[str] = Field(
         default_factory=list, description="what is missing for the results still empty"
     )
@@ -159,6 +194,10 @@ class MtosStep(BaseModel):
     )
     h_min: float = quantity(..., "m", "h_min = h0 - e")
     film: Literal["fluid", "mixed"] = Field(description="h_min against h_min^crit (seed 001)")
+    film_parameter: float = quantity(..., "1", "Λ = h_min/√(Rq_journal² + Rq_bush²)")
+    film_lambda: Literal["full film", "mixed", "boundary"] = Field(
+        description="regime by Λ: < 1 boundary, 1-3 mixed, > 3 full film (Hamrock et al.)"
+    )
 
 
 class MtosResults(BaseModel):
@@ -168,6 +207,15 @@ class MtosResults(BaseModel):
     half_width: float = quantity(..., "1", "a = B/(2R) = B/D (corrected E3)")
     friction_fluid: float | None = quantity(None, "1", "mean f_э of the fluid-film steps")
     h_min_smallest: float | None = quantity(None, "m", "smallest h_min of the run")
+    journal_rq: float = quantity(..., "m", "Rq of the journal used for Λ")
+    bush_rq: float = quantity(..., "m", "Rq of the bush used for Λ")
+    roughness_source: str = Field(
+        description="where the Rq come from: the profilometer runs named, or the configuration"
+    )
+    regime_disagreements: list[str] = Field(
+        default_factory=list,
+        description="steps whose film criterion or Λ band differs from the experiment's regime",
+    )
     steps: list[MtosStep] = Field(default_factory=list)
     pending: list[str] = Field(default_factory=list)
     notes: list[str] = Field(default_factory=list)

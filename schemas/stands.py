@@ -12,7 +12,7 @@ from collections.abc import Mapping
 from enum import StrEnum
 from typing import Literal
 
-from pydantic import BaseModel, ConfigDict
+from pydantic import BaseModel, ConfigDict, Field
 
 from schemas.channels import Channel, ChannelGroup, Limit, Order, configured_groups
 from schemas.quantity import quantity
@@ -126,6 +126,16 @@ class MtosConfig(_Config):
     misalignment: float = quantity(0.0, "m", "h from misalignment (seed 001)", ge=0)
     deflection: float = quantity(0.0, "m", "h from shaft deflection (seed 001)", ge=0)
     shape_error: float = quantity(0.0, "m", "h from form errors (seed 001)", ge=0)
+    # Rq ≈ Rz/4.35 by (1.2) (Rmax ≈ 5ρ ≈ 1.15 Rz) from the mean heights above; a profilometer
+    # run named in the run's specimen (journal_profile_run, bush_profile_run) overrides them.
+    journal_rq: float = quantity(0.37e-6, "m", "Rq of the journal, for the film parameter Λ", gt=0)
+    bush_rq: float = quantity(0.74e-6, "m", "Rq of the bush, for the film parameter Λ", gt=0)
+    signed_sensors: bool = Field(
+        default=False,
+        description="true when X, Y read more as the journal lifts off the zero contact: "
+        "(4.11) then takes the sign, not |X_уст - X|, which folds positions near the bush "
+        "(experiments 2-3)",
+    )
 
 
 # --- ABRIS-PM7 profilometer, lab work 1 -----------------------------------------------

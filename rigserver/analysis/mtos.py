@@ -7,6 +7,7 @@ from typing import Literal
 import numpy as np
 
 from rigserver.analysis.readings import Readings
+from rigserver.analysis.references import Profiles
 from rigserver.core import bearing, film, reynolds, stands
 from rigserver.core.errors import ModelInputError
 from schemas.results import MtosResults, MtosStep
@@ -16,13 +17,23 @@ from schemas.units import UNITS
 
 GROUP = "steps"
 REGIMES: dict[int, Literal["fluid", "mixed", "boundary"]] = {1: "fluid", 2: "mixed", 3: "boundary"}
+#: The experiment's regime as each criterion names it: (2.104) and the Λ bands.
+_AS_FILM = {"fluid": "fluid", "mixed": "mixed", "boundary": "mixed"}
+_AS_LAMBDA = {"fluid": "full film", "mixed": "mixed", "boundary": "boundary"}
 _M_PER_UM = UNITS["um"].factor
 _M_PER_MM = UNITS["mm"].factor
 _N_PER_M = UNITS["N/mm"].factor
 
 
-def analyse(run: Run, readings: Readings) -> MtosResults:
+def analyse(run: Run, readings: Readings, profiles: Profiles | None = None) -> MtosResults:
     c = MtosConfig.model_validate(run.configuration)
+    profiles = profiles or Profiles()
+    journal_rq, bush_rq = profiles.rq("journal"), profiles.rq("bush")
+    source = ", ".join(
+        f"{role}: profilometer run {run.specimen[f'{role}_profile_run']}"
+        for role in ("journal", "bush")
+        if role in profiles.found
+    )
     radius = c.diameter / 2.0
     crit = film.critical_film_thickness(
         journal_roughness=c.journal_roughness,
@@ -32,7 +43,13 @@ def analyse(run: Run, readings: Readings) -> MtosResults:
         shape_error=c.shape_error,
     )
     result = MtosResults(
-        rows=readings.rows(GROUP), h_crit=crit.total, half_width=c.width / c.diameter
+        rows=readings.rows(GROUP),
+        h_crit=crit.total,
+        half_width=c.width / c.diameter,
+        journal_rq=c.journal_rq if journal_rq is None else journal_rq,
+        bush_rq=c.bush_rq if bush_rq is None else bush_rq,
+        roughness_source=source or "configuration",
+        notes=list(profiles.problems),
     )
     rows = readings.read(GROUP)
     m = readings.measurements()
@@ -49,6 +66,7 @@ def analyse(run: Run, readings: Readings) -> MtosResults:
         x_set=m["x_zero"] * _M_PER_UM,
         y_set=m["y_zero"] * _M_PER_UM,
         clearance=c.clearance,
+        signed=c.signed_sensors,
     )
     measured = stands.mtos_friction(
         indicator_travel=rows["indicator"] * _M_PER_MM,
@@ -67,6 +85,7 @@ def analyse(run: Run, readings: Readings) -> MtosResults:
         f"t{k}": stands.temperature_rise(t=rows[f"t{k}"], t_in=rows["t1"]) for k in (2, 3, 4, 5)
     }
     h_min = film.minimum_film_thickness(clearance=c.clearance, chi=np.minimum(ecc.chi, 1.0))
+    lam = film.film_parameter(h_min=h_min, journal_rq=result.journal_rq, bush_rq=result.bush_rq)
     for i in range(load.size):
         regime = REGIMES[int(rows["regime"][i])]
         try:
@@ -118,8 +137,11 @@ def analyse(run: Run, readings: Readings) -> MtosResults:
                 load_finite=load_finite,
                 h_min=float(h_min[i]),
                 film=film.film_regime(h_min=float(h_min[i]), h_crit=crit.total),
+                film_parameter=float(lam[i]),
+                film_lambda=film.lambda_regime(film_parameter=float(lam[i])),
             )
         )
+        result.regime_disagreements += _disagreements(i, result.steps[-1])
     fluid = [s.friction_measured for s in result.steps if s.regime == "fluid"]
     result.friction_fluid = float(np.mean(fluid)) if fluid else None
     result.h_min_smallest = float(np.min(h_min))
@@ -141,3 +163,19 @@ def _finite(
     torque_scale = viscosity * c.omega * radius**4 / c.clearance
     moment = solution.journal_torque_full_film * torque_scale
     return moment / (load * (radius - c.clearance)), solution.load * torque_scale / c.clearance
+
+
+def _disagreements(index: int, step: MtosStep) -> list[str]:
+    """Where a criterion names another regime than the experiment's oil feed declares."""
+    out = []
+    if step.film != _AS_FILM[step.regime]:
+        out.append(
+            f"step {index} ({step.regime} experiment, N = {step.load:g} N): h_min against "
+            f"h_min^crit says {step.film}"
+        )
+    if step.film_lambda != _AS_LAMBDA[step.regime]:
+        out.append(
+            f"step {index} ({step.regime} experiment, N = {step.load:g} N): "
+            f"Λ = {step.film_parameter:.2f} says {step.film_lambda}"
+        )
+    return out

@@ -2,17 +2,22 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 import numpy as np
 
 from rigserver.analysis.readings import Readings
 from rigserver.analysis.streaming import BlockSeries, TailMoments
 from rigserver.core import wear
 from rigserver.core.errors import ModelInputError
+from rigserver.core.wear_validity import wear_theory_validity
 from schemas.results import (
     AdequacyResult,
     ExperimentalWearResult,
+    SensitivityPoint,
     Smts2Results,
     TheoreticalWearResult,
+    WearValidityResult,
 )
 from schemas.runs import Run
 from schemas.stands import Smts2Config
@@ -22,6 +27,12 @@ GROUP = "friction"
 _REV_PER_COUNT = UNITS["100 rev"].factor
 _KG_PER_G = UNITS["g"].factor
 _M_PER_UM = UNITS["um"].factor
+#: t over the range of table 2.1 (1.3 for plastic steels to 13-14 for steel 30).
+SENSITIVITY_T = (1.3, 2.0, 3.0, 5.0, 8.0, 11.0, 14.0)
+#: σ0/σ_B of the sensitivity table, at the t that (2.7) picks.
+SENSITIVITY_STRENGTH = (0.5, 1.0, 2.0, 5.0, 10.0)
+
+TheoryAt = Callable[[float, float], wear.TheoreticalWear]
 
 
 def analyse(run: Run, readings: Readings) -> Smts2Results:
@@ -81,18 +92,21 @@ def analyse(run: Run, readings: Readings) -> Smts2Results:
             wear_depth=exp.wear_depth,
             sliding_distance=exp.sliding_distance,
             intensity=exp.intensity,
+            specific_wear_rate=exp.volume / (result.mean_load * exp.sliding_distance),
         )
     else:
         result.pending.append(
             "experimental wear needs pin_mass_before, pin_mass_after and revolutions"
         )
     if "disc_ra" in m:
-        result.theoretical = _theoretical(config, result, m["disc_ra"] * _M_PER_UM)
+        _theoretical(config, result, m["disc_ra"] * _M_PER_UM)
     else:
         result.pending.append(
             "theoretical wear needs disc_ra (the disc's Ra from the profilometer)"
         )
-    if result.experimental and result.theoretical and result.experimental.intensity > 0:
+    if result.validity is not None and not result.validity.within_range:
+        result.verdict = "theory outside its range: " + "; ".join(result.validity.reasons)
+    elif result.experimental and result.theoretical and result.experimental.intensity > 0:
         adequacy = wear.wear_adequacy(
             i_exp=result.experimental.intensity, i_theor=result.theoretical.intensity
         )
@@ -102,15 +116,18 @@ def analyse(run: Run, readings: Readings) -> Smts2Results:
             lower=adequacy.lower,
             upper=adequacy.upper,
         )
+        result.verdict = (
+            f"model (2.1) {'adequate' if adequacy.adequate else 'not adequate'} (2.15): "
+            f"ΔI_h = {adequacy.relative_error_percent:.3g} %"
+        )
     return result
 
 
-def _theoretical(
-    config: Smts2Config, result: Smts2Results, ra_disc: float
-) -> TheoreticalWearResult | None:
+def _theoretical(config: Smts2Config, result: Smts2Results, ra_disc: float) -> None:
+    """(2.1) for the run, its applicability figures and the sensitivity table, into result."""
     pin = config.pin
 
-    def at(t: float) -> wear.TheoreticalWear:
+    def at(t: float, strength_ratio: float = 1.0) -> wear.TheoreticalWear:
         return wear.wear_intensity_theoretical(
             load=result.mean_load,
             pin_radius=config.pin_diameter / 2.0,
@@ -126,6 +143,7 @@ def _theoretical(
             fatigue_t=t,
             nu=config.nu,
             b=config.b,
+            fatigue_strength=strength_ratio * pin.tensile_strength,
         )
 
     try:
@@ -135,8 +153,10 @@ def _theoretical(
             theory, t = at(config.fatigue_t_plastic), config.fatigue_t_plastic
     except ModelInputError as exc:
         result.notes.append(f"theoretical wear not computed: {exc}")
-        return None
-    return TheoreticalWearResult(
+        return
+    result.validity = _validity(config, result.friction_steady, theory, t, 1.0)
+    result.sensitivity = _sensitivity(config, result.friction_steady, at, t)
+    result.theoretical = TheoreticalWearResult(
         intensity=theory.intensity,
         contact=theory.contact,
         fatigue_t=t,
@@ -151,3 +171,62 @@ def _theoretical(
         k_nu=theory.k_nu,
         k_f=theory.k_f,
     )
+
+
+def _validity(
+    config: Smts2Config,
+    f: float,
+    theory: wear.TheoreticalWear,
+    t: float,
+    strength_ratio: float,
+) -> WearValidityResult:
+    pin = config.pin
+    v = wear_theory_validity(
+        theory=theory,
+        friction_coefficient=f,
+        poisson=pin.poisson,
+        hardness=pin.hardness,
+        yield_strength=pin.yield_strength,
+        fatigue_strength=strength_ratio * pin.tensile_strength,
+        fatigue_t=t,
+        b=config.b,
+        nu=config.nu,
+    )
+    return WearValidityResult(
+        within_range=v.within_range,
+        reasons=list(v.reasons),
+        approach=v.approach,
+        real_area_ratio=v.real_area_ratio,
+        real_contact_pressure=v.real_contact_pressure,
+        hardness=v.hardness,
+        asperity_stress=v.asperity_stress,
+        fatigue_strength=v.fatigue_strength,
+        cycles_to_failure=v.cycles_to_failure,
+        plastic_k_f=v.plastic_k_f,
+    )
+
+
+def _sensitivity(
+    config: Smts2Config, f: float, at: TheoryAt, t_used: float
+) -> list[SensitivityPoint]:
+    """I_h and n over t (at σ0 = σ_B) and over σ0/σ_B (at the t used)."""
+    grid = [(t, 1.0) for t in SENSITIVITY_T] + [
+        (t_used, r) for r in SENSITIVITY_STRENGTH if r != 1.0
+    ]
+    points = []
+    for t, ratio in grid:
+        try:
+            theory = at(t, ratio)
+        except ModelInputError:
+            points.append(SensitivityPoint(fatigue_t=t, strength_ratio=ratio))
+            continue
+        n = _validity(config, f, theory, t, ratio).cycles_to_failure
+        points.append(
+            SensitivityPoint(
+                fatigue_t=t,
+                strength_ratio=ratio,
+                intensity=theory.intensity,
+                cycles_to_failure=n,
+            )
+        )
+    return points

@@ -8,8 +8,9 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from rigserver.analysis import AnalysisResult, analyse
+from rigserver.analysis import AnalysisResult, Readings, analyse
 from rigserver.api.deps import Services
+from rigserver.storage.errors import RunNotFound
 from schemas.runs import Run, RunState
 from schemas.stands import MEASUREMENTS
 
@@ -44,7 +45,16 @@ class StoredReadings:
 
 def compute_results(services: Services, run: Run) -> AnalysisResult:
     """The stand's results on what the run holds now (all of it once finished)."""
-    return analyse(run, StoredReadings(services, run))
+    return analyse(run, StoredReadings(services, run), lambda run_id: _lookup(services, run_id))
+
+
+def _lookup(services: Services, run_id: str) -> tuple[Run, Readings] | None:
+    """Another run of the store and its readings (the profilometer runs a run names)."""
+    try:
+        other = services.store.get_run(run_id)
+    except RunNotFound:
+        return None
+    return other, StoredReadings(services, other)
 
 
 def results_payload(services: Services, run: Run) -> dict[str, Any]:

@@ -29,7 +29,9 @@ __all__ = [
     "TheoreticalWear",
     "WearAdequacy",
     "adhesive_oxidative_difference",
+    "elastic_fatigue_factor",
     "friction_coefficient",
+    "plastic_fatigue_factor",
     "steady_friction",
     "wear_adequacy",
     "wear_intensity_experimental",
@@ -337,6 +339,7 @@ def wear_intensity_theoretical(
     fatigue_t: float,
     nu: float = 2.0,
     b: float = 2.0,
+    fatigue_strength: float | None = None,
 ) -> TheoreticalWear:
     """Linear fatigue-wear intensity of the pin by Kragelsky's model (2.1)-(2.7).
 
@@ -383,6 +386,9 @@ def wear_intensity_theoretical(
         contact (table 2.1 lists more). Pass the one that fits the expected mode.
     nu, b : float
         Bearing-curve parameters ν and b_ν of the disc (> 0); 2 and 2 after running-in.
+    fatigue_strength : float, optional
+        σ0 of the fatigue curve n = (σ0/σ)^t, Pa (> 0); (2.1) takes σ0 = σ_B, the default.
+        Only the elastic branch uses it (a sensitivity study varies σ0/σ_B).
 
     Returns
     -------
@@ -427,6 +433,11 @@ def wear_intensity_theoretical(
     HB = _positive_float("hardness", hardness)
     sigma_t = _positive_float("yield_strength", yield_strength)
     sigma_b = _positive_float("tensile_strength", tensile_strength)
+    sigma_0 = (
+        sigma_b
+        if fatigue_strength is None
+        else _positive_float("fatigue_strength", fatigue_strength)
+    )
     e_b = float(within("elongation", elongation, 0.0, 1.0, closed=(False, True)))
     t = _positive_float("fatigue_t", fatigue_t)
     nu_ = _positive_float("nu", nu)
@@ -460,24 +471,26 @@ def wear_intensity_theoretical(
     contact: Contact
     if p_c <= HB:  # (2.7)
         contact = "elastic"
-        k_f = (2.0 / math.pi) * math.sqrt(4.0 * f**2 * (1.0 - mu + mu**2) + (1.0 - 2.0 * mu))
+        k_f = elastic_fatigue_factor(friction_coefficient=f, poisson=mu)
         intensity = (
             C
             * (p_c * theta / k_nu) ** (1.0 + beta * t)
-            * (k_f / (sigma_b * theta)) ** t
+            * (k_f / (sigma_0 * theta)) ** t
             * rmax_over_r ** (t * (1.0 + beta) / 2.0)
             * (eta_c * b_nu) ** (-beta * t)
         )
     else:
         contact = "plastic"
-        two_f_hb = 2.0 * f * HB
-        if sigma_t <= two_f_hb:
+        plastic_k_f = plastic_fatigue_factor(
+            friction_coefficient=f, yield_strength=sigma_t, hardness=HB
+        )
+        if plastic_k_f is None:
             raise ModelUndefinedError(
                 f"k_f^n of (2.1) is undefined in plastic contact: σ_T = yield_strength = "
-                f"{sigma_t} Pa <= 2f·HB = {two_f_hb} Pa (f = {f}, HB = {HB} Pa); "
+                f"{sigma_t} Pa <= 2f·HB = {2.0 * f * HB} Pa (f = {f}, HB = {HB} Pa); "
                 "the plastic fatigue model needs σ_T > 2f·HB"
             )
-        k_f = math.sqrt(2.0 * (sigma_t + two_f_hb) / (sigma_t - two_f_hb))
+        k_f = plastic_k_f
         intensity = (
             C
             * math.sqrt(2.0)
@@ -501,6 +514,58 @@ def wear_intensity_theoretical(
         k_nu=k_nu,
         k_f=k_f,
     )
+
+
+def elastic_fatigue_factor(*, friction_coefficient: float, poisson: float) -> float:
+    """Stress factor of elastic sliding contact, k_f^y of (2.1).
+
+    .. math:: k_f^y = \\frac{2}{\\pi}\\sqrt{4f^2(1 - μ + μ^2) + 1 - 2μ}
+
+    Parameters
+    ----------
+    friction_coefficient : float
+        f, dimensionless (>= 0).
+    poisson : float
+        μ of the wearing body, 0 <= μ <= 0.5.
+
+    Returns
+    -------
+    float
+        k_f^y: the largest stress at an asperity over its mean contact pressure.
+    """
+    f = float(non_negative("friction_coefficient", friction_coefficient))
+    mu = float(within("poisson", poisson, 0.0, 0.5))
+    return (2.0 / math.pi) * math.sqrt(4.0 * f**2 * (1.0 - mu + mu**2) + (1.0 - 2.0 * mu))
+
+
+def plastic_fatigue_factor(
+    *, friction_coefficient: float, yield_strength: float, hardness: float
+) -> float | None:
+    """Strain factor of plastic sliding contact, k_f^n of (2.1); None where undefined.
+
+    .. math:: k_f^n = \\sqrt{\\frac{2(σ_T + 2f\\,HB)}{σ_T - 2f\\,HB}}
+
+    Parameters
+    ----------
+    friction_coefficient : float
+        f, dimensionless (>= 0).
+    yield_strength : float
+        σ_T of the wearing body, Pa (> 0).
+    hardness : float
+        HB of the wearing body, Pa (> 0).
+
+    Returns
+    -------
+    float or None
+        k_f^n, or None when σ_T <= 2f·HB (no real value: the plastic branch of (2.1) does
+        not apply).
+    """
+    f = float(non_negative("friction_coefficient", friction_coefficient))
+    sigma_t = _positive_float("yield_strength", yield_strength)
+    two_f_hb = 2.0 * f * _positive_float("hardness", hardness)
+    if sigma_t <= two_f_hb:
+        return None
+    return math.sqrt(2.0 * (sigma_t + two_f_hb) / (sigma_t - two_f_hb))
 
 
 @dataclass(frozen=True, slots=True)

@@ -126,11 +126,14 @@ class SlideBearingRow(BaseModel):
     e_y: float = quantity(..., "m", "e_y (3.16)")
     e: float = quantity(..., "m", "e (3.16)")
     chi: float = quantity(..., "1", "χ = e/h0 (3.17)")
+    attitude: float = quantity(..., "deg", "ψ = atan2(e_y, e_x) - (135° - φ_limb)")
     pi_measured: float = quantity(..., "1", "Π_э (3.18)")
     pi_short: float | None = quantity(None, "1", "Π0 at z = 0, χ_ср (3.10)")
     pi_long: float | None = quantity(None, "1", "Π∞ at χ_ср (3.15)")
     pi_finite: float | None = quantity(
-        None, "1", "Π of the finite bearing (3.1) with the Reynolds condition, z = 0, χ_ср"
+        None,
+        "1",
+        "Π of the finite bearing (3.1) with the Reynolds condition, z = 0, χ_ср, at φ_мод + φ_r",
     )
     error_short: float | None = quantity(None, "%", "(Π0 - Π_э)/Π0 (3.26)")
     error_long: float | None = quantity(None, "%", "(Π∞ - Π_э)/Π∞ (3.27)")
@@ -155,6 +158,12 @@ class SlideBearingResults(BaseModel):
     viscosity: float | None = quantity(None, "Pa*s", "μ_t (3.21)")
     mu_bar: float | None = quantity(None, "1", "μ̄ = μ_t/μ0 (3.22)")
     chi_mean: float | None = quantity(None, "1", "χ_ср (3.23)")
+    attitude_angle: float | None = quantity(
+        None, "deg", "ψ, mean over the rows, from the load line to the line of centres"
+    )
+    rupture_angle: float | None = quantity(
+        None, "deg", "φ_r, where the finite film ruptures past the thinnest film"
+    )
     half_width: float = quantity(..., "1", "a = B/(2R) (corrected E3)")
     phi_max: float | None = quantity(None, "deg", "model angle of the largest pressure")
     pressure_max: float | None = quantity(None, "Pa", "largest gauge pressure at z = 0")

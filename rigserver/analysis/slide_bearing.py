@@ -65,6 +65,8 @@ def analyse(run: Run, readings: Readings) -> SlideBearingResults:
         t_in=rows["t1"], t_out=rows["t2"], A=c.viscosity.A, alpha=c.viscosity.alpha, mu0=c.mu0
     )
     chi_mean = stands.mean_eccentricity_ratio(chi=ecc.chi)
+    psi = stands.slide_bearing_attitude_angle(e_x=ecc.e_x, e_y=ecc.e_y, limb_deg=rows["limb_angle"])
+    result.attitude_angle = float(np.degrees(np.angle(np.mean(np.exp(1j * psi)))))
     result.temperature, result.viscosity, result.mu_bar = (
         oil.temperature,
         oil.viscosity,
@@ -83,10 +85,20 @@ def analyse(run: Run, readings: Readings) -> SlideBearingResults:
         err_short = stands.relative_error_percent(reference=pi_short, other=pi_measured).percent
         err_long = stands.relative_error_percent(reference=pi_long, other=pi_measured).percent
         finite = reynolds.solve_reynolds(chi=chi_mean, half_width=a, mu_bar=oil.mu_bar)
-        pi_finite = finite.pressure_at(phi=phi, z=np.zeros_like(phi))
+
+        def centre(angle: NDArray[np.float64]) -> NDArray[np.float64]:
+            return finite.pressure_at(phi=angle, z=np.zeros_like(angle))
+
+        # (3.20) puts φ_k, where the holes lose pressure, at the thinnest film (φ = 360°),
+        # true of (3.10) and (3.15); the finite film ruptures φ_r later, so the hole at
+        # φ_мод sees the finite film's φ_мод + φ_r (docs/validity.md, slide bearing).
+        rupture = bearing.rupture_angle_deg(pressure=centre)
+        result.rupture_angle = rupture
+        pi_finite = centre(phi + np.radians(rupture))
     except ModelInputError as exc:
         result.notes.append(f"theory not computed: {exc}")
         finite = None
+        rupture = 0.0
         pi_short = pi_long = err_short = err_long = pi_finite = np.full(phi.shape, np.nan)
     for i in range(phi.size):
         result.table.append(
@@ -98,6 +110,7 @@ def analyse(run: Run, readings: Readings) -> SlideBearingResults:
                 e_y=float(ecc.e_y[i]),
                 e=float(ecc.e[i]),
                 chi=float(ecc.chi[i]),
+                attitude=float(np.degrees(psi[i])),
                 pi_measured=float(pi_measured[i]),
                 pi_short=_opt(pi_short[i]),
                 pi_long=_opt(pi_long[i]),
@@ -117,7 +130,7 @@ def analyse(run: Run, readings: Readings) -> SlideBearingResults:
     except ModelInputError:
         pi_m = err_z = np.full(z.shape, np.nan)
     pi_fz = (
-        finite.pressure_at(phi=np.full(z.shape, phi[top]), z=z)
+        finite.pressure_at(phi=np.full(z.shape, phi[top] + np.radians(rupture)), z=z)
         if finite is not None
         else np.full(z.shape, np.nan)
     )

@@ -170,6 +170,39 @@ def measured_dimensionless_pressure(
     return np.asarray(finite("gauge_pressure", gauge_pressure) * psi**2 / scale, dtype=np.float64)
 
 
+def slide_bearing_attitude_angle(
+    *, e_x: ArrayLike, e_y: ArrayLike, limb_deg: ArrayLike
+) -> FloatArray:
+    """Attitude angle ψ of the slide bearing from the displacements of one row.
+
+    .. math:: ψ = \\operatorname{atan2}(e_y, e_x) - (135° - φ_{лимб})
+
+    The zero readings X_уст, Y_уст are taken with the limb at 135° and 45°, where the load
+    presses the bearing along the X and the Y sensor: the load acts along 135° - φ_лимб from
+    the X axis, and the line of centres leads it by ψ in the direction of rotation.
+
+    Parameters
+    ----------
+    e_x, e_y : array_like
+        Eccentricity components of :func:`slide_bearing_eccentricity`, m.
+    limb_deg : array_like
+        Limb reading of the row, degrees.
+
+    Returns
+    -------
+    ndarray
+        ψ, rad, wrapped to (-π, π].
+
+    References
+    ----------
+    .. [1] Lab manual, lab work 3, (3.16)-(3.17) and the zero-reading procedure.
+    """
+    raw = np.arctan2(finite("e_y", e_y), finite("e_x", e_x)) - np.radians(
+        135.0 - finite("limb_deg", limb_deg)
+    )
+    return np.asarray(np.pi - np.mod(np.pi - raw, 2.0 * np.pi), dtype=np.float64)
+
+
 def model_angle_deg(*, limb_deg: ArrayLike, load_zone_end_deg: ArrayLike) -> FloatArray:
     """Angle of the model frame from the limb reading (3.20).
 

@@ -86,15 +86,15 @@ def analyse(run: Run, readings: Readings) -> SlideBearingResults:
         err_long = stands.relative_error_percent(reference=pi_long, other=pi_measured).percent
         finite = reynolds.solve_reynolds(chi=chi_mean, half_width=a, mu_bar=oil.mu_bar)
 
-        def centre(angle: NDArray[np.float64]) -> NDArray[np.float64]:
+        def mid_plane(angle: NDArray[np.float64]) -> NDArray[np.float64]:
             return finite.pressure_at(phi=angle, z=np.zeros_like(angle))
 
         # (3.20) puts φ_k, where the holes lose pressure, at the thinnest film (φ = 360°),
         # true of (3.10) and (3.15); the finite film ruptures φ_r later, so the hole at
         # φ_мод sees the finite film's φ_мод + φ_r (docs/validity.md, slide bearing).
-        rupture = bearing.rupture_angle_deg(pressure=centre)
+        rupture = bearing.rupture_angle_deg(pressure=mid_plane)
         result.rupture_angle = rupture
-        pi_finite = centre(phi + np.radians(rupture))
+        pi_finite = mid_plane(phi + np.radians(rupture))
     except ModelInputError as exc:
         result.notes.append(f"theory not computed: {exc}")
         finite = None

@@ -34,7 +34,7 @@ import numpy as np
 from rigserver.core import bearing
 from rigserver.core import stands as processing
 from rigsim.batches import Batch, FloatArray, SimulatedRun, split
-from rigsim.bearing_model import DEFAULT_MODEL, BearingModel, Film, Geometry
+from rigsim.bearing_model import DEFAULT_MODEL, BearingModel, Film, Geometry, refined
 from rigsim.bearing_model import film as bearing_film
 from rigsim.errors import SettingsError
 from rigsim.instruments import Fault, Instrument, apply_faults
@@ -199,7 +199,7 @@ def simulate(
         balance=balance,
     )
     t_mean = hot.temperature
-    film = state(t_mean)
+    film = refined(state(t_mean), half_width=c.width / (2.0 * c.bearing_radius))
     mu_t = float(processing.viscosity(t=t_mean, A=law.A, alpha=law.alpha))
     psi_deg = float(np.degrees(film.attitude_angle))
     rupture = _rupture_deg(film)

@@ -36,6 +36,14 @@ class ExperimentalWearResult(BaseModel):
     specific_wear_rate: float = quantity(
         ..., "m^2/N", "k = V/(F·L), the pin's specific wear rate (ASTM G99), m³/(N·m)"
     )
+    intensity_uncertainty: float | None = quantity(None, "1", "u(I_h), standard uncertainty (GUM)")
+    intensity_expanded: float | None = quantity(None, "1", "U(I_h) = 2u, expanded (k = 2)")
+    specific_wear_rate_uncertainty: float | None = quantity(
+        None, "m^2/N", "u(k), standard uncertainty"
+    )
+    specific_wear_rate_expanded: float | None = quantity(
+        None, "m^2/N", "U(k) = 2u, expanded (k = 2)"
+    )
 
 
 class TheoreticalWearResult(BaseModel):
@@ -94,6 +102,10 @@ class Smts2Results(BaseModel):
     mean_load: float = quantity(..., "N", "mean load over the steady part")
     friction_steady: float = quantity(..., "1", "f (2.8), mean over the steady part")
     friction_steady_std: float = quantity(..., "1", "standard deviation of f there")
+    friction_steady_uncertainty: float | None = quantity(
+        None, "1", "u(f): batch means of the record and the sensors' limits (GUM)"
+    )
+    friction_steady_expanded: float | None = quantity(None, "1", "U(f) = 2u, expanded (k = 2)")
     steady_from_time: float = quantity(..., "s", "start of the steady part")
     friction: Series = Field(description="f (2.8) against time, block means")
     experimental: ExperimentalWearResult | None = None
@@ -158,6 +170,8 @@ class SlideBearingResults(BaseModel):
     viscosity: float | None = quantity(None, "Pa*s", "μ_t (3.21)")
     mu_bar: float | None = quantity(None, "1", "μ̄ = μ_t/μ0 (3.22)")
     chi_mean: float | None = quantity(None, "1", "χ_ср (3.23)")
+    chi_mean_uncertainty: float | None = quantity(None, "1", "u(χ_ср), standard uncertainty (GUM)")
+    chi_mean_expanded: float | None = quantity(None, "1", "U(χ_ср) = 2u, expanded (k = 2)")
     attitude_angle: float | None = quantity(
         None, "deg", "ψ, mean over the rows, from the load line to the line of centres"
     )
@@ -185,11 +199,15 @@ class MtosStep(BaseModel):
     e_y: float = quantity(..., "m", "e_y (4.11)")
     e: float = quantity(..., "m", "e (4.11)")
     chi: float = quantity(..., "1", "χ = e/h0 (4.11)")
+    chi_uncertainty: float | None = quantity(None, "1", "u(χ), standard uncertainty (GUM)")
+    chi_expanded: float | None = quantity(None, "1", "U(χ) = 2u, expanded (k = 2)")
     angle: float = quantity(..., "deg", "δ (fluid film) or γ (mixed, boundary) (4.12)")
     spring_force: float = quantity(..., "N", "F = k·Δl (4.13)")
     friction_moment: float = quantity(..., "N*m", "M_tr = F·l1 (4.14)")
     friction_force: float = quantity(..., "N", "F_tr = M_tr/l2 (4.15)")
     friction_measured: float = quantity(..., "1", "f_э = F_tr/N (4.16)")
+    friction_measured_uncertainty: float | None = quantity(None, "1", "u(f_э), standard (GUM)")
+    friction_measured_expanded: float | None = quantity(None, "1", "U(f_э) = 2u, expanded (k = 2)")
     viscosity: float = quantity(..., "Pa*s", "μ_t = (μ3 + μ4 + μ5)/3 (4.18)")
     bearing_characteristic: float = quantity(..., "1", "S1 = μ_t·ω/p̄, p̄ = N/(BD) (4.21, E9)")
     temperature_rise: dict[str, float] = quantity(..., "degC", "Δt_i = t_i - t1 (4.19, E4)")
@@ -256,6 +274,10 @@ class ProfilometerResults(BaseModel):
     rz_error: float | None = quantity(None, "m", "instrument error of Rz (1.14)")
     rmax_error: float | None = quantity(None, "m", "instrument error of Rmax (1.14)")
     sm_error: float | None = quantity(None, "m", "instrument error of Sm (1.14)")
+    ra_uncertainty: float | None = quantity(None, "m", "u(Ra) = ΔRa/√3 (1.14, GUM type B)")
+    ra_expanded: float | None = quantity(None, "m", "U(Ra) = 2u, expanded (k = 2)")
+    rz_uncertainty: float | None = quantity(None, "m", "u(Rz) = ΔRz/√3 (1.14, GUM type B)")
+    rz_expanded: float | None = quantity(None, "m", "U(Rz) = 2u, expanded (k = 2)")
     levels: list[float] = quantity([], "m", "p_i, depth below the peak line (table 1.6)")
     eps: list[float] = quantity([], "1", "ε = p/Rmax (1.7)")
     tp: list[float] = quantity([], "1", "t_p = η_p/l (1.6)")

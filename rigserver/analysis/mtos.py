@@ -6,6 +6,7 @@ from typing import Literal
 
 import numpy as np
 
+from rigserver.analysis import uncertainty
 from rigserver.analysis.readings import Readings
 from rigserver.analysis.references import Profiles
 from rigserver.core import bearing, film, reynolds, stands
@@ -84,6 +85,17 @@ def analyse(run: Run, readings: Readings, profiles: Profiles | None = None) -> M
     rises = {
         f"t{k}": stands.temperature_rise(t=rows[f"t{k}"], t_in=rows["t1"]) for k in (2, 3, 4, 5)
     }
+    acc = c.accuracy
+    x_zero = uncertainty.from_limit(m["x_zero"] * _M_PER_UM, acc.displacement * _M_PER_UM)
+    y_zero = uncertainty.from_limit(m["y_zero"] * _M_PER_UM, acc.displacement * _M_PER_UM)
+    h0 = uncertainty.from_limit(c.clearance, acc.clearance)
+    arms = (
+        uncertainty.from_limit(c.lever_moment_arm, acc.arms)
+        / uncertainty.from_limit(c.friction_arm, acc.arms)
+        * uncertainty.from_limit(
+            c.spring_rate * _N_PER_M, c.spring_rate * _N_PER_M * acc.spring_rate
+        )
+    )
     h_min = film.minimum_film_thickness(clearance=c.clearance, chi=np.minimum(ecc.chi, 1.0))
     lam = film.film_parameter(h_min=h_min, journal_rq=result.journal_rq, bush_rq=result.bush_rq)
     for i in range(load.size):
@@ -115,8 +127,30 @@ def analyse(run: Run, readings: Readings, profiles: Profiles | None = None) -> M
                 )
             except ModelInputError as exc:
                 result.notes.append(f"step {i}: f_T not computed: {exc}")
+        u_chi = uncertainty.estimate(
+            uncertainty.mtos_chi(
+                x=float(rows["x"][i]) * _M_PER_UM,
+                y=float(rows["y"][i]) * _M_PER_UM,
+                x_zero=x_zero,
+                y_zero=y_zero,
+                limit=acc.displacement * _M_PER_UM,
+                clearance=h0,
+                signed=c.signed_sensors,
+            )
+        )
+        u_f = uncertainty.estimate(
+            arms
+            * uncertainty.from_limit(
+                float(rows["indicator"][i]) * _M_PER_MM, acc.indicator * _M_PER_MM
+            )
+            / uncertainty.from_limit(float(load[i]), float(load[i]) * acc.dynamometer)
+        )
         result.steps.append(
             MtosStep(
+                chi_uncertainty=u_chi.standard,
+                chi_expanded=u_chi.expanded,
+                friction_measured_uncertainty=u_f.standard,
+                friction_measured_expanded=u_f.expanded,
                 load=float(load[i]),
                 regime=regime,
                 e_x=float(ecc.e_x[i]),

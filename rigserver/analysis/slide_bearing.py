@@ -5,7 +5,9 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
+from rigserver.analysis import uncertainty
 from rigserver.analysis.readings import Readings
+from rigserver.analysis.uncertainty import estimate
 from rigserver.core import bearing, reynolds, stands
 from rigserver.core.errors import ModelInputError
 from schemas.results import AxialPoint, SlideBearingResults, SlideBearingRow
@@ -73,6 +75,19 @@ def analyse(run: Run, readings: Readings) -> SlideBearingResults:
         oil.mu_bar,
     )
     result.chi_mean = chi_mean
+    u_chi = estimate(
+        uncertainty.slide_bearing_chi_mean(
+            x=rows["x"].tolist(),
+            y=rows["y"].tolist(),
+            x_zero=m["x_zero"],
+            y_zero=m["y_zero"],
+            per_division=scale,
+            limit_divisions=c.accuracy.displacement,
+            clearance=c.clearance,
+            clearance_limit=c.accuracy.clearance,
+        )
+    )
+    result.chi_mean_uncertainty, result.chi_mean_expanded = u_chi.standard, u_chi.expanded
     top = int(np.argmax(pressure))
     result.phi_max, result.pressure_max = float(phi_deg[top]), float(pressure[top])
     phi = np.radians(phi_deg)

@@ -2,12 +2,14 @@
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 
 import numpy as np
 
 from rigserver.analysis.readings import Readings
 from rigserver.analysis.streaming import BlockSeries, TailMoments
+from rigserver.analysis.uncertainty import batch_mean, estimate, from_limit, from_resolution
 from rigserver.core import wear
 from rigserver.core.errors import ModelInputError
 from rigserver.core.wear_validity import wear_theory_validity
@@ -75,6 +77,22 @@ def analyse(run: Run, readings: Readings) -> Smts2Results:
     if total == 0:
         result.pending.append("no friction record yet")
         return result
+    acc = config.accuracy
+    steady = [
+        y for x, y in zip(result.friction.x, result.friction.y, strict=True) if x >= steady_time
+    ]
+    if len(steady) >= 2:
+        f_u = estimate(
+            batch_mean(steady)
+            * from_limit(1.0, acc.moment, "M")
+            / from_limit(1.0, acc.load, "N")
+            * config.disc_radius
+            / from_limit(config.disc_radius, acc.length, "r2")
+        )
+        result.friction_steady_uncertainty, result.friction_steady_expanded = (
+            f_u.standard,
+            f_u.expanded,
+        )
     m = readings.measurements()
     pin_radius = config.pin_diameter / 2.0
     if "pin_mass_before" in m and "pin_mass_after" in m and revolutions > 0:
@@ -94,6 +112,7 @@ def analyse(run: Run, readings: Readings) -> Smts2Results:
             intensity=exp.intensity,
             specific_wear_rate=exp.volume / (result.mean_load * exp.sliding_distance),
         )
+        _wear_uncertainty(config, result, m["pin_mass_before"], m["pin_mass_after"], revolutions)
     else:
         result.pending.append(
             "experimental wear needs pin_mass_before, pin_mass_after and revolutions"
@@ -230,3 +249,28 @@ def _sensitivity(
             )
         )
     return points
+
+
+def _wear_uncertainty(
+    config: Smts2Config, result: Smts2Results, before_g: float, after_g: float, turns: float
+) -> None:
+    """u(I_h) and u(k) from the balance's resolution, the specimens' dimensions, ρ, the
+    counter's step and the load's tolerance, first order (GUM 5.1.2)."""
+    assert result.experimental is not None
+    acc = config.accuracy
+    loss = from_resolution(before_g * _KG_PER_G, acc.balance_resolution) - from_resolution(
+        after_g * _KG_PER_G, acc.balance_resolution
+    )
+    volume = loss / from_limit(config.pin.density, acc.density)
+    r1 = from_limit(config.pin_diameter / 2.0, acc.length)
+    distance = (
+        2.0
+        * math.pi
+        * from_limit(config.disc_radius, acc.length)
+        * from_resolution(turns, acc.counter)
+    )
+    intensity = estimate(volume / (math.pi * r1**2) / distance)
+    rate = estimate(volume / (result.mean_load * from_limit(1.0, acc.load) * distance))
+    e = result.experimental
+    e.intensity_uncertainty, e.intensity_expanded = intensity.standard, intensity.expanded
+    e.specific_wear_rate_uncertainty, e.specific_wear_rate_expanded = rate.standard, rate.expanded

@@ -229,6 +229,24 @@ MESSAGES: dict[str, tuple[str, str]] = {
     "regime.fluid": ("fluid film", "жидкостная"),
     "regime.mixed": ("mixed", "полужидкостная"),
     "regime.boundary": ("boundary", "граничная"),
+    "regime.full film": ("full film", "жидкостная"),
+    "col.film_lambda": ("Regime by Λ", "Режим по Λ"),
+    "u.caption": (
+        "Measurement uncertainty (GUM): value ± expanded uncertainty U = 2u (k = 2)",
+        "Неопределённость измерений (GUM): значение ± расширенная неопределённость U = 2u (k = 2)",
+    ),
+    "u.step": (", step {i}, N = {load} N", ", шаг {i}, N = {load} Н"),
+    "m.chi": ("eccentricity ratio (4.11)", "относительный эксцентриситет (4.11)"),
+    "m.f_measured": ("friction coefficient (4.16)", "коэффициент трения (4.16)"),
+    "m.disagree": (
+        "Where the film criteria name another regime than the experiment's oil feed: {items}.",
+        "Где критерии плёнки называют иной режим, чем подача масла в опыте: {items}.",
+    ),
+    "b.attitude": ("attitude angle ψ from X, Y", "угол положения линии центров ψ по X, Y"),
+    "b.rupture": (
+        "rupture of the finite film past the thinnest film",
+        "разрыв плёнки конечного подшипника за минимальным зазором",
+    ),
     "contact.elastic": ("elastic", "упругий"),
     "contact.plastic": ("plastic", "пластический"),
     # --- the web pages --------------------------------------------------------------------

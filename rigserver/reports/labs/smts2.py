@@ -95,6 +95,15 @@ def build(ctx: Context, v: Smts2Results) -> LabReport:
         processed.append(_adequacy(t, v))
     if v.experimental is not None or v.theoretical is not None:
         processed.append(Figure(t("w.fig_wear"), _wear_svg(t, v)))
+    spread = blocks.uncertainties(t, v, [("friction_steady", "f", "w.f")])
+    if v.experimental is not None:
+        spread += blocks.uncertainties(
+            t,
+            v.experimental,
+            [("intensity", "I_h", "w.intensity_exp"), ("specific_wear_rate", "k", "w.k")],
+        )
+    if v.rows:
+        processed.append(blocks.uncertainty_table(t, spread))
     return LabReport(
         sections=[
             Section(t("sec.measured"), measured),

@@ -45,7 +45,12 @@ class AnalysisResult:
 
 
 _KEYS: dict[StandKind, tuple[str, ...]] = {
-    StandKind.SMTS2: ("friction_steady", "experimental.intensity", "theoretical.intensity"),
+    StandKind.SMTS2: (
+        "friction_steady",
+        "experimental.intensity",
+        "experimental.specific_wear_rate",
+        "theoretical.intensity",
+    ),
     StandKind.SLIDE_BEARING: ("chi_mean", "pressure_max", "phi_max"),
     StandKind.MTOS: ("friction_fluid", "h_min_smallest", "h_crit"),
     StandKind.PROFILOMETER: ("ra", "rz", "complex_parameter"),

@@ -42,23 +42,32 @@ class Estimate:
     expanded: float
 
 
-def estimate(x: UFloat) -> Estimate:
+def estimate(x: UFloat | float) -> Estimate:
+    if isinstance(x, float | int):
+        return Estimate(value=float(x), standard=0.0, expanded=0.0)
     return Estimate(value=x.nominal_value, standard=x.std_dev, expanded=COVERAGE * x.std_dev)
+
+
+def _uncertain(value: float, std: float, tag: str | None) -> UFloat:
+    """A UFloat, or the exact value itself when it has no uncertainty (a declared limit of
+    zero, an ideal instrument)."""
+    return ufloat(value, std, tag) if std > 0 else value
 
 
 def from_limit(value: float, limit: float, tag: str | None = None) -> UFloat:
     """A reading whose error lies within ±limit, uniformly: u = limit/√3 (GUM 4.3.7)."""
-    return ufloat(value, abs(limit) / _ROOT3, tag)
+    return _uncertain(value, abs(limit) / _ROOT3, tag)
 
 
 def from_resolution(value: float, step: float, tag: str | None = None) -> UFloat:
     """A reading rounded to ``step``: u = step/(2√3) (GUM F.2.2.1)."""
-    return ufloat(value, abs(step) / (2.0 * _ROOT3), tag)
+    return _uncertain(value, abs(step) / (2.0 * _ROOT3), tag)
 
 
 def _magnitude(x: UFloat) -> UFloat:
     """|x| to first order (the sign of its value; ``abs`` of a UFloat is deprecated)."""
-    return x if x.nominal_value >= 0 else -x
+    value = x if isinstance(x, float | int) else x.nominal_value
+    return x if value >= 0 else -x
 
 
 def batch_mean(values: Sequence[float], batches: int = 20) -> UFloat:
@@ -68,7 +77,7 @@ def batch_mean(values: Sequence[float], batches: int = 20) -> UFloat:
     v = np.asarray(values, dtype=np.float64)
     n = max(2, min(batches, v.size))
     means = np.array([part.mean() for part in np.array_split(v, n)])
-    return ufloat(float(v.mean()), float(means.std(ddof=1) / math.sqrt(n)), "record")
+    return _uncertain(float(v.mean()), float(means.std(ddof=1) / math.sqrt(n)), "record")
 
 
 def slide_bearing_chi_mean(

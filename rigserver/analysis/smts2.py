@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Callable
 
@@ -211,18 +212,7 @@ def _validity(
         b=config.b,
         nu=config.nu,
     )
-    return WearValidityResult(
-        within_range=v.within_range,
-        reasons=list(v.reasons),
-        approach=v.approach,
-        real_area_ratio=v.real_area_ratio,
-        real_contact_pressure=v.real_contact_pressure,
-        hardness=v.hardness,
-        asperity_stress=v.asperity_stress,
-        fatigue_strength=v.fatigue_strength,
-        cycles_to_failure=v.cycles_to_failure,
-        plastic_k_f=v.plastic_k_f,
-    )
+    return WearValidityResult.model_validate(dataclasses.asdict(v))
 
 
 def _sensitivity(

@@ -46,6 +46,15 @@ class ExperimentalWearResult(BaseModel):
     )
 
 
+class DiscWearResult(BaseModel):
+    """The disc's wear from a profile across its wear track (ASTM G99)."""
+
+    profile_run: str = Field(description="the profilometer run traced across the track")
+    track_area: float = quantity(..., "m^2", "cross-section area of the wear track")
+    volume: float = quantity(..., "m^3", "V = area × 2π r2, the disc's worn volume")
+    specific_wear_rate: float = quantity(..., "m^2/N", "k = V/(F·L) of the disc, m³/(N·m)")
+
+
 class TheoreticalWearResult(BaseModel):
     intensity: float = quantity(..., "1", "I_h, fatigue wear (2.1)")
     contact: Literal["elastic", "plastic"] = Field(description="contact mode by (2.7)")
@@ -109,6 +118,7 @@ class Smts2Results(BaseModel):
     steady_from_time: float = quantity(..., "s", "start of the steady part")
     friction: Series = Field(description="f (2.8) against time, block means")
     experimental: ExperimentalWearResult | None = None
+    disc_wear: DiscWearResult | None = None
     theoretical: TheoreticalWearResult | None = None
     adequacy: AdequacyResult | None = None
     validity: WearValidityResult | None = None

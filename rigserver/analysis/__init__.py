@@ -21,7 +21,7 @@ from schemas.stands import StandKind
 __all__ = ["AnalysisResult", "Readings", "RunLookup", "analyse"]
 
 _PIPELINES: dict[StandKind, Callable[[Run, Readings, Profiles], BaseModel]] = {
-    StandKind.SMTS2: lambda run, readings, _: smts2.analyse(run, readings),
+    StandKind.SMTS2: smts2.analyse,
     StandKind.SLIDE_BEARING: lambda run, readings, _: slide_bearing.analyse(run, readings),
     StandKind.MTOS: mtos.analyse,
     StandKind.PROFILOMETER: lambda run, readings, _: profilometer.analyse(run, readings),

@@ -28,6 +28,8 @@ class Profiles:
 
     found: dict[str, ProfilometerResults] = field(default_factory=dict)
     problems: list[str] = field(default_factory=list)
+    traces: dict[str, Readings] = field(default_factory=dict)
+    """The profilometer runs' readings by role (a wear track's cross-section needs them)."""
 
     def rq(self, role: str) -> float | None:
         found = self.found.get(role)
@@ -51,6 +53,7 @@ def referenced_profiles(run: Run, lookup: RunLookup | None) -> Profiles:
                 f"{key} = {value!r}: a {other.stand.value} run, not a profilometer run"
             )
             continue
+        profiles.traces[role] = readings
         results = profilometer.analyse(other, readings)
         if results.rq is None:
             profiles.problems.append(f"{key} = {value!r}: the profile gives no Rq yet")

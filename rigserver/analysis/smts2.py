@@ -9,6 +9,7 @@ from collections.abc import Callable
 import numpy as np
 
 from rigserver.analysis.readings import Readings
+from rigserver.analysis.references import Profiles
 from rigserver.analysis.streaming import BlockSeries, TailMoments
 from rigserver.analysis.uncertainty import batch_mean, estimate, from_limit, from_resolution
 from rigserver.core import wear
@@ -16,6 +17,7 @@ from rigserver.core.errors import ModelInputError
 from rigserver.core.wear_validity import wear_theory_validity
 from schemas.results import (
     AdequacyResult,
+    DiscWearResult,
     ExperimentalWearResult,
     SensitivityPoint,
     Smts2Results,
@@ -30,6 +32,7 @@ GROUP = "friction"
 _REV_PER_COUNT = UNITS["100 rev"].factor
 _KG_PER_G = UNITS["g"].factor
 _M_PER_UM = UNITS["um"].factor
+_M_PER_MM = UNITS["mm"].factor
 #: t over the range of table 2.1 (1.3 for plastic steels to 13-14 for steel 30).
 SENSITIVITY_T = (1.3, 2.0, 3.0, 5.0, 8.0, 11.0, 14.0)
 #: σ0/σ_B of the sensitivity table, at the t that (2.7) picks.
@@ -38,7 +41,7 @@ SENSITIVITY_STRENGTH = (0.5, 1.0, 2.0, 5.0, 10.0)
 TheoryAt = Callable[[float, float], wear.TheoreticalWear]
 
 
-def analyse(run: Run, readings: Readings) -> Smts2Results:
+def analyse(run: Run, readings: Readings, profiles: Profiles | None = None) -> Smts2Results:
     config = Smts2Config.model_validate(run.configuration)
     total = readings.rows(GROUP)
     series = BlockSeries(total)
@@ -118,6 +121,9 @@ def analyse(run: Run, readings: Readings) -> Smts2Results:
         result.pending.append(
             "experimental wear needs pin_mass_before, pin_mass_after and revolutions"
         )
+    track = (profiles or Profiles()).traces.get("disc")
+    if track is not None and revolutions > 0:
+        result.disc_wear = _disc_wear(run, config, result, track)
     if "disc_ra" in m:
         _theoretical(config, result, m["disc_ra"] * _M_PER_UM)
     else:
@@ -264,3 +270,22 @@ def _wear_uncertainty(
     e = result.experimental
     e.intensity_uncertainty, e.intensity_expanded = intensity.standard, intensity.expanded
     e.specific_wear_rate_uncertainty, e.specific_wear_rate_expanded = rate.standard, rate.expanded
+
+
+def _disc_wear(
+    run: Run, config: Smts2Config, result: Smts2Results, track: Readings
+) -> DiscWearResult | None:
+    """The disc's worn volume: the track's cross-section (a profile across it) × 2π r2."""
+    trace = track.read("profile")
+    try:
+        area = wear.wear_track_area(x=trace["x"] * _M_PER_MM, y=trace["y"] * _M_PER_UM)
+    except (KeyError, ModelInputError) as exc:
+        result.notes.append(f"disc wear not computed from the track's profile: {exc}")
+        return None
+    volume = area * 2.0 * math.pi * config.disc_radius
+    return DiscWearResult(
+        profile_run=str(run.specimen["disc_profile_run"]),
+        track_area=area,
+        volume=volume,
+        specific_wear_rate=volume / (result.mean_load * result.sliding_distance),
+    )

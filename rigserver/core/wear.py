@@ -15,7 +15,7 @@ from typing import Literal
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from rigserver.core._checks import non_negative, positive, within
+from rigserver.core._checks import finite, non_negative, positive, within
 from rigserver.core.errors import ModelInputError, ModelUndefinedError
 from rigserver.core.roughness import complex_parameter_from_ra
 
@@ -36,6 +36,7 @@ __all__ = [
     "wear_adequacy",
     "wear_intensity_experimental",
     "wear_intensity_theoretical",
+    "wear_track_area",
 ]
 
 #: Density of steel the manual uses for the worn volume, kg/m³ (2.10).
@@ -566,6 +567,42 @@ def plastic_fatigue_factor(
     if sigma_t <= two_f_hb:
         return None
     return math.sqrt(2.0 * (sigma_t + two_f_hb) / (sigma_t - two_f_hb))
+
+
+def wear_track_area(*, x: ArrayLike, y: ArrayLike, shoulder: float = 0.1) -> float:
+    """Cross-section area of a wear track from a profile traced across it.
+
+    .. math:: A = \\int \\max(0,\\ y_0(x) - y(x))\\,dx
+
+    with y_0 the unworn surface: the least-squares line through the trace's two shoulders
+    (its first and last ``shoulder`` of the length, which must lie off the track).
+
+    Parameters
+    ----------
+    x, y : array_like
+        Position across the track and height, m; x increasing, at least 10 samples.
+    shoulder : float
+        Share of the trace at each end taken as unworn, 0 < shoulder < 0.5.
+
+    Returns
+    -------
+    float
+        A, m² (the trapezoid rule on the depths below y_0). Times the track's length 2π r2
+        it is the disc's worn volume (ASTM G99).
+    """
+    xs = finite("x", x)
+    ys = finite("y", y)
+    share = float(within("shoulder", shoulder, 0.0, 0.5, closed=(False, False)))
+    if xs.ndim != 1 or xs.shape != ys.shape or xs.size < 10 or np.any(np.diff(xs) <= 0):
+        raise ModelInputError(
+            f"x and y must be one-dimensional, of equal length >= 10, x increasing; got "
+            f"shapes {xs.shape}, {ys.shape}"
+        )
+    edge = max(2, int(share * xs.size))
+    ends = np.r_[0:edge, xs.size - edge : xs.size]
+    slope, intercept = np.polyfit(xs[ends], ys[ends], 1)
+    depth = np.clip(slope * xs + intercept - ys, 0.0, None)
+    return float(np.sum((depth[1:] + depth[:-1]) * np.diff(xs)) / 2.0)
 
 
 @dataclass(frozen=True, slots=True)

@@ -445,6 +445,12 @@ MESSAGES: dict[str, tuple[str, str]] = {
         "specific wear rate k = V/(F·L) (ASTM G99)",
         "удельная интенсивность изнашивания k = V/(F·L) (ASTM G99)",
     ),
+    "w.disc_wear": (
+        "Wear of the disc from a profile across its track (ASTM G99)",
+        "Износ диска по профилограмме поперёк дорожки трения (ASTM G99)",
+    ),
+    "w.track_area": ("cross-section area of the track", "площадь сечения дорожки"),
+    "w.disc_volume": ("worn volume of the disc", "объём износа диска"),
     "w.validity": (
         "Validity of the fatigue-wear theory (2.1) (docs/validity.md)",
         "Применимость усталостной теории изнашивания (2.1) (docs/validity.md)",

@@ -1,4 +1,5 @@
-"""Profilometer runs named by another run: the MTOS film parameter Λ takes their Rq."""
+"""Profilometer runs named by another run: the MTOS film parameter Λ takes their Rq, the
+SMTs-2 disc's wear comes from a profile across its track."""
 
 from __future__ import annotations
 
@@ -12,6 +13,7 @@ from rigsim.stands import mtos, profilometer
 from schemas.results import MtosResults
 from schemas.runs import Run
 from schemas.stands import StandKind
+from tests.analysis.conftest import FakeReadings, make_run
 from tests.reports.simulated import SimulatedReadings, analysed
 
 
@@ -55,3 +57,33 @@ def test_unresolved_names_fall_back_to_the_configuration(mtos_run: Any) -> None:
     assert (v.journal_rq, v.bush_rq) == (c.journal_rq, c.bush_rq)
     assert any("a mtos run, not a profilometer run" in n for n in v.notes)
     assert any("'nope': no such run in the store" in n for n in v.notes)
+
+
+def test_disc_wear_from_a_profile_across_the_track() -> None:
+    # a parabolic groove 5 μm deep and 2 mm wide across the disc's track: A = 4/3·d0·w, the
+    # disc's volume A·2π r2 and k = V/(F·L) with the run's mean load and sliding distance
+    x_mm = np.linspace(0.0, 4.0, 4001)
+    groove_um = np.where(np.abs(x_mm - 2.0) < 1.0, 5.0 * (1.0 - (x_mm - 2.0) ** 2), 0.0)
+    trace = FakeReadings({"profile": {"x": list(x_mm), "y": list(1.0 - groove_um)}}, {})
+    profile_run = make_run(StandKind.PROFILOMETER)
+    n = 100
+    record = {
+        "time": [float(i) for i in range(n)],
+        "load": [300.0] * n,
+        "speed": [980.0] * n,
+        "friction_moment": [2.7] * n,
+        "revolutions": [float(i // 10) for i in range(n)],
+    }
+    weighings = {"pin_mass_before": 12.25, "pin_mass_after": 12.2}
+    run = _named(make_run(StandKind.SMTS2), disc_profile_run="P-1")
+    v = analyse(
+        run, FakeReadings({"friction": record}, weighings), {"P-1": (profile_run, trace)}.get
+    )
+    values = v.values
+    assert values.disc_wear is not None and values.disc_wear.profile_run == "P-1"
+    area = 4.0 / 3.0 * 5e-6 * 1e-3
+    assert values.disc_wear.track_area == pytest.approx(area, rel=1e-5)
+    volume = area * 2 * np.pi * 0.0225
+    assert values.disc_wear.volume == pytest.approx(volume, rel=1e-5)
+    distance = 2 * np.pi * 0.0225 * 900  # counter 0 -> 9 hundreds
+    assert values.disc_wear.specific_wear_rate == pytest.approx(volume / (300 * distance), rel=1e-5)

@@ -65,6 +65,19 @@ def build(ctx: Context, v: Smts2Results) -> LabReport:
                 ],
             )
         )
+    if v.disc_wear is not None:
+        processed.append(
+            blocks.quantities(
+                t,
+                t("w.disc_wear"),
+                v.disc_wear,
+                [
+                    ("track_area", "A", "w.track_area"),
+                    ("volume", "V", "w.disc_volume"),
+                    ("specific_wear_rate", "k", "w.k"),
+                ],
+            )
+        )
     if v.theoretical is not None:
         theory = blocks.quantities(
             t,

@@ -33,7 +33,7 @@ References
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Literal
 
 import numpy as np
@@ -148,6 +148,23 @@ def film(
     if model == "finite":
         return _finite(load, omega, viscosity, geometry)
     raise SettingsError(f"bearing model must be one of {MODELS}, got {model!r}")
+
+
+def refined(state: Film, *, half_width: float) -> Film:
+    """The finite film's pressure field solved again at its χ on the solver's default grid.
+
+    The equilibrium χ and ψ stay those of :data:`FINITE_GRID`; the pressures at the holes
+    then match the analysis's finite solution at that χ point by point, where the coarse
+    grid's rupture line is only known to a node (5°). The short model is returned as is.
+    """
+    if state.model != "finite":
+        return state
+    solution = reynolds.solve_reynolds(chi=state.chi, half_width=half_width)
+
+    def field(phi: FloatArray, z: FloatArray) -> FloatArray:
+        return solution.pressure_at(phi=phi, z=z)
+
+    return replace(state, field=field)
 
 
 def _short(load: float, omega: float, viscosity: float, g: Geometry) -> Film:

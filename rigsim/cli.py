@@ -3,27 +3,30 @@
 ::
 
     rigsim run --stand mtos --url http://127.0.0.1:8000 --key KEY --seed 7 --speed 100x
+    rigsim run --stand slide_bearing --noise off --truth --json
     rigsim demo --port 8000 --data-dir data
 """
 
 from __future__ import annotations
 
 import argparse
+import json
 import os
 import re
 import sys
 from collections.abc import Sequence
-from dataclasses import replace
+from dataclasses import fields, is_dataclass, replace
 from pathlib import Path
 from typing import Any
 
+import numpy as np
 from rich.console import Console
 from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
 
 from rigsim.bearing_model import MODELS
 from rigsim.client import LabClient
 from rigsim.errors import RigsimError, ServerError
-from rigsim.instruments import FAULT_KINDS, Fault
+from rigsim.instruments import FAULT_KINDS, Fault, Instrument
 from rigsim.report import print_results
 from rigsim.stands import SIMULATORS
 from rigsim.stands.smts2 import MODES, Smts2Settings
@@ -79,16 +82,39 @@ def settings_for(
     model: str | None = None,
     mode: str | None = None,
     faults: Sequence[Fault] = (),
+    noise: bool = True,
 ) -> Any:
     """The stand's default settings with the bearing model (MTOS, slide bearing), the
-    SMTs-2 mode and the faults chosen on the command line."""
+    SMTs-2 mode, the faults and the noise chosen on the command line.
+
+    Without noise every instrument is ideal (no noise, drift, offset or quantisation) and the
+    SMTs-2 friction does not fluctuate: the readings are the truth, so the analysis must
+    return it to round-off or to its own discretisation error."""
     if kind is StandKind.SMTS2:
         settings: Any = Smts2Settings.for_mode(mode or "wear")  # type: ignore[arg-type]
     else:
         settings = SIMULATORS[kind].settings()
     if model is not None and hasattr(settings, "model"):
         settings = replace(settings, model=model)
+    if not noise:
+        ideal = {f.name: Instrument() for f in fields(settings.instruments)}
+        settings = replace(settings, instruments=replace(settings.instruments, **ideal))
+        if isinstance(settings, Smts2Settings):
+            settings = replace(settings, friction_fluctuation=0.0)
     return replace(settings, faults=tuple(faults)) if faults else settings
+
+
+def as_json(value: Any) -> Any:
+    """The simulator's truth as JSON: dataclasses as objects, arrays as lists (SI units)."""
+    if is_dataclass(value) and not isinstance(value, type):
+        return {f.name: as_json(getattr(value, f.name)) for f in fields(value)}
+    if isinstance(value, np.ndarray):
+        return value.tolist()
+    if isinstance(value, tuple | list):
+        return [as_json(v) for v in value]
+    if isinstance(value, np.generic):
+        return value.item()
+    return value
 
 
 def progress_bar(console: Console) -> Progress:
@@ -104,9 +130,13 @@ def progress_bar(console: Console) -> Progress:
 
 def _run(args: argparse.Namespace, console: Console) -> int:
     kind = StandKind(args.stand)
-    settings = settings_for(kind, model=args.model, mode=args.mode, faults=args.fault)
+    settings = settings_for(
+        kind, model=args.model, mode=args.mode, faults=args.fault, noise=args.noise == "on"
+    )
     sim = SIMULATORS[kind].simulate(settings, args.seed)
     key = args.key or os.environ.get("RIG_KEY")
+    if args.json:  # stdout carries the one JSON object; the progress goes to stderr
+        console = Console(stderr=True)
     with LabClient(args.url, key, seed=args.seed) as client, progress_bar(console) as bar:
         task = bar.add_task(f"{kind.value} (seed {args.seed})", total=len(sim.batches))
         outcome = client.run(
@@ -115,6 +145,12 @@ def _run(args: argparse.Namespace, console: Console) -> int:
             binary=args.binary,
             on_batch=lambda seq, total, receipt: bar.update(task, completed=seq + 1),
         )
+    if args.json:
+        document = {"run_id": outcome.run.id, "results": outcome.results}
+        if args.truth:
+            document = {"run_id": outcome.run.id, "truth": as_json(sim.truth), **document}
+        sys.stdout.write(json.dumps(document) + "\n")
+        return 0
     console.print(
         f"run [bold]{outcome.run.id}[/] {outcome.run.state.value}: {len(outcome.receipts)} "
         f"batches, {outcome.duplicates} stored before a retry, {outcome.retries} retries"
@@ -145,6 +181,17 @@ def main(argv: Sequence[str] | None = None) -> int:
     )
     run.add_argument("--binary", action="store_true", help="post batches as npz archives")
     run.add_argument("--truth", action="store_true", help="print the simulator's truth too")
+    run.add_argument(
+        "--noise",
+        choices=("on", "off"),
+        default="on",
+        help="off: ideal instruments and no friction fluctuation (the readings are the truth)",
+    )
+    run.add_argument(
+        "--json",
+        action="store_true",
+        help='print one JSON object {"run_id", "truth" (with --truth), "results"}',
+    )
     demo = sub.add_parser("demo", help="start rigserver and post all four stands to it")
     demo.add_argument("--host", default="127.0.0.1")
     demo.add_argument("--port", type=int, default=8000)

@@ -33,6 +33,26 @@ class ExperimentalWearResult(BaseModel):
     wear_depth: float = quantity(..., "m", "h = V/(π r1²) (2.11)")
     sliding_distance: float = quantity(..., "m", "L = 2π r2 M_rev (2.12)")
     intensity: float = quantity(..., "1", "I_h = h/L (2.13)")
+    specific_wear_rate: float = quantity(
+        ..., "m^2/N", "k = V/(F·L), the pin's specific wear rate (ASTM G99), m³/(N·m)"
+    )
+    intensity_uncertainty: float | None = quantity(None, "1", "u(I_h), standard uncertainty (GUM)")
+    intensity_expanded: float | None = quantity(None, "1", "U(I_h) = 2u, expanded (k = 2)")
+    specific_wear_rate_uncertainty: float | None = quantity(
+        None, "m^2/N", "u(k), standard uncertainty"
+    )
+    specific_wear_rate_expanded: float | None = quantity(
+        None, "m^2/N", "U(k) = 2u, expanded (k = 2)"
+    )
+
+
+class DiscWearResult(BaseModel):
+    """The disc's wear from a profile across its wear track (ASTM G99)."""
+
+    profile_run: str = Field(description="the profilometer run traced across the track")
+    track_area: float = quantity(..., "m^2", "cross-section area of the wear track")
+    volume: float = quantity(..., "m^3", "V = area × 2π r2, the disc's worn volume")
+    specific_wear_rate: float = quantity(..., "m^2/N", "k = V/(F·L) of the disc, m³/(N·m)")
 
 
 class TheoreticalWearResult(BaseModel):
@@ -51,6 +71,30 @@ class TheoreticalWearResult(BaseModel):
     k_f: float = quantity(..., "1", "k_f of the contact mode")
 
 
+class WearValidityResult(BaseModel):
+    """Whether (2.1) applies to the run: its own applicability figures (docs/validity.md)."""
+
+    within_range: bool = Field(description="the branch chosen by (2.7) applies")
+    reasons: list[str] = Field(default_factory=list, description="why not, if not")
+    approach: float = quantity(..., "1", "ε = a/Rmax, relative approach at p_c")
+    real_area_ratio: float = quantity(..., "1", "η_r = A_r/A_c = b·ε^ν/2")
+    real_contact_pressure: float = quantity(..., "Pa", "p_r = p_c/η_r, elastic asperities")
+    hardness: float = quantity(..., "Pa", "HB of the pin, against p_r")
+    asperity_stress: float = quantity(..., "Pa", "σ = k_f^y·p_r")
+    fatigue_strength: float = quantity(..., "Pa", "σ0 of n = (σ0/σ)^t (σ_B in (2.1))")
+    cycles_to_failure: float = quantity(..., "1", "n = (σ0/σ)^t, needs n ≫ 1")
+    plastic_k_f: float | None = quantity(None, "1", "k_f^n; empty when σ_T <= 2f·HB")
+
+
+class SensitivityPoint(BaseModel):
+    """I_h of (2.1) at one t and σ0/σ_B, the run's other data unchanged."""
+
+    fatigue_t: float = quantity(..., "1", "t")
+    strength_ratio: float = quantity(..., "1", "σ0/σ_B")
+    intensity: float | None = quantity(None, "1", "I_h (2.1)")
+    cycles_to_failure: float | None = quantity(None, "1", "n = (σ0/σ)^t")
+
+
 class AdequacyResult(BaseModel):
     relative_error_percent: float = quantity(..., "%", "ΔI_h = (I_exp - I_theor)/I_exp (2.14)")
     adequate: bool = Field(description="0.4·I_theor <= I_exp <= 2.6·I_theor (2.15)")
@@ -67,11 +111,24 @@ class Smts2Results(BaseModel):
     mean_load: float = quantity(..., "N", "mean load over the steady part")
     friction_steady: float = quantity(..., "1", "f (2.8), mean over the steady part")
     friction_steady_std: float = quantity(..., "1", "standard deviation of f there")
+    friction_steady_uncertainty: float | None = quantity(
+        None, "1", "u(f): batch means of the record and the sensors' limits (GUM)"
+    )
+    friction_steady_expanded: float | None = quantity(None, "1", "U(f) = 2u, expanded (k = 2)")
     steady_from_time: float = quantity(..., "s", "start of the steady part")
     friction: Series = Field(description="f (2.8) against time, block means")
     experimental: ExperimentalWearResult | None = None
+    disc_wear: DiscWearResult | None = None
     theoretical: TheoreticalWearResult | None = None
     adequacy: AdequacyResult | None = None
+    validity: WearValidityResult | None = None
+    verdict: str | None = Field(
+        default=None,
+        description="(2.15)'s verdict, or 'theory outside its range' with the reason",
+    )
+    sensitivity: list[SensitivityPoint] = Field(
+        default_factory=list, description="I_h against t (table 2.1's range) and σ0/σ_B"
+    )
     pending: list[str] = Field(
         default_factory=list, description="what is missing for the results still empty"
     )
@@ -91,11 +148,14 @@ class SlideBearingRow(BaseModel):
     e_y: float = quantity(..., "m", "e_y (3.16)")
     e: float = quantity(..., "m", "e (3.16)")
     chi: float = quantity(..., "1", "χ = e/h0 (3.17)")
+    attitude: float = quantity(..., "deg", "ψ = atan2(e_y, e_x) - (135° - φ_limb)")
     pi_measured: float = quantity(..., "1", "Π_э (3.18)")
     pi_short: float | None = quantity(None, "1", "Π0 at z = 0, χ_ср (3.10)")
     pi_long: float | None = quantity(None, "1", "Π∞ at χ_ср (3.15)")
     pi_finite: float | None = quantity(
-        None, "1", "Π of the finite bearing (3.1) with the Reynolds condition, z = 0, χ_ср"
+        None,
+        "1",
+        "Π of the finite bearing (3.1) with the Reynolds condition, z = 0, χ_ср, at φ_мод + φ_r",
     )
     error_short: float | None = quantity(None, "%", "(Π0 - Π_э)/Π0 (3.26)")
     error_long: float | None = quantity(None, "%", "(Π∞ - Π_э)/Π∞ (3.27)")
@@ -120,6 +180,14 @@ class SlideBearingResults(BaseModel):
     viscosity: float | None = quantity(None, "Pa*s", "μ_t (3.21)")
     mu_bar: float | None = quantity(None, "1", "μ̄ = μ_t/μ0 (3.22)")
     chi_mean: float | None = quantity(None, "1", "χ_ср (3.23)")
+    chi_mean_uncertainty: float | None = quantity(None, "1", "u(χ_ср), standard uncertainty (GUM)")
+    chi_mean_expanded: float | None = quantity(None, "1", "U(χ_ср) = 2u, expanded (k = 2)")
+    attitude_angle: float | None = quantity(
+        None, "deg", "ψ, mean over the rows, from the load line to the line of centres"
+    )
+    rupture_angle: float | None = quantity(
+        None, "deg", "φ_r, where the finite film ruptures past the thinnest film"
+    )
     half_width: float = quantity(..., "1", "a = B/(2R) (corrected E3)")
     phi_max: float | None = quantity(None, "deg", "model angle of the largest pressure")
     pressure_max: float | None = quantity(None, "Pa", "largest gauge pressure at z = 0")
@@ -141,11 +209,15 @@ class MtosStep(BaseModel):
     e_y: float = quantity(..., "m", "e_y (4.11)")
     e: float = quantity(..., "m", "e (4.11)")
     chi: float = quantity(..., "1", "χ = e/h0 (4.11)")
+    chi_uncertainty: float | None = quantity(None, "1", "u(χ), standard uncertainty (GUM)")
+    chi_expanded: float | None = quantity(None, "1", "U(χ) = 2u, expanded (k = 2)")
     angle: float = quantity(..., "deg", "δ (fluid film) or γ (mixed, boundary) (4.12)")
     spring_force: float = quantity(..., "N", "F = k·Δl (4.13)")
     friction_moment: float = quantity(..., "N*m", "M_tr = F·l1 (4.14)")
     friction_force: float = quantity(..., "N", "F_tr = M_tr/l2 (4.15)")
     friction_measured: float = quantity(..., "1", "f_э = F_tr/N (4.16)")
+    friction_measured_uncertainty: float | None = quantity(None, "1", "u(f_э), standard (GUM)")
+    friction_measured_expanded: float | None = quantity(None, "1", "U(f_э) = 2u, expanded (k = 2)")
     viscosity: float = quantity(..., "Pa*s", "μ_t = (μ3 + μ4 + μ5)/3 (4.18)")
     bearing_characteristic: float = quantity(..., "1", "S1 = μ_t·ω/p̄, p̄ = N/(BD) (4.21, E9)")
     temperature_rise: dict[str, float] = quantity(..., "degC", "Δt_i = t_i - t1 (4.19, E4)")
@@ -159,6 +231,10 @@ class MtosStep(BaseModel):
     )
     h_min: float = quantity(..., "m", "h_min = h0 - e")
     film: Literal["fluid", "mixed"] = Field(description="h_min against h_min^crit (seed 001)")
+    film_parameter: float = quantity(..., "1", "Λ = h_min/√(Rq_journal² + Rq_bush²)")
+    film_lambda: Literal["full film", "mixed", "boundary"] = Field(
+        description="regime by Λ: < 1 boundary, 1-3 mixed, > 3 full film (Hamrock et al.)"
+    )
 
 
 class MtosResults(BaseModel):
@@ -168,6 +244,15 @@ class MtosResults(BaseModel):
     half_width: float = quantity(..., "1", "a = B/(2R) = B/D (corrected E3)")
     friction_fluid: float | None = quantity(None, "1", "mean f_э of the fluid-film steps")
     h_min_smallest: float | None = quantity(None, "m", "smallest h_min of the run")
+    journal_rq: float = quantity(..., "m", "Rq of the journal used for Λ")
+    bush_rq: float = quantity(..., "m", "Rq of the bush used for Λ")
+    roughness_source: str = Field(
+        description="where the Rq come from: the profilometer runs named, or the configuration"
+    )
+    regime_disagreements: list[str] = Field(
+        default_factory=list,
+        description="steps whose film criterion or Λ band differs from the experiment's regime",
+    )
     steps: list[MtosStep] = Field(default_factory=list)
     pending: list[str] = Field(default_factory=list)
     notes: list[str] = Field(default_factory=list)
@@ -199,6 +284,10 @@ class ProfilometerResults(BaseModel):
     rz_error: float | None = quantity(None, "m", "instrument error of Rz (1.14)")
     rmax_error: float | None = quantity(None, "m", "instrument error of Rmax (1.14)")
     sm_error: float | None = quantity(None, "m", "instrument error of Sm (1.14)")
+    ra_uncertainty: float | None = quantity(None, "m", "u(Ra) = ΔRa/√3 (1.14, GUM type B)")
+    ra_expanded: float | None = quantity(None, "m", "U(Ra) = 2u, expanded (k = 2)")
+    rz_uncertainty: float | None = quantity(None, "m", "u(Rz) = ΔRz/√3 (1.14, GUM type B)")
+    rz_expanded: float | None = quantity(None, "m", "U(Rz) = 2u, expanded (k = 2)")
     levels: list[float] = quantity([], "m", "p_i, depth below the peak line (table 1.6)")
     eps: list[float] = quantity([], "1", "ε = p/Rmax (1.7)")
     tp: list[float] = quantity([], "1", "t_p = η_p/l (1.6)")

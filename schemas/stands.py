@@ -12,7 +12,7 @@ from collections.abc import Mapping
 from enum import StrEnum
 from typing import Literal
 
-from pydantic import BaseModel, ConfigDict
+from pydantic import BaseModel, ConfigDict, Field
 
 from schemas.channels import Channel, ChannelGroup, Limit, Order, configured_groups
 from schemas.quantity import quantity
@@ -56,6 +56,20 @@ class DiscMaterial(_Config):
     hardness: float = quantity(6.4e9, "Pa", "HB2, Brinell hardness", gt=0)
 
 
+class Smts2Accuracy(_Config):
+    """Limits of error of the SMTs-2's measurements (GUM type B: a rectangular distribution of
+    half-width a has the standard uncertainty a/√3)."""
+
+    moment: float = quantity(
+        0.01, "1", "friction moment sensor, relative limit of error (placeholder)", ge=0
+    )
+    load: float = quantity(0.05, "1", "load, relative tolerance of the stand (±5 %)", ge=0)
+    balance_resolution: float = quantity(1e-7, "kg", "balance's resolution (0.1 mg)", ge=0)
+    length: float = quantity(5e-5, "m", "r1, r2 as machined, limit of error (±0.05 mm)", ge=0)
+    density: float = quantity(50.0, "kg/m^3", "ρ of the pin's steel, limit of error", ge=0)
+    counter: float = quantity(100.0, "rev", "revolution counter's step (100 rev)", ge=0)
+
+
 class Smts2Config(_Config):
     disc_radius: float = quantity(0.0225, "m", "r2, disc radius", gt=0)
     disc_width: float = quantity(0.012, "m", "b2, disc width", gt=0)
@@ -69,6 +83,7 @@ class Smts2Config(_Config):
     steady_fraction: float = quantity(
         0.5, "1", "share of the record, from its end, averaged for the steady friction", gt=0, le=1
     )
+    accuracy: Smts2Accuracy = Smts2Accuracy()
 
 
 class ViscosityLaw(_Config):
@@ -79,6 +94,17 @@ class ViscosityLaw(_Config):
 
 
 # --- Slide-bearing stand, lab work 3 --------------------------------------------------
+
+
+class SlideBearingAccuracy(_Config):
+    """Limits of error of the slide-bearing stand's measurements (GUM type B, rectangular)."""
+
+    manometer_class: float = quantity(
+        1.5, "%", "manometers' accuracy class: limit of error in % of the range", ge=0
+    )
+    manometer_range: float = quantity(10.0, "1", "manometers' range, in the gauge unit", gt=0)
+    displacement: float = quantity(1.0, "div", "X, Y gauges, limit of error", ge=0)
+    clearance: float = quantity(5e-6, "m", "h0 as machined, limit of error", ge=0)
 
 
 class SlideBearingConfig(_Config):
@@ -98,9 +124,21 @@ class SlideBearingConfig(_Config):
     displacement_per_division: float = quantity(
         1e-6, "m", "scale of the X, Y displacement gauges per division (placeholder)", gt=0
     )
+    accuracy: SlideBearingAccuracy = SlideBearingAccuracy()
 
 
 # --- MTOS stand, lab work 4 -----------------------------------------------------------
+
+
+class MtosAccuracy(_Config):
+    """Limits of error of the MTOS stand's measurements (GUM type B, rectangular)."""
+
+    indicator: float = quantity(0.005, "mm", "indicator of the flat spring, limit of error", ge=0)
+    dynamometer: float = quantity(0.01, "1", "dynamometer, relative limit of error", ge=0)
+    spring_rate: float = quantity(0.01, "1", "k of the flat spring, relative limit", ge=0)
+    arms: float = quantity(5e-4, "m", "l1, l2 as measured, limit of error", ge=0)
+    displacement: float = quantity(0.5, "um", "X, Y sensors, limit of error", ge=0)
+    clearance: float = quantity(2e-6, "m", "h0 as machined, limit of error", ge=0)
 
 
 class MtosConfig(_Config):
@@ -127,6 +165,17 @@ class MtosConfig(_Config):
     misalignment: float = quantity(0.0, "m", "h from misalignment (seed 001)", ge=0)
     deflection: float = quantity(0.0, "m", "h from shaft deflection (seed 001)", ge=0)
     shape_error: float = quantity(0.0, "m", "h from form errors (seed 001)", ge=0)
+    # Rq ≈ Rz/4.35 by (1.2) (Rmax ≈ 5ρ ≈ 1.15 Rz) from the mean heights above; a profilometer
+    # run named in the run's specimen (journal_profile_run, bush_profile_run) overrides them.
+    journal_rq: float = quantity(0.37e-6, "m", "Rq of the journal, for the film parameter Λ", gt=0)
+    bush_rq: float = quantity(0.74e-6, "m", "Rq of the bush, for the film parameter Λ", gt=0)
+    accuracy: MtosAccuracy = MtosAccuracy()
+    signed_sensors: bool = Field(
+        default=False,
+        description="true when X, Y read more as the journal lifts off the zero contact: "
+        "(4.11) then takes the sign, not |X_уст - X|, which folds positions near the bush "
+        "(experiments 2-3)",
+    )
 
 
 # --- ABRIS-PM7 profilometer, lab work 1 -----------------------------------------------

@@ -13,17 +13,18 @@ from pydantic import BaseModel
 
 from rigserver.analysis import mtos, profilometer, slide_bearing, smts2
 from rigserver.analysis.readings import Readings
+from rigserver.analysis.references import Profiles, RunLookup, referenced_profiles
 from schemas.quantity import unit_paths
 from schemas.runs import Run
 from schemas.stands import StandKind
 
-__all__ = ["AnalysisResult", "Readings", "analyse"]
+__all__ = ["AnalysisResult", "Readings", "RunLookup", "analyse"]
 
-_PIPELINES: dict[StandKind, Callable[[Run, Readings], BaseModel]] = {
+_PIPELINES: dict[StandKind, Callable[[Run, Readings, Profiles], BaseModel]] = {
     StandKind.SMTS2: smts2.analyse,
-    StandKind.SLIDE_BEARING: slide_bearing.analyse,
+    StandKind.SLIDE_BEARING: lambda run, readings, _: slide_bearing.analyse(run, readings),
     StandKind.MTOS: mtos.analyse,
-    StandKind.PROFILOMETER: profilometer.analyse,
+    StandKind.PROFILOMETER: lambda run, readings, _: profilometer.analyse(run, readings),
 }
 
 
@@ -44,16 +45,25 @@ class AnalysisResult:
 
 
 _KEYS: dict[StandKind, tuple[str, ...]] = {
-    StandKind.SMTS2: ("friction_steady", "experimental.intensity", "theoretical.intensity"),
+    StandKind.SMTS2: (
+        "friction_steady",
+        "experimental.intensity",
+        "experimental.specific_wear_rate",
+        "theoretical.intensity",
+    ),
     StandKind.SLIDE_BEARING: ("chi_mean", "pressure_max", "phi_max"),
     StandKind.MTOS: ("friction_fluid", "h_min_smallest", "h_crit"),
     StandKind.PROFILOMETER: ("ra", "rz", "complex_parameter"),
 }
 
 
-def analyse(run: Run, readings: Readings) -> AnalysisResult:
-    """The stand's results on the run's readings (what has arrived, for an open run)."""
-    values = _PIPELINES[run.stand](run, readings)
+def analyse(run: Run, readings: Readings, lookup: RunLookup | None = None) -> AnalysisResult:
+    """The stand's results on the run's readings (what has arrived, for an open run).
+
+    ``lookup`` finds the profilometer runs that the run's specimen names
+    (:mod:`rigserver.analysis.references`); without it they are reported as not found.
+    """
+    values = _PIPELINES[run.stand](run, readings, referenced_profiles(run, lookup))
     return AnalysisResult(values=values, key_results=_headline(values, _KEYS[run.stand]))
 
 

@@ -6,8 +6,10 @@ from typing import Literal
 
 import numpy as np
 
+from rigserver.analysis import uncertainty
 from rigserver.analysis.finite_steps import FiniteBearingSteps
 from rigserver.analysis.readings import Readings
+from rigserver.analysis.references import Profiles
 from rigserver.core import bearing, film, stands
 from rigserver.core.errors import ModelInputError
 from schemas.results import MtosResults, MtosStep
@@ -17,6 +19,9 @@ from schemas.units import UNITS
 
 GROUP = "steps"
 REGIMES: dict[int, Literal["fluid", "mixed", "boundary"]] = {1: "fluid", 2: "mixed", 3: "boundary"}
+#: The experiment's regime as each criterion names it: (2.104) and the Λ bands.
+_AS_FILM = {"fluid": "fluid", "mixed": "mixed", "boundary": "mixed"}
+_AS_LAMBDA = {"fluid": "full film", "mixed": "mixed", "boundary": "boundary"}
 _M_PER_UM = UNITS["um"].factor
 _M_PER_MM = UNITS["mm"].factor
 _N_PER_M = UNITS["N/mm"].factor
@@ -27,8 +32,15 @@ FINITE = FiniteBearingSteps()
 MAX_FINITE_STEPS = 500
 
 
-def analyse(run: Run, readings: Readings) -> MtosResults:
+def analyse(run: Run, readings: Readings, profiles: Profiles | None = None) -> MtosResults:
     c = MtosConfig.model_validate(run.configuration)
+    profiles = profiles or Profiles()
+    journal_rq, bush_rq = profiles.rq("journal"), profiles.rq("bush")
+    source = ", ".join(
+        f"{role}: profilometer run {run.specimen[f'{role}_profile_run']}"
+        for role in ("journal", "bush")
+        if role in profiles.found
+    )
     radius = c.diameter / 2.0
     crit = film.critical_film_thickness(
         journal_roughness=c.journal_roughness,
@@ -38,7 +50,13 @@ def analyse(run: Run, readings: Readings) -> MtosResults:
         shape_error=c.shape_error,
     )
     result = MtosResults(
-        rows=readings.rows(GROUP), h_crit=crit.total, half_width=c.width / c.diameter
+        rows=readings.rows(GROUP),
+        h_crit=crit.total,
+        half_width=c.width / c.diameter,
+        journal_rq=c.journal_rq if journal_rq is None else journal_rq,
+        bush_rq=c.bush_rq if bush_rq is None else bush_rq,
+        roughness_source=source or "configuration",
+        notes=list(profiles.problems),
     )
     rows = readings.read(GROUP)
     m = readings.measurements()
@@ -55,6 +73,7 @@ def analyse(run: Run, readings: Readings) -> MtosResults:
         x_set=m["x_zero"] * _M_PER_UM,
         y_set=m["y_zero"] * _M_PER_UM,
         clearance=c.clearance,
+        signed=c.signed_sensors,
     )
     measured = stands.mtos_friction(
         indicator_travel=rows["indicator"] * _M_PER_MM,
@@ -72,6 +91,17 @@ def analyse(run: Run, readings: Readings) -> MtosResults:
     rises = {
         f"t{k}": stands.temperature_rise(t=rows[f"t{k}"], t_in=rows["t1"]) for k in (2, 3, 4, 5)
     }
+    acc = c.accuracy
+    x_zero = uncertainty.from_limit(m["x_zero"] * _M_PER_UM, acc.displacement * _M_PER_UM)
+    y_zero = uncertainty.from_limit(m["y_zero"] * _M_PER_UM, acc.displacement * _M_PER_UM)
+    h0 = uncertainty.from_limit(c.clearance, acc.clearance)
+    arms = (
+        uncertainty.from_limit(c.lever_moment_arm, acc.arms)
+        / uncertainty.from_limit(c.friction_arm, acc.arms)
+        * uncertainty.from_limit(
+            c.spring_rate * _N_PER_M, c.spring_rate * _N_PER_M * acc.spring_rate
+        )
+    )
     h_min = film.minimum_film_thickness(clearance=c.clearance, chi=np.minimum(ecc.chi, 1.0))
     solved = ecc.chi[:MAX_FINITE_STEPS]
     FINITE.solve_all(solved[(solved >= 0.0) & (solved < 1.0)], c.width / c.diameter)
@@ -79,6 +109,7 @@ def analyse(run: Run, readings: Readings) -> MtosResults:
         result.notes.append(
             f"the finite bearing (3.1) is solved for the first {MAX_FINITE_STEPS} steps only"
         )
+    lam = film.film_parameter(h_min=h_min, journal_rq=result.journal_rq, bush_rq=result.bush_rq)
     for i in range(load.size):
         regime = REGIMES[int(rows["regime"][i])]
         try:
@@ -112,8 +143,30 @@ def analyse(run: Run, readings: Readings) -> MtosResults:
                 )
             except ModelInputError as exc:
                 result.notes.append(f"step {i}: f_T not computed: {exc}")
+        u_chi = uncertainty.estimate(
+            uncertainty.mtos_chi(
+                x=float(rows["x"][i]) * _M_PER_UM,
+                y=float(rows["y"][i]) * _M_PER_UM,
+                x_zero=x_zero,
+                y_zero=y_zero,
+                limit=acc.displacement * _M_PER_UM,
+                clearance=h0,
+                signed=c.signed_sensors,
+            )
+        )
+        u_f = uncertainty.estimate(
+            arms
+            * uncertainty.from_limit(
+                float(rows["indicator"][i]) * _M_PER_MM, acc.indicator * _M_PER_MM
+            )
+            / uncertainty.from_limit(float(load[i]), float(load[i]) * acc.dynamometer)
+        )
         result.steps.append(
             MtosStep(
+                chi_uncertainty=u_chi.standard,
+                chi_expanded=u_chi.expanded,
+                friction_measured_uncertainty=u_f.standard,
+                friction_measured_expanded=u_f.expanded,
                 load=float(load[i]),
                 regime=regime,
                 e_x=float(ecc.e_x[i]),
@@ -134,8 +187,11 @@ def analyse(run: Run, readings: Readings) -> MtosResults:
                 load_finite=load_finite,
                 h_min=float(h_min[i]),
                 film=film.film_regime(h_min=float(h_min[i]), h_crit=crit.total),
+                film_parameter=float(lam[i]),
+                film_lambda=film.lambda_regime(film_parameter=float(lam[i])),
             )
         )
+        result.regime_disagreements += _disagreements(i, result.steps[-1])
     fluid = [s.friction_measured for s in result.steps if s.regime == "fluid"]
     result.friction_fluid = float(np.mean(fluid)) if fluid else None
     result.h_min_smallest = float(np.min(h_min))
@@ -158,3 +214,19 @@ def _finite(
     torque_scale = viscosity * c.omega * radius**4 / c.clearance
     moment = solution.journal_torque_full_film * torque_scale
     return moment / (load * (radius - c.clearance)), solution.load * torque_scale / c.clearance
+
+
+def _disagreements(index: int, step: MtosStep) -> list[str]:
+    """Where a criterion names another regime than the experiment's oil feed declares."""
+    out = []
+    if step.film != _AS_FILM[step.regime]:
+        out.append(
+            f"step {index} ({step.regime} experiment, N = {step.load:g} N): h_min against "
+            f"h_min^crit says {step.film}"
+        )
+    if step.film_lambda != _AS_LAMBDA[step.regime]:
+        out.append(
+            f"step {index} ({step.regime} experiment, N = {step.load:g} N): "
+            f"Λ = {step.film_parameter:.2f} says {step.film_lambda}"
+        )
+    return out

@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from rigserver.analysis.readings import Readings
+from rigserver.analysis.uncertainty import estimate, from_limit
 from rigserver.core import roughness
 from rigserver.core.errors import ModelInputError
 from schemas.results import BearingFitResult, ProfilometerResults
@@ -38,6 +39,14 @@ def analyse(run: Run, readings: Readings) -> ProfilometerResults:
         err = roughness.instrument_error(parameters=params)
         result.ra_error, result.rz_error = err.ra, err.rz
         result.rmax_error, result.sm_error = err.rmax, err.sm
+        ra = estimate(from_limit(params.ra, err.ra))
+        rz = estimate(from_limit(params.rz, err.rz))
+        result.ra_uncertainty, result.ra_expanded, result.rz_uncertainty, result.rz_expanded = (
+            ra.standard,
+            ra.expanded,
+            rz.standard,
+            rz.expanded,
+        )
     except ModelInputError as exc:
         result.notes.append(f"instrument error not given: {exc}")
     # Table 1.6: strips of equal depth from the peak line down to the mean line.

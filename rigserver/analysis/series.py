@@ -59,25 +59,30 @@ class Headline:
 
 HEADLINES: dict[StandKind, tuple[Headline, ...]] = {
     StandKind.SMTS2: (
-        Headline("friction_steady", "f"),
-        Headline("experimental.intensity", "I_h"),
+        Headline("friction_steady", "f", "friction_steady_uncertainty"),
+        Headline("experimental.intensity", "I_h", "experimental.intensity_uncertainty"),
+        Headline(
+            "experimental.specific_wear_rate", "k", "experimental.specific_wear_rate_uncertainty"
+        ),
         Headline("experimental.volume", "V"),
         Headline("experimental.mass_loss", "Δm"),
     ),
     StandKind.SLIDE_BEARING: (
-        Headline("chi_mean", "χ_ср"),
+        Headline("chi_mean", "χ_ср", "chi_mean_uncertainty"),
         Headline("pressure_max", "p_max"),
         Headline("phi_max", "φ_{p max}"),
+        Headline("attitude_angle", "ψ"),
     ),
     StandKind.MTOS: (
         Headline("friction_fluid", "f_э"),
         Headline("h_min_smallest", "h_min"),
-        Headline("steps[].friction_measured", "f_э"),
-        Headline("steps[].chi", "χ"),
+        Headline("steps[].friction_measured", "f_э", "steps[].friction_measured_uncertainty"),
+        Headline("steps[].chi", "χ", "steps[].chi_uncertainty"),
+        Headline("steps[].film_parameter", "Λ"),
     ),
     StandKind.PROFILOMETER: (
-        Headline("ra", "R_a"),
-        Headline("rz", "R_z"),
+        Headline("ra", "R_a", "ra_uncertainty"),
+        Headline("rz", "R_z", "rz_uncertainty"),
         Headline("rq", "R_q"),
         Headline("rmax", "R_max"),
         Headline("sm", "S_m"),
@@ -299,6 +304,8 @@ def _number(values: Mapping[str, Any] | None, path: str) -> float | None:
 
 
 def _uncertainty(values: Mapping[str, Any] | None, key: str, headline: Headline) -> float | None:
+    """The run's own standard uncertainty of the result ``key`` (per step: of that step)."""
     if headline.uncertainty is None:
         return None
-    return _number(values, headline.uncertainty)
+    step = key[key.find("[") : key.find("]") + 1] if _EACH in headline.path else _EACH
+    return _number(values, headline.uncertainty.replace(_EACH, step, 1))

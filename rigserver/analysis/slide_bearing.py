@@ -5,7 +5,9 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
+from rigserver.analysis import uncertainty
 from rigserver.analysis.readings import Readings
+from rigserver.analysis.uncertainty import estimate
 from rigserver.core import bearing, reynolds, stands
 from rigserver.core.errors import ModelInputError
 from schemas.results import AxialPoint, SlideBearingResults, SlideBearingRow
@@ -65,12 +67,27 @@ def analyse(run: Run, readings: Readings) -> SlideBearingResults:
         t_in=rows["t1"], t_out=rows["t2"], A=c.viscosity.A, alpha=c.viscosity.alpha, mu0=c.mu0
     )
     chi_mean = stands.mean_eccentricity_ratio(chi=ecc.chi)
+    psi = stands.slide_bearing_attitude_angle(e_x=ecc.e_x, e_y=ecc.e_y, limb_deg=rows["limb_angle"])
+    result.attitude_angle = float(np.degrees(np.angle(np.mean(np.exp(1j * psi)))))
     result.temperature, result.viscosity, result.mu_bar = (
         oil.temperature,
         oil.viscosity,
         oil.mu_bar,
     )
     result.chi_mean = chi_mean
+    u_chi = estimate(
+        uncertainty.slide_bearing_chi_mean(
+            x=rows["x"].tolist(),
+            y=rows["y"].tolist(),
+            x_zero=m["x_zero"],
+            y_zero=m["y_zero"],
+            per_division=scale,
+            limit_divisions=c.accuracy.displacement,
+            clearance=c.clearance,
+            clearance_limit=c.accuracy.clearance,
+        )
+    )
+    result.chi_mean_uncertainty, result.chi_mean_expanded = u_chi.standard, u_chi.expanded
     top = int(np.argmax(pressure))
     result.phi_max, result.pressure_max = float(phi_deg[top]), float(pressure[top])
     phi = np.radians(phi_deg)
@@ -83,10 +100,20 @@ def analyse(run: Run, readings: Readings) -> SlideBearingResults:
         err_short = stands.relative_error_percent(reference=pi_short, other=pi_measured).percent
         err_long = stands.relative_error_percent(reference=pi_long, other=pi_measured).percent
         finite = reynolds.solve_reynolds(chi=chi_mean, half_width=a, mu_bar=oil.mu_bar)
-        pi_finite = finite.pressure_at(phi=phi, z=np.zeros_like(phi))
+
+        def mid_plane(angle: NDArray[np.float64]) -> NDArray[np.float64]:
+            return finite.pressure_at(phi=angle, z=np.zeros_like(angle))
+
+        # (3.20) puts φ_k, where the holes lose pressure, at the thinnest film (φ = 360°),
+        # true of (3.10) and (3.15); the finite film ruptures φ_r later, so the hole at
+        # φ_мод sees the finite film's φ_мод + φ_r (docs/validity.md, slide bearing).
+        rupture = bearing.rupture_angle_deg(pressure=mid_plane)
+        result.rupture_angle = rupture
+        pi_finite = mid_plane(phi + np.radians(rupture))
     except ModelInputError as exc:
         result.notes.append(f"theory not computed: {exc}")
         finite = None
+        rupture = 0.0
         pi_short = pi_long = err_short = err_long = pi_finite = np.full(phi.shape, np.nan)
     for i in range(phi.size):
         result.table.append(
@@ -98,6 +125,7 @@ def analyse(run: Run, readings: Readings) -> SlideBearingResults:
                 e_y=float(ecc.e_y[i]),
                 e=float(ecc.e[i]),
                 chi=float(ecc.chi[i]),
+                attitude=float(np.degrees(psi[i])),
                 pi_measured=float(pi_measured[i]),
                 pi_short=_opt(pi_short[i]),
                 pi_long=_opt(pi_long[i]),
@@ -117,7 +145,7 @@ def analyse(run: Run, readings: Readings) -> SlideBearingResults:
     except ModelInputError:
         pi_m = err_z = np.full(z.shape, np.nan)
     pi_fz = (
-        finite.pressure_at(phi=np.full(z.shape, phi[top]), z=z)
+        finite.pressure_at(phi=np.full(z.shape, phi[top] + np.radians(rupture)), z=z)
         if finite is not None
         else np.full(z.shape, np.nan)
     )

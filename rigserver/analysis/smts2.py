@@ -2,17 +2,27 @@
 
 from __future__ import annotations
 
+import dataclasses
+import math
+from collections.abc import Callable
+
 import numpy as np
 
 from rigserver.analysis.readings import Readings
+from rigserver.analysis.references import Profiles
 from rigserver.analysis.streaming import BlockSeries, TailMoments
+from rigserver.analysis.uncertainty import batch_mean, estimate, from_limit, from_resolution
 from rigserver.core import wear
 from rigserver.core.errors import ModelInputError
+from rigserver.core.wear_validity import wear_theory_validity
 from schemas.results import (
     AdequacyResult,
+    DiscWearResult,
     ExperimentalWearResult,
+    SensitivityPoint,
     Smts2Results,
     TheoreticalWearResult,
+    WearValidityResult,
 )
 from schemas.runs import Run
 from schemas.stands import Smts2Config
@@ -22,9 +32,16 @@ GROUP = "friction"
 _REV_PER_COUNT = UNITS["100 rev"].factor
 _KG_PER_G = UNITS["g"].factor
 _M_PER_UM = UNITS["um"].factor
+_M_PER_MM = UNITS["mm"].factor
+#: t over the range of table 2.1 (1.3 for plastic steels to 13-14 for steel 30).
+SENSITIVITY_T = (1.3, 2.0, 3.0, 5.0, 8.0, 11.0, 14.0)
+#: σ0/σ_B of the sensitivity table, at the t that (2.7) picks.
+SENSITIVITY_STRENGTH = (0.5, 1.0, 2.0, 5.0, 10.0)
+
+TheoryAt = Callable[[float, float], wear.TheoreticalWear]
 
 
-def analyse(run: Run, readings: Readings) -> Smts2Results:
+def analyse(run: Run, readings: Readings, profiles: Profiles | None = None) -> Smts2Results:
     config = Smts2Config.model_validate(run.configuration)
     total = readings.rows(GROUP)
     series = BlockSeries(total)
@@ -64,6 +81,22 @@ def analyse(run: Run, readings: Readings) -> Smts2Results:
     if total == 0:
         result.pending.append("no friction record yet")
         return result
+    acc = config.accuracy
+    steady = [
+        y for x, y in zip(result.friction.x, result.friction.y, strict=True) if x >= steady_time
+    ]
+    if len(steady) >= 2:
+        f_u = estimate(
+            batch_mean(steady)
+            * from_limit(1.0, acc.moment, "M")
+            / from_limit(1.0, acc.load, "N")
+            * config.disc_radius
+            / from_limit(config.disc_radius, acc.length, "r2")
+        )
+        result.friction_steady_uncertainty, result.friction_steady_expanded = (
+            f_u.standard,
+            f_u.expanded,
+        )
     m = readings.measurements()
     pin_radius = config.pin_diameter / 2.0
     if "pin_mass_before" in m and "pin_mass_after" in m and revolutions > 0:
@@ -81,18 +114,25 @@ def analyse(run: Run, readings: Readings) -> Smts2Results:
             wear_depth=exp.wear_depth,
             sliding_distance=exp.sliding_distance,
             intensity=exp.intensity,
+            specific_wear_rate=exp.volume / (result.mean_load * exp.sliding_distance),
         )
+        _wear_uncertainty(config, result, m["pin_mass_before"], m["pin_mass_after"], revolutions)
     else:
         result.pending.append(
             "experimental wear needs pin_mass_before, pin_mass_after and revolutions"
         )
+    track = (profiles or Profiles()).traces.get("disc")
+    if track is not None and revolutions > 0:
+        result.disc_wear = _disc_wear(run, config, result, track)
     if "disc_ra" in m:
-        result.theoretical = _theoretical(config, result, m["disc_ra"] * _M_PER_UM)
+        _theoretical(config, result, m["disc_ra"] * _M_PER_UM)
     else:
         result.pending.append(
             "theoretical wear needs disc_ra (the disc's Ra from the profilometer)"
         )
-    if result.experimental and result.theoretical and result.experimental.intensity > 0:
+    if result.validity is not None and not result.validity.within_range:
+        result.verdict = "theory outside its range: " + "; ".join(result.validity.reasons)
+    elif result.experimental and result.theoretical and result.experimental.intensity > 0:
         adequacy = wear.wear_adequacy(
             i_exp=result.experimental.intensity, i_theor=result.theoretical.intensity
         )
@@ -102,15 +142,18 @@ def analyse(run: Run, readings: Readings) -> Smts2Results:
             lower=adequacy.lower,
             upper=adequacy.upper,
         )
+        result.verdict = (
+            f"model (2.1) {'adequate' if adequacy.adequate else 'not adequate'} (2.15): "
+            f"ΔI_h = {adequacy.relative_error_percent:.3g} %"
+        )
     return result
 
 
-def _theoretical(
-    config: Smts2Config, result: Smts2Results, ra_disc: float
-) -> TheoreticalWearResult | None:
+def _theoretical(config: Smts2Config, result: Smts2Results, ra_disc: float) -> None:
+    """(2.1) for the run, its applicability figures and the sensitivity table, into result."""
     pin = config.pin
 
-    def at(t: float) -> wear.TheoreticalWear:
+    def at(t: float, strength_ratio: float = 1.0) -> wear.TheoreticalWear:
         return wear.wear_intensity_theoretical(
             load=result.mean_load,
             pin_radius=config.pin_diameter / 2.0,
@@ -126,6 +169,7 @@ def _theoretical(
             fatigue_t=t,
             nu=config.nu,
             b=config.b,
+            fatigue_strength=strength_ratio * pin.tensile_strength,
         )
 
     try:
@@ -135,8 +179,10 @@ def _theoretical(
             theory, t = at(config.fatigue_t_plastic), config.fatigue_t_plastic
     except ModelInputError as exc:
         result.notes.append(f"theoretical wear not computed: {exc}")
-        return None
-    return TheoreticalWearResult(
+        return
+    result.validity = _validity(config, result.friction_steady, theory, t, 1.0)
+    result.sensitivity = _sensitivity(config, result.friction_steady, at, t)
+    result.theoretical = TheoreticalWearResult(
         intensity=theory.intensity,
         contact=theory.contact,
         fatigue_t=t,
@@ -150,4 +196,96 @@ def _theoretical(
         beta=theory.beta,
         k_nu=theory.k_nu,
         k_f=theory.k_f,
+    )
+
+
+def _validity(
+    config: Smts2Config,
+    f: float,
+    theory: wear.TheoreticalWear,
+    t: float,
+    strength_ratio: float,
+) -> WearValidityResult:
+    pin = config.pin
+    v = wear_theory_validity(
+        theory=theory,
+        friction_coefficient=f,
+        poisson=pin.poisson,
+        hardness=pin.hardness,
+        yield_strength=pin.yield_strength,
+        fatigue_strength=strength_ratio * pin.tensile_strength,
+        fatigue_t=t,
+        b=config.b,
+        nu=config.nu,
+    )
+    return WearValidityResult.model_validate(dataclasses.asdict(v))
+
+
+def _sensitivity(
+    config: Smts2Config, f: float, at: TheoryAt, t_used: float
+) -> list[SensitivityPoint]:
+    """I_h and n over t (at σ0 = σ_B) and over σ0/σ_B (at the t used)."""
+    grid = [(t, 1.0) for t in SENSITIVITY_T] + [
+        (t_used, r) for r in SENSITIVITY_STRENGTH if r != 1.0
+    ]
+    points = []
+    for t, ratio in grid:
+        try:
+            theory = at(t, ratio)
+        except ModelInputError:
+            points.append(SensitivityPoint(fatigue_t=t, strength_ratio=ratio))
+            continue
+        n = _validity(config, f, theory, t, ratio).cycles_to_failure
+        points.append(
+            SensitivityPoint(
+                fatigue_t=t,
+                strength_ratio=ratio,
+                intensity=theory.intensity,
+                cycles_to_failure=n,
+            )
+        )
+    return points
+
+
+def _wear_uncertainty(
+    config: Smts2Config, result: Smts2Results, before_g: float, after_g: float, turns: float
+) -> None:
+    """u(I_h) and u(k) from the balance's resolution, the specimens' dimensions, ρ, the
+    counter's step and the load's tolerance, first order (GUM 5.1.2)."""
+    assert result.experimental is not None
+    acc = config.accuracy
+    loss = from_resolution(before_g * _KG_PER_G, acc.balance_resolution) - from_resolution(
+        after_g * _KG_PER_G, acc.balance_resolution
+    )
+    volume = loss / from_limit(config.pin.density, acc.density)
+    r1 = from_limit(config.pin_diameter / 2.0, acc.length)
+    distance = (
+        2.0
+        * math.pi
+        * from_limit(config.disc_radius, acc.length)
+        * from_resolution(turns, acc.counter)
+    )
+    intensity = estimate(volume / (math.pi * r1**2) / distance)
+    rate = estimate(volume / (result.mean_load * from_limit(1.0, acc.load) * distance))
+    e = result.experimental
+    e.intensity_uncertainty, e.intensity_expanded = intensity.standard, intensity.expanded
+    e.specific_wear_rate_uncertainty, e.specific_wear_rate_expanded = rate.standard, rate.expanded
+
+
+def _disc_wear(
+    run: Run, config: Smts2Config, result: Smts2Results, track: Readings
+) -> DiscWearResult | None:
+    """The disc's worn volume: the track's cross-section (a profile across it) × 2π r2."""
+    trace = track.read("profile")
+    try:
+        area = wear.wear_track_area(x=trace["x"] * _M_PER_MM, y=trace["y"] * _M_PER_UM)
+    except (KeyError, ModelInputError) as exc:
+        result.notes.append(f"disc wear not computed from the track's profile: {exc}")
+        return None
+    volume = area * 2.0 * math.pi * config.disc_radius
+    return DiscWearResult(
+        profile_run=str(run.specimen["disc_profile_run"]),
+        track_area=area,
+        volume=volume,
+        specific_wear_rate=volume / (result.mean_load * result.sliding_distance),
     )

@@ -11,9 +11,10 @@ import numpy as np
 from fastapi.concurrency import run_in_threadpool
 from numpy.typing import NDArray
 
-from rigserver.analysis import AnalysisResult, analyse
+from rigserver.analysis import AnalysisResult, Readings, analyse
 from rigserver.api.deps import Services
 from rigserver.api.results_cache import Computed
+from rigserver.storage.errors import RunNotFound
 from schemas.runs import Run, RunState
 from schemas.stands import MEASUREMENTS
 
@@ -48,7 +49,16 @@ class StoredReadings:
 
 def compute_results(services: Services, run: Run) -> AnalysisResult:
     """The stand's results on what the run holds now (all of it once finished)."""
-    return analyse(run, StoredReadings(services, run))
+    return analyse(run, StoredReadings(services, run), lambda run_id: _lookup(services, run_id))
+
+
+def _lookup(services: Services, run_id: str) -> tuple[Run, Readings] | None:
+    """Another run of the store and its readings (the profilometer runs a run names)."""
+    try:
+        other = services.store.get_run(run_id)
+    except RunNotFound:
+        return None
+    return other, StoredReadings(services, other)
 
 
 def stored_results(services: Services, run: Run) -> dict[str, Any] | None:

@@ -16,6 +16,7 @@ Equation numbers are the lab manual's.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -648,3 +649,36 @@ def friction_coefficient_theoretical(
     )
     journal_radius = positive("bearing_radius", bearing_radius) - finite("clearance", clearance)
     return np.asarray(result.moment / (load_ * journal_radius), dtype=np.float64)
+
+
+#: Pressure below this share of the load zone's peak counts as the ruptured film.
+RUPTURE_SHARE = 1e-3
+
+
+def rupture_angle_deg(
+    *, pressure: Callable[[FloatArray], FloatArray], step_deg: float = 0.1
+) -> float:
+    """φ_r: how far past the thinnest film (φ = 2π ≡ 0) the film keeps its pressure, degrees.
+
+    The first angle φ >= 0 (model frame, thinnest film at φ = 0 as in (3.11)) where the
+    pressure falls to :data:`RUPTURE_SHARE` of its peak over the load zone π..2π. Zero for
+    the asymptotes (3.10) and (3.15), whose load zone ends at the thinnest film; a few
+    degrees up to ~20° for the finite film with the Reynolds condition.
+
+    Parameters
+    ----------
+    pressure : callable
+        p(φ) along the meridional plane (any unit), φ in rad of the model frame.
+    step_deg : float
+        Resolution of the search, degrees (> 0).
+
+    Returns
+    -------
+    float
+        φ_r in [0, 90) degrees, a multiple of ``step_deg``; 0 when no rupture is found there.
+    """
+    step = float(positive("step_deg", step_deg))
+    phi = np.radians(np.arange(0.0, 90.0, step))
+    peak = float(np.max(pressure(np.radians(np.arange(180.0, 360.0, step / 2.0)))))
+    low = np.flatnonzero(pressure(phi) <= RUPTURE_SHARE * peak)
+    return float(np.degrees(phi[low[0]])) if low.size else 0.0

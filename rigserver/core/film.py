@@ -16,6 +16,12 @@ from rigserver.core._checks import non_negative, positive, within
 
 FloatArray = NDArray[np.float64]
 Regime = Literal["fluid", "mixed"]
+LambdaRegime = Literal["full film", "mixed", "boundary"]
+
+#: Bands of the film parameter Λ (Hamrock, Schmid and Jacobson): boundary below the first,
+#: full film above the second, mixed between (both edges belong to the mixed band).
+LAMBDA_BOUNDARY = 1.0
+LAMBDA_FULL_FILM = 3.0
 
 
 @dataclass(frozen=True, slots=True)
@@ -151,3 +157,57 @@ def film_regime(*, h_min: float, h_crit: float) -> Regime:
     thickness = float(non_negative("h_min", h_min))
     critical = float(non_negative("h_crit", h_crit))
     return "fluid" if thickness >= critical else "mixed"
+
+
+def film_parameter(*, h_min: ArrayLike, journal_rq: float, bush_rq: float) -> FloatArray:
+    """Film parameter: the minimum film thickness over the composite rms roughness.
+
+    .. math:: Λ = \\frac{h_{min}}{\\sqrt{R_{q,ш}^2 + R_{q,с}^2}}
+
+    Parameters
+    ----------
+    h_min : array_like
+        Minimum film thickness, m (>= 0).
+    journal_rq, bush_rq : float
+        Rq (= ρ of lab work 1) of the journal and of the bush, m (>= 0, not both zero).
+
+    Returns
+    -------
+    ndarray
+        Λ, dimensionless, shaped as ``h_min``.
+
+    References
+    ----------
+    .. [1] B. J. Hamrock, S. R. Schmid, B. O. Jacobson, Fundamentals of Fluid Film
+       Lubrication, 2nd ed., Marcel Dekker, 2004, ch. 3 (film parameter and the
+       lubrication regimes).
+    """
+    h = non_negative("h_min", h_min)
+    composite = float(
+        np.hypot(non_negative("journal_rq", journal_rq), non_negative("bush_rq", bush_rq))
+    )
+    positive("composite roughness √(Rq_journal² + Rq_bush²)", composite)
+    return np.asarray(h / composite, dtype=np.float64)
+
+
+def lambda_regime(*, film_parameter: float) -> LambdaRegime:
+    """Lubrication regime by the film parameter Λ (Hamrock, Schmid and Jacobson).
+
+    Parameters
+    ----------
+    film_parameter : float
+        Λ = h_min/√(Rq_journal² + Rq_bush²), dimensionless (>= 0).
+
+    Returns
+    -------
+    {"full film", "mixed", "boundary"}
+        "boundary" when Λ < 1, "full film" when Λ > 3, "mixed" for 1 <= Λ <= 3.
+
+    References
+    ----------
+    .. [1] Hamrock, Schmid and Jacobson, Fundamentals of Fluid Film Lubrication, ch. 3.
+    """
+    value = float(non_negative("film_parameter", film_parameter))
+    if value < LAMBDA_BOUNDARY:
+        return "boundary"
+    return "full film" if value > LAMBDA_FULL_FILM else "mixed"

@@ -235,9 +235,25 @@ def _ten_point_height(
             f"y has {peaks.size} local peaks and {valleys.size} local valleys: Rz needs at "
             "least one of each"
         )
-    highest = np.sort(r[peaks])[::-1][:RZ_POINTS]
-    deepest = np.sort(r[valleys])[:RZ_POINTS]
+    highest = np.sort(_per_element(r, peaks, above=True))[::-1][:RZ_POINTS]
+    deepest = np.sort(-_per_element(r, valleys, above=False))[:RZ_POINTS]
     return float(highest.mean() - deepest.mean())
+
+
+def _per_element(
+    r: NDArray[np.float64], extrema: NDArray[np.intp], *, above: bool
+) -> NDArray[np.float64]:
+    """The highest peak (above) or, negated, the deepest valley of each stretch of the profile
+    on one side of the mean line: noise on one asperity makes several local extrema, its
+    element has one peak. Extrema on the other side of the line count as their own stretch
+    (they never reach the five highest unless the profile has fewer elements)."""
+    side = r >= 0.0
+    stretch = np.concatenate(([0], np.cumsum(side[1:] != side[:-1])))
+    value = r[extrema] if above else -r[extrema]
+    order = np.lexsort((value, stretch[extrema]))
+    labels = stretch[extrema][order]
+    last = np.flatnonzero(np.append(labels[1:] != labels[:-1], True))
+    return np.asarray(value[order][last], dtype=np.float64)
 
 
 def _crossings(x: NDArray[np.float64], r: NDArray[np.float64]) -> tuple[NDArray[np.float64], int]:
@@ -313,7 +329,9 @@ def profile_parameters(*, x: ArrayLike, y: ArrayLike) -> ProfileParameters:
       relative error of order (2π/M)².
     - Rz uses the local extrema of the samples (endpoints excluded) measured from the mean
       line, with H_min signed, so that (1.4) with absolute values is recovered when the
-      peaks are above and the valleys below the mean line. With fewer than five peaks
+      peaks are above and the valleys below the mean line; of the extrema between two
+      crossings of the mean line only the highest peak (deepest valley) counts, so that the
+      noise on one asperity's top does not count as five peaks. With fewer than five peaks
       (valleys) the mean is taken over those there are.
     - A profile element runs from one up-crossing of the mean line to the next (crossings
       located by linear interpolation; a sample on the line counts as above), so Sm is

@@ -82,9 +82,11 @@ def _eccentricity(
     x_set: ArrayLike,
     y_set: ArrayLike,
     clearance: FloatArray,
+    signed: bool = False,
 ) -> Eccentricity:
-    e_x = offset - np.abs(finite("x_set", x_set) - finite("x", x))
-    e_y = offset - np.abs(finite("y_set", y_set) - finite("y", y))
+    fold = (lambda d: -d) if signed else np.abs
+    e_x = offset - fold(finite("x_set", x_set) - finite("x", x))
+    e_y = offset - fold(finite("y_set", y_set) - finite("y", y))
     e = np.hypot(e_x, e_y)
     return Eccentricity(e_x=e_x, e_y=e_y, e=e, chi=e / clearance)
 
@@ -166,6 +168,39 @@ def measured_dimensionless_pressure(
     psi = positive("clearance", clearance) / positive("bearing_radius", bearing_radius)
     scale = positive("mu0", mu0) * positive("omega0", omega0)
     return np.asarray(finite("gauge_pressure", gauge_pressure) * psi**2 / scale, dtype=np.float64)
+
+
+def slide_bearing_attitude_angle(
+    *, e_x: ArrayLike, e_y: ArrayLike, limb_deg: ArrayLike
+) -> FloatArray:
+    """Attitude angle ψ of the slide bearing from the displacements of one row.
+
+    .. math:: ψ = \\operatorname{atan2}(e_y, e_x) - (135° - φ_{лимб})
+
+    The zero readings X_уст, Y_уст are taken with the limb at 135° and 45°, where the load
+    presses the bearing along the X and the Y sensor: the load acts along 135° - φ_лимб from
+    the X axis, and the line of centres leads it by ψ in the direction of rotation.
+
+    Parameters
+    ----------
+    e_x, e_y : array_like
+        Eccentricity components of :func:`slide_bearing_eccentricity`, m.
+    limb_deg : array_like
+        Limb reading of the row, degrees.
+
+    Returns
+    -------
+    ndarray
+        ψ, rad, wrapped to (-π, π].
+
+    References
+    ----------
+    .. [1] Lab manual, lab work 3, (3.16)-(3.17) and the zero-reading procedure.
+    """
+    raw = np.arctan2(finite("e_y", e_y), finite("e_x", e_x)) - np.radians(
+        135.0 - finite("limb_deg", limb_deg)
+    )
+    return np.asarray(np.pi - np.mod(np.pi - raw, 2.0 * np.pi), dtype=np.float64)
 
 
 def model_angle_deg(*, limb_deg: ArrayLike, load_zone_end_deg: ArrayLike) -> FloatArray:
@@ -338,11 +373,17 @@ def mtos_eccentricity(
     x_set: ArrayLike,
     y_set: ArrayLike,
     clearance: ArrayLike,
+    signed: bool = False,
 ) -> Eccentricity:
     """Eccentricity of the journal on the MTOS stand (4.11).
 
     .. math:: e_x = h_0\\cos45° - |X_{уст} - X|,\\ e_y = h_0\\cos45° - |Y_{уст} - Y|,\\
               e = \\sqrt{e_x^2 + e_y^2},\\ χ = e/h_0
+
+    With ``signed`` the sensors' direction is known (they read more as the journal lifts off
+    the zero contact): e_x = h_0 cos45° - (X - X_уст), likewise e_y. The |·| of (4.11) folds
+    a component beyond h_0 cos45° back, which happens whenever the journal rolls up the bush
+    by the friction angle γ near contact (experiments 2 and 3); the signed form does not.
 
     Parameters
     ----------
@@ -352,6 +393,8 @@ def mtos_eccentricity(
         Setting readings X_уст, Y_уст (taken at 2 kN), m.
     clearance : array_like
         Radial clearance h0, m (> 0).
+    signed : bool
+        Use the sensors' sign instead of the |·| of (4.11).
 
     Returns
     -------
@@ -363,7 +406,7 @@ def mtos_eccentricity(
     .. [1] Lab manual, lab work 4, (4.11).
     """
     h0 = positive("clearance", clearance)
-    return _eccentricity(h0 * np.cos(np.pi / 4.0), x, y, x_set, y_set, h0)
+    return _eccentricity(h0 * np.cos(np.pi / 4.0), x, y, x_set, y_set, h0, signed)
 
 
 @dataclass(frozen=True, slots=True)

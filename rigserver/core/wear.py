@@ -15,7 +15,7 @@ from typing import Literal
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from rigserver.core._checks import non_negative, positive, within
+from rigserver.core._checks import finite, non_negative, positive, within
 from rigserver.core.errors import ModelInputError, ModelUndefinedError
 from rigserver.core.roughness import complex_parameter_from_ra
 
@@ -29,11 +29,14 @@ __all__ = [
     "TheoreticalWear",
     "WearAdequacy",
     "adhesive_oxidative_difference",
+    "elastic_fatigue_factor",
     "friction_coefficient",
+    "plastic_fatigue_factor",
     "steady_friction",
     "wear_adequacy",
     "wear_intensity_experimental",
     "wear_intensity_theoretical",
+    "wear_track_area",
 ]
 
 #: Density of steel the manual uses for the worn volume, kg/m³ (2.10).
@@ -337,6 +340,7 @@ def wear_intensity_theoretical(
     fatigue_t: float,
     nu: float = 2.0,
     b: float = 2.0,
+    fatigue_strength: float | None = None,
 ) -> TheoreticalWear:
     """Linear fatigue-wear intensity of the pin by Kragelsky's model (2.1)-(2.7).
 
@@ -383,6 +387,9 @@ def wear_intensity_theoretical(
         contact (table 2.1 lists more). Pass the one that fits the expected mode.
     nu, b : float
         Bearing-curve parameters ν and b_ν of the disc (> 0); 2 and 2 after running-in.
+    fatigue_strength : float, optional
+        σ0 of the fatigue curve n = (σ0/σ)^t, Pa (> 0); (2.1) takes σ0 = σ_B, the default.
+        Only the elastic branch uses it (a sensitivity study varies σ0/σ_B).
 
     Returns
     -------
@@ -427,6 +434,11 @@ def wear_intensity_theoretical(
     HB = _positive_float("hardness", hardness)
     sigma_t = _positive_float("yield_strength", yield_strength)
     sigma_b = _positive_float("tensile_strength", tensile_strength)
+    sigma_0 = (
+        sigma_b
+        if fatigue_strength is None
+        else _positive_float("fatigue_strength", fatigue_strength)
+    )
     e_b = float(within("elongation", elongation, 0.0, 1.0, closed=(False, True)))
     t = _positive_float("fatigue_t", fatigue_t)
     nu_ = _positive_float("nu", nu)
@@ -460,24 +472,26 @@ def wear_intensity_theoretical(
     contact: Contact
     if p_c <= HB:  # (2.7)
         contact = "elastic"
-        k_f = (2.0 / math.pi) * math.sqrt(4.0 * f**2 * (1.0 - mu + mu**2) + (1.0 - 2.0 * mu))
+        k_f = elastic_fatigue_factor(friction_coefficient=f, poisson=mu)
         intensity = (
             C
             * (p_c * theta / k_nu) ** (1.0 + beta * t)
-            * (k_f / (sigma_b * theta)) ** t
+            * (k_f / (sigma_0 * theta)) ** t
             * rmax_over_r ** (t * (1.0 + beta) / 2.0)
             * (eta_c * b_nu) ** (-beta * t)
         )
     else:
         contact = "plastic"
-        two_f_hb = 2.0 * f * HB
-        if sigma_t <= two_f_hb:
+        plastic_k_f = plastic_fatigue_factor(
+            friction_coefficient=f, yield_strength=sigma_t, hardness=HB
+        )
+        if plastic_k_f is None:
             raise ModelUndefinedError(
                 f"k_f^n of (2.1) is undefined in plastic contact: σ_T = yield_strength = "
-                f"{sigma_t} Pa <= 2f·HB = {two_f_hb} Pa (f = {f}, HB = {HB} Pa); "
+                f"{sigma_t} Pa <= 2f·HB = {2.0 * f * HB} Pa (f = {f}, HB = {HB} Pa); "
                 "the plastic fatigue model needs σ_T > 2f·HB"
             )
-        k_f = math.sqrt(2.0 * (sigma_t + two_f_hb) / (sigma_t - two_f_hb))
+        k_f = plastic_k_f
         intensity = (
             C
             * math.sqrt(2.0)
@@ -501,6 +515,94 @@ def wear_intensity_theoretical(
         k_nu=k_nu,
         k_f=k_f,
     )
+
+
+def elastic_fatigue_factor(*, friction_coefficient: float, poisson: float) -> float:
+    """Stress factor of elastic sliding contact, k_f^y of (2.1).
+
+    .. math:: k_f^y = \\frac{2}{\\pi}\\sqrt{4f^2(1 - μ + μ^2) + 1 - 2μ}
+
+    Parameters
+    ----------
+    friction_coefficient : float
+        f, dimensionless (>= 0).
+    poisson : float
+        μ of the wearing body, 0 <= μ <= 0.5.
+
+    Returns
+    -------
+    float
+        k_f^y: the largest stress at an asperity over its mean contact pressure.
+    """
+    f = float(non_negative("friction_coefficient", friction_coefficient))
+    mu = float(within("poisson", poisson, 0.0, 0.5))
+    return (2.0 / math.pi) * math.sqrt(4.0 * f**2 * (1.0 - mu + mu**2) + (1.0 - 2.0 * mu))
+
+
+def plastic_fatigue_factor(
+    *, friction_coefficient: float, yield_strength: float, hardness: float
+) -> float | None:
+    """Strain factor of plastic sliding contact, k_f^n of (2.1); None where undefined.
+
+    .. math:: k_f^n = \\sqrt{\\frac{2(σ_T + 2f\\,HB)}{σ_T - 2f\\,HB}}
+
+    Parameters
+    ----------
+    friction_coefficient : float
+        f, dimensionless (>= 0).
+    yield_strength : float
+        σ_T of the wearing body, Pa (> 0).
+    hardness : float
+        HB of the wearing body, Pa (> 0).
+
+    Returns
+    -------
+    float or None
+        k_f^n, or None when σ_T <= 2f·HB (no real value: the plastic branch of (2.1) does
+        not apply).
+    """
+    f = float(non_negative("friction_coefficient", friction_coefficient))
+    sigma_t = _positive_float("yield_strength", yield_strength)
+    two_f_hb = 2.0 * f * _positive_float("hardness", hardness)
+    if sigma_t <= two_f_hb:
+        return None
+    return math.sqrt(2.0 * (sigma_t + two_f_hb) / (sigma_t - two_f_hb))
+
+
+def wear_track_area(*, x: ArrayLike, y: ArrayLike, shoulder: float = 0.1) -> float:
+    """Cross-section area of a wear track from a profile traced across it.
+
+    .. math:: A = \\int \\max(0,\\ y_0(x) - y(x))\\,dx
+
+    with y_0 the unworn surface: the least-squares line through the trace's two shoulders
+    (its first and last ``shoulder`` of the length, which must lie off the track).
+
+    Parameters
+    ----------
+    x, y : array_like
+        Position across the track and height, m; x increasing, at least 10 samples.
+    shoulder : float
+        Share of the trace at each end taken as unworn, 0 < shoulder < 0.5.
+
+    Returns
+    -------
+    float
+        A, m² (the trapezoid rule on the depths below y_0). Times the track's length 2π r2
+        it is the disc's worn volume (ASTM G99).
+    """
+    xs = finite("x", x)
+    ys = finite("y", y)
+    share = float(within("shoulder", shoulder, 0.0, 0.5, closed=(False, False)))
+    if xs.ndim != 1 or xs.shape != ys.shape or xs.size < 10 or np.any(np.diff(xs) <= 0):
+        raise ModelInputError(
+            f"x and y must be one-dimensional, of equal length >= 10, x increasing; got "
+            f"shapes {xs.shape}, {ys.shape}"
+        )
+    edge = max(2, int(share * xs.size))
+    ends = np.r_[0:edge, xs.size - edge : xs.size]
+    slope, intercept = np.polyfit(xs[ends], ys[ends], 1)
+    depth = np.clip(slope * xs + intercept - ys, 0.0, None)
+    return float(np.sum((depth[1:] + depth[:-1]) * np.diff(xs)) / 2.0)
 
 
 @dataclass(frozen=True, slots=True)

@@ -8,7 +8,7 @@ from markupsafe import Markup
 from pydantic import BaseModel
 
 from rigserver.reports.document import Table, Text
-from rigserver.reports.formatting import fmt, html_symbol, tex
+from rigserver.reports.formatting import fmt, html_symbol, tex, with_uncertainty
 from rigserver.reports.i18n import Messages
 from schemas.channels import ChannelGroup
 from schemas.quantity import units_of
@@ -92,3 +92,33 @@ def columns(
         for row in zip(*data, strict=True)
     ]
     return Table(caption=caption, header=head, rows=rows, note=note)
+
+
+def uncertainties(
+    t: Messages, model: BaseModel, fields: Sequence[tuple[str, str, str]], label: str = ""
+) -> list[list[Text]]:
+    """Rows of the uncertainty table: ``(field, symbol, message key)`` with the field's
+    ``<field>_expanded`` beside it, printed ``value ± U (k = 2)``; fields without a value
+    are left out. ``label`` goes after the quantity's name (an MTOS step)."""
+    units = units_of(type(model))
+    rows: list[list[Text]] = []
+    for name, symbol, key in fields:
+        value = getattr(model, name)
+        if value is None:
+            continue
+        unit = units.get(name)
+        rows.append(
+            [
+                html_symbol(f"{t(key)}{label}"),
+                html_symbol(symbol),
+                with_uncertainty(value, getattr(model, f"{name}_expanded", None)),
+                t.unit(unit) if unit is not None else "",
+            ]
+        )
+    return rows
+
+
+def uncertainty_table(t: Messages, rows: list[list[Text]]) -> Table:
+    """The results with their expanded uncertainties (GUM, k = 2)."""
+    head: list[Text] = [t("col.quantity"), t("col.symbol"), t("col.value"), t("col.unit")]
+    return Table(caption=t("u.caption"), header=head, rows=rows, labels=2)

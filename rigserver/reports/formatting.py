@@ -40,6 +40,20 @@ def fmt(value: float | int | None) -> str:
     return f"{mantissa}·10{str(int(exponent)).translate(_SUPERSCRIPT)}"
 
 
+def with_uncertainty(value: float | None, expanded: float | None) -> str:
+    """``0.401 ± 0.012 (k = 2)``: a result and its expanded uncertainty (GUM), the value
+    rounded to the uncertainty's second significant figure; the value alone without one."""
+    if value is None or expanded is None or not math.isfinite(expanded) or expanded <= 0:
+        return fmt(value)
+    places = 1 - math.floor(math.log10(expanded))
+    if -4 <= math.floor(math.log10(abs(value) or expanded)) <= 3 and places >= 0:
+        return f"{value:.{places}f} ± {expanded:.{places}f} (k = 2)"
+    scale = 10.0 ** math.floor(math.log10(abs(value) or expanded))
+    digits = max(0, places + math.floor(math.log10(scale)))
+    power = str(int(math.log10(scale))).translate(_SUPERSCRIPT)
+    return f"({value / scale:.{digits}f} ± {expanded / scale:.{digits}f})·10{power} (k = 2)"
+
+
 def value_text(value: Any) -> str:
     """A free-form value (specimen, test plan, configuration): numbers by :func:`fmt`,
     lists joined by commas, words as they are."""

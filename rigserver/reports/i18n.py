@@ -98,6 +98,9 @@ UNIT_LABELS: dict[str, tuple[str, str]] = {
     "N/m": ("N/m", "Н/м"),
     "m^2": ("m²", "м²"),
     "m^3": ("m³", "м³"),
+    "mm^3": ("mm³", "мм³"),
+    "m^2/N": ("m³/(N·m)", "м³/(Н·м)"),
+    "mm^3/(N*m)": ("mm³/(N·m)", "мм³/(Н·м)"),
     "1/m": ("1/m", "1/м"),
     "m/N": ("m/N", "м/Н"),
     "m/N^(2/3)": ("m/N^(2/3)", "м/Н^(2/3)"),
@@ -226,6 +229,24 @@ MESSAGES: dict[str, tuple[str, str]] = {
     "regime.fluid": ("fluid film", "жидкостная"),
     "regime.mixed": ("mixed", "полужидкостная"),
     "regime.boundary": ("boundary", "граничная"),
+    "regime.full film": ("full film", "жидкостная"),
+    "col.film_lambda": ("Regime by Λ", "Режим по Λ"),
+    "u.caption": (
+        "Measurement uncertainty (GUM): value ± expanded uncertainty U = 2u (k = 2)",
+        "Неопределённость измерений (GUM): значение ± расширенная неопределённость U = 2u (k = 2)",
+    ),
+    "u.step": (", step {i}, N = {load} N", ", шаг {i}, N = {load} Н"),
+    "m.chi": ("eccentricity ratio (4.11)", "относительный эксцентриситет (4.11)"),
+    "m.f_measured": ("friction coefficient (4.16)", "коэффициент трения (4.16)"),
+    "m.disagree": (
+        "Where the film criteria name another regime than the experiment's oil feed: {items}.",
+        "Где критерии плёнки называют иной режим, чем подача масла в опыте: {items}.",
+    ),
+    "b.attitude": ("attitude angle ψ from X, Y", "угол положения линии центров ψ по X, Y"),
+    "b.rupture": (
+        "rupture of the finite film past the thinnest film",
+        "разрыв плёнки конечного подшипника за минимальным зазором",
+    ),
     "contact.elastic": ("elastic", "упругий"),
     "contact.plastic": ("plastic", "пластический"),
     # --- the web pages --------------------------------------------------------------------
@@ -421,6 +442,39 @@ MESSAGES: dict[str, tuple[str, str]] = {
         "I_{{h,эксп}} = {exp} вне интервала 0,4·I_{{h,теор}} … 2,6·I_{{h,теор}} = "
         "{lower} … {upper} (I_{{h,теор}} = {theor}, контакт {contact}; ΔI_h = {error} %): "
         "модель (2.1) неадекватна этому опыту (2.15).",
+    ),
+    "w.k": (
+        "specific wear rate k = V/(F·L) (ASTM G99)",
+        "удельная интенсивность изнашивания k = V/(F·L) (ASTM G99)",
+    ),
+    "w.disc_wear": (
+        "Wear of the disc from a profile across its track (ASTM G99)",
+        "Износ диска по профилограмме поперёк дорожки трения (ASTM G99)",
+    ),
+    "w.track_area": ("cross-section area of the track", "площадь сечения дорожки"),
+    "w.disc_volume": ("worn volume of the disc", "объём износа диска"),
+    "w.validity": (
+        "Validity of the fatigue-wear theory (2.1) (docs/validity.md)",
+        "Применимость усталостной теории изнашивания (2.1) (docs/validity.md)",
+    ),
+    "w.within_range": ("theory within its range", "теория в своей области применимости"),
+    "w.approach": ("relative approach ε", "относительное сближение ε"),
+    "w.eta_r": ("real contact area over contour area", "отношение фактической площади к контурной"),
+    "w.pr": ("real-contact pressure", "фактическое давление на пятнах контакта"),
+    "w.hb": ("hardness of the pin HB", "твёрдость образца HB"),
+    "w.sigma": ("asperity stress k_f·p_r", "напряжение на неровности k_f·p_r"),
+    "w.sigma0": ("fatigue strength σ0", "параметр усталости σ0"),
+    "w.cycles": ("cycles to failure per asperity", "число циклов до разрушения неровности"),
+    "w.kf_plastic": ("k_f^n of the plastic branch", "k_f^n пластического контакта"),
+    "w.sensitivity": (
+        "Sensitivity of I_h (2.1) to t and σ0/σ_B",
+        "Чувствительность I_h (2.1) к t и σ0/σ_B",
+    ),
+    "w.c_outside": (
+        "The fatigue-wear theory (2.1) is outside its range for this test, so (2.15) is not "
+        "judged: {reasons}.",
+        "Теория усталостного изнашивания (2.1) вне области применимости для этого опыта, "
+        "поэтому (2.15) не оценивается: {reasons}.",
     ),
     # --- lab work 3: slide-bearing stand --------------------------------------------------
     "b.table_3_1": (

@@ -35,6 +35,7 @@ LIVE_AXES: dict[StandKind, tuple[str, str]] = {
 KEY_SYMBOLS: dict[str, str] = {
     "friction_steady": "f",
     "experimental.intensity": "I_{h,exp}",
+    "experimental.specific_wear_rate": "k",
     "theoretical.intensity": "I_{h,theor}",
     "chi_mean": "χ_ср",
     "pressure_max": "p_max",

@@ -11,9 +11,10 @@ instruments then show:
 - the dynamometer's load N, and the experiment's code (1 fluid, 2 mixed, 3 boundary).
 
 Lubrication regimes. Experiment 1 (full oil feed) runs on the film of the bearing model;
-experiments 2 and 3 (50-60 and 3-4 drops/min) starve it, and the simulator takes the minimum
-film thickness as a share of the critical one, h_min = ratio·h_min^crit (seed 001 (2.105);
-the manual gives only the drop rates, the ratios are this simulator's choice). Below
+experiments 2 and 3 (50-60 and 3-4 drops/min) starve it, and the simulator sets the minimum
+film thickness by the film parameter, h_min = Λ·√(Rq_journal² + Rq_bush²) with Λ = 2.5 (mixed,
+1 <= Λ <= 3) and Λ = 0.5 (boundary, Λ < 1) by default (Hamrock, Schmid and Jacobson's bands;
+the manual gives only the drop rates, the Λ are this simulator's choice). Below
 h_min^crit, in any experiment, the friction coefficient blends the film's and the boundary
 one (0.1-0.15, seed 000) by the film thickness: f = f_b + (f_film - f_b)·h_min/h_min^crit.
 
@@ -64,7 +65,9 @@ def simulated_configuration() -> MtosConfig:
 
     D = B = 50 mm, h0 = 30 μm (ψ = 0.0012), ω = 52.4 rad/s (500 rpm); a flat spring of
     4 N/mm on an arm of 0.25 m (Δl = 1 mm per N·m: 0.2 mm at the lightest fluid step, 6 mm
-    at the heaviest boundary one); friction arm l2 = R1.
+    at the heaviest boundary one); friction arm l2 = R1. The sensors read more as the journal
+    lifts off the zero contact, and the stand says so (``signed_sensors``), so the analysis
+    reads the starved steps, rolled up the bush by γ, without the fold of (4.11)'s |·|.
     """
     diameter, clearance = 0.050, 30e-6
     return MtosConfig(
@@ -75,6 +78,7 @@ def simulated_configuration() -> MtosConfig:
         width=0.050,
         clearance=clearance,
         omega=52.4,
+        signed_sensors=True,
     )
 
 
@@ -116,8 +120,8 @@ class MtosSettings:
         Heat carried off by the journal and housing, W/K.
     boundary_friction : float
         Friction coefficient of boundary lubrication (seed 000: 0.1-0.15).
-    film_ratio_mixed, film_ratio_boundary : float
-        h_min/h_min^crit of the starved film in experiments 2 and 3.
+    film_parameter_mixed, film_parameter_boundary : float
+        Λ = h_min/√(Rq_journal² + Rq_bush²) of the starved film in experiments 2 and 3.
     step_duration : float
         Time at each load, s (2-3 min).
     x_zero, y_zero : float
@@ -138,8 +142,8 @@ class MtosSettings:
     drops_boundary: float = 3.5
     conductance: float = 6.0
     boundary_friction: float = 0.12
-    film_ratio_mixed: float = 0.7
-    film_ratio_boundary: float = 0.25
+    film_parameter_mixed: float = 2.5
+    film_parameter_boundary: float = 0.5
     step_duration: float = 150.0
     x_zero: float = 250.0
     y_zero: float = 310.0
@@ -158,9 +162,9 @@ class MtosSettings:
             raise SettingsError(
                 f"boundary_friction must lie in (0, 1), got {self.boundary_friction}"
             )
-        for name in ("film_ratio_mixed", "film_ratio_boundary"):
-            if not 0.0 < getattr(self, name) < 1.0:
-                raise SettingsError(f"{name} must lie in (0, 1), got {getattr(self, name)}")
+        for name in ("film_parameter_mixed", "film_parameter_boundary"):
+            if not 0.0 < getattr(self, name) <= 10.0:
+                raise SettingsError(f"{name} must lie in (0, 10], got {getattr(self, name)}")
         if self.step_duration <= 0:
             raise SettingsError(f"step_duration must be > 0 s, got {self.step_duration}")
 
@@ -202,8 +206,10 @@ class MtosStepTruth:
     friction_moment : float
         M, N·m.
     film : {"fluid", "mixed", "boundary"}
-        Lubrication: fluid when h_min >= h_min^crit; else mixed (experiments 1, 2) or
-        boundary (experiment 3).
+        Lubrication: fluid when h_min >= h_min^crit; else by the film parameter, boundary
+        when Λ < 1, mixed otherwise.
+    film_parameter : float
+        Λ = h_min/√(Rq_journal² + Rq_bush²).
     representable : bool
         Whether (4.11) can give back e_x and e_y (both <= h0·cos45°).
     """
@@ -221,6 +227,7 @@ class MtosStepTruth:
     friction: float
     friction_moment: float
     film: FilmState
+    film_parameter: float
     representable: bool
 
 
@@ -263,6 +270,7 @@ def _step(
     c = s.configuration
     law = c.viscosity
     r1 = geometry.journal_radius
+    roughness = float(np.hypot(c.journal_rq, c.bush_rq))
 
     def film_viscosity(film_t: float) -> float:
         t = _temperatures(film_t, s.inlet_temperature)
@@ -284,8 +292,8 @@ def _step(
             h_film = c.clearance * (1.0 - state.chi)
             f_film = state.friction_moment / (load * r1)
             attitude = state.attitude_angle
-        ratio = {1: None, 2: s.film_ratio_mixed, 3: s.film_ratio_boundary}[regime]
-        h_min = h_film if ratio is None else min(h_film, ratio * h_crit)
+        starved = {1: None, 2: s.film_parameter_mixed, 3: s.film_parameter_boundary}[regime]
+        h_min = h_film if starved is None else min(h_film, starved * roughness)
         f = f_film
         if h_min < h_crit:
             f = s.boundary_friction + (f_film - s.boundary_friction) * h_min / h_crit
@@ -313,7 +321,7 @@ def _step(
     e_x, e_y = float(e * np.cos(theta)), float(e * np.sin(theta))
     film: FilmState = "fluid"
     if state.h_min < h_crit:
-        film = "boundary" if regime == 3 else "mixed"
+        film = "boundary" if state.h_min < roughness else "mixed"
     limit = c.clearance * _COS45
     return MtosStepTruth(
         regime=regime,
@@ -329,6 +337,7 @@ def _step(
         friction=state.f,
         friction_moment=state.moment,
         film=film,
+        film_parameter=state.h_min / roughness,
         representable=e_x <= limit and e_y <= limit,
     )
 

@@ -31,9 +31,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from rigserver.core import bearing
 from rigserver.core import stands as processing
 from rigsim.batches import Batch, FloatArray, SimulatedRun, split
-from rigsim.bearing_model import DEFAULT_MODEL, BearingModel, Film, Geometry
+from rigsim.bearing_model import DEFAULT_MODEL, BearingModel, Film, Geometry, refined
 from rigsim.bearing_model import film as bearing_film
 from rigsim.errors import SettingsError
 from rigsim.instruments import Fault, Instrument, apply_faults
@@ -171,11 +172,7 @@ class SlideBearingTruth:
 
 def _rupture_deg(film: Film) -> float:
     """φ_r: the first angle past the thinnest film where p(φ, 0) is below 0.1 % of its peak."""
-    phi = np.radians(np.arange(0.0, 90.0, 0.1))
-    p = film.pressure(phi=phi, z=0.0)
-    peak = float(np.max(film.pressure(phi=np.radians(np.arange(180.0, 360.0, 0.5)), z=0.0)))
-    low = np.flatnonzero(p <= 1e-3 * peak)
-    return float(np.degrees(phi[low[0]])) if low.size else 0.0
+    return bearing.rupture_angle_deg(pressure=lambda phi: film.pressure(phi=phi, z=0.0))
 
 
 def simulate(
@@ -202,7 +199,7 @@ def simulate(
         balance=balance,
     )
     t_mean = hot.temperature
-    film = state(t_mean)
+    film = refined(state(t_mean), half_width=c.width / (2.0 * c.bearing_radius))
     mu_t = float(processing.viscosity(t=t_mean, A=law.A, alpha=law.alpha))
     psi_deg = float(np.degrees(film.attitude_angle))
     rupture = _rupture_deg(film)

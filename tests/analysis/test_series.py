@@ -144,3 +144,31 @@ def test_every_headline_has_a_unit_and_a_description(kind: StandKind) -> None:
     for s in detail.statistics:
         assert s.unit and s.description != s.key, s.key
         assert s.overall is not None and s.overall.n == 1, s.key
+
+
+@pytest.mark.parametrize(
+    ("kind", "key", "own"),
+    [
+        (StandKind.SMTS2, "friction_steady", ("friction_steady_uncertainty",)),
+        (
+            StandKind.MTOS,
+            "steps[2].friction_measured",
+            ("steps", 2, "friction_measured_uncertainty"),
+        ),
+        (StandKind.PROFILOMETER, "ra", ("ra_uncertainty",)),
+    ],
+)
+def test_each_run_shows_its_own_uncertainty_beside_the_spread(
+    kind: StandKind, key: str, own: tuple[str | int, ...]
+) -> None:
+    from tests.reports.simulated import simulated
+
+    sim = simulated(kind)
+    values = sim.result.payload["values"]
+    expected = values
+    for part in own:
+        expected = expected[part]
+    member = Member(run=sim.run, level=None, values=values)
+    detail = series_statistics(repeatability([member]), [member], [])
+    found = next(s for s in detail.statistics if s.key == key)
+    assert expected is not None and found.values[0].uncertainty == expected

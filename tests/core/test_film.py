@@ -6,7 +6,13 @@ import numpy as np
 import pytest
 
 from rigserver.core.errors import ModelInputError
-from rigserver.core.film import critical_film_thickness, film_regime, minimum_film_thickness
+from rigserver.core.film import (
+    critical_film_thickness,
+    film_parameter,
+    film_regime,
+    lambda_regime,
+    minimum_film_thickness,
+)
 
 
 def test_critical_thickness_is_the_sum_of_the_five_terms() -> None:
@@ -47,3 +53,18 @@ def test_minimum_film_thickness() -> None:
     )
     with pytest.raises(ModelInputError, match=r"chi must lie in \[0.0, 1.0\], got 1.2"):
         minimum_film_thickness(clearance=60e-6, chi=1.2)
+
+
+def test_film_parameter_and_its_bands() -> None:
+    # Λ = h_min/√(Rq_j² + Rq_b²): 3-4-5 triangle, Rq 0.3 and 0.4 μm -> 0.5 μm composite
+    lam = film_parameter(h_min=[0.25e-6, 0.5e-6, 1.5e-6, 2.0e-6], journal_rq=0.3e-6, bush_rq=0.4e-6)
+    assert lam == pytest.approx([0.5, 1.0, 3.0, 4.0], rel=1e-12)
+    # Hamrock, Schmid and Jacobson: < 1 boundary, 1..3 mixed (both edges), > 3 full film
+    assert [lambda_regime(film_parameter=x) for x in lam] == [
+        "boundary",
+        "mixed",
+        "mixed",
+        "full film",
+    ]
+    with pytest.raises(ModelInputError, match="composite roughness"):
+        film_parameter(h_min=1e-6, journal_rq=0.0, bush_rq=0.0)

@@ -515,3 +515,21 @@ def test_tables_in_si() -> None:
     assert all(0 < row.alpha_r_min <= row.alpha_r_max for row in HYSTERESIS_LOSS)
     for row in (*FRICTION_PARAMETER_DRY, *FRICTION_PARAMETER_LUBRICATED):
         assert 0 < row.tau0_min <= row.tau0_max, row
+
+
+def test_noise_on_a_top_counts_as_one_peak() -> None:
+    # Ten elements -cos t scaled by h above the line and by 1 below it, heights
+    # 2,4,..,10,10,..,2, sampled symmetrically (the whole profile is mirror-symmetric, so the
+    # mean line is level), with ±0.05 alternating on every sample: each top then has several
+    # local maxima. (1.4) takes one peak per element: Rz = (10+10+8+8+6)/5 + 1 = 9.4, less
+    # cos(π/80) of the samples' half-step off the tops, plus 0.1: of the two samples beside
+    # each top (bottom) one carries +0.05 (-0.05). The old rule took five maxima of the
+    # noisy tops of the two highest elements, 10.7.
+    t = (np.arange(80) + 0.5) / 80 * 2.0 * np.pi
+    heights = [2, 4, 6, 8, 10, 10, 8, 6, 4, 2]
+    wave = np.concatenate([-np.cos(t) * np.where(np.cos(t) < 0, h, 1.0) for h in heights])
+    wiggle = 0.05 * (-1.0) ** np.arange(wave.size)
+    y = (wave + wiggle) * 1e-6
+    x = np.arange(y.size) * 1e-6
+    p = roughness.profile_parameters(x=x, y=y)
+    assert p.rz == pytest.approx((9.4 * np.cos(np.pi / 80) + 0.1) * 1e-6, rel=1e-4)

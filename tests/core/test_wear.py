@@ -26,6 +26,7 @@ from rigserver.core.wear import (
     wear_adequacy,
     wear_intensity_experimental,
     wear_intensity_theoretical,
+    wear_track_area,
 )
 
 # Item 18 a) and table 2.2 (pin: steel VSt3ps / St3sp), "Equipment and specimens" (geometry).
@@ -437,3 +438,15 @@ def test_sliding_distance_is_2_12() -> None:
     )
     with pytest.raises(ModelInputError, match="revolutions"):
         sliding_distance(disc_radius=0.0225, revolutions=-1.0)
+
+
+def test_wear_track_area_of_a_parabolic_groove_on_a_tilted_surface() -> None:
+    # y = tilt·x - d0(1 - ((x - c)/w)²) inside |x - c| < w: the groove's area is 4/3·d0·w
+    # exactly (Simpson); the trapezoid rule on 4001 samples errs by O(h²)
+    x = np.linspace(0.0, 4e-3, 4001)
+    c, w, d0 = 2e-3, 1e-3, 5e-6
+    groove = np.where(np.abs(x - c) < w, d0 * (1.0 - ((x - c) / w) ** 2), 0.0)
+    y = 2e-3 * x + 1e-6 - groove
+    assert wear_track_area(x=x, y=y) == pytest.approx(4.0 / 3.0 * d0 * w, rel=1e-5)
+    with pytest.raises(ModelInputError, match="x increasing"):
+        wear_track_area(x=x[::-1], y=y)

@@ -62,7 +62,11 @@ class Simulated:
 @lru_cache
 def simulated(kind: StandKind, seed: int = 7) -> Simulated:
     """The finished run of a simulated stand and the analysis of its readings."""
-    sim = simulate(kind, seed=seed)
+    return analysed(kind, simulate(kind, seed=seed))
+
+
+def analysed(kind: StandKind, sim: SimulatedRun[Any]) -> Simulated:
+    """A simulated run as the store would hold it, finished, and its analysis (no HTTP)."""
     stand = default_stands()[kind]
     body = sim.run_create
     readings = SimulatedReadings(sim)

@@ -136,12 +136,18 @@ def test_stribeck_fluid_branch_and_starved_friction(
     h_crit = short_run.truth.h_crit
     assert h_crit == pytest.approx(1.6e-6 + 3.2e-6)  # journal + bush asperities (seed 001)
     fb = SHORT.boundary_friction
-    for step, ratio in ((s, SHORT.film_ratio_boundary) for s in steps[9:]):
-        # f = f_b + (f_film - f_b)·h_min/h_crit with h_min = 0.25·h_crit and 0 < f_film < f_b
+    c = SHORT.configuration
+    roughness = np.hypot(c.journal_rq, c.bush_rq)
+    for step in steps[9:]:
+        # h_min = Λ·√(Rq_j² + Rq_b²) with Λ = 0.5, and f = f_b + (f_film - f_b)·h_min/h_crit
+        # with 0 < f_film < f_b
+        ratio = SHORT.film_parameter_boundary * roughness / h_crit
         assert step.film == "boundary"
+        assert step.film_parameter == pytest.approx(SHORT.film_parameter_boundary)
         assert step.h_min == pytest.approx(ratio * h_crit)
         assert (1.0 - ratio) * fb < step.friction < fb
     assert all(s.film == "mixed" for s in steps[6:9])
+    assert all(s.film_parameter == pytest.approx(2.5) for s in steps[6:9])
 
 
 def test_4_11_folds_a_component_beyond_h0_cos45(short_run: SimulatedRun[mtos.MtosTruth]) -> None:

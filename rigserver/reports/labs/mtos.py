@@ -50,6 +50,18 @@ def build(ctx: Context, v: MtosResults) -> LabReport:
         steps = _of(v.steps, regime)
         if steps:
             processed.extend(_processed_tables(t, number, regime, steps, v.steps))
+    spread = [
+        row
+        for i, s in enumerate(v.steps)
+        for row in blocks.uncertainties(
+            t,
+            s,
+            [("chi", "χ", "m.chi"), ("friction_measured", "f_э", "m.f_measured")],
+            label=t("u.step", i=i + 1, load=fmt(s.load)),
+        )
+    ]
+    if spread:
+        processed.append(blocks.uncertainty_table(t, spread))
     if v.steps:
         processed += [
             Figure(html_symbol(t("m.fig_stribeck")), _stribeck_svg(t, v, config)),
@@ -135,6 +147,8 @@ def _processed_tables(
         *(blocks.header(t, f"Δt_{k[1]}", u["temperature_rise"]) for k in rises),
         blocks.header(t, "h_min", u["h_min"]),
         t("col.film"),
+        blocks.header(t, "Λ", u["film_parameter"]),
+        t("col.film_lambda"),
     ]
     data: list[Sequence[float | Text | None]] = [
         [s.load for s in steps],
@@ -143,6 +157,8 @@ def _processed_tables(
         *([s.temperature_rise.get(k) for s in steps] for k in rises),
         [s.h_min for s in steps],
         [t("regime." + s.film) for s in steps],
+        [s.film_parameter for s in steps],
+        [t("regime." + s.film_lambda) for s in steps],
     ]
     note: Text = ""
     if regime != "fluid":
@@ -337,4 +353,6 @@ def _conclusions(t: Messages, v: MtosResults) -> list[Text]:
         found.append(
             html_symbol(t("m.c_film", h_crit=fmt(v.h_crit), count=thin, total=len(v.steps)))
         )
+    if v.regime_disagreements:
+        found.append(html_symbol(t("m.disagree", items="; ".join(v.regime_disagreements))))
     return found

@@ -70,6 +70,9 @@ def build(ctx: Context, v: ProfilometerResults) -> LabReport:
                 ],
             )
         )
+    spread = blocks.uncertainties(t, v, [("ra", "R_a", "p.ra"), ("rz", "R_z", "p.rz")])
+    if spread and v.ra_expanded is not None:
+        processed.append(blocks.uncertainty_table(t, spread))
     return LabReport(
         sections=[
             Section(t("sec.measured"), measured),

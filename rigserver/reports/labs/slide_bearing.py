@@ -37,6 +37,8 @@ def build(ctx: Context, v: SlideBearingResults) -> LabReport:
                 ("viscosity", "μ_t", "b.viscosity"),
                 ("mu_bar", "μ̄", "b.mu_bar"),
                 ("chi_mean", "χ_ср", "b.chi_mean"),
+                ("attitude_angle", "ψ", "b.attitude"),
+                ("rupture_angle", "φ_r", "b.rupture"),
                 ("half_width", "a", "b.half_width"),
                 ("phi_max", "φ_pmax", "b.phi_max"),
                 ("pressure_max", "p_max", "b.p_max"),
@@ -51,6 +53,9 @@ def build(ctx: Context, v: SlideBearingResults) -> LabReport:
         processed.append(Figure(html_symbol(t("b.fig_phi")), _angle_svg(t, v.table)))
     if v.axial:
         processed.append(Figure(html_symbol(t("b.fig_z")), _axial_svg(t, v)))
+    spread = blocks.uncertainties(t, v, [("chi_mean", "χ_ср", "b.chi_mean")])
+    if spread:
+        processed.append(blocks.uncertainty_table(t, spread))
     return LabReport(
         sections=[
             Section(t("sec.measured"), measured),

@@ -61,6 +61,20 @@ def build(ctx: Context, v: Smts2Results) -> LabReport:
                     ("wear_depth", "h", "w.depth"),
                     ("sliding_distance", "L", "w.sliding"),
                     ("intensity", "I_h", "w.intensity_exp"),
+                    ("specific_wear_rate", "k", "w.k"),
+                ],
+            )
+        )
+    if v.disc_wear is not None:
+        processed.append(
+            blocks.quantities(
+                t,
+                t("w.disc_wear"),
+                v.disc_wear,
+                [
+                    ("track_area", "A", "w.track_area"),
+                    ("volume", "V", "w.disc_volume"),
+                    ("specific_wear_rate", "k", "w.k"),
                 ],
             )
         )
@@ -86,10 +100,23 @@ def build(ctx: Context, v: Smts2Results) -> LabReport:
         )
         contact: list[Text] = [t("w.contact"), "", t("contact." + v.theoretical.contact), ""]
         processed.append(dataclasses.replace(theory, rows=[contact, *theory.rows]))
+    if v.validity is not None:
+        processed.append(_validity(t, v))
+    if v.sensitivity:
+        processed.append(_sensitivity(t, v))
     if v.adequacy is not None and v.experimental and v.theoretical:
         processed.append(_adequacy(t, v))
     if v.experimental is not None or v.theoretical is not None:
         processed.append(Figure(t("w.fig_wear"), _wear_svg(t, v)))
+    spread = blocks.uncertainties(t, v, [("friction_steady", "f", "w.f")])
+    if v.experimental is not None:
+        spread += blocks.uncertainties(
+            t,
+            v.experimental,
+            [("intensity", "I_h", "w.intensity_exp"), ("specific_wear_rate", "k", "w.k")],
+        )
+    if v.rows:
+        processed.append(blocks.uncertainty_table(t, spread))
     return LabReport(
         sections=[
             Section(t("sec.measured"), measured),
@@ -97,6 +124,47 @@ def build(ctx: Context, v: Smts2Results) -> LabReport:
         ],
         conclusions=_conclusions(t, v),
     )
+
+
+def _validity(t: Messages, v: Smts2Results) -> Table:
+    assert v.validity is not None
+    table = blocks.quantities(
+        t,
+        t("w.validity"),
+        v.validity,
+        [
+            ("approach", "ε", "w.approach"),
+            ("real_area_ratio", "η_r", "w.eta_r"),
+            ("real_contact_pressure", "p_r", "w.pr"),
+            ("hardness", "HB", "w.hb"),
+            ("asperity_stress", "σ", "w.sigma"),
+            ("fatigue_strength", "σ_0", "w.sigma0"),
+            ("cycles_to_failure", "n", "w.cycles"),
+            ("plastic_k_f", "k_f^n", "w.kf_plastic"),
+        ],
+    )
+    verdict: list[Text] = [
+        t("w.within_range"),
+        "",
+        t("yes" if v.validity.within_range else "no"),
+        "",
+    ]
+    return dataclasses.replace(table, rows=[*table.rows, verdict])
+
+
+def _sensitivity(t: Messages, v: Smts2Results) -> Table:
+    one = t.unit("1")
+    head: list[Text] = [
+        html_symbol("t"),
+        html_symbol("σ_0/σ_B"),
+        f"{html_symbol('I_h')} [{one}]",
+        f"{html_symbol('n')} [{one}]",
+    ]
+    rows: list[list[Text]] = [
+        [fmt(p.fatigue_t), fmt(p.strength_ratio), fmt(p.intensity), fmt(p.cycles_to_failure)]
+        for p in v.sensitivity
+    ]
+    return Table(caption=t("w.sensitivity"), header=head, rows=rows, labels=2)
 
 
 def _adequacy(t: Messages, v: Smts2Results) -> Table:
@@ -194,6 +262,8 @@ def _conclusions(t: Messages, v: Smts2Results) -> list[Text]:
                 )
             )
         )
+    if v.validity is not None and not v.validity.within_range:
+        found.append(html_symbol(t("w.c_outside", reasons="; ".join(v.validity.reasons))))
     if v.adequacy is not None and v.experimental and v.theoretical:
         key = "w.c_adequate" if v.adequacy.adequate else "w.c_inadequate"
         text = t(

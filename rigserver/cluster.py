@@ -139,11 +139,9 @@ def stop_worker(pid_file: Path) -> None:
         return
     deadline = time.monotonic() + STOP_SECONDS
     while time.monotonic() < deadline:
-        try:
-            os.killpg(pid, 0)
-        except ProcessLookupError:
-            break
         _reap(pid)
+        if not alive(pid):
+            break
         time.sleep(0.1)
     else:
         os.killpg(pid, signal.SIGKILL)
@@ -151,6 +149,16 @@ def stop_worker(pid_file: Path) -> None:
         if proc is not None:
             proc.wait(STOP_SECONDS)
     pid_file.unlink()
+
+
+def alive(pid: int) -> bool:
+    """Whether ``pid`` runs: a zombie (exited, its status not collected because its parent
+    was ``up``, gone since, and init here does not reap) counts as gone."""
+    try:
+        stat = Path(f"/proc/{pid}/stat").read_text()
+    except (FileNotFoundError, ProcessLookupError):
+        return False
+    return stat.rpartition(")")[2].split()[0] != "Z"
 
 
 def _reap(pid: int) -> None:

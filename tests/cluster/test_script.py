@@ -14,19 +14,12 @@ from pathlib import Path
 import httpx
 import pytest
 
+from rigserver.cluster import alive
 from rigserver.storage.pgserver import NoPostgres, server_bin
 from tests.postgres import NO_POSTGRES
 
 SCRIPT = Path(__file__).parents[2] / "scripts" / "cluster"
 pytestmark = pytest.mark.slow
-
-
-def _alive(pid: int) -> bool:
-    try:
-        os.kill(pid, 0)
-    except ProcessLookupError:
-        return False
-    return True
 
 
 def test_up_and_down(tmp_path: Path) -> None:
@@ -68,4 +61,4 @@ def test_up_and_down(tmp_path: Path) -> None:
         )
         shutil.rmtree(top, ignore_errors=True)
     assert down.returncode == 0, down.stderr
-    assert not any(_alive(pid) for pid in [*pids, pg_pid])
+    assert not any(alive(pid) for pid in [*pids, pg_pid])

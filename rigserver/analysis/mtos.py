@@ -9,6 +9,7 @@ import numpy as np
 from rigserver.analysis.readings import Readings
 from rigserver.core import bearing, film, reynolds, stands
 from rigserver.core.errors import ModelInputError
+from schemas.labels import N_
 from schemas.results import MtosResults, MtosStep
 from schemas.runs import Run
 from schemas.stands import MtosConfig
@@ -37,9 +38,9 @@ def analyse(run: Run, readings: Readings) -> MtosResults:
     rows = readings.read(GROUP)
     m = readings.measurements()
     if not rows:
-        result.pending.append("no load steps yet")
+        result.pending.append(N_("no load steps yet"))
     if "x_zero" not in m or "y_zero" not in m:
-        result.pending.append("needs the measurements x_zero, y_zero")
+        result.pending.append(N_("needs the measurements x_zero, y_zero"))
     if result.pending:
         return result
     load = rows["load"]

@@ -7,6 +7,7 @@ import numpy as np
 from rigserver.analysis.readings import Readings
 from rigserver.core import roughness
 from rigserver.core.errors import ModelInputError
+from schemas.labels import N_
 from schemas.results import BearingFitResult, ProfilometerResults
 from schemas.runs import Run
 from schemas.stands import ProfilometerConfig
@@ -22,7 +23,7 @@ def analyse(run: Run, readings: Readings) -> ProfilometerResults:
     result = ProfilometerResults(rows=readings.rows(GROUP))
     trace = readings.read(GROUP)
     if not trace:
-        result.pending.append("no profile yet")
+        result.pending.append(N_("no profile yet"))
         return result
     x = trace["x"] * _M_PER_MM
     y = trace["y"] * _M_PER_UM

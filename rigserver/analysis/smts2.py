@@ -8,6 +8,7 @@ from rigserver.analysis.readings import Readings
 from rigserver.analysis.streaming import BlockSeries, TailMoments
 from rigserver.core import wear
 from rigserver.core.errors import ModelInputError
+from schemas.labels import N_
 from schemas.results import (
     AdequacyResult,
     ExperimentalWearResult,
@@ -62,7 +63,7 @@ def analyse(run: Run, readings: Readings) -> Smts2Results:
         friction=series.series("time", "friction coefficient"),
     )
     if total == 0:
-        result.pending.append("no friction record yet")
+        result.pending.append(N_("no friction record yet"))
         return result
     m = readings.measurements()
     pin_radius = config.pin_diameter / 2.0
@@ -84,13 +85,13 @@ def analyse(run: Run, readings: Readings) -> Smts2Results:
         )
     else:
         result.pending.append(
-            "experimental wear needs pin_mass_before, pin_mass_after and revolutions"
+            N_("experimental wear needs pin_mass_before, pin_mass_after and revolutions")
         )
     if "disc_ra" in m:
         result.theoretical = _theoretical(config, result, m["disc_ra"] * _M_PER_UM)
     else:
         result.pending.append(
-            "theoretical wear needs disc_ra (the disc's Ra from the profilometer)"
+            N_("theoretical wear needs disc_ra (the disc's Ra from the profilometer)")
         )
     if result.experimental and result.theoretical and result.experimental.intensity > 0:
         adequacy = wear.wear_adequacy(

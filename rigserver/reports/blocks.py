@@ -8,9 +8,10 @@ from markupsafe import Markup
 from pydantic import BaseModel
 
 from rigserver.reports.document import Table, Text
-from rigserver.reports.formatting import fmt, html_symbol, tex
+from rigserver.reports.formatting import fmt, html_symbol, shown, tex
 from rigserver.reports.i18n import Messages
 from schemas.channels import ChannelGroup
+from schemas.labels import Label
 from schemas.quantity import units_of
 
 
@@ -41,24 +42,30 @@ def quantities(
     model: BaseModel,
     fields: Sequence[tuple[str, str, str]],
     errors: Mapping[str, float | None] | None = None,
+    *,
+    labels: Mapping[str, Label],
+    prefix: str = "",
 ) -> Table:
     """One row per quantity: its name, symbol, value and unit.
 
-    ``fields`` holds ``(field name, symbol, message key of the quantity's name)``;
-    ``errors`` adds a column of the instrument error of some fields.
+    ``fields`` holds ``(field name, symbol, message key of the quantity's name)``; the value
+    is printed in the display unit and digits of its label (``labels[prefix + name]``);
+    ``errors`` adds a column of the instrument error of some fields (labels ``<name>_error``).
     """
     units = units_of(type(model))
     rows: list[list[Text]] = []
     for name, symbol, key in fields:
-        unit = units.get(name)
+        label = labels[prefix + name]
+        stored = units.get(name, label.unit)
         row: list[Text] = [
             html_symbol(t(key)),
             html_symbol(symbol),
-            fmt(getattr(model, name)),
-            t.unit(unit) if unit is not None else "",
+            shown(label, getattr(model, name), stored),
+            t.unit(label.unit),
         ]
         if errors is not None:
-            row.append(fmt(errors.get(name)))
+            error = labels.get(f"{prefix}{name}_error", label)
+            row.append(shown(error, errors.get(name), stored))
         rows.append(row)
     head: list[Text] = [t("col.quantity"), t("col.symbol"), t("col.value"), t("col.unit")]
     if errors is not None:
@@ -69,14 +76,14 @@ def quantities(
 def measurements(t: Messages, group: ChannelGroup, values: Mapping[str, float]) -> Table:
     """The single measurements posted (masses, zero readings) with their declared units."""
     rows: list[list[Text]] = [
-        [t.channel(c.name, c.long_name), c.name, fmt(values.get(c.name)), t.unit(c.unit)]
+        [html_symbol(t.gettext(c.long_name)), fmt(values.get(c.name)), t.unit(c.unit)]
         for c in group.channels
     ]
     return Table(
         caption=t("caption.measurements"),
-        header=[t("col.quantity"), t("col.channel"), t("col.value"), t("col.unit")],
+        header=[t("col.quantity"), t("col.value"), t("col.unit")],
         rows=rows,
-        labels=2,
+        labels=1,
     )
 
 

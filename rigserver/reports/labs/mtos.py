@@ -10,9 +10,10 @@ from matplotlib.axes import Axes
 from rigserver.reports import blocks
 from rigserver.reports.context import Context, LabReport
 from rigserver.reports.document import Block, Figure, Section, Table, Text
-from rigserver.reports.formatting import fmt, html_symbol, tex
+from rigserver.reports.formatting import fmt, html_symbol, shown, tex
 from rigserver.reports.i18n import Messages
 from rigserver.reports.plots import axes, decorate, to_svg
+from schemas.labels import MTOS
 from schemas.quantity import units_of
 from schemas.results import MtosResults, MtosStep
 from schemas.stands import MEASUREMENTS, MtosConfig
@@ -43,6 +44,7 @@ def build(ctx: Context, v: MtosResults) -> LabReport:
                 ("friction_fluid", "f_э", "m.friction_fluid"),
                 ("half_width", "a", "m.half_width"),
             ],
+            labels=MTOS,
         )
     )
     processed: list[Block] = []
@@ -134,7 +136,7 @@ def _processed_tables(
         blocks.header(t, "S_1", u["bearing_characteristic"]),
         *(blocks.header(t, f"Δt_{k[1]}", u["temperature_rise"]) for k in rises),
         blocks.header(t, "h_min", u["h_min"]),
-        t("col.film"),
+        html_symbol(t("col.film")),
     ]
     data: list[Sequence[float | Text | None]] = [
         [s.load for s in steps],
@@ -202,7 +204,7 @@ def _stribeck_svg(t: Messages, v: MtosResults, config: MtosConfig) -> str:
     if fluid:
         worst = max(fluid, key=lambda s: s.e)
         ax.annotate(
-            tex(t("m.h_min_mark", h=fmt(config.clearance - worst.e))),
+            tex(t("m.h_min_mark", h=shown(MTOS["steps[].h_min"], config.clearance - worst.e, "m"))),
             xy=(worst.bearing_characteristic, worst.friction_measured),
             xytext=(0.35, 0.85),
             textcoords="axes fraction",
@@ -335,6 +337,13 @@ def _conclusions(t: Messages, v: MtosResults) -> list[Text]:
     if v.steps:
         thin = sum(s.film != "fluid" for s in v.steps)
         found.append(
-            html_symbol(t("m.c_film", h_crit=fmt(v.h_crit), count=thin, total=len(v.steps)))
+            html_symbol(
+                t(
+                    "m.c_film",
+                    h_crit=shown(MTOS["h_crit"], v.h_crit, "m"),
+                    count=thin,
+                    total=len(v.steps),
+                )
+            )
         )
     return found

@@ -10,9 +10,10 @@ from rigserver.reports import blocks
 from rigserver.reports.context import Context, LabReport
 from rigserver.reports.document import Block, Figure, Section, Table, Text
 from rigserver.reports.downsample import min_max
-from rigserver.reports.formatting import DASH, fmt, html_symbol
+from rigserver.reports.formatting import DASH, fmt, html_symbol, shown
 from rigserver.reports.i18n import Messages
 from rigserver.reports.plots import axes, decorate, to_svg
+from schemas.labels import PROFILOMETER
 from schemas.results import BearingFitResult, ProfilometerResults
 from schemas.stands import MEASUREMENTS
 from schemas.units import UNITS
@@ -45,6 +46,7 @@ def build(ctx: Context, v: ProfilometerResults) -> LabReport:
                     ("asperity_radius", "R", "p.r"),
                 ],
                 errors={"ra": v.ra_error, "rz": v.rz_error, "rmax": v.rmax_error, "sm": v.sm_error},
+                labels=PROFILOMETER,
             )
         )
     processed: list[Block] = []
@@ -68,6 +70,7 @@ def build(ctx: Context, v: ProfilometerResults) -> LabReport:
                     ("ra_from_complex", "R_a", "p.ra_delta"),
                     ("complex_parameter_equilibrium", "Δ_T", "p.delta_t"),
                 ],
+                labels=PROFILOMETER,
             )
         )
     return LabReport(
@@ -192,8 +195,8 @@ def _conclusions(t: Messages, v: ProfilometerResults) -> list[Text]:
             html_symbol(
                 t(
                     "p.c_ra",
-                    ra=fmt(v.ra),
-                    ra_delta=fmt(v.ra_from_complex),
+                    ra=shown(PROFILOMETER["ra"], v.ra, "m"),
+                    ra_delta=shown(PROFILOMETER["ra_from_complex"], v.ra_from_complex, "m"),
                     diff=_percent(v.ra, v.ra_from_complex),
                 )
             )

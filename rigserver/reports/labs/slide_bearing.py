@@ -9,9 +9,10 @@ import numpy as np
 from rigserver.reports import blocks
 from rigserver.reports.context import Context, LabReport
 from rigserver.reports.document import Block, Figure, Section, Table, Text
-from rigserver.reports.formatting import fmt, html_symbol
+from rigserver.reports.formatting import fmt, html_symbol, shown
 from rigserver.reports.i18n import Messages
 from rigserver.reports.plots import axes, decorate, to_svg
+from schemas.labels import SLIDE_BEARING
 from schemas.quantity import units_of
 from schemas.results import AxialPoint, SlideBearingResults, SlideBearingRow
 from schemas.stands import MEASUREMENTS
@@ -41,6 +42,7 @@ def build(ctx: Context, v: SlideBearingResults) -> LabReport:
                 ("phi_max", "φ_pmax", "b.phi_max"),
                 ("pressure_max", "p_max", "b.p_max"),
             ],
+            labels=SLIDE_BEARING,
         )
     )
     processed: list[Block] = []
@@ -205,7 +207,13 @@ def _conclusions(t: Messages, v: SlideBearingResults) -> list[Text]:
     if v.chi_mean is not None and v.pressure_max is not None:
         found.append(
             html_symbol(
-                t("b.c_chi", chi=fmt(v.chi_mean), p=fmt(v.pressure_max), phi=fmt(v.phi_max))
+                t(
+                    "b.c_chi",
+                    chi=shown(SLIDE_BEARING["chi_mean"], v.chi_mean, "1"),
+                    p=shown(SLIDE_BEARING["pressure_max"], v.pressure_max, "Pa"),
+                    unit=t.unit(SLIDE_BEARING["pressure_max"].unit),
+                    phi=fmt(v.phi_max),
+                )
             )
         )
     short = _mean_abs([r.error_short for r in v.table])

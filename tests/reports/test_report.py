@@ -87,13 +87,17 @@ def test_profilometer_parameters_with_instrument_errors() -> None:
     assert isinstance(v, ProfilometerResults)
     html = report(StandKind.PROFILOMETER)
     caption = "Roughness parameters"
+    # micrometres, to the digits declared (Ra three, its instrument error two)
     assert row_of(html, caption, "arithmetic mean deviation (1.3)") == [
         "Ra",
-        fmt(v.ra),
-        "m",
-        fmt(v.ra_error),
+        fmt(float(f"{v.ra * 1e6:.3g}")),
+        "µm",
+        fmt(float(f"{v.ra_error * 1e6:.2g}")),
     ]
-    assert row_of(html, caption, "ten-point height (1.4)")[1::2] == [fmt(v.rz), fmt(v.rz_error)]
+    assert row_of(html, caption, "ten-point height (1.4)")[1::2] == [
+        fmt(float(f"{v.rz * 1e6:.3g}")),
+        fmt(float(f"{v.rz_error * 1e6:.2g}")),
+    ]
     assert row_of(html, "Complex roughness", "complex parameter (1.9)")[1] == fmt(
         v.complex_parameter
     )
@@ -110,15 +114,15 @@ def test_smts2_wear_tables_and_adequacy() -> None:
     caption = "Experimental linear wear intensity"
     assert row_of(html, caption, "mass loss of the pin (2.9)") == [
         "Δm",
-        fmt(v.experimental.mass_loss),
-        "kg",
+        fmt(float(f"{v.experimental.mass_loss * 1e6:.4g}")),  # kg -> mg
+        "mg",
     ]
     assert row_of(html, caption, "wear intensity (2.13)")[1] == fmt(v.experimental.intensity)
     theory = "Theoretical linear wear intensity"
     assert row_of(html, theory, "contour pressure (2.3)") == [
         "pc",
-        fmt(v.theoretical.contour_pressure),
-        "Pa",
+        fmt(float(f"{v.theoretical.contour_pressure / 1e6:.4g}")),  # Pa -> MPa
+        "MPa",
     ]
     assert row_of(html, theory, "wear intensity (2.1)")[1] == fmt(v.theoretical.intensity)
     # (2.15) judged here on the printed intensities' values
@@ -138,7 +142,7 @@ def test_smts2_measurements_as_posted() -> None:
     posted = s.sim.columns("measurements")
     html = report(StandKind.SMTS2)
     row = row_of(html, "Single measurements", "m1, pin mass before the test (2.9)")
-    assert row == ["pin_mass_before", fmt(float(posted["pin_mass_before"][-1])), "g"]
+    assert row == [fmt(float(posted["pin_mass_before"][-1])), "g"]
     plots = svgs(html)
     assert len(plots) == 2 and all("<path" in p for p in plots)  # f(L), wear intensity
 
@@ -239,8 +243,11 @@ def test_the_russian_report_prints_the_same_numbers(kind: StandKind) -> None:
     english, russian = tables(en), tables(ru)
     assert len(english) == len(russian)
     for a, b in zip(english, russian, strict=True):
+        # the same numbers, with a decimal comma in Russian
         numbers = [[c for c in row if c[:1].isdigit() or c[:1] == "-"] for row in a.rows]
-        assert numbers == [[c for c in row if c[:1].isdigit() or c[:1] == "-"] for row in b.rows]
+        commas = [[c.replace(".", ",") for c in row] for row in numbers]
+        assert commas == [[c for c in row if c[:1].isdigit() or c[:1] == "-"] for row in b.rows]
+        assert not any("." in c for row in b.rows for c in row if c[:1].isdigit())
 
 
 @pytest.mark.parametrize("kind", list(StandKind))
@@ -276,6 +283,9 @@ def test_input_data_print_the_configuration_with_units() -> None:
     s: Simulated = simulated(StandKind.SLIDE_BEARING)
     html = report(StandKind.SLIDE_BEARING)
     config = table(html, "Stand configuration of this run")
-    rows = {r[0]: r[2:] for r in config.rows}
-    assert rows["clearance"] == [fmt(s.run.configuration["clearance"]), "m"]
-    assert rows["viscosity.alpha"] == [fmt(s.run.configuration["viscosity"]["alpha"]), "1/°C"]
+    rows = {r[0]: r[1:] for r in config.rows}
+    assert rows["h0, radial clearance (3.17)"] == [fmt(s.run.configuration["clearance"]), "m"]
+    assert rows["α of μ = A·exp(α·t) (3.21)"] == [
+        fmt(s.run.configuration["viscosity"]["alpha"]),
+        "1/°C",
+    ]

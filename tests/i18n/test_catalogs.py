@@ -7,7 +7,7 @@ from importlib import resources
 import pytest
 from babel.messages.pofile import read_po
 
-from rigserver.reports.i18n import DOMAIN, LANGS, DEFAULT
+from rigserver.reports.i18n import DEFAULT, DOMAIN, LANGS
 from tests.i18n.messages import every_message, extracted
 
 CATALOGS = [lang for lang in LANGS if lang != DEFAULT]

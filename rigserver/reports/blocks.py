@@ -73,6 +73,18 @@ def quantities(
     return Table(caption=caption, header=head, rows=rows, labels=2)
 
 
+def field(
+    t: Messages,
+    label: Label,
+    symbol: str,
+    stored: str,
+    values: Sequence[float | None],
+) -> tuple[Markup, list[Text]]:
+    """A table column of a result: its header (``symbol``, display unit) and its values in
+    the display unit and digits of ``label`` (stored in ``stored``)."""
+    return header(t, symbol, label.unit), [shown(label, v, stored) for v in values]
+
+
 def measurements(t: Messages, group: ChannelGroup, values: Mapping[str, float]) -> Table:
     """The single measurements posted (masses, zero readings) with their declared units."""
     rows: list[list[Text]] = [

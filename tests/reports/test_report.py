@@ -8,6 +8,7 @@ must print) or are computed here from the posted readings (raw tables, means, ra
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from functools import lru_cache
 
 import numpy as np
@@ -17,6 +18,7 @@ from rigserver.analysis import analyse
 from rigserver.reports.formatting import fmt
 from rigserver.reports.i18n import Lang
 from rigserver.reports.run_report import build_report, render_report
+from schemas.labels import MTOS, SLIDE_BEARING, Label
 from schemas.results import MtosResults, ProfilometerResults, SlideBearingResults, Smts2Results
 from schemas.runs import RunState
 from schemas.stands import StandKind
@@ -40,6 +42,19 @@ def report(kind: StandKind, lang: Lang = "en") -> str:
 
 def printed(values: list[float] | list[float | None] | np.ndarray) -> list[str]:
     return [fmt(None if v is None else float(v)) for v in values]
+
+
+def declared(label: Label, values: Sequence[float | None], factor: float = 1.0) -> list[str]:
+    """The values as their label declares them: times ``factor`` (SI to the display unit),
+    rounded to the label's digits, 0 below its resolution."""
+    out = []
+    for v in values:
+        if v is None:
+            out.append(fmt(None))
+            continue
+        x = v * factor
+        out.append(fmt(0.0 if abs(x) < label.resolution else float(f"{x:.{label.digits}g}")))
+    return out
 
 
 def row_of(html: str, caption: str, name: str) -> list[str]:
@@ -158,8 +173,10 @@ def test_slide_bearing_table_3_1_readings_beside_their_processing() -> None:
     t31 = table(report(StandKind.SLIDE_BEARING), "Table 3.1.")
     assert t31.column(0)[:-1] == printed(rows["limb_angle"])
     assert t31.column(2)[:-1] == printed(rows["x"])
-    assert t31.column(9)[:-1] == printed([r.chi for r in v.table])
+    assert t31.column(9)[:-1] == declared(SLIDE_BEARING["table[].chi"], [r.chi for r in v.table])
     assert t31.column(10)[:-1] == printed([r.phi_model for r in v.table])
+    e_x = declared(SLIDE_BEARING["table[].e_x"], [r.e_x for r in v.table], 1e6)  # m -> µm
+    assert t31.column(6)[:-1] == e_x and t31.header[6] == "ex, µm"
     mean = t31.rows[-1]
     assert mean[0] == "Mean"
     assert mean[4:6] == [fmt(float(np.mean(rows["t1"]))), fmt(float(np.mean(rows["t2"])))]
@@ -171,24 +188,17 @@ def test_slide_bearing_tables_3_2_and_3_3() -> None:
     assert isinstance(v, SlideBearingResults)
     html = report(StandKind.SLIDE_BEARING)
     t32 = table(html, "Table 3.2.")
-    assert t32.column(0) == printed([p.z for p in v.axial])
-    assert t32.column(2) == printed([p.pi_measured for p in v.axial])
-    assert t32.column(3) == printed([p.pi_short for p in v.axial])
-    assert t32.column(5) == printed([p.error for p in v.axial])
+    axial = {k: SLIDE_BEARING[f"axial[].{k}"] for k in ("z", "pi_measured", "pi_short", "error")}
+    assert t32.column(0) == declared(axial["z"], [p.z for p in v.axial])
+    assert t32.column(2) == declared(axial["pi_measured"], [p.pi_measured for p in v.axial])
+    assert t32.column(3) == declared(axial["pi_short"], [p.pi_short for p in v.axial])
+    assert t32.column(5) == declared(axial["error"], [p.error for p in v.axial])
     t33 = table(html, "Table 3.3.")
     by_angle = sorted(v.table, key=lambda r: r.phi_model)
+    names = ("phi_model", "pi_short", "pi_long", "pi_finite", "pi_measured")
+    names += ("error_short", "error_long")
     assert t33.rows == [
-        printed(
-            [
-                r.phi_model,
-                r.pi_short,
-                r.pi_long,
-                r.pi_finite,
-                r.pi_measured,
-                r.error_short,
-                r.error_long,
-            ]
-        )
+        [declared(SLIDE_BEARING[f"table[].{n}"], [getattr(r, n)])[0] for n in names]
         for r in by_angle
     ]
     assert len(svgs(html)) == 2  # Π(φ), Π(z)
@@ -211,12 +221,13 @@ def test_mtos_readings_and_processing_tables() -> None:
     t44 = [t for t in tables(html) if t.caption.startswith("Table 4.4.")]
     assert len(t44) == 2  # the table and its continuation; the theory part follows
     first = [x for x in v.steps if x.regime == "fluid"]
-    assert t44[0].column(4) == printed([x.chi for x in first])
+    assert t44[0].column(4) == declared(MTOS["steps[].chi"], [x.chi for x in first])
     assert t44[0].column(9) == printed([x.friction_measured for x in first])
     assert t44[1].column(2) == printed([x.bearing_characteristic for x in first])
     theory = table(html, "Table 4.4, end.")
     assert theory.column(2) == printed([x.friction_theory for x in first])
-    assert theory.column(3) == printed([x.friction_error for x in first])
+    error = MTOS["steps[].friction_error"]
+    assert theory.column(3) == declared(error, [x.friction_error for x in first])
 
 
 def test_mtos_mixed_friction_against_fluid_friction() -> None:

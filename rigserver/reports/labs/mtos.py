@@ -5,6 +5,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 import numpy as np
+from markupsafe import Markup
 from matplotlib.axes import Axes
 
 from rigserver.reports import blocks
@@ -102,50 +103,47 @@ def _processed_tables(
     regime_name = t("regime." + regime)
     caption = t("m.processed", table=experiment + 3, n=experiment, regime=regime_name)
     angle = "δ" if regime == "fluid" else "γ"
-    first = blocks.columns(
+
+    def field(name: str, symbol: str) -> tuple[Markup, list[Text]]:
+        label = MTOS[f"steps[].{name}"]
+        return blocks.field(t, label, symbol, u[name], [getattr(s, name) for s in steps])
+
+    first = _table(
         caption,
         [
-            blocks.header(t, "N", u["load"]),
-            blocks.header(t, "e_x", u["e_x"]),
-            blocks.header(t, "e_y", u["e_y"]),
-            blocks.header(t, "e", u["e"]),
-            blocks.header(t, "χ", u["chi"]),
-            blocks.header(t, angle, u["angle"]),
-            blocks.header(t, "F", u["spring_force"]),
-            blocks.header(t, "M_тр", u["friction_moment"]),
-            blocks.header(t, "F_тр", u["friction_force"]),
-            blocks.header(t, "f_э", u["friction_measured"]),
-        ],
-        [
-            [s.load for s in steps],
-            [s.e_x for s in steps],
-            [s.e_y for s in steps],
-            [s.e for s in steps],
-            [s.chi for s in steps],
-            [s.angle for s in steps],
-            [s.spring_force for s in steps],
-            [s.friction_moment for s in steps],
-            [s.friction_force for s in steps],
-            [s.friction_measured for s in steps],
+            field("load", "N"),
+            field("e_x", "e_x"),
+            field("e_y", "e_y"),
+            field("e", "e"),
+            field("chi", "χ"),
+            field("angle", angle),
+            field("spring_force", "F"),
+            field("friction_moment", "M_тр"),
+            field("friction_force", "F_тр"),
+            field("friction_measured", "f_э"),
         ],
     )
     rises = RISES if regime == "fluid" else RISES[1:]
-    head = [
-        blocks.header(t, "N", u["load"]),
-        blocks.header(t, "μ_t", u["viscosity"]),
-        blocks.header(t, "S_1", u["bearing_characteristic"]),
-        *(blocks.header(t, f"Δt_{k[1]}", u["temperature_rise"]) for k in rises),
-        blocks.header(t, "h_min", u["h_min"]),
-        html_symbol(t("col.film")),
+    rise = MTOS["steps[].temperature_rise"]
+    fields = [
+        field("load", "N"),
+        field("viscosity", "μ_t"),
+        field("bearing_characteristic", "S_1"),
+        *(
+            blocks.field(
+                t,
+                rise,
+                f"Δt_{k[1]}",
+                u["temperature_rise"],
+                [s.temperature_rise.get(k) for s in steps],
+            )
+            for k in rises
+        ),
+        field("h_min", "h_min"),
     ]
-    data: list[Sequence[float | Text | None]] = [
-        [s.load for s in steps],
-        [s.viscosity for s in steps],
-        [s.bearing_characteristic for s in steps],
-        *([s.temperature_rise.get(k) for s in steps] for k in rises),
-        [s.h_min for s in steps],
-        [t("regime." + s.film) for s in steps],
-    ]
+    head: list[Text] = [*(h for h, _ in fields), html_symbol(t("col.film"))]
+    data: list[Sequence[float | Text | None]] = [c for _, c in fields]
+    data.append([t("regime." + s.film) for s in steps])
     note: Text = ""
     if regime != "fluid":
         fluid = {s.load: s.friction_measured for s in _of(every, "fluid")}
@@ -157,26 +155,23 @@ def _processed_tables(
     second = blocks.columns(f"{caption}, {t('m.continued')}", head, data, note=note)
     if regime != "fluid":
         return [first, second]
-    third = blocks.columns(
+    finite = t("m.f_finite")
+    third = _table(
         html_symbol(t("m.theory")),
         [
-            blocks.header(t, "N", u["load"]),
-            blocks.header(t, "f_э", u["friction_measured"]),
-            blocks.header(t, "f_T", u["friction_theory"]),
-            blocks.header(t, "Δf", u["friction_error"]),
-            html_symbol(f"f, {t('m.f_finite')}"),
-            html_symbol(f"N, {t('m.f_finite')}, {t.unit(u['load_finite'])}"),
-        ],
-        [
-            [s.load for s in steps],
-            [s.friction_measured for s in steps],
-            [s.friction_theory for s in steps],
-            [s.friction_error for s in steps],
-            [s.friction_finite for s in steps],
-            [s.load_finite for s in steps],
+            field("load", "N"),
+            field("friction_measured", "f_э"),
+            field("friction_theory", "f_T"),
+            field("friction_error", "Δf"),
+            field("friction_finite", f"f, {finite}"),
+            field("load_finite", f"N, {finite}"),
         ],
     )
     return [first, second, third]
+
+
+def _table(caption: Text, fields: Sequence[tuple[Markup, list[Text]]]) -> Table:
+    return blocks.columns(caption, [h for h, _ in fields], [c for _, c in fields])
 
 
 def _plot_measured(ax: Axes, t: Messages, v: MtosResults, x: str, line: str = "") -> None:

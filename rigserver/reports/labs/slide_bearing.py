@@ -5,6 +5,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 import numpy as np
+from markupsafe import Markup
 
 from rigserver.reports import blocks
 from rigserver.reports.context import Context, LabReport
@@ -73,62 +74,64 @@ def _table_3_1(ctx: Context, v: SlideBearingResults) -> Table:
     def col(name: str) -> list[float | None]:
         return [getattr(r, name) if r is not None else None for r in rows]
 
+    row_units = units_of(SlideBearingRow)
+
+    def field(name: str, symbol: str) -> tuple[Markup, list[Text]]:
+        return blocks.field(t, SLIDE_BEARING[f"table[].{name}"], symbol, row_units[name], col(name))
+
+    processed = [
+        field("e_x", "e_x"),
+        field("e_y", "e_y"),
+        field("e", "e"),
+        field("chi", "χ"),
+        field("phi_model", "φ_мод"),
+    ]
+    pressure = field("pressure", "p")
     data: list[Sequence[float | Text | None]] = [
         raw["limb_angle"].tolist(),
-        col("pressure"),
+        pressure[1],
         raw["x"].tolist(),
         raw["y"].tolist(),
         raw["t1"].tolist(),
         raw["t2"].tolist(),
-        col("e_x"),
-        col("e_y"),
-        col("e"),
-        col("chi"),
-        col("phi_model"),
+        *(cells for _, cells in processed),
     ]
-    row_units = units_of(SlideBearingRow)
     head = [
         blocks.header(t, "φ_лимб", units["limb_angle"]),
-        blocks.header(t, "p", row_units["pressure"]),
+        pressure[0],
         blocks.header(t, "X", units["x"]),
         blocks.header(t, "Y", units["y"]),
         blocks.header(t, "t_1", units["t1"]),
         blocks.header(t, "t_2", units["t2"]),
-        blocks.header(t, "e_x", row_units["e_x"]),
-        blocks.header(t, "e_y", row_units["e_y"]),
-        blocks.header(t, "e", row_units["e"]),
-        blocks.header(t, "χ", row_units["chi"]),
-        blocks.header(t, "φ_мод", row_units["phi_model"]),
+        *(h for h, _ in processed),
     ]
     table = blocks.columns(html_symbol(t("b.table_3_1")), head, data)
     mean: list[Text] = [t("mean"), "", "", "", fmt(float(np.mean(raw["t1"])))]
-    mean += [fmt(float(np.mean(raw["t2"]))), "", "", "", fmt(v.chi_mean), ""]
+    chi_mean = shown(SLIDE_BEARING["chi_mean"], v.chi_mean, "1")
+    mean += [fmt(float(np.mean(raw["t2"]))), "", "", "", chi_mean, ""]
     return Table(caption=table.caption, header=table.header, rows=[*table.rows, mean])
 
 
 def _table_3_2(t: Messages, v: SlideBearingResults) -> Table:
     units = units_of(AxialPoint)
     a = v.axial
-    head = [
-        blocks.header(t, "z", units["z"]),
-        blocks.header(t, "p", units["pressure"]),
-        blocks.header(t, "Π_z", units["pi_measured"]),
-        blocks.header(t, "Π_m", units["pi_short"]),
-        html_symbol(f"Π, {t('b.finite')}"),
-        blocks.header(t, "ΔΠ", units["error"]),
-    ]
-    data: list[Sequence[float | Text | None]] = [
-        [p.z for p in a],
-        [p.pressure for p in a],
-        [p.pi_measured for p in a],
-        [p.pi_short for p in a],
-        [p.pi_finite for p in a],
-        [p.error for p in a],
+
+    def field(name: str, symbol: str) -> tuple[Markup, list[Text]]:
+        label = SLIDE_BEARING[f"axial[].{name}"]
+        return blocks.field(t, label, symbol, units[name], [getattr(p, name) for p in a])
+
+    fields = [
+        field("z", "z"),
+        field("pressure", "p"),
+        field("pi_measured", "Π_z"),
+        field("pi_short", "Π_m"),
+        field("pi_finite", f"Π, {t('b.finite')}"),
+        field("error", "ΔΠ"),
     ]
     return blocks.columns(
         html_symbol(t("b.table_3_2", phi=fmt(v.phi_max))),
-        head,
-        data,
+        [h for h, _ in fields],
+        [c for _, c in fields],
         note=html_symbol(t("b.edges", a=fmt(v.half_width))),
     )
 
@@ -140,25 +143,23 @@ def _by_angle(table: Sequence[SlideBearingRow]) -> list[SlideBearingRow]:
 def _table_3_3(t: Messages, table: Sequence[SlideBearingRow]) -> Table:
     units = units_of(SlideBearingRow)
     rows = _by_angle(table)
-    head = [
-        blocks.header(t, "φ", units["phi_model"]),
-        blocks.header(t, "Π_0", units["pi_short"]),
-        blocks.header(t, "Π_∞", units["pi_long"]),
-        html_symbol(f"Π, {t('b.finite')}"),
-        blocks.header(t, "Π_э", units["pi_measured"]),
-        blocks.header(t, "ΔΠ_0", units["error_short"]),
-        blocks.header(t, "ΔΠ_∞", units["error_long"]),
+
+    def field(name: str, symbol: str) -> tuple[Markup, list[Text]]:
+        label = SLIDE_BEARING[f"table[].{name}"]
+        return blocks.field(t, label, symbol, units[name], [getattr(r, name) for r in rows])
+
+    fields = [
+        field("phi_model", "φ"),
+        field("pi_short", "Π_0"),
+        field("pi_long", "Π_∞"),
+        field("pi_finite", f"Π, {t('b.finite')}"),
+        field("pi_measured", "Π_э"),
+        field("error_short", "ΔΠ_0"),
+        field("error_long", "ΔΠ_∞"),
     ]
-    data: list[Sequence[float | Text | None]] = [
-        [r.phi_model for r in rows],
-        [r.pi_short for r in rows],
-        [r.pi_long for r in rows],
-        [r.pi_finite for r in rows],
-        [r.pi_measured for r in rows],
-        [r.error_short for r in rows],
-        [r.error_long for r in rows],
-    ]
-    return blocks.columns(html_symbol(t("b.table_3_3")), head, data)
+    return blocks.columns(
+        html_symbol(t("b.table_3_3")), [h for h, _ in fields], [c for _, c in fields]
+    )
 
 
 def _curve(values: Sequence[float | None]) -> list[float]:

@@ -75,3 +75,18 @@ def test_rounding_noise_is_zero() -> None:
     assert shown(SLIDE_BEARING["table[].pi_short"], -1.388e-17, "1") == "0"
     assert shown(SLIDE_BEARING["table[].e_x"], -3.2e-6, "m") == "-3.2"
     assert rounded(1.23456e-3, 2, 1e-2) == "0"
+
+
+def test_plot_ticks_take_the_decimal_sign_of_the_language() -> None:
+    from matplotlib.figure import Figure
+
+    from rigserver.reports.plots import decorate
+
+    for lang, expected in (("en", "0.5"), ("ru", "0,5")):
+        with number_locale(lang):
+            ax = Figure().subplots()
+            ax.plot([0.0, 1.0], [0.0, 1.0])
+            decorate(ax, xlabel="x", ylabel="y")
+        ax.figure.canvas.draw()  # type: ignore[union-attr]
+        ticks = [label.get_text() for label in ax.get_xticklabels()]
+        assert expected in ticks, ticks

@@ -18,6 +18,7 @@ from schemas.labels import MTOS
 from schemas.quantity import units_of
 from schemas.results import MtosResults, MtosStep
 from schemas.stands import MEASUREMENTS, MtosConfig
+from schemas.units import UNITS
 
 GROUP = "steps"
 REGIMES = ("fluid", "mixed", "boundary")
@@ -218,7 +219,9 @@ def _trajectory_svg(t: Messages, v: MtosResults, config: MtosConfig) -> str:
     """The journal centre (e_x, e_y) of every step (4.11) inside the clearance circle, with
     the Gümbel semicircle: the diameter from the bearing centre to the point h0 along the
     load line (e_x = e_y, δ = 0 in (4.12)), on the side the fluid-film steps lie."""
-    h0 = config.clearance
+    shown_in = MTOS["steps[].e_x"].unit  # µm, the manual's
+    scale = 1.0 / UNITS[shown_in].factor
+    h0 = config.clearance * scale
     fig, (ax,) = axes(height=4.2)
     along = np.array([1.0, 1.0]) / np.sqrt(2.0)
     across = np.array([-1.0, 1.0]) / np.sqrt(2.0)
@@ -236,8 +239,8 @@ def _trajectory_svg(t: Messages, v: MtosResults, config: MtosConfig) -> str:
         steps = _of(v.steps, regime)
         if steps:
             ax.plot(
-                [s.e_x for s in steps],
-                [s.e_y for s in steps],
+                [s.e_x * scale for s in steps],
+                [s.e_y * scale for s in steps],
                 MARKERS[regime] + "-",
                 linewidth=0.8,
                 markersize=5,
@@ -246,17 +249,16 @@ def _trajectory_svg(t: Messages, v: MtosResults, config: MtosConfig) -> str:
             for s in steps if regime == "fluid" else ():
                 ax.annotate(
                     fmt(s.load),
-                    (s.e_x, s.e_y),
+                    (s.e_x * scale, s.e_y * scale),
                     fontsize=6,
                     xytext=(4, -2),
                     textcoords="offset points",
                 )
     ax.set_aspect("equal")
-    u = units_of(MtosStep)
     decorate(
         ax,
-        xlabel=blocks.axis(t, "e_x", u["e_x"]),
-        ylabel=blocks.axis(t, "e_y", u["e_y"]),
+        xlabel=blocks.axis(t, "e_x", shown_in),
+        ylabel=blocks.axis(t, "e_y", shown_in),
         legend_outside=True,
     )
     return to_svg(fig)

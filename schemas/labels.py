@@ -221,7 +221,6 @@ _FIT = {
     "method": Label(N_("fitting method"), "", "", part=_THEORY),
     "nu": Label(N_("exponent of the bearing curve"), "ν", "1.8", part=_THEORY),
     "b": Label(N_("coefficient of the bearing curve"), "b", "1.8", part=_THEORY),
-    "residuals": Label(N_("difference of the bearing curve from the fit"), "Δt_p", "1.8"),
     "nu_partial": Label(N_("exponent by a pair of levels"), "ν_i", "1.16", part=_THEORY),
     "b_partial": Label(N_("coefficient by a level"), "b_i", "1.18", part=_THEORY),
 }
@@ -247,6 +246,12 @@ PROFILOMETER: dict[str, Label] = {
         for method in ("manual", "lsq")
         for name, label in _FIT.items()
     },
+    "fit_manual.residuals": Label(
+        N_("difference from the fit by three pairs of levels"), "Δt_p", "1.8", digits=3
+    ),
+    "fit_lsq.residuals": Label(
+        N_("difference from the least-squares fit"), "Δt_p", "1.8", digits=3
+    ),
     "complex_parameter": Label(N_("complex roughness parameter"), "Δ", "1.9", part=_THEORY),
     "ra_from_complex": Label(
         N_("Ra from the complex parameter"), "R_a", "1.10", "um", 3, 0, _THEORY

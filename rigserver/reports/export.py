@@ -24,6 +24,7 @@ from typing import IO, Any, Literal
 from rigserver.analysis import Readings
 from rigserver.reports import results_view
 from rigserver.reports.i18n import Messages
+from schemas import labelled
 from schemas.channels import ChannelGroup
 from schemas.labels import Label, plain_symbol
 from schemas.runs import Run
@@ -135,10 +136,10 @@ def results_csv(
     and the declared digits, in the declared order; no plot series, no per-row tables."""
     head = [t("col.quantity"), t("col.symbol"), t("col.value"), t("col.unit"), "path"]
     rows: list[Sequence[Any]] = [head]
-    for e in results_view.scalars(stand.kind, payload):
+    for e in labelled.scalars(stand.kind, payload):
         rows.append(
             [
-                results_view.name(t, e.label),
+                plain_symbol(results_view.name(t, e.label)),
                 plain_symbol(e.label.symbol),
                 _shown(e.label, e.value, e.stored, t),
                 _unit(t, e.label),
@@ -154,11 +155,12 @@ def table_csvs(
     """Each per-row table of the results as a CSV of its own, by the table's name; a column
     is headed by its label, symbol and display unit."""
     found = {}
-    for rows_of in results_view.row_tables(stand.kind, payload):
+    for rows_of in labelled.row_tables(stand.kind, payload):
         head = []
         for c in rows_of.columns:
             unit = _unit(t, c.label)
-            name = f"{results_view.name(t, c.label)}, {plain_symbol(c.symbol)}".rstrip(", ")
+            words = plain_symbol(results_view.name(t, c.label))
+            name = f"{words}, {plain_symbol(c.symbol)}" if c.symbol else words
             head.append(f"{name} [{unit}]" if unit else name)
         body = [
             [

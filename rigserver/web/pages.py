@@ -20,6 +20,7 @@ from rigserver.reports import results_view
 from rigserver.reports.formatting import decimal_sign, fmt, html_symbol, number_locale, shown
 from rigserver.reports.i18n import LANGS, Lang, Messages
 from rigserver.reports.run_report import RESULT_MODELS, configuration_rows, particulars_text
+from schemas import labelled
 from schemas.labels import RESULTS
 from schemas.quantity import unit_paths
 from schemas.runs import Run, RunPage, RunState
@@ -64,7 +65,7 @@ def _render(template: str, lang: Lang, **context: Any) -> str:
                 t=t,
                 lang=lang,
                 other=other,
-                other_name=Locale.parse(other).get_display_name(other),
+                other_name=(Locale.parse(other).get_display_name(other) or other).capitalize(),
                 **context,
             )
         )
@@ -89,10 +90,10 @@ def results_html(*, run: Run, payload: Mapping[str, Any], lang: Lang) -> str:
     the declared order, then its per-row tables: a part of the run page."""
     t = Messages(lang)
 
-    def entry(e: results_view.Entry) -> dict[str, Any]:
+    def entry(e: labelled.Entry) -> dict[str, Any]:
         return {
             "path": e.path,
-            "name": results_view.name(t, e.label),
+            "name": html_symbol(results_view.name(t, e.label)),
             "symbol": html_symbol(e.label.symbol),
             "value": results_view.value(t, e.label, e.value, e.stored),
             "unit": results_view.unit(t, e.label),
@@ -101,7 +102,7 @@ def results_html(*, run: Run, payload: Mapping[str, Any], lang: Lang) -> str:
     with number_locale(lang):
         parts = [
             (title, [entry(e) for e in entries])
-            for title, entries in results_view.by_part(results_view.scalars(run.stand, payload))
+            for title, entries in labelled.by_part(labelled.scalars(run.stand, payload))
         ]
         tables = [
             {
@@ -110,7 +111,7 @@ def results_html(*, run: Run, payload: Mapping[str, Any], lang: Lang) -> str:
                 "header": [
                     {
                         "name": results_view.name(t, c.label),
-                        "symbol": html_symbol(c.symbol),
+                        "symbol": html_symbol(c.symbol or t.gettext(c.label.text)),
                         "unit": results_view.unit(t, c.label),
                     }
                     for c in found.columns
@@ -123,7 +124,7 @@ def results_html(*, run: Run, payload: Mapping[str, Any], lang: Lang) -> str:
                     for row in found.rows
                 ],
             }
-            for found in results_view.row_tables(run.stand, payload)
+            for found in labelled.row_tables(run.stand, payload)
         ]
     pending = [t.gettext(item) for item in payload.get("values", {}).get("pending", [])]
     return _render("results.html", lang, parts=parts, tables=tables, pending=pending)

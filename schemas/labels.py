@@ -374,5 +374,7 @@ WORDS: tuple[str, ...] = (
     N_("yes"),
     N_("no"),
     N_("wear"),
+    N_("ABRIS-PM7"),
 )
-"""The words results and test plans hold as values (regimes, contact modes, methods)."""
+"""The words results, test plans and configurations hold as values (regimes, contact
+modes, methods, the instrument)."""

@@ -8,6 +8,7 @@ must print) or are computed here from the posted readings (raw tables, means, ra
 
 from __future__ import annotations
 
+import re
 from collections.abc import Sequence
 from functools import lru_cache
 
@@ -300,3 +301,15 @@ def test_input_data_print_the_configuration_with_units() -> None:
         fmt(s.run.configuration["viscosity"]["alpha"]),
         "1/°C",
     ]
+
+
+@pytest.mark.parametrize("kind", list(StandKind))
+def test_the_russian_report_has_no_tex_and_no_english(kind: StandKind) -> None:
+    html = re.sub(r"<(svg|style)\b.*?</\1>", "", report(kind, "ru"), flags=re.S)
+    text = re.sub(r"<[^>]+>", " ", html)
+    assert not re.findall(r"\S*[_^{}]\S*", text)  # h_min^кр, Δ^(1/2) print as scripts or √
+    run = simulated(kind).run
+    typed = " ".join([run.operator, run.title or "", *map(str, run.specimen.values())])
+    typed += " " + " ".join(str(v) for v in run.test_plan.values())
+    words = set(re.findall(r"\b[A-Za-z]{3,}\b", text)) - set(re.findall(r"[A-Za-z]+", typed))
+    assert words <= {"Rmax", "max", "min", "rev", "exp", "pmax", "rig", "UTC"}, words

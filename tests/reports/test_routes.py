@@ -163,3 +163,18 @@ def test_reads_need_a_key(served: tuple[TestClient, dict[str, str]], path: str) 
     answer = client.get(f"{API}/runs/{ids['smts2']}/{path}")
     assert answer.status_code == 401
     assert "read" in answer.json()["detail"]
+
+
+def test_measurements_are_named_single_values_in_json(
+    served: tuple[TestClient, dict[str, str]],
+) -> None:
+    client, ids = served
+    answer = client.get(
+        f"{API}/runs/{ids['smts2']}/readings?group=measurements", headers=auth(READER)
+    )
+    found = answer.json()["measurements"]
+    posted = simulated(StandKind.SMTS2).sim.columns("measurements")
+    assert found["values"] == {
+        name: float(values[~np.isnan(values)][-1]) for name, values in posted.items()
+    }  # no null padding: one value per channel
+    assert found["units"] == {"pin_mass_before": "g", "pin_mass_after": "g", "disc_ra": "um"}

@@ -261,6 +261,13 @@ PROFILOMETER: dict[str, Label] = {
     ),
 }
 
+
+def row_labels(labels: Mapping[str, Label], prefix: str) -> dict[str, Label]:
+    """The labels of the rows of a per-row table by field name: ``row_labels(MTOS,
+    "steps[].")["chi"]``."""
+    return {k.removeprefix(prefix): v for k, v in labels.items() if k.startswith(prefix)}
+
+
 RESULTS: dict[StandKind, Mapping[str, Label]] = {
     StandKind.SMTS2: SMTS2,
     StandKind.SLIDE_BEARING: SLIDE_BEARING,

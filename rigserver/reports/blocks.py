@@ -85,6 +85,31 @@ def field(
     return header(t, symbol, label.unit), [shown(label, v, stored) for v in values]
 
 
+def result_table(
+    t: Messages,
+    caption: Text,
+    rows: Sequence[BaseModel],
+    fields: Sequence[tuple[str, str]],
+    *,
+    model: type[BaseModel],
+    labels: Mapping[str, Label],
+    note: Text = "",
+) -> Table:
+    """A table of result rows (``model`` each, labelled ``labels["<field>"]``), one column
+    per ``(field name, symbol)``, in the display units and digits of the labels."""
+    units = units_of(model)
+    columns = [
+        field(t, labels[name], symbol, units[name], [getattr(r, name) for r in rows])
+        for name, symbol in fields
+    ]
+    return Table(
+        caption=caption,
+        header=[h for h, _ in columns],
+        rows=[list(row) for row in zip(*(c for _, c in columns), strict=True)],
+        note=note,
+    )
+
+
 def measurements(t: Messages, group: ChannelGroup, values: Mapping[str, float]) -> Table:
     """The single measurements posted (masses, zero readings) with their declared units."""
     rows: list[list[Text]] = [

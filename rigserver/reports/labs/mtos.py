@@ -14,7 +14,7 @@ from rigserver.reports.document import Block, Figure, Section, Table, Text
 from rigserver.reports.formatting import fmt, html_symbol, shown, tex
 from rigserver.reports.i18n import Messages
 from rigserver.reports.plots import axes, decorate, to_svg
-from schemas.labels import MTOS
+from schemas.labels import MTOS, row_labels
 from schemas.quantity import units_of
 from schemas.results import MtosResults, MtosStep
 from schemas.stands import MEASUREMENTS, MtosConfig
@@ -105,24 +105,29 @@ def _processed_tables(
     caption = t("m.processed", table=experiment + 3, n=experiment, regime=regime_name)
     angle = "δ" if regime == "fluid" else "γ"
 
-    def field(name: str, symbol: str) -> tuple[Markup, list[Text]]:
-        label = MTOS[f"steps[].{name}"]
-        return blocks.field(t, label, symbol, u[name], [getattr(s, name) for s in steps])
+    labels = row_labels(MTOS, "steps[].")
 
-    first = _table(
+    def field(name: str, symbol: str) -> tuple[Markup, list[Text]]:
+        return blocks.field(t, labels[name], symbol, u[name], [getattr(s, name) for s in steps])
+
+    first = blocks.result_table(
+        t,
         caption,
+        steps,
         [
-            field("load", "N"),
-            field("e_x", "e_x"),
-            field("e_y", "e_y"),
-            field("e", "e"),
-            field("chi", "χ"),
-            field("angle", angle),
-            field("spring_force", "F"),
-            field("friction_moment", "M_тр"),
-            field("friction_force", "F_тр"),
-            field("friction_measured", "f_э"),
+            ("load", "N"),
+            ("e_x", "e_x"),
+            ("e_y", "e_y"),
+            ("e", "e"),
+            ("chi", "χ"),
+            ("angle", angle),
+            ("spring_force", "F"),
+            ("friction_moment", "M_тр"),
+            ("friction_force", "F_тр"),
+            ("friction_measured", "f_э"),
         ],
+        model=MtosStep,
+        labels=labels,
     )
     rises = RISES if regime == "fluid" else RISES[1:]
     rise = MTOS["steps[].temperature_rise"]
@@ -157,22 +162,22 @@ def _processed_tables(
     if regime != "fluid":
         return [first, second]
     finite = t("m.f_finite")
-    third = _table(
+    third = blocks.result_table(
+        t,
         html_symbol(t("m.theory")),
+        steps,
         [
-            field("load", "N"),
-            field("friction_measured", "f_э"),
-            field("friction_theory", "f_T"),
-            field("friction_error", "Δf"),
-            field("friction_finite", f"f, {finite}"),
-            field("load_finite", f"N, {finite}"),
+            ("load", "N"),
+            ("friction_measured", "f_э"),
+            ("friction_theory", "f_T"),
+            ("friction_error", "Δf"),
+            ("friction_finite", f"f, {finite}"),
+            ("load_finite", f"N, {finite}"),
         ],
+        model=MtosStep,
+        labels=labels,
     )
     return [first, second, third]
-
-
-def _table(caption: Text, fields: Sequence[tuple[Markup, list[Text]]]) -> Table:
-    return blocks.columns(caption, [h for h, _ in fields], [c for _, c in fields])
 
 
 def _plot_measured(ax: Axes, t: Messages, v: MtosResults, x: str, line: str = "") -> None:

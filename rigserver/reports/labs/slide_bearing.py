@@ -13,7 +13,7 @@ from rigserver.reports.document import Block, Figure, Section, Table, Text
 from rigserver.reports.formatting import fmt, html_symbol, shown
 from rigserver.reports.i18n import Messages
 from rigserver.reports.plots import axes, decorate, to_svg
-from schemas.labels import SLIDE_BEARING
+from schemas.labels import SLIDE_BEARING, row_labels
 from schemas.quantity import units_of
 from schemas.results import AxialPoint, SlideBearingResults, SlideBearingRow
 from schemas.stands import MEASUREMENTS
@@ -113,25 +113,20 @@ def _table_3_1(ctx: Context, v: SlideBearingResults) -> Table:
 
 
 def _table_3_2(t: Messages, v: SlideBearingResults) -> Table:
-    units = units_of(AxialPoint)
-    a = v.axial
-
-    def field(name: str, symbol: str) -> tuple[Markup, list[Text]]:
-        label = SLIDE_BEARING[f"axial[].{name}"]
-        return blocks.field(t, label, symbol, units[name], [getattr(p, name) for p in a])
-
-    fields = [
-        field("z", "z"),
-        field("pressure", "p"),
-        field("pi_measured", "Π_z"),
-        field("pi_short", "Π_m"),
-        field("pi_finite", f"Π, {t('b.finite')}"),
-        field("error", "ΔΠ"),
-    ]
-    return blocks.columns(
+    return blocks.result_table(
+        t,
         html_symbol(t("b.table_3_2", phi=fmt(v.phi_max))),
-        [h for h, _ in fields],
-        [c for _, c in fields],
+        v.axial,
+        [
+            ("z", "z"),
+            ("pressure", "p"),
+            ("pi_measured", "Π_z"),
+            ("pi_short", "Π_m"),
+            ("pi_finite", f"Π, {t('b.finite')}"),
+            ("error", "ΔΠ"),
+        ],
+        model=AxialPoint,
+        labels=row_labels(SLIDE_BEARING, "axial[]."),
         note=html_symbol(t("b.edges", a=fmt(v.half_width))),
     )
 
@@ -141,24 +136,21 @@ def _by_angle(table: Sequence[SlideBearingRow]) -> list[SlideBearingRow]:
 
 
 def _table_3_3(t: Messages, table: Sequence[SlideBearingRow]) -> Table:
-    units = units_of(SlideBearingRow)
-    rows = _by_angle(table)
-
-    def field(name: str, symbol: str) -> tuple[Markup, list[Text]]:
-        label = SLIDE_BEARING[f"table[].{name}"]
-        return blocks.field(t, label, symbol, units[name], [getattr(r, name) for r in rows])
-
-    fields = [
-        field("phi_model", "φ"),
-        field("pi_short", "Π_0"),
-        field("pi_long", "Π_∞"),
-        field("pi_finite", f"Π, {t('b.finite')}"),
-        field("pi_measured", "Π_э"),
-        field("error_short", "ΔΠ_0"),
-        field("error_long", "ΔΠ_∞"),
-    ]
-    return blocks.columns(
-        html_symbol(t("b.table_3_3")), [h for h, _ in fields], [c for _, c in fields]
+    return blocks.result_table(
+        t,
+        html_symbol(t("b.table_3_3")),
+        _by_angle(table),
+        [
+            ("phi_model", "φ"),
+            ("pi_short", "Π_0"),
+            ("pi_long", "Π_∞"),
+            ("pi_finite", f"Π, {t('b.finite')}"),
+            ("pi_measured", "Π_э"),
+            ("error_short", "ΔΠ_0"),
+            ("error_long", "ΔΠ_∞"),
+        ],
+        model=SlideBearingRow,
+        labels=row_labels(SLIDE_BEARING, "table[]."),
     )
 
 

@@ -40,6 +40,18 @@ pytestmark = [
 ]
 
 
+def chromium(playwright: Any, profile: Path, **options: Any) -> Any:
+    """A headless Chromium context (Debian's browser, its profile in ``profile``)."""
+    return playwright.chromium.launch_persistent_context(
+        str(profile),
+        executable_path=str(CHROMIUM),
+        headless=True,
+        args=ARGS,
+        viewport={"width": 1280, "height": 900},
+        **options,
+    )
+
+
 def points(page: Any) -> int:
     return int(page.get_attribute("#live-chart", "data-points"))
 
@@ -66,14 +78,7 @@ def test_watch_a_run_live_and_download_its_report(server: Server, tmp_path: Path
         assert time.monotonic() < deadline, "the run was not opened"
         time.sleep(0.05)
     with sync_playwright() as playwright:
-        context = playwright.chromium.launch_persistent_context(
-            str(tmp_path / "chromium-profile"),
-            executable_path=str(CHROMIUM),
-            headless=True,
-            args=ARGS,
-            accept_downloads=True,
-            viewport={"width": 1280, "height": 900},
-        )
+        context = chromium(playwright, tmp_path / "chromium-profile", accept_downloads=True)
         try:
             page = context.new_page()
             page.goto(f"{server.url}/")  # no session yet: the login page

@@ -18,7 +18,7 @@ from schemas.stands import StandKind
 from tests.api.conftest import READER, WRITER, Server
 from tests.i18n.messages import every_message
 from tests.reports.simulated import post, simulated
-from tests.web.test_browser import ARGS, CHROMIUM
+from tests.web.test_browser import CHROMIUM, chromium
 
 pytestmark = [
     pytest.mark.slow,
@@ -80,13 +80,7 @@ def test_russian_pages_speak_russian(server: Server, tmp_path: Path) -> None:
     pages["run-open"] = f"/runs/{opened}"
     pages["runs"] = "/"
     with sync_playwright() as playwright:
-        context = playwright.chromium.launch_persistent_context(
-            str(tmp_path / "chromium-profile"),
-            executable_path=str(CHROMIUM),
-            headless=True,
-            args=ARGS,
-            viewport={"width": 1280, "height": 900},
-        )
+        context = chromium(playwright, tmp_path / "chromium-profile")
         try:
             page = context.new_page()
             page.goto(f"{server.url}/login?lang=ru")

@@ -83,6 +83,10 @@ async def report_pdf(
     return Response(pdf, media_type="application/pdf", headers=headers)
 
 
+LabelsQuery = Annotated[
+    Lang | None,
+    Query(description="language of the labels; without it, Russian for excel-ru, else en"),
+]
 DialectQuery = Annotated[
     Dialect,
     Query(
@@ -119,11 +123,12 @@ def _results_csv(services: Services, run_id: str, lang: Lang, dialect: Dialect) 
 async def get_results_csv(
     run_id: str,
     services: ServicesDep,
-    lang: Annotated[Lang | None, Query(description="language of the labels (else en)")] = None,
+    lang: LabelsQuery = None,
     dialect: DialectQuery = "csv",
 ) -> Response:
-    chosen = _csv_language(lang, dialect)
-    run, text = await run_in_threadpool(_results_csv, services, run_id, chosen, dialect)
+    run, text = await run_in_threadpool(
+        _results_csv, services, run_id, _csv_language(lang, dialect), dialect
+    )
     return Response(
         text,
         media_type="text/csv; charset=utf-8",
@@ -161,11 +166,12 @@ def _export(services: Services, run_id: str, lang: Lang, dialect: Dialect) -> tu
 async def get_export(
     run_id: str,
     services: ServicesDep,
-    lang: Annotated[Lang | None, Query(description="language of the labels (else en)")] = None,
+    lang: LabelsQuery = None,
     dialect: DialectQuery = "csv",
 ) -> FileResponse:
-    chosen = _csv_language(lang, dialect)
-    run, path = await run_in_threadpool(_export, services, run_id, chosen, dialect)
+    run, path = await run_in_threadpool(
+        _export, services, run_id, _csv_language(lang, dialect), dialect
+    )
     return FileResponse(
         path,
         media_type="application/zip",

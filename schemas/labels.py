@@ -22,13 +22,9 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from enum import StrEnum
 
+from schemas.messages import N_
 from schemas.stands import StandKind
 from schemas.units import UNITS, UnitSymbol
-
-
-def N_(text: str) -> str:
-    """Mark ``text`` for the message catalogs without translating it (gettext's ``N_``)."""
-    return text
 
 
 class Part(StrEnum):

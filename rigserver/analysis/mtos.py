@@ -9,7 +9,7 @@ import numpy as np
 from rigserver.analysis.readings import Readings
 from rigserver.core import bearing, film, reynolds, stands
 from rigserver.core.errors import ModelInputError
-from schemas.labels import N_
+from schemas.messages import N_
 from schemas.results import MtosResults, MtosStep
 from schemas.runs import Run
 from schemas.stands import MtosConfig

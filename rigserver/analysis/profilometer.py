@@ -7,7 +7,7 @@ import numpy as np
 from rigserver.analysis.readings import Readings
 from rigserver.core import roughness
 from rigserver.core.errors import ModelInputError
-from schemas.labels import N_
+from schemas.messages import N_
 from schemas.results import BearingFitResult, ProfilometerResults
 from schemas.runs import Run
 from schemas.stands import ProfilometerConfig

@@ -8,7 +8,7 @@ from numpy.typing import NDArray
 from rigserver.analysis.readings import Readings
 from rigserver.core import bearing, reynolds, stands
 from rigserver.core.errors import ModelInputError
-from schemas.labels import N_
+from schemas.messages import N_
 from schemas.results import AxialPoint, SlideBearingResults, SlideBearingRow
 from schemas.runs import Run
 from schemas.stands import SlideBearingConfig

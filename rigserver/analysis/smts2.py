@@ -8,7 +8,7 @@ from rigserver.analysis.readings import Readings
 from rigserver.analysis.streaming import BlockSeries, TailMoments
 from rigserver.core import wear
 from rigserver.core.errors import ModelInputError
-from schemas.labels import N_
+from schemas.messages import N_
 from schemas.results import (
     AdequacyResult,
     ExperimentalWearResult,

@@ -17,7 +17,8 @@ from rigserver.reports.formatting import fmt, html_symbol, number_locale, value_
 from rigserver.reports.i18n import Lang, Messages
 from rigserver.reports.labs import mtos, profilometer, slide_bearing, smts2
 from rigserver.reports.render import render
-from schemas.labels import N_, PARTICULARS
+from schemas.labels import PARTICULARS
+from schemas.messages import N_
 from schemas.results import MtosResults, ProfilometerResults, SlideBearingResults, Smts2Results
 from schemas.runs import Run, RunState
 from schemas.stands import CONFIG_MODELS, Stand, StandKind

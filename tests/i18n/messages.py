@@ -1,5 +1,6 @@
-"""Every message of the package: Babel's extraction over the Python and the templates,
-and the texts declared as data (channels, groups, units) that no call marks."""
+"""Every message of the package, as Babel's extraction over the Python and the templates
+finds it (what ``pybabel extract`` with the same keywords writes into the template), and
+the texts declared as data (channels, groups, units), which must be among them."""
 
 from __future__ import annotations
 
@@ -12,9 +13,16 @@ from schemas.stands import default_stands
 
 ROOT = Path(__file__).resolve().parents[2]
 
-KEYWORDS = {**DEFAULT_KEYWORDS, "N_": None, "quantity": (3,), "_c": (3,)}
-"""``N_`` marks a text; ``quantity(default, unit, description)`` and the stands' ``_c(name,
-unit, long_name)`` carry a text shown to people in their third argument."""
+KEYWORDS = {
+    **DEFAULT_KEYWORDS,
+    "N_": None,
+    "C_": ((1, "c"), 2),
+    "quantity": (3,),
+    "_c": (3,),
+}
+"""``N_`` marks a text, ``C_`` a text in a context; ``quantity(default, unit, description)``
+and the stands' ``_c(name, unit, long_name)`` carry a text shown to people in their third
+argument (``pybabel extract -k N_ -k C_:1c,2 -k quantity:3 -k _c:3``)."""
 
 METHODS = [
     ("**/templates/**.html", "jinja2.ext:babel_extract"),
@@ -58,4 +66,4 @@ def declared() -> dict[Message, str]:
 
 
 def every_message() -> dict[Message, str]:
-    return {**declared(), **extracted()}
+    return extracted()

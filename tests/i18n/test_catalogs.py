@@ -8,7 +8,7 @@ import pytest
 from babel.messages.pofile import read_po
 
 from rigserver.reports.i18n import DEFAULT, DOMAIN, LANGS
-from tests.i18n.messages import every_message, extracted
+from tests.i18n.messages import declared, every_message, extracted
 
 CATALOGS = [lang for lang in LANGS if lang != DEFAULT]
 
@@ -27,6 +27,11 @@ def test_babel_finds_the_messages_of_code_schemas_and_templates() -> None:
         "schemas/stands.py",
         "rigserver/web/templates/run.html",
     } <= places
+
+
+def test_the_texts_declared_as_data_are_extracted() -> None:
+    # else `pybabel update` would turn their translations obsolete
+    assert not set(declared()) - set(extracted())
 
 
 @pytest.mark.parametrize("lang", CATALOGS)

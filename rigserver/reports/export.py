@@ -90,31 +90,6 @@ def group_csv(readings: Readings, group: ChannelGroup) -> Iterator[str]:
     yield out.getvalue()
 
 
-def result_rows(payload: Mapping[str, Any]) -> Iterator[tuple[str, Any, str]]:
-    """``(path, value, unit)`` of every number, flag and word in a results payload.
-
-    Lists are expanded with their index (``steps[2].chi``); the unit is looked up under the
-    path without indices (``steps[].chi``), as the payload's ``units`` names it.
-    """
-    units: Mapping[str, str] = payload.get("units", {})
-
-    def walk(node: Any, path: str, unit_path: str) -> Iterator[tuple[str, Any, str]]:
-        if isinstance(node, dict):
-            for key, value in node.items():
-                sep = "." if path else ""
-                yield from walk(value, f"{path}{sep}{key}", f"{unit_path}{sep}{key}")
-        elif isinstance(node, list):
-            for index, value in enumerate(node):
-                yield from walk(value, f"{path}[{index}]", f"{unit_path}[]")
-        else:
-            unit = units.get(unit_path) or units.get(unit_path.removesuffix("[]")) or ""
-            if not unit and "." in unit_path:  # a dict of quantities: temperature_rise.t2
-                unit = units.get(unit_path.rsplit(".", 1)[0], "")
-            yield path, node, unit
-
-    yield from walk(payload.get("values", {}), "", "")
-
-
 def _shown(label: Label, value: Any, stored: str, t: Messages) -> Any:
     if value is None:
         return ""

@@ -21,7 +21,7 @@ from typing import Any
 from babel.numbers import get_decimal_symbol
 from markupsafe import Markup, escape
 
-from schemas.labels import Label, round_to
+from schemas.labels import Label
 
 DASH = "—"
 _SUPERSCRIPT = str.maketrans("0123456789-+", "⁰¹²³⁴⁵⁶⁷⁸⁹⁻⁺")
@@ -74,13 +74,6 @@ def shown(label: Label, value: float | None, stored: str) -> str:
     if value is None or isinstance(value, bool) or not math.isfinite(value):
         return fmt(value)
     return fmt(label.shown(value, stored), label.digits)
-
-
-def rounded(value: float | None, digits: int = 4, resolution: float = 0.0) -> str:
-    """:func:`fmt` of ``value`` rounded to ``digits``, 0 below ``resolution``."""
-    if value is None or isinstance(value, bool) or not math.isfinite(value):
-        return fmt(value)
-    return fmt(round_to(value, digits, resolution), digits)
 
 
 def value_text(value: Any) -> str:

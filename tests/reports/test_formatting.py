@@ -2,12 +2,16 @@
 
 from __future__ import annotations
 
-import pytest
+import math
 
-from rigserver.reports.formatting import fmt, html_symbol, number_locale, rounded, shown, tex
+import pytest
+from hypothesis import given
+from hypothesis import strategies as st
+
+from rigserver.reports.formatting import fmt, html_symbol, number_locale, shown, tex
 from rigserver.reports.i18n import Messages
 from rigserver.reports.run_report import particulars_text
-from schemas.labels import MTOS, PROFILOMETER, SLIDE_BEARING
+from schemas.labels import MTOS, PROFILOMETER, SLIDE_BEARING, round_to
 
 
 @pytest.mark.parametrize(
@@ -74,7 +78,6 @@ def test_rounding_noise_is_zero() -> None:
     assert shown(SLIDE_BEARING["table[].e_x"], 2.711e-20, "m") == "0"
     assert shown(SLIDE_BEARING["table[].pi_short"], -1.388e-17, "1") == "0"
     assert shown(SLIDE_BEARING["table[].e_x"], -3.2e-6, "m") == "-3.2"
-    assert rounded(1.23456e-3, 2, 1e-2) == "0"
 
 
 def test_plot_ticks_take_the_decimal_sign_of_the_language() -> None:
@@ -90,3 +93,20 @@ def test_plot_ticks_take_the_decimal_sign_of_the_language() -> None:
         ax.figure.canvas.draw()  # type: ignore[union-attr]
         ticks = [label.get_text() for label in ax.get_xticklabels()]
         assert expected in ticks, ticks
+
+
+@given(
+    value=st.floats(min_value=-1e3, max_value=1e3, allow_nan=False),
+    digits=st.integers(min_value=1, max_value=6),
+    resolution=st.sampled_from([0.0, 1e-4, 1e-2]),
+)
+def test_round_to_keeps_digits_and_drops_noise(
+    value: float, digits: int, resolution: float
+) -> None:
+    got = round_to(value, digits, resolution)
+    if abs(value) < resolution:
+        assert got == 0.0  # below the resolution: rounding noise, printed 0
+    else:  # within half a unit of the last significant digit
+        last = 10.0 ** (math.floor(math.log10(abs(value))) - digits + 1) if value else 0.0
+        assert abs(got - value) <= 0.5 * last * (1 + 1e-9)
+        assert round_to(got, digits, resolution) == got  # rounding again changes nothing

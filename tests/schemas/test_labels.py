@@ -4,10 +4,11 @@ display unit (issue 15): a new result without one fails here."""
 from __future__ import annotations
 
 import re
+from collections.abc import Iterator, Mapping
+from typing import Any
 
 import pytest
 
-from rigserver.reports.export import result_rows
 from rigserver.reports.i18n import Messages
 from schemas.labels import NOT_QUANTITIES, RESULTS, TABLES, Label
 from schemas.stands import StandKind, default_stands
@@ -15,6 +16,29 @@ from schemas.units import UNITS
 from tests.reports.simulated import simulated
 
 RU = Messages("ru")
+
+
+def result_rows(payload: Mapping[str, Any]) -> Iterator[tuple[str, Any, str]]:
+    """``(path, value, unit)`` of every number, flag and word in a results payload: what
+    the pipelines produce, whether or not anything shows it (lists expanded with their
+    index, ``steps[2].chi``; the unit as the payload's ``units`` names it)."""
+    units: Mapping[str, str] = payload.get("units", {})
+
+    def walk(node: Any, path: str, unit_path: str) -> Iterator[tuple[str, Any, str]]:
+        if isinstance(node, dict):
+            for key, value in node.items():
+                sep = "." if path else ""
+                yield from walk(value, f"{path}{sep}{key}", f"{unit_path}{sep}{key}")
+        elif isinstance(node, list):
+            for index, value in enumerate(node):
+                yield from walk(value, f"{path}[{index}]", f"{unit_path}[]")
+        else:
+            unit = units.get(unit_path) or units.get(unit_path.removesuffix("[]")) or ""
+            if not unit and "." in unit_path:  # a dict of quantities: temperature_rise.t2
+                unit = units.get(unit_path.rsplit(".", 1)[0], "")
+            yield path, node, unit
+
+    yield from walk(payload.get("values", {}), "", "")
 
 
 def _translated(text: str) -> bool:

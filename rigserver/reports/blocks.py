@@ -31,11 +31,6 @@ def axis(t: Messages, symbol: str, unit: str | None = None) -> str:
     return f"{label}, {t.unit(unit)}"
 
 
-def unit_of(model: type[BaseModel], name: str) -> str:
-    """The unit a result field is declared with (``quantity``)."""
-    return units_of(model)[name]
-
-
 def quantities(
     t: Messages,
     caption: Text,

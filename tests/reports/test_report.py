@@ -19,7 +19,7 @@ from rigserver.analysis import analyse
 from rigserver.reports.formatting import fmt
 from rigserver.reports.i18n import Lang
 from rigserver.reports.run_report import build_report, render_report
-from schemas.labels import MTOS, SLIDE_BEARING, Label
+from schemas.labels import MTOS, PROFILOMETER, SLIDE_BEARING, Label
 from schemas.results import MtosResults, ProfilometerResults, SlideBearingResults, Smts2Results
 from schemas.runs import RunState
 from schemas.stands import StandKind
@@ -79,9 +79,10 @@ def test_profilometer_tables_1_6_to_1_8() -> None:
     assert isinstance(v, ProfilometerResults) and v.fit_manual and v.fit_lsq
     html = report(StandKind.PROFILOMETER)
     t16 = table(html, "Table 1.6.")
-    assert t16.rows[0][1:] == printed(v.levels)
-    assert t16.rows[1][1:] == printed(v.tp)
-    assert t16.rows[2][1:] == printed(v.eps)
+    assert t16.rows[0][:1] == ["pi, µm"]  # depths in µm, not metres
+    assert t16.rows[0][1:] == declared(PROFILOMETER["levels"], v.levels, 1e6)
+    assert t16.rows[1][1:] == declared(PROFILOMETER["tp"], v.tp)
+    assert t16.rows[2][1:] == declared(PROFILOMETER["eps"], v.eps)
     manual = row_of(html, "Table 1.7.", "three pairs of levels (1.16)-(1.19)")
     assert manual == [
         *printed(v.fit_manual.nu_partial),

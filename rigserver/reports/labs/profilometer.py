@@ -14,6 +14,7 @@ from rigserver.reports.formatting import DASH, fmt, html_symbol, shown
 from rigserver.reports.i18n import Messages
 from rigserver.reports.plots import axes, decorate, to_svg
 from schemas.labels import PROFILOMETER
+from schemas.quantity import units_of
 from schemas.results import BearingFitResult, ProfilometerResults
 from schemas.stands import MEASUREMENTS
 from schemas.units import UNITS
@@ -119,12 +120,12 @@ def _levels_table(t: Messages, caption: Text, rows: list[list[Text]], count: int
 
 
 def _table_1_6(t: Messages, v: ProfilometerResults) -> Table:
-    unit = blocks.unit_of(ProfilometerResults, "levels")
-    rows: list[list[Text]] = [
-        [blocks.header(t, "p_i", unit), *(fmt(p) for p in v.levels)],
-        [html_symbol("t_p = η_p/l"), *(fmt(p) for p in v.tp)],
-        [html_symbol("ε = p_i/R_max"), *(fmt(p) for p in v.eps)],
-    ]
+    units = units_of(ProfilometerResults)
+    fields = (("levels", "p_i"), ("tp", "t_p = η_p/l"), ("eps", "ε = p_i/R_max"))
+    rows: list[list[Text]] = []
+    for name, symbol in fields:  # µm for the depths, as the manual's table 1.6
+        head, cells = blocks.field(t, PROFILOMETER[name], symbol, units[name], getattr(v, name))
+        rows.append([head, *cells])
     return _levels_table(t, html_symbol(t("p.table_1_6")), rows, len(v.tp))
 
 

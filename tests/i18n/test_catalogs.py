@@ -2,13 +2,14 @@
 
 from __future__ import annotations
 
+import tomllib
 from importlib import resources
 
 import pytest
 from babel.messages.pofile import read_po
 
 from rigserver.reports.i18n import DEFAULT, DOMAIN, LANGS
-from tests.i18n.messages import declared, every_message, extracted
+from tests.i18n.messages import ROOT, declared, every_message, extracted
 
 CATALOGS = [lang for lang in LANGS if lang != DEFAULT]
 
@@ -49,3 +50,13 @@ def test_every_message_is_translated(lang: str) -> None:
 def test_a_catalog_holds_no_fuzzy_or_empty_entries(lang: str) -> None:
     found = catalog(lang)
     assert not [m.id for m in found if m.id and (m.fuzzy or not m.string)]
+
+
+def test_the_catalogs_are_package_data() -> None:
+    # an installed (not editable) rig carries its catalogs: pyproject's package-data names them
+    config = tomllib.loads((ROOT / "pyproject.toml").read_text())
+    patterns = config["tool"]["setuptools"]["package-data"]["rigserver"]
+    shipped = {p for pattern in patterns for p in (ROOT / "rigserver").glob(pattern)}
+    assert {
+        ROOT / "rigserver" / "locale" / lang / "LC_MESSAGES" / f"{DOMAIN}.po" for lang in CATALOGS
+    } <= shipped

@@ -1,4 +1,5 @@
-"""``rigserver serve``: run the service on uvicorn with the embedded HDF5 storage."""
+"""``rigserver serve``: run the service on uvicorn with the embedded HDF5 storage;
+``rigserver check``: list the damaged runs of a data directory."""
 
 from __future__ import annotations
 
@@ -7,6 +8,7 @@ import ctypes
 import gc
 import json
 import logging
+import sqlite3
 import sys
 from collections.abc import Sequence
 from pathlib import Path
@@ -19,6 +21,8 @@ from rigserver.api.app import create_app
 from rigserver.api.auth import ApiKey, load_keys
 from rigserver.api.settings import Settings
 from rigserver.storage import HDF5Store
+from rigserver.storage.check import check_data_dir
+from rigserver.storage.series import SqliteSeries
 from schemas.stands import configure_stands
 
 
@@ -73,7 +77,26 @@ def build_app(settings: Settings) -> FastAPI:
     )
     settings.data_dir.mkdir(parents=True, exist_ok=True)
     store = HDF5Store(settings.data_dir, synchronous=settings.synchronous)  # type: ignore[arg-type]
-    return create_app(settings, store, keys, configure_stands(overrides))
+    series = SqliteSeries(settings.data_dir / "series.sqlite")
+    return create_app(settings, store, keys, configure_stands(overrides), series)
+
+
+def check_command(data_dir: Path) -> int:
+    """Print each damaged run of ``data_dir`` and what is wrong with it: 1 if any, else 0
+    (and one line saying so); 2 if ``data_dir`` is no data directory."""
+    try:
+        report = check_data_dir(data_dir)
+    except (OSError, sqlite3.Error) as exc:
+        print(f"rigserver check: {exc}", file=sys.stderr)
+        return 2
+    for damage in report.damaged:
+        print(f"{damage.run_id}: {damage.what}")
+    if report.damaged:
+        runs = len({d.run_id for d in report.damaged})
+        print(f"rigserver check: {runs} of the runs in {data_dir} damaged", file=sys.stderr)
+        return 1
+    print(f"rigserver check: {data_dir}: {report.runs} runs, none damaged")
+    return 0
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -98,6 +121,16 @@ def main(argv: Sequence[str] | None = None) -> int:
         help="bytes of batch bodies admitted at once (RIG_INGEST_QUEUE_BYTES)",
     )
     serve.add_argument(
+        "--ingest-key-share",
+        type=float,
+        help="share of the ingest queue one API key may hold (RIG_INGEST_KEY_SHARE)",
+    )
+    serve.add_argument(
+        "--body-timeout",
+        type=float,
+        help="seconds a request body may take to arrive, 408 after (RIG_BODY_TIMEOUT)",
+    )
+    serve.add_argument(
         "--rate-limit",
         type=float,
         help="requests per second per key or address, 0 for none (RIG_RATE_LIMIT)",
@@ -115,7 +148,11 @@ def main(argv: Sequence[str] | None = None) -> int:
         help="journal durability: normal survives a crash, full a power loss (RIG_SYNCHRONOUS)",
     )
     serve.add_argument("--log-level", default="info")
+    check = sub.add_parser("check", help="list the damaged runs of a data directory")
+    check.add_argument("--data-dir", type=Path, required=True, help="the data directory")
     args = parser.parse_args(argv)
+    if args.command == "check":
+        return check_command(args.data_dir)
     given = {
         "data_dir": args.data_dir,
         "keys_file": args.keys_file,
@@ -124,6 +161,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         "max_body_bytes": args.max_body_bytes,
         "ingest_queue": args.ingest_queue,
         "ingest_queue_bytes": args.ingest_queue_bytes,
+        "ingest_key_share": args.ingest_key_share,
+        "body_timeout": args.body_timeout,
         "rate_limit": args.rate_limit,
         "rate_burst": args.rate_burst,
         "cors_origins": tuple(args.cors_origins) if args.cors_origins else None,

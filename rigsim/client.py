@@ -5,13 +5,13 @@ an :class:`httpx.MockTransport` (or any transport) and no socket is opened.
 
 Delivery. Batches carry sequence numbers 0, 1, 2, ... in stand order. A batch is posted
 until the server acknowledges it: transport errors (refused or dropped connections, timeouts:
-a restarting server) and 429, 502, 503, 504 answers are retried with exponential backoff
-and full jitter, honouring ``Retry-After`` when the server sends one. A retried batch that
-the server had stored before it went away is answered 200 with the first receipt
-(``duplicate``), which counts as delivered, so nothing is stored twice. Any other error
-answer stops the run with the server's problem (title, detail, the offending fields):
-retrying would not change it. A finish retried after its answer was lost meets
-"409 not open"; the client then looks the run up and accepts it if it is finished.
+a restarting server) and 408 (a body too slow), 429, 502, 503, 504 answers are retried
+with exponential backoff and full jitter, honouring ``Retry-After`` when the server sends
+one. A retried batch that the server had stored before it went away is answered 200 with
+the first receipt (``duplicate``), which counts as delivered, so nothing is stored twice.
+Any other error answer stops the run with the server's problem (title, detail, the
+offending fields): retrying would not change it. A finish retried after its answer was
+lost meets "409 not open"; the client then looks the run up and accepts it if it is finished.
 
 Opening a run is sent with an ``Idempotency-Key`` (a fresh UUID, the same for its
 retries): if the answer to ``POST /runs`` is lost, the retry is answered with the run the
@@ -69,7 +69,7 @@ class RetryPolicy:
     max_delay: float = 5.0
     max_retry_after: float = 60.0
     deadline: float = 120.0
-    statuses: frozenset[int] = field(default_factory=lambda: frozenset({429, 502, 503, 504}))
+    statuses: frozenset[int] = field(default_factory=lambda: frozenset({408, 429, 502, 503, 504}))
 
     def backoff(self, attempt: int, rng: random.Random) -> float:
         """Delay after failed try number ``attempt`` (1-based): U(0, min(max, base·2^(k-1)))."""

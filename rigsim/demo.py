@@ -86,36 +86,46 @@ def run_demo(
         console.print(f"  API docs        {url}/docs")
         console.print(f"  runs (JSON)     {url}/api/v1/runs")
         console.print(f"  demo key        in {keys_file} (reads are public)")
-        outcomes: dict[StandKind, RunOutcome | str] = {}
+        outcomes: dict[str, RunOutcome | str] = {}
 
-        def post(kind: StandKind, stand_seed: int) -> None:
+        def post(label: str, kind: StandKind, stand_seed: int) -> None:
             try:
                 sim = simulate(kind, seed=stand_seed)
                 with LabClient(url, key, seed=stand_seed) as client:
-                    outcomes[kind] = client.run(sim, speed=speed)
+                    outcomes[label] = client.run(sim, speed=speed)
             except RigsimError as exc:
-                outcomes[kind] = f"failed: {exc}"
+                outcomes[label] = f"failed: {exc}"
 
+        jobs = [(kind.value, kind, seed + i) for i, kind in enumerate(StandKind)]
+        jobs += [(f"smts2 #{n}", StandKind.SMTS2, seed + 100 + n) for n in (2, 3)]
         threads = [
-            threading.Thread(target=post, args=(kind, seed + i), name=kind.value, daemon=True)
-            for i, kind in enumerate(StandKind)
+            threading.Thread(target=post, args=job, name=job[0], daemon=True) for job in jobs
         ]
         for thread in threads:
             thread.start()
-        console.print(f"posting the four simulated stands at {_pace(speed)} ...")
+        console.print(
+            f"posting the four simulated stands (the SMTs-2 three times) at {_pace(speed)} ..."
+        )
         for thread in threads:
             thread.join()
-        for kind, outcome in outcomes.items():
+        for label, outcome in outcomes.items():
             if isinstance(outcome, str):
-                console.print(f"  {kind.value:14s} {outcome}")
+                console.print(f"  {label:14s} {outcome}")
             else:
                 units = outcome.results.get("units", {})
                 console.print(
-                    f"  {kind.value:14s} {url}/runs/{outcome.run.id}"
+                    f"  {label:14s} {url}/runs/{outcome.run.id}"
                     f"  (report: {url}/api/v1/runs/{outcome.run.id}/report.pdf)\n"
                     f"  {'':14s} {_headline(outcome.run.key_results, units)}",
                     soft_wrap=True,
                 )
+        repeats = [
+            o.run.id
+            for label, o in sorted(outcomes.items())
+            if label.startswith("smts2") and not isinstance(o, str)
+        ]
+        if repeats:
+            console.print(f"  {'series':14s} {url}/series/{demo_series(url, key, repeats)}")
         console.print("serving; Ctrl-C stops the server")
         proc.wait()
         return proc.returncode or 0
@@ -126,6 +136,25 @@ def run_demo(
                 proc.wait(timeout=10)
             except subprocess.TimeoutExpired:
                 proc.kill()
+
+
+def demo_series(url: str, key: str, run_ids: list[str]) -> str:
+    """A repeatability series of the demo's SMTs-2 runs; its id."""
+    headers = {"Authorization": f"Bearer {key}"}
+    with httpx.Client(base_url=f"{url}/api/v1", headers=headers, timeout=30.0) as http:
+        made = http.post(
+            "/series",
+            json={
+                "name": "SMTs-2 wear run, three repeats (demo)",
+                "purpose": "repeatability",
+                "notes": "St3sp pin on R9 disc, 300 N, 1000 rpm: the manual's wear run, repeated",
+            },
+        )
+        made.raise_for_status()
+        series_id = str(made.json()["id"])
+        for run_id in run_ids:
+            http.post(f"/series/{series_id}/runs", json={"run_id": run_id}).raise_for_status()
+    return series_id
 
 
 def _exit_on_term(signum: int, frame: object) -> None:

@@ -8,7 +8,7 @@ from schemas.quantity import quantity
 
 
 class _Input(BaseModel):
-    model_config = ConfigDict(extra="forbid")
+    model_config = ConfigDict(extra="forbid", allow_inf_nan=False)
 
 
 class WearTheoryInput(_Input):

@@ -12,7 +12,7 @@ from schemas.quantity import quantity
 class ArmParameters(BaseModel):
     """Overrides of the arm's parameters; a field left out keeps the model library's default."""
 
-    model_config = ConfigDict(extra="forbid")
+    model_config = ConfigDict(extra="forbid", allow_inf_nan=False)
 
     m1: float | None = quantity(None, "kg", "shoulder mass", gt=0)
     m2: float | None = quantity(None, "kg", "forearm mass", gt=0)
@@ -34,7 +34,7 @@ class ArmParameters(BaseModel):
 class Move(BaseModel):
     """A synchronous point-to-point move of the three joints, at rest before and after."""
 
-    model_config = ConfigDict(extra="forbid")
+    model_config = ConfigDict(extra="forbid", allow_inf_nan=False)
 
     q_start: tuple[float, float, float] = quantity((0.3, 0.6, 0.0), "rad", "joint angles at start")
     q_end: tuple[float, float, float] = quantity((0.8, 1.0, 0.5), "rad", "joint angles at end")
@@ -45,6 +45,7 @@ class Move(BaseModel):
 class DynamicErrorsRequest(BaseModel):
     model_config = ConfigDict(
         extra="forbid",
+        allow_inf_nan=False,
         json_schema_extra={"examples": [{"move": {"duration": 1.5}, "samples": 200}]},
     )
 

@@ -37,6 +37,19 @@ def unit_paths(model: type[BaseModel], prefix: str = "") -> dict[str, str]:
     return found
 
 
+def description_paths(model: type[BaseModel], prefix: str = "") -> dict[str, str]:
+    """The description of every quantity field, by the paths of :func:`unit_paths`."""
+    found = {
+        f"{prefix}{name}": info.description or name
+        for name, info in model.model_fields.items()
+        if name in units_of(model)
+    }
+    for name, info in model.model_fields.items():
+        for inner, suffix in _nested_models(info.annotation):
+            found.update(description_paths(inner, f"{prefix}{name}{suffix}."))
+    return found
+
+
 def _nested_models(annotation: Any) -> list[tuple[type[BaseModel], str]]:
     if isinstance(annotation, type) and issubclass(annotation, BaseModel):
         return [(annotation, "")]

@@ -22,6 +22,7 @@ class ReadingBatch(BaseModel):
 
     model_config = ConfigDict(
         extra="forbid",
+        strict=True,  # no "1.5" or true for a reading, no "3" for a seq
         json_schema_extra={
             "examples": [
                 {

@@ -11,13 +11,13 @@ from typing import Annotated, Any
 from pydantic import BaseModel, ConfigDict, Field, StringConstraints
 
 from schemas.stands import StandKind
+from schemas.wire import PlanValue, Scalar, Text, UtcTime
 
 RUN_ID_PATTERN = r"^[0-9]{8}T[0-9]{6}Z-[0-9a-f]{8}$"
 _RUN_ID = re.compile(RUN_ID_PATTERN)
 
 RunId = Annotated[str, StringConstraints(pattern=RUN_ID_PATTERN, max_length=25)]
-ShortText = Annotated[str, StringConstraints(max_length=200)]
-Scalar = str | float | int | bool
+ShortText = Annotated[Text, StringConstraints(max_length=200)]
 
 
 def new_run_id(now: datetime | None = None) -> str:
@@ -41,6 +41,7 @@ class RunCreate(BaseModel):
 
     model_config = ConfigDict(
         extra="forbid",
+        allow_inf_nan=False,
         json_schema_extra={
             "examples": [
                 {
@@ -56,19 +57,19 @@ class RunCreate(BaseModel):
     )
 
     stand: StandKind
-    operator: Annotated[str, StringConstraints(min_length=1, max_length=100)]
+    operator: Annotated[Text, StringConstraints(min_length=1, max_length=100)]
     title: ShortText = ""
     specimen: dict[ShortText, Scalar] = Field(
         default_factory=dict, description="specimens and materials, free key-value"
     )
-    test_plan: dict[ShortText, Scalar | list[float]] = Field(
+    test_plan: dict[ShortText, PlanValue] = Field(
         default_factory=dict, description="e.g. the load steps or the SMTs-2 mode"
     )
-    configuration: dict[str, Any] = Field(
+    configuration: dict[Text, Any] = Field(
         default_factory=dict,
         description="overrides of the stand's configuration for this run (checked by its schema)",
     )
-    notes: Annotated[str, StringConstraints(max_length=5000)] = ""
+    notes: Annotated[Text, StringConstraints(max_length=5000)] = ""
 
 
 class Run(BaseModel):
@@ -77,12 +78,12 @@ class Run(BaseModel):
     id: RunId
     stand: StandKind
     state: RunState = RunState.OPEN
-    operator: str
-    title: str = ""
-    specimen: dict[str, Scalar] = Field(default_factory=dict)
-    test_plan: dict[str, Scalar | list[float]] = Field(default_factory=dict)
-    notes: str = ""
-    configuration: dict[str, Any] = Field(description="the full stand configuration snapshot")
+    operator: Text
+    title: Text = ""
+    specimen: dict[Text, Scalar] = Field(default_factory=dict)
+    test_plan: dict[Text, PlanValue] = Field(default_factory=dict)
+    notes: Text = ""
+    configuration: dict[Text, Any] = Field(description="the full stand configuration snapshot")
     created: datetime
     ended: datetime | None = None
     batches: int = Field(default=0, description="batches stored")
@@ -90,16 +91,21 @@ class Run(BaseModel):
     key_results: dict[str, float] = Field(
         default_factory=dict, description="a few headline results for the runs list"
     )
+    damage: str | None = Field(
+        default=None,
+        description="what is wrong with a damaged run: it is listed, but cannot be read "
+        "(`rigserver check` reports it); null for a sound run",
+    )
 
 
 class RunQuery(BaseModel):
     """Filters of the runs list; all optional, newest first."""
 
     stand: StandKind | None = None
-    operator: str | None = None
+    operator: Text | None = None
     state: RunState | None = None
-    since: datetime | None = None
-    until: datetime | None = None
+    since: UtcTime | None = None
+    until: UtcTime | None = None
     limit: int = Field(default=50, ge=1, le=500)
     offset: int = Field(default=0, ge=0)
 

@@ -18,6 +18,7 @@ from schemas.channels import Channel, ChannelGroup, Limit, Order, configured_gro
 from schemas.messages import N_
 from schemas.quantity import quantity
 from schemas.units import UnitSymbol
+from schemas.wire import Text
 
 
 class StandKind(StrEnum):
@@ -28,7 +29,7 @@ class StandKind(StrEnum):
 
 
 class _Config(BaseModel):
-    model_config = ConfigDict(frozen=True, extra="forbid")
+    model_config = ConfigDict(frozen=True, extra="forbid", allow_inf_nan=False)
 
 
 # --- SMTs-2 friction and wear machine, lab work 2 -------------------------------------
@@ -37,7 +38,7 @@ class _Config(BaseModel):
 class PinMaterial(_Config):
     """The upper specimen (pin); defaults: steel St3sp (VSt3ps), table 2.2 and item 18."""
 
-    name: str = "St3sp"
+    name: Text = "St3sp"
     youngs_modulus: float = quantity(2.13e11, "Pa", "E1, Young's modulus", gt=0)
     poisson: float = quantity(0.3, "1", "μ1, Poisson's ratio", ge=0, lt=0.5)
     hardness: float = quantity(1.24e9, "Pa", "HB1, Brinell hardness", gt=0)
@@ -50,7 +51,7 @@ class PinMaterial(_Config):
 class DiscMaterial(_Config):
     """The lower specimen (disc); defaults: steel R9."""
 
-    name: str = "R9"
+    name: Text = "R9"
     youngs_modulus: float = quantity(2.2e11, "Pa", "E2, Young's modulus", gt=0)
     poisson: float = quantity(0.3, "1", "μ2, Poisson's ratio", ge=0, lt=0.5)
     hardness: float = quantity(6.4e9, "Pa", "HB2, Brinell hardness", gt=0)
@@ -133,7 +134,7 @@ class MtosConfig(_Config):
 
 
 class ProfilometerConfig(_Config):
-    instrument: str = "ABRIS-PM7"
+    instrument: Text = "ABRIS-PM7"
     stylus_radius: float = quantity(10e-6, "m", "radius of the stylus tip", gt=0)
     step: float = quantity(0.5e-6, "m", "sampling step along the trace", gt=0)
     poisson: float = quantity(0.27, "1", "μ of the specimen, for Δ_T (1.12)", ge=0, lt=0.5)

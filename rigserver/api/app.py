@@ -12,14 +12,30 @@ from rigserver.api import problems
 from rigserver.api.auth import ApiKey, Keyring
 from rigserver.api.body_limit import BodyLimit
 from rigserver.api.deps import Services
+from rigserver.api.gate import Gate
+from rigserver.api.page_policy import PagePolicy
 from rigserver.api.rate_limit import RateLimit
 from rigserver.api.routes import live, models, pages, readings, reports, results, runs
+from rigserver.api.routes import series as series_routes
 from rigserver.api.routes import stands as stand_routes
 from rigserver.api.settings import Settings
 from rigserver.storage.base import RunStore
+from rigserver.storage.series import SeriesStore, SqliteSeries
 from schemas.stands import Stand, StandKind
 
 API_PREFIX = "/api/v1"
+#: The routers of the API, under :data:`API_PREFIX`; the ingest route first: routes are
+#: matched in order.
+API_ROUTERS = (
+    readings.router,
+    stand_routes.router,
+    runs.router,
+    results.router,
+    models.router,
+    reports.router,
+    live.router,
+    series_routes.router,
+)
 
 
 def create_app(
@@ -27,13 +43,18 @@ def create_app(
     store: RunStore,
     keys: list[ApiKey],
     stands: dict[StandKind, Stand],
+    series: SeriesStore | None = None,
 ) -> FastAPI:
-    """Build the service. Nothing is built at import time; the store is closed on shutdown."""
+    """Build the service. Nothing is built at import time; the stores are closed on shutdown.
+
+    Without a series store the series live in memory (tests, and stores without a disk)."""
+    series_store = series if series is not None else SqliteSeries(":memory:")
 
     @asynccontextmanager
     async def lifespan(app: FastAPI) -> AsyncIterator[None]:
         yield
         store.close()
+        series_store.close()
 
     app = FastAPI(
         title="rig",
@@ -45,23 +66,25 @@ def create_app(
         lifespan=lifespan,
     )
     app.state.services = Services(
-        settings=settings, store=store, stands=stands, keyring=Keyring(keys)
+        settings=settings,
+        store=store,
+        stands=stands,
+        keyring=Keyring(keys),
+        series=series_store,
     )
     problems.install(app)
-    for router in (  # the ingest route first: routes are matched in order
-        readings.router,
-        stand_routes.router,
-        runs.router,
-        results.router,
-        models.router,
-        reports.router,
-        live.router,
-    ):
+    for router in API_ROUTERS:
         app.include_router(router, prefix=API_PREFIX)
     pages.install(app)
-    app.add_middleware(BodyLimit, max_bytes=settings.max_body_bytes)
+    # the last added is the outermost: rate, then key, then size
+    app.add_middleware(BodyLimit, max_bytes=settings.max_body_bytes, timeout=settings.body_timeout)
+    services = app.state.services
+    api_routes = [route for router in API_ROUTERS for route in router.routes]
+    app.add_middleware(Gate, services=services, prefix=API_PREFIX, routes=api_routes)
     if settings.rate_limit:
-        app.add_middleware(RateLimit, rate=settings.rate_limit, burst=settings.rate_burst)
+        app.add_middleware(
+            RateLimit, services=services, rate=settings.rate_limit, burst=settings.rate_burst
+        )
     if settings.cors_origins:
         app.add_middleware(
             CORSMiddleware,
@@ -69,4 +92,6 @@ def create_app(
             allow_methods=["GET", "POST"],
             allow_headers=["Authorization", "Content-Type"],
         )
+    docs = (app.docs_url, app.redoc_url, app.swagger_ui_oauth2_redirect_url)
+    app.add_middleware(PagePolicy, api=API_PREFIX, docs=[path for path in docs if path])
     return app

@@ -6,9 +6,11 @@ are compared in constant time. A key never appears in a log line or an error mes
 
 from __future__ import annotations
 
+import hashlib
 import hmac
 import json
 from collections.abc import Iterable
+from functools import cached_property
 from pathlib import Path
 
 from pydantic import BaseModel, Field, TypeAdapter
@@ -24,6 +26,12 @@ class ApiKey(BaseModel):
     key: str = Field(min_length=16, repr=False)
     scopes: frozenset[str]
     name: str = ""
+
+    @cached_property
+    def fingerprint(self) -> str:
+        """A name of the key that does not reveal it (a hash): what the rate limit, the
+        ingest queue's shares and the Idempotency-Keys are kept by."""
+        return hashlib.sha256(b"rig api key\0" + self.key.encode()).hexdigest()[:24]
 
     def allows(self, scope: str) -> bool:
         if scope in self.scopes:

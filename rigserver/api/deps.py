@@ -9,9 +9,11 @@ from __future__ import annotations
 import threading
 from collections import OrderedDict, defaultdict
 from dataclasses import dataclass, field
-from typing import Annotated
+from typing import Annotated, cast
 
 from fastapi import Depends, Request
+from starlette.requests import cookie_parser
+from starlette.types import Scope
 
 from rigserver.api.auth import READ, ApiKey, Keyring, write_scope
 from rigserver.api.ingest_queue import IngestQueue
@@ -19,6 +21,7 @@ from rigserver.api.problems import ApiProblem
 from rigserver.api.sessions import COOKIE, Sessions
 from rigserver.api.settings import Settings
 from rigserver.storage.base import RunStore
+from rigserver.storage.series import SeriesStore
 from schemas.runs import Run
 from schemas.stands import Stand, StandKind
 
@@ -32,6 +35,7 @@ class Services:
     store: RunStore
     stands: dict[StandKind, Stand]
     keyring: Keyring
+    series: SeriesStore
     sessions: Sessions = field(default_factory=Sessions)
     run_locks: defaultdict[str, threading.Lock] = field(
         default_factory=lambda: defaultdict(threading.Lock)
@@ -46,6 +50,7 @@ class Services:
             self.run_locks.__getitem__,
             max_batches=self.settings.ingest_queue,
             max_bytes=self.settings.ingest_queue_bytes,
+            share=self.settings.ingest_key_share,
             retry_after=self.settings.retry_after,
         )
 
@@ -73,29 +78,53 @@ ServicesDep = Annotated[Services, Depends(get_services)]
 
 #: Methods that only read: the only ones a session cookie is taken for.
 _READING = frozenset({"GET", "HEAD"})
+#: Where a request's caller is kept once found: its ASGI scope (so the rate limit, the
+#: gate and the route find the key once per request).
+_CALLER = "rig.caller"
+#: A key presented that is not configured.
+_UNKNOWN = object()
 
 
-def caller_of(request: Request, services: Services) -> ApiKey | None:
+def _present(scope: Scope, services: Services) -> ApiKey | object | None:
+    """The key (or session) the request presents, :data:`_UNKNOWN`, or None."""
+    authorization = cookie = b""
+    for name, value in scope["headers"]:
+        if name == b"authorization":
+            authorization = value
+        elif name == b"cookie":
+            cookie = value
+    scheme, _, token = authorization.decode("latin-1").partition(" ")
+    if scheme.lower() != "bearer" or not token:
+        if cookie and scope["method"] in _READING:
+            session = cookie_parser(cookie.decode("latin-1")).get(COOKIE)
+            return services.sessions.find(session) if session else None
+        return None
+    found = services.keyring.find(token.strip())
+    return _UNKNOWN if found is None else found
+
+
+def caller_in(scope: Scope, services: Services) -> ApiKey | None:
     """The key the request presents (None without one); 401 for a key not configured.
 
     Without an Authorization header, a read may present a session cookie
-    (:mod:`rigserver.api.sessions`); it reads as its key, with the scope ``read`` only."""
-    header = request.headers.get("authorization", "")
-    scheme, _, token = header.partition(" ")
-    if scheme.lower() != "bearer" or not token:
-        session = request.cookies.get(COOKIE)
-        if session and request.method in _READING:
-            return services.sessions.find(session)
-        return None
-    key = services.keyring.find(token.strip())
-    if key is None:
+    (:mod:`rigserver.api.sessions`); it reads as its key, with the scope ``read`` only.
+    Found once per request and kept in its scope."""
+    found = scope.get(_CALLER, _CALLER)
+    if found is _CALLER:
+        found = scope[_CALLER] = _present(scope, services)
+    if found is _UNKNOWN:
         raise ApiProblem(
             401,
             "Unknown API key",
             "the key in the Authorization header is not configured on this server",
             headers={"WWW-Authenticate": "Bearer"},
         )
-    return key
+    return cast(ApiKey | None, found)
+
+
+def caller_of(request: Request, services: Services) -> ApiKey | None:
+    """:func:`caller_in` of a request."""
+    return caller_in(request.scope, services)
 
 
 async def get_caller(request: Request, services: ServicesDep) -> ApiKey | None:
@@ -105,17 +134,28 @@ async def get_caller(request: Request, services: ServicesDep) -> ApiKey | None:
 CallerDep = Annotated[ApiKey | None, Depends(get_caller)]
 
 
-def require_scope(caller: ApiKey | None, scope: str) -> None:
-    """401 without a key, 403 when the key lacks ``scope`` (the message names it)."""
+def key_required(scope: str | None = None) -> ApiProblem:
+    """The 401 of a request without a key (naming the scope it needs, if known)."""
+    scoped = (
+        f" with a key that has the scope '{scope}'"
+        if scope
+        else f" with a key of this server (the scope '{READ}' to read, 'write:<stand>' to write)"
+    )
+    return ApiProblem(
+        401,
+        "API key required",
+        f"send 'Authorization: Bearer <key>'{scoped}",
+        headers={"WWW-Authenticate": "Bearer"},
+    )
+
+
+def require_scope(caller: ApiKey | None, scope: str) -> ApiKey:
+    """The caller's key; 401 without one, 403 when it lacks ``scope`` (named)."""
     if caller is None:
-        raise ApiProblem(
-            401,
-            "API key required",
-            f"send 'Authorization: Bearer <key>' with a key that has the scope '{scope}'",
-            headers={"WWW-Authenticate": "Bearer"},
-        )
+        raise key_required(scope)
     if not caller.allows(scope):
         raise ApiProblem(403, "Scope missing", f"this key lacks the scope '{scope}'")
+    return caller
 
 
 async def require_read(services: ServicesDep, caller: CallerDep) -> None:
@@ -123,8 +163,17 @@ async def require_read(services: ServicesDep, caller: CallerDep) -> None:
         require_scope(caller, READ)
 
 
+async def require_key(caller: CallerDep) -> None:
+    """401 without a key: a write's first check (its scope needs the stand, found later)."""
+    if caller is None:
+        raise key_required()
+
+
+#: A read route: a key with the scope ``read``, unless reads are public.
 ReadAccess = Depends(require_read)
+#: A write route: a key always (:mod:`rigserver.api.gate` answers before the route).
+WriteAccess = Depends(require_key)
 
 
-def require_write(caller: ApiKey | None, stand: StandKind) -> None:
-    require_scope(caller, write_scope(stand.value))
+def require_write(caller: ApiKey | None, stand: StandKind) -> ApiKey:
+    return require_scope(caller, write_scope(stand.value))

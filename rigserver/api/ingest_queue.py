@@ -7,6 +7,12 @@ as none, and the body limit caps it). A post beyond either is answered 503 with
 ``Retry-After`` before its body is read, so a burst of lab PCs makes them wait instead of
 growing the server's memory.
 
+Admission is fair across API keys: one key holds at most its ``share`` of the posts and of
+the bytes (a body larger than its share of the bytes is admitted when the key holds
+nothing else), so one lab PC's slow or stuck uploads (each held until the body arrives or
+its time is up, :mod:`rigserver.api.body_limit`) leave the rest of the queue to the
+others. Its post beyond the share is answered 503 with ``Retry-After`` too.
+
 Small batches (single readings, a few rows) are stored on the event loop in groups: every
 small batch that arrives while the loop is busy joins the next group, stored with one
 journal commit (:meth:`RunStore.append_many`) once the loop has nothing else ready, so a
@@ -51,6 +57,8 @@ class IngestQueue:
         Posts admitted at once.
     max_bytes : int
         Bytes of request bodies admitted at once.
+    share : float
+        The fraction of ``max_batches`` and ``max_bytes`` one API key may hold, 0 < share <= 1.
     retry_after : int
         Seconds in the ``Retry-After`` of a 503, s.
     """
@@ -62,16 +70,21 @@ class IngestQueue:
         *,
         max_batches: int,
         max_bytes: int,
+        share: float = 1.0,
         retry_after: int,
     ) -> None:
         self._store = store
         self._run_lock = run_lock
         self.max_batches = max_batches
         self.max_bytes = max_bytes
+        self.key_batches = max(1, int(max_batches * share))
+        self.key_bytes = max(1, int(max_bytes * share))
         self.retry_after = retry_after
         self._admission = threading.Lock()
         self._admitted = 0
         self._bytes = 0
+        #: API key -> posts and bytes it holds (a key holding none is not kept)
+        self._held: dict[str, tuple[int, int]] = {}
         self._pending: dict[asyncio.AbstractEventLoop, _Pending] = {}
 
     # --- admission --------------------------------------------------------------------
@@ -83,28 +96,45 @@ class IngestQueue:
             return self._admitted, self._bytes
 
     @contextmanager
-    def admit(self, size: int) -> Iterator[None]:
-        """Hold a place for a post whose body has ``size`` bytes; 503 if there is none."""
+    def admit(self, size: int, key: str = "") -> Iterator[None]:
+        """Hold a place for a post of the API key ``key`` (its fingerprint) whose body has
+        ``size`` bytes; 503 if there is none, or if the key holds its share."""
         with self._admission:
+            posts, held = self._held.get(key, (0, 0))
             if self._admitted >= self.max_batches or (
                 self._bytes and self._bytes + size > self.max_bytes
             ):
-                raise ApiProblem(
-                    503,
+                raise self._full(
                     "Ingest queue full",
                     f"the server holds {self._admitted} batches ({self._bytes} bytes) and "
-                    f"takes at most {self.max_batches} ({self.max_bytes} bytes) at once; "
-                    f"retry in {self.retry_after} s",
-                    headers={"Retry-After": str(self.retry_after)},
+                    f"takes at most {self.max_batches} ({self.max_bytes} bytes) at once",
+                )
+            if posts >= self.key_batches or (held and held + size > self.key_bytes):
+                raise self._full(
+                    "Ingest share used",
+                    f"this key's uploads hold {posts} batches ({held} bytes) and one key may "
+                    f"hold {self.key_batches} ({self.key_bytes} bytes) at once",
                 )
             self._admitted += 1
             self._bytes += size
+            self._held[key] = (posts + 1, held + size)
         try:
             yield
         finally:
             with self._admission:
                 self._admitted -= 1
                 self._bytes -= size
+                posts, held = self._held.pop(key)
+                if posts > 1:
+                    self._held[key] = (posts - 1, held - size)
+
+    def _full(self, title: str, detail: str) -> ApiProblem:
+        return ApiProblem(
+            503,
+            title,
+            f"{detail}; retry in {self.retry_after} s",
+            headers={"Retry-After": str(self.retry_after)},
+        )
 
     # --- storing ----------------------------------------------------------------------
 

@@ -7,6 +7,9 @@ so no third-party exception reaches a client and no request ends in a bare 500.
 from __future__ import annotations
 
 import logging
+import math
+import re
+from collections.abc import Iterable, Mapping
 from typing import Any
 
 from fastapi import FastAPI, Request
@@ -18,14 +21,18 @@ from starlette.routing import Match
 from rigserver.core.errors import ModelInputError
 from rigserver.storage.errors import (
     KeyReused,
+    MemberExists,
+    MemberNotFound,
+    RunDamaged,
     RunExists,
     RunNotFound,
     RunNotOpen,
     SequenceConflict,
+    SeriesNotFound,
     StorageError,
     StorageFull,
 )
-from schemas.channels import Violation
+from schemas.channels import MAX_VIOLATIONS, Violation
 from schemas.problems import PROBLEM_MEDIA_TYPE, Problem
 
 log = logging.getLogger("rigserver")
@@ -49,32 +56,77 @@ class ApiProblem(Exception):
 
 def problem_response(problem: Problem, headers: dict[str, str] | None = None) -> JSONResponse:
     return JSONResponse(
-        problem.model_dump(mode="json", exclude_none=True),
+        renderable(problem.model_dump(mode="json", exclude_none=True)),
         status_code=problem.status,
         media_type=PROBLEM_MEDIA_TYPE,
         headers=headers,
     )
 
 
-def _from_validation(exc: RequestValidationError) -> Problem:
-    errors = []
-    for err in exc.errors()[:20]:
+_SURROGATE = re.compile("[\ud800-\udfff]")
+
+
+def renderable(value: Any) -> Any:
+    """``value`` with what JSON in UTF-8 cannot hold replaced: a lone surrogate by U+FFFD,
+    a NaN or infinity by its name as text. An error's echo of a hostile input always
+    renders."""
+    if isinstance(value, str):
+        return _SURROGATE.sub("\ufffd", value)
+    if isinstance(value, float) and not math.isfinite(value):
+        return repr(value)
+    if isinstance(value, Mapping):
+        return {renderable(str(k)): renderable(v) for k, v in value.items()}
+    if isinstance(value, list | tuple):
+        return [renderable(v) for v in value]
+    return value
+
+
+def _echo(value: object) -> float | str | None:
+    """The refused input as an error shows it: a short number or text, else nothing."""
+    if isinstance(value, bool) or not isinstance(value, int | float | str):
+        return None
+    if isinstance(value, int) and not -(2**53) <= value <= 2**53:
+        return None  # no exact double, and str() of a long one fails
+    if isinstance(value, float) and not math.isfinite(value):
+        return repr(value)
+    return value if len(str(value)) <= 80 else None
+
+
+def violations(errors: Iterable[Mapping[str, Any]], prefix: str = "") -> list[Violation]:
+    """Pydantic's errors as violations, each naming its field (``prefix`` + the loc path)."""
+    found = []
+    for err in errors:
         loc = [str(p) for p in err.get("loc", ()) if p != "body"]
-        field = ".".join(loc) or "body"
-        value = err.get("input")
-        shown = value if isinstance(value, int | float | str) and len(str(value)) <= 80 else None
-        errors.append(Violation(field=field, value=shown, message=f"{field}: {err.get('msg')}"))
+        msg = err.get("msg")
+        if err.get("type") == "json_invalid":  # loc: the character, or a strict_json path
+            loc = [p for p in loc if not p.isdigit()]
+            msg = f"invalid JSON: {err.get('ctx', {}).get('error', msg)}"
+        field = prefix + ".".join(loc) if loc else prefix.rstrip(".") or "body"
+        found.append(
+            Violation(field=field, value=_echo(err.get("input")), message=f"{field}: {msg}")
+        )
+        if len(found) == MAX_VIOLATIONS:
+            break
+    return found
+
+
+def _from_validation(exc: RequestValidationError) -> Problem:
+    errors = violations(exc.errors())
     detail = "; ".join(e.message for e in errors[:3]) or "the request is not valid"
     return Problem(title="Invalid request", status=422, detail=detail, errors=errors)
 
 
 _STORAGE_STATUS: list[tuple[type[StorageError], int, str]] = [
     (RunNotFound, 404, "Run not found"),
+    (RunDamaged, 409, "Run damaged"),
     (RunExists, 409, "Run exists"),
     (KeyReused, 409, "Idempotency-Key reused"),
     (RunNotOpen, 409, "Run is not open"),
     (SequenceConflict, 409, "Sequence number reused"),
     (StorageFull, 507, "Storage full"),
+    (SeriesNotFound, 404, "Series not found"),
+    (MemberExists, 409, "Run in the series already"),
+    (MemberNotFound, 404, "Run not in the series"),
 ]
 
 

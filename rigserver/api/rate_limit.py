@@ -1,14 +1,15 @@
 """Request rate limit per client: a token bucket per API key (or per address without one).
 
 Off unless ``rate_limit`` is set (requests per second, with ``rate_burst`` at once). A
-request beyond it is answered 429 with ``Retry-After`` before its body is read. Buckets are
-keyed by a hash of the key, never the key itself; the least recently seen are forgotten
+request beyond it is answered 429 with ``Retry-After`` before its body is read. A bucket
+is the authenticated key's (by its fingerprint, never the key itself); a request without a
+key this server knows (none, a random token, a session cookie gone stale) takes from its
+address's bucket, so no header makes a new client. The least recently seen are forgotten
 beyond :data:`MAX_CLIENTS`.
 """
 
 from __future__ import annotations
 
-import hashlib
 import math
 import threading
 import time
@@ -16,7 +17,8 @@ from collections import OrderedDict
 
 from starlette.types import ASGIApp, Receive, Scope, Send
 
-from rigserver.api.problems import problem_response
+from rigserver.api.deps import Services, caller_in
+from rigserver.api.problems import ApiProblem, problem_response
 from schemas.problems import Problem
 
 MAX_CLIENTS = 10_000
@@ -25,8 +27,9 @@ MAX_CLIENTS = 10_000
 class RateLimit:
     """ASGI middleware: ``rate`` requests per second per client, ``burst`` at once."""
 
-    def __init__(self, app: ASGIApp, rate: float, burst: int) -> None:
+    def __init__(self, app: ASGIApp, services: Services, rate: float, burst: int) -> None:
         self.app = app
+        self.services = services
         self.rate = rate
         self.burst = burst
         self._lock = threading.Lock()
@@ -37,7 +40,7 @@ class RateLimit:
         if scope["type"] != "http":
             await self.app(scope, receive, send)
             return
-        wait = self._take(_client(scope))
+        wait = self._take(self._client(scope))
         if wait > 0:
             problem = Problem(
                 title="Too many requests",
@@ -50,6 +53,17 @@ class RateLimit:
             return
         await self.app(scope, receive, send)
 
+    def _client(self, scope: Scope) -> str:
+        """The bucket of the request: its key's, else its address's."""
+        try:
+            caller = caller_in(scope, self.services)
+        except ApiProblem:  # an unknown key: refused 401 further in, counted here
+            caller = None
+        if caller is not None:
+            return "key:" + caller.fingerprint
+        address = scope.get("client")
+        return f"address:{address[0] if address else '?'}"
+
     def _take(self, client: str) -> float:
         """Take a token from the client's bucket: 0, or the seconds until there is one."""
         now = time.monotonic()
@@ -61,11 +75,3 @@ class RateLimit:
             if len(self._buckets) > MAX_CLIENTS:
                 self._buckets.popitem(last=False)
         return wait
-
-
-def _client(scope: Scope) -> str:
-    for name, value in scope.get("headers", []):
-        if name == b"authorization":
-            return "key:" + hashlib.sha256(value).hexdigest()[:32]
-    address = scope.get("client")
-    return f"address:{address[0] if address else '?'}"

@@ -32,6 +32,16 @@ class Settings(BaseSettings):
     ingest_queue_bytes: int = Field(
         default=64 << 20, gt=0, description="bytes of batch bodies admitted at once"
     )
+    ingest_key_share: float = Field(
+        default=0.25,
+        gt=0.0,
+        le=1.0,
+        description="share of the ingest queue (posts and bytes) one API key may hold; "
+        "more of its posts are answered 503",
+    )
+    body_timeout: float = Field(
+        default=60.0, gt=0.0, description="seconds a request body may take to arrive; 408 after"
+    )
     retry_after: int = Field(
         default=1, ge=0, description="seconds in the Retry-After of a 503 or 429"
     )

@@ -5,6 +5,7 @@ store for tests, and the storage error tree.
 
     StorageError
      ├── RunNotFound          no run with that id
+     ├── RunDamaged           the run's catalogue entry or file cannot be read
      ├── RunExists            a run with that id is stored already
      ├── KeyReused            an Idempotency-Key that opened a run asks for another
      ├── RunNotOpen           the run is finished or aborted: it takes no more readings
@@ -18,6 +19,7 @@ from __future__ import annotations
 from rigserver.storage.base import BatchCheck, Columns, NewBatch, RunStore
 from rigserver.storage.errors import (
     KeyReused,
+    RunDamaged,
     RunExists,
     RunNotFound,
     RunNotOpen,
@@ -36,6 +38,7 @@ __all__ = [
     "KeyReused",
     "MemoryStore",
     "NewBatch",
+    "RunDamaged",
     "RunExists",
     "RunNotFound",
     "RunNotOpen",

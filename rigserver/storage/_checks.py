@@ -106,10 +106,13 @@ def prepare(group: str, columns: Mapping[str, ArrayLike]) -> Batch:
         if values.ndim != 1:
             raise ValueError(f"channel {name!r} of group {group!r} must be a flat list")
         cols[name] = values
-    digest = xxhash.xxh3_128(group.encode())
-    for name, values in cols.items():
-        digest.update(b"\0" + name.encode() + b"\0" + len(values).to_bytes(8, "little"))
-        digest.update(values.data)
+    try:
+        digest = xxhash.xxh3_128(group.encode())
+        for name, values in cols.items():
+            digest.update(b"\0" + name.encode() + b"\0" + len(values).to_bytes(8, "little"))
+            digest.update(values.data)
+    except UnicodeEncodeError as exc:
+        raise ValueError(f"a channel name of group {group!r} is not valid text: {exc}") from None
     rows = max((len(v) for v in cols.values()), default=0)
     return Batch(group=group, columns=cols, rows=rows, digest=digest.digest())
 

@@ -12,6 +12,8 @@ from rigserver.storage.errors import StorageError, StorageFull, StorageUnavailab
 #: What the journal and the HDF5 layer raise when the disk, the file or the library fails
 #: (h5py raises ``OSError`` for I/O and ``RuntimeError`` for some library failures).
 LOW_LEVEL: tuple[type[Exception], ...] = (OSError, RuntimeError, sqlite3.Error)
+#: What reading a damaged run file may raise (pydantic's ValidationError is a ValueError).
+UNREADABLE: tuple[type[Exception], ...] = (*LOW_LEVEL, ValueError, KeyError)
 
 _FULL_TEXTS = ("no space left on device", "database or disk is full", "disk quota exceeded")
 

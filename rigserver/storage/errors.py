@@ -4,12 +4,16 @@
 
     StorageError
      ├── RunNotFound          no run with that id
+     ├── RunDamaged           the run's catalogue entry or file cannot be read
      ├── RunExists            a run with that id is stored already
      ├── KeyReused            an Idempotency-Key that opened a run asks for another
      ├── RunNotOpen           the run is finished or aborted: it takes no more readings
      ├── SequenceConflict     a seq number reused with different content
      ├── StorageFull          the disk is full (the batch was not acknowledged)
-     └── StorageUnavailable   any other failure to make a batch durable
+     ├── StorageUnavailable   any other failure to make a batch durable
+     ├── SeriesNotFound       no series with that id
+     ├── MemberExists         the run is in the series already
+     └── MemberNotFound       the run is not in the series
 """
 
 from __future__ import annotations
@@ -20,6 +24,10 @@ class StorageError(Exception):
 
 
 class RunNotFound(StorageError):
+    pass
+
+
+class RunDamaged(StorageError):
     pass
 
 
@@ -44,4 +52,16 @@ class StorageFull(StorageError):
 
 
 class StorageUnavailable(StorageError):
+    pass
+
+
+class SeriesNotFound(StorageError):
+    pass
+
+
+class MemberExists(StorageError):
+    pass
+
+
+class MemberNotFound(StorageError):
     pass

@@ -76,11 +76,12 @@ from rigserver.storage._checks import (
     stand_groups,
     stored_receipt,
 )
-from rigserver.storage._failures import LOW_LEVEL, failures_as, translated
+from rigserver.storage._failures import LOW_LEVEL, UNREADABLE, failures_as, translated
 from rigserver.storage._results import CheckedResults, check_results
 from rigserver.storage._time import now
 from rigserver.storage.base import Columns, NewBatch
 from rigserver.storage.errors import (
+    RunDamaged,
     RunNotOpen,
     SequenceConflict,
     StorageError,
@@ -95,10 +96,10 @@ log = logging.getLogger(__name__)
 
 #: Open runs whose HDF5 file is kept open; the least recently used are closed beyond this.
 MAX_OPEN_FILES = 32
+#: What reading an opened run file raises when it is corrupt (not: a channel it lacks).
+_CORRUPT: tuple[type[Exception], ...] = (*LOW_LEVEL, KeyError)
 #: Rows per batch when the readings of an unfinished file are taken back into the journal.
 _IMPORT_ROWS = 1 << 20
-#: What reading a damaged run file may raise (pydantic's ValidationError is a ValueError).
-_UNREADABLE: tuple[type[Exception], ...] = (*LOW_LEVEL, ValueError, KeyError)
 
 
 @dataclass(slots=True)
@@ -182,8 +183,8 @@ class HDF5Store:
         """Store a new open run and create its file; ``RunExists`` if the id is taken, the
         run opened before if ``key`` was (:meth:`RunStore.create_run`).
 
-        If the file cannot be created the run is stored all the same (its file is made at
-        its next use) and the error is raised.
+        All or nothing: if its file cannot be created, the run is removed from the
+        catalogue again and the error is raised.
         """
         stored = new_run(run)
         with self._lock:
@@ -195,13 +196,17 @@ class HDF5Store:
                     return reopened(self.get_run(found), stored, key)
             with failures_as(f"creating run {run.id}"):
                 self._journal.insert_run(stored, key=key)
-            live = _Live(stored, last={group: {} for group in stored.rows})
-            self._live[run.id] = live
             try:
-                self._keep_open(run.id, RunFile.create(self._path(run.id), stored))
-            except LOW_LEVEL as exc:
-                self._spoil(live)
-                raise translated(exc, f"creating the file of run {run.id}") from exc
+                rf = RunFile.create(self._path(run.id), stored)
+            except BaseException as exc:
+                self._path(run.id).unlink(missing_ok=True)
+                with failures_as(f"removing run {run.id}, whose file could not be created"):
+                    self._journal.delete_run(run.id, key)
+                if isinstance(exc, LOW_LEVEL):
+                    raise translated(exc, f"creating the file of run {run.id}") from exc
+                raise
+            self._live[run.id] = _Live(stored, last={group: {} for group in stored.rows})
+            self._keep_open(run.id, rf)
             return stored.model_copy(deep=True)
 
     def get_run(self, run_id: str) -> Run:
@@ -251,11 +256,20 @@ class HDF5Store:
                 self._journal.end_run(ended)
             del self._live[run_id]
             self._files.pop(run_id, None)
-            with failures_as(doing):
-                try:
-                    rf.finalize(ended)
-                finally:
-                    rf.close()
+            try:
+                with failures_as(doing):
+                    try:
+                        rf.finalize(ended)
+                    finally:
+                        rf.close()
+            except StorageError as exc:
+                # The file failed where the journal did not (a write of its cached chunks
+                # on a disk that was full): the final file is written anew from the journal.
+                log.warning(
+                    "finalizing run %s: %s; its file is written from the journal", run_id, exc
+                )
+                self._finish_file(ended)
+                return ended.model_copy(deep=True)
             self._finishing.add(run_id)
         try:
             with failures_as(doing):
@@ -422,10 +436,7 @@ class HDF5Store:
                 channel_group(live.run.stand, group)
                 return dict(self._last(live, group))
             self._final_entry(run_id)
-        with (
-            failures_as(f"reading run {run_id}"),
-            RunFile.open(self._path(run_id), writable=False) as rf,
-        ):
+        with self._final_file(run_id) as rf:
             return rf.last_values(group)
 
     def read(
@@ -445,10 +456,7 @@ class HDF5Store:
                 with self._spoiling(live, f"reading run {run_id}"):
                     return rf.read(group, channels, start, stop)
             self._final_entry(run_id)
-        with (
-            failures_as(f"reading run {run_id}"),
-            RunFile.open(self._path(run_id), writable=False) as rf,
-        ):
+        with self._final_file(run_id) as rf:
             return rf.read(group, channels, start, stop)
 
     def iter_chunks(
@@ -555,6 +563,21 @@ class HDF5Store:
                 state = self._journal.entry(run_id).run.state
             raise RunNotOpen(f"run {run_id} is {state.value}: it takes no more readings")
         return live
+
+    @contextmanager
+    def _final_file(self, run_id: str) -> Iterator[RunFile]:
+        """The ended run's file, read-only; ``RunDamaged`` if it is missing or corrupt (the
+        journal no longer holds its readings)."""
+        path = self._path(run_id)
+        try:
+            rf = RunFile.open(path, writable=False)
+        except UNREADABLE as exc:
+            raise _damaged(run_id, path, exc) from exc
+        with rf:
+            try:
+                yield rf
+            except _CORRUPT as exc:
+                raise _damaged(run_id, path, exc) from exc
 
     def _final_entry(self, run_id: str) -> CatalogueEntry:
         """The catalogue entry of a run that is not open, its file made final if need be."""
@@ -673,7 +696,7 @@ class HDF5Store:
         for path in sorted(self._runs.glob("*.h5")):
             try:
                 summary = read_summary(path)
-            except _UNREADABLE as exc:
+            except UNREADABLE as exc:
                 log.warning("run file %s is unreadable (%s); left out of the catalogue", path, exc)
                 continue
             run = summary.run
@@ -751,6 +774,10 @@ def _prepared(nb: NewBatch) -> Batch | ValueError:
         return posted(nb)
     except ValueError as exc:
         return exc
+
+
+def _damaged(run_id: str, path: Path, exc: Exception) -> RunDamaged:
+    return RunDamaged(f"run {run_id} is damaged: its file {path.name} cannot be read ({exc})")
 
 
 def _remember_last(live: _Live, batch: Batch) -> None:

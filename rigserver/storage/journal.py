@@ -38,12 +38,14 @@ from typing import Literal
 
 import numpy as np
 from numpy.typing import NDArray
+from pydantic import ValidationError
 
 from rigserver.storage._checks import Batch, StoredBatch
 from rigserver.storage._time import iso
-from rigserver.storage.errors import RunExists, RunNotFound, StorageUnavailable
+from rigserver.storage.errors import RunDamaged, RunExists, RunNotFound, StorageUnavailable
 from rigserver.storage.payloads import PayloadFiles, decode, encode
 from schemas.runs import Run, RunPage, RunQuery
+from schemas.wire import unstorable
 
 Synchronous = Literal["normal", "full"]
 
@@ -96,6 +98,54 @@ class CatalogueEntry:
 
     run: Run
     file_final: bool
+
+
+#: The columns of a catalogue row that :func:`catalogue_entry` and :func:`listed` read.
+CATALOGUE_COLUMNS = "id, run, batches, rows, file_final, stand, operator, state, created"
+Row = tuple[str, str, int, str, int, str, str, str, str]
+
+
+def catalogue_entry(row: Row) -> CatalogueEntry:
+    """The entry of a catalogue row (:data:`CATALOGUE_COLUMNS`); ``RunDamaged`` if the row
+    holds what the service refuses today (e.g. a NaN that an older build stored as null, a
+    NUL character)."""
+    run_id = row[0]
+    try:
+        run = Run.model_validate_json(row[1])
+        run = run.model_copy(update={"batches": row[2], "rows": json.loads(row[3])})
+    except ValidationError as exc:
+        first = exc.errors()[0]
+        where = ".".join(str(p) for p in first["loc"]) or "run"
+        raise RunDamaged(f"run {run_id} is damaged: {where}: {first['msg']}") from None
+    except ValueError as exc:
+        raise RunDamaged(f"run {run_id} is damaged: its row counts are not JSON ({exc})") from None
+    found = unstorable(run.configuration, "configuration")
+    if found is not None:
+        raise RunDamaged(f"run {run_id} is damaged: {found}")
+    return CatalogueEntry(run=run, file_final=bool(row[4]))
+
+
+def listed(row: Row) -> Run | None:
+    """The run of a catalogue row as the runs list shows it: a damaged one with its
+    ``damage`` and what the row's own columns say; ``None`` (and a warning in the log) if
+    even those are not a run's."""
+    try:
+        return catalogue_entry(row).run
+    except RunDamaged as exc:
+        damage = str(exc)
+    try:
+        return Run(
+            id=row[0],
+            stand=row[5],
+            operator=row[6].replace("\x00", "\ufffd"),
+            state=row[7],
+            created=row[8],
+            configuration={},
+            damage=damage.replace("\x00", "\\x00"),
+        )
+    except ValidationError:
+        log.warning("%s, and its catalogue columns too; left out of the list", damage)
+        return None
 
 
 class Journal:
@@ -217,32 +267,32 @@ class Journal:
         row = self._db.execute("SELECT run_id FROM run_keys WHERE key = ?", (key,)).fetchone()
         return None if row is None else str(row[0])
 
-    _RUN_COLUMNS = "run, batches, rows, file_final"
-
-    @staticmethod
-    def _entry(row: tuple[str, int, str, int]) -> CatalogueEntry:
-        run = Run.model_validate_json(row[0])
-        run = run.model_copy(update={"batches": row[1], "rows": json.loads(row[2])})
-        return CatalogueEntry(run=run, file_final=bool(row[3]))
-
     def entry(self, run_id: str) -> CatalogueEntry:
-        """The run's catalogue entry; ``RunNotFound``."""
+        """The run's catalogue entry; ``RunNotFound``, ``RunDamaged``."""
         row = self._db.execute(
-            f"SELECT {self._RUN_COLUMNS} FROM runs WHERE id = ?", (run_id,)
+            f"SELECT {CATALOGUE_COLUMNS} FROM runs WHERE id = ?", (run_id,)
         ).fetchone()
         if row is None:
             raise RunNotFound(f"no run with id {run_id}")
-        return self._entry(row)
+        return catalogue_entry(row)
 
     def unfinished(self) -> list[CatalogueEntry]:
-        """Runs whose file is not final: the open ones and any whose end did not complete."""
+        """Runs whose file is not final: the open ones and any whose end did not complete
+        (a damaged one is left out, with a warning in the log)."""
         rows = self._db.execute(
-            f"SELECT {self._RUN_COLUMNS} FROM runs WHERE file_final = 0 ORDER BY created"
+            f"SELECT {CATALOGUE_COLUMNS} FROM runs WHERE file_final = 0 ORDER BY created"
         ).fetchall()
-        return [self._entry(r) for r in rows]
+        found = []
+        for row in rows:
+            try:
+                found.append(catalogue_entry(row))
+            except RunDamaged as exc:
+                log.warning("%s; it is left as it is (rigserver check)", exc)
+        return found
 
     def list_runs(self, query: RunQuery) -> RunPage:
-        """Runs matching ``query`` (``since <= created < until``), newest first."""
+        """Runs matching ``query`` (``since <= created < until``), newest first; a damaged
+        run is listed with what is wrong with it (:func:`listed`)."""
         where: list[str] = []
         params: list[object] = []
         for column, value in (
@@ -262,11 +312,20 @@ class Journal:
         sql_where = f" WHERE {' AND '.join(where)}" if where else ""
         total = self._db.execute(f"SELECT COUNT(*) FROM runs{sql_where}", params).fetchone()[0]
         rows = self._db.execute(
-            f"SELECT {self._RUN_COLUMNS} FROM runs{sql_where} "
+            f"SELECT {CATALOGUE_COLUMNS} FROM runs{sql_where} "
             "ORDER BY created DESC, id DESC LIMIT ? OFFSET ?",
             [*params, query.limit, min(query.offset, _MAX_INTEGER)],
         ).fetchall()
-        return RunPage(total=total, runs=[self._entry(r).run for r in rows])
+        return RunPage(total=total, runs=[run for row in rows if (run := listed(row))])
+
+    def delete_run(self, run_id: str, key: str | None) -> None:
+        """Remove a run that never took a batch (its creation failed half way)."""
+        self._write(
+            [
+                ("DELETE FROM runs WHERE id = ? AND batches = 0", (run_id,)),
+                ("DELETE FROM run_keys WHERE run_id = ?", (run_id,)),
+            ]
+        )
 
     def end_run(self, run: Run) -> None:
         """Record the run's end (state, time, final metadata); its file is not final yet."""

@@ -93,6 +93,11 @@ class RunFile:
         self._entry: h5py.Group = f["entry"]
         self._stand = StandKind(self._entry.attrs["stand"])
         self._pending: dict[str, _Pending] = {}
+        #: The channels' datasets, kept open while the file is: HDF5 writes a dataset's
+        #: cached chunks when its last handle closes, and h5py ignores an error there (a full
+        #: disk would lose readings unseen); written at :meth:`flush` and :meth:`close`, a
+        #: failure raises.
+        self._datasets: dict[tuple[str, str], h5py.Dataset] = {}
         # runs started together would otherwise all write at the same appends
         self._write_behind_s = WRITE_BEHIND_SECONDS * random.uniform(0.5, 1.5)
 
@@ -170,16 +175,21 @@ class RunFile:
         pending = self._pending.pop(group, None)
         if pending is None or not pending.parts:
             return
-        g = self._entry[group]
         start = self._stored_rows(group)
         for name in pending.parts[0]:
             parts = [p[name] for p in pending.parts]
             values = parts[0] if len(parts) == 1 else np.concatenate(parts)
-            _extend(g[name], start, np.ascontiguousarray(values, dtype=np.float64))
+            _extend(self._dataset(group, name), start, np.ascontiguousarray(values, np.float64))
+
+    def _dataset(self, group: str, name: str) -> h5py.Dataset:
+        found = self._datasets.get((group, name))
+        if found is None:
+            found = self._datasets[(group, name)] = self._entry[group][name]
+        return found
 
     def _stored_rows(self, group: str) -> int:
         decl = channel_group(self._stand, group)
-        return int(self._entry[group][decl.channels[0].name].shape[0])
+        return int(self._dataset(group, decl.channels[0].name).shape[0])
 
     def rows(self, group: str) -> int:
         pending = self._pending.get(group)
@@ -274,8 +284,10 @@ class RunFile:
         try:
             if self._f.id.valid and self._f.mode == "r+":
                 self.write_pending()
+                self._f.flush()  # the datasets' cached chunks: raises where closing would not
         finally:
             self._pending.clear()
+            self._datasets.clear()
             self._f.close()
 
 

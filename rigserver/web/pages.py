@@ -54,7 +54,9 @@ def environment(lang: Lang) -> Environment:
     return env
 
 
-def _render(template: str, lang: Lang, **context: Any) -> str:
+def render_page(template: str, lang: Lang, **context: Any) -> str:
+    """A page of the site in ``lang``: the template with ``t``, ``_()`` and the link to the
+    other language."""
     t = Messages(lang)
     other = _other(lang)
     with number_locale(lang):
@@ -127,7 +129,7 @@ def results_html(*, run: Run, payload: Mapping[str, Any], lang: Lang) -> str:
             for found in labelled.row_tables(run.stand, payload)
         ]
     pending = [t.gettext(item) for item in payload.get("values", {}).get("pending", [])]
-    return _render("results.html", lang, parts=parts, tables=tables, pending=pending)
+    return render_page("results.html", lang, parts=parts, tables=tables, pending=pending)
 
 
 def runs_page(
@@ -152,7 +154,7 @@ def runs_page(
 
     with number_locale(lang):
         rows = [(run, key_results(t, run)) for run in page.runs]
-    return _render(
+    return render_page(
         "runs.html",
         lang,
         signed_in=signed_in,
@@ -170,7 +172,7 @@ def runs_page(
 
 def login_page(*, next_page: str, refused: bool, lang: Lang) -> str:
     """The form that turns a key with the ``read`` scope into a session of the pages."""
-    return _render("login.html", lang, next=next_page, refused=refused)
+    return render_page("login.html", lang, next=next_page, refused=refused)
 
 
 def run_page(
@@ -209,7 +211,7 @@ def run_page(
         specimen = particulars_text(t, run.specimen)
         test_plan = particulars_text(t, run.test_plan)
         configuration = configuration_rows(t, run)
-    return _render(
+    return render_page(
         "run.html",
         lang,
         signed_in=signed_in,

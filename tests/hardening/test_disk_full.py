@@ -113,13 +113,13 @@ def test_a_full_disk_under_the_run_file_keeps_the_acknowledged_batch(
 
 @pytest.fixture
 def small_disk(tmp_path: Path) -> Iterator[Path]:
-    """A 32 MB tmpfs, or a skip where mounting is not allowed."""
+    """A 64 MB tmpfs, or a skip where mounting is not allowed."""
     mount = tmp_path / "disk"
     mount.mkdir()
     if os.geteuid() != 0:
         pytest.skip("mounting a tmpfs needs root")
     done = subprocess.run(
-        ["mount", "-t", "tmpfs", "-o", "size=32m", "tmpfs", str(mount)],
+        ["mount", "-t", "tmpfs", "-o", "size=64m", "tmpfs", str(mount)],
         capture_output=True,
         text=True,
     )
@@ -133,7 +133,7 @@ def small_disk(tmp_path: Path) -> Iterator[Path]:
 
 @pytest.mark.slow
 def test_a_really_full_disk_over_http(small_disk: Path, tmp_path: Path) -> None:
-    """The data directory on a 32 MB tmpfs with 22 MB of ballast: binary batches of 1.6 MB
+    """The data directory on a 64 MB tmpfs with 54 MB of ballast: binary batches of 1.6 MB
     until 507; then the ballast goes and the same batches are taken."""
     server = serve(tmp_path, "--data-dir", str(small_disk / "data"))
     rows = 40_000  # 5 channels x 8 B: 1.6 MB in the journal and again in the run file
@@ -142,7 +142,7 @@ def test_a_really_full_disk_over_http(small_disk: Path, tmp_path: Path) -> None:
         with httpx.Client(base_url=server.url, timeout=60) as http:
             run_id = open_run(http)
             ballast = small_disk / "ballast"
-            ballast.write_bytes(b"\0" * (22 * MB))
+            ballast.write_bytes(b"\0" * (54 * MB))
             seq, refused = 0, None
             while seq < 50:
                 r = http.post(

@@ -58,7 +58,15 @@ def test_a_burst_of_large_posts_gets_503_and_memory_stays_bounded(tmp_path: Path
     """16 clients post 8 MB batches at once to a server that admits 16 MB: the others are
     answered 503 with Retry-After before their bodies are read; what was acknowledged is
     stored; the server's peak memory grows by a fraction of the 128 MB posted at once."""
-    server = serve(tmp_path, "--ingest-queue", "4", "--ingest-queue-bytes", str(16 * MB))
+    server = serve(  # one key posts: its share is the whole queue
+        tmp_path,
+        "--ingest-queue",
+        "4",
+        "--ingest-queue-bytes",
+        str(16 * MB),
+        "--ingest-key-share",
+        "1",
+    )
     clients, rows, rounds = 16, 200_000, 3  # 5 channels x 8 B x 200 000 rows = 8 MB
     try:
         with httpx.Client(base_url=server.url, timeout=60) as http:

@@ -107,8 +107,12 @@ def test_demo_serves_four_finished_runs_until_interrupted(tmp_path: Path) -> Non
             assert f"http://127.0.0.1:{port}/runs/{r['id']}" in text
         page = httpx.get(f"http://127.0.0.1:{port}/runs/{runs[0]['id']}", timeout=10)
         assert page.status_code == 200
-        assert sorted(r["stand"] for r in runs) == sorted(k.value for k in StandKind)
+        stands = [r["stand"] for r in runs]  # the SMTs-2 three times: a repeatability series
+        assert sorted(stands) == sorted([k.value for k in StandKind] + ["smts2", "smts2"])
         assert {r["state"] for r in runs} == {"finished"}
+        (series,) = httpx.get(f"http://127.0.0.1:{port}/api/v1/series", timeout=10).json()
+        assert series["purpose"] == "repeatability" and len(series["members"]) == 3
+        assert f"http://127.0.0.1:{port}/series/{series['id']}" in text
     finally:
         proc.send_signal(signal.SIGINT)
         proc.wait(timeout=30)

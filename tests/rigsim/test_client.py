@@ -137,9 +137,14 @@ def test_a_whole_run_posts_every_batch_once_in_order() -> None:
     assert (outcome.retries, outcome.duplicates, clock.sleeps) == (0, 0, [])
 
 
-def test_503_with_retry_after_is_honoured_and_the_batch_stored_once() -> None:
+@pytest.mark.parametrize(
+    ("status", "title"), [(503, "Service unavailable"), (408, "Request body too slow")]
+)
+def test_503_with_retry_after_is_honoured_and_the_batch_stored_once(
+    status: int, title: str
+) -> None:
     server, clock = FakeServer(), Clock()
-    busy = _problem(503, "Service unavailable", "the journal is busy, try later")
+    busy = _problem(status, title, "the journal is busy, try later")
     busy.headers["Retry-After"] = "2"
     server.script = [lambda r: None, lambda r: busy]  # the run opens, the first batch waits
     outcome = _client(server, clock).run(_sim())

@@ -12,5 +12,5 @@ def test_all_is_sorted_and_importable() -> None:
         if isinstance(member, type):
             assert member.__module__.startswith("rigserver.storage."), name
     public = {n for n in dir(storage) if not n.startswith("_")} - {"annotations"}
-    modules = {"base", "errors", "hdf5", "memory", "journal", "payloads", "runfile"}
+    modules = {"base", "check", "errors", "hdf5", "memory", "journal", "payloads", "runfile"}
     assert public - modules == set(storage.__all__)

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import threading
 import time
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -56,6 +57,15 @@ def points(page: Any) -> int:
     return int(page.get_attribute("#live-chart", "data-points"))
 
 
+def until(condition: Callable[[], bool], seconds: float = 30.0) -> None:
+    """Wait for ``condition``, polled from here: a predicate evaluated in the page is an
+    eval, which the pages' Content-Security-Policy forbids."""
+    deadline = time.monotonic() + seconds
+    while not condition():
+        assert time.monotonic() < deadline, "timed out"
+        time.sleep(0.05)
+
+
 def test_watch_a_run_live_and_download_its_report(server: Server, tmp_path: Path) -> None:
     from playwright.sync_api import sync_playwright
 
@@ -71,38 +81,37 @@ def test_watch_a_run_live_and_download_its_report(server: Server, tmp_path: Path
             outcome["run"] = exc
 
     poster = threading.Thread(target=lab_pc, daemon=True)
-    poster.start()
-    deadline = time.monotonic() + 20
     runs = f"{server.url}/api/v1/runs"
-    while not httpx.get(runs, headers=auth(READER), timeout=5).json()["runs"]:
-        assert time.monotonic() < deadline, "the run was not opened"
-        time.sleep(0.05)
     with sync_playwright() as playwright:
         context = chromium(playwright, tmp_path / "chromium-profile", accept_downloads=True)
         try:
             page = context.new_page()
+            refused: list[str] = []  # what the pages' policy blocked (Chromium logs it)
+            page.on(
+                "console",
+                lambda m: refused.append(m.text) if "Content Security Policy" in m.text else None,
+            )
             page.goto(f"{server.url}/")  # no session yet: the login page
             page.fill("input[name=key]", READER)
             page.click("form.login button[type=submit]")
+            # The stand starts posting once the browser is up and signed in: a slow start of
+            # the browser (a loaded machine) cannot let the whole run arrive before the page.
+            poster.start()
+            deadline = time.monotonic() + 20
+            while not httpx.get(runs, headers=auth(READER), timeout=5).json()["runs"]:
+                assert time.monotonic() < deadline, "the run was not opened"
+                time.sleep(0.05)
+            page.reload()
             page.click("table.runs a[href^='/runs/']")
             page.wait_for_selector("#live-chart")
-            page.wait_for_function(
-                "Number(document.getElementById('live-chart').dataset.points) > 0"
-            )
+            until(lambda: points(page) > 0)
             first = points(page)
             assert first < total, "the run should still be posting"
-            page.wait_for_function(
-                f"Number(document.getElementById('live-chart').dataset.points) > {first}"
-            )
-            assert points(page) > first  # the chart grows as batches arrive
-            page.wait_for_function(
-                "document.getElementById('live-status').dataset.state === 'ended'",
-                timeout=60_000,
-            )
-            page.wait_for_function(
-                f"Number(document.getElementById('live-chart').dataset.points) === {total}"
-            )
+            until(lambda: points(page) > first)  # the chart grows as batches arrive
+            until(lambda: page.get_attribute("#live-status", "data-state") == "ended", 60)
+            until(lambda: points(page) == total)
             assert page.text_content("#live-rows") == str(total)
+            assert refused == []
             page.screenshot(path=str(tmp_path / "run.png"), full_page=True)
             with page.expect_download() as download:
                 page.click("#report-pdf")
@@ -113,6 +122,7 @@ def test_watch_a_run_live_and_download_its_report(server: Server, tmp_path: Path
         finally:
             context.close()
     poster.join(timeout=60)
+    assert not poster.is_alive()
     result = outcome["run"]
     assert isinstance(result, RunOutcome), result
     assert result.run.rows["friction"] == total

@@ -30,6 +30,7 @@ from rigserver.api.routes.runs import load_run
 from schemas.channels import ChannelGroup
 from schemas.runs import RunState
 from schemas.stands import Stand
+from schemas.wire import Text, ascii_count
 
 router = APIRouter(prefix="/runs/{run_id}", tags=["live"], dependencies=[ReadAccess])
 
@@ -66,13 +67,14 @@ def live_group(stand: Stand, name: str | None) -> ChannelGroup:
 def _first_row(last_event_id: str | None, start: int) -> int:
     if last_event_id is None:
         return start
-    if not last_event_id.isdigit():
+    rows = ascii_count(last_event_id)
+    if rows is None:
         raise ApiProblem(
             422,
             "Bad Last-Event-ID",
             f"Last-Event-ID is the number of rows already received, got {last_event_id[:40]!r}",
         )
-    return int(last_event_id)
+    return rows
 
 
 def _event(name: str, data: object, event_id: int | None = None) -> str:
@@ -128,7 +130,7 @@ async def live(
     run_id: str,
     request: Request,
     services: ServicesDep,
-    group: Annotated[str | None, Query(max_length=40, description="default: the record")] = None,
+    group: Annotated[Text | None, Query(max_length=40, description="default: the record")] = None,
     start: Annotated[int, Query(alias="from", ge=0, description="first row to send")] = 0,
 ) -> StreamingResponse:
     run = await run_in_threadpool(load_run, services, run_id)

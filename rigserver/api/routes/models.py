@@ -10,6 +10,7 @@ from fastapi.concurrency import run_in_threadpool
 from fastapi.responses import HTMLResponse
 
 from rigserver.api.deps import ReadAccess
+from rigserver.api.strict_json import StrictJsonRoute
 from rigserver.core import arm, bearing, mechanism, roughness, wear
 from rigserver.reports.mechanism import mechanism_report
 from schemas.calculators import (
@@ -22,7 +23,9 @@ from schemas.calculators import (
 from schemas.mechanism import DynamicErrorsRequest, DynamicErrorsResponse
 from schemas.results import TheoreticalWearResult
 
-router = APIRouter(prefix="/models", tags=["models"], dependencies=[ReadAccess])
+router = APIRouter(
+    prefix="/models", tags=["models"], dependencies=[ReadAccess], route_class=StrictJsonRoute
+)
 
 
 @router.post("/wear/theoretical", summary="Fatigue wear intensity of the pin (2.1)-(2.7)")

@@ -7,7 +7,7 @@ from __future__ import annotations
 
 from datetime import UTC, date, datetime, time, timedelta
 from typing import Annotated, TypeVar
-from urllib.parse import parse_qs, urlencode
+from urllib.parse import parse_qs, urlencode, urlsplit
 
 from fastapi import APIRouter, Depends, FastAPI, Query, Request, Response
 from fastapi.responses import HTMLResponse, RedirectResponse
@@ -17,13 +17,17 @@ from rigserver.api.auth import READ
 from rigserver.api.deps import Services, ServicesDep, caller_of, require_scope
 from rigserver.api.problems import ApiProblem
 from rigserver.api.routes.runs import load_run
+from rigserver.api.routes.series import series_view
 from rigserver.api.run_results import results_payload
 from rigserver.api.sessions import COOKIE, SESSION_SECONDS
 from rigserver.reports.i18n import Lang, negotiate
+from rigserver.reports.series_report import render_series_body
 from rigserver.web.pages import login_page, results_html, run_page, runs_page
+from rigserver.web.series_pages import series_list_page, series_page
 from schemas.channels import Violation
 from schemas.runs import RunQuery, RunState
 from schemas.stands import StandKind
+from schemas.wire import Text
 
 
 class _LoginFirst(Exception):
@@ -43,14 +47,41 @@ async def require_page_read(request: Request, services: ServicesDep) -> None:
     require_scope(caller, READ)
 
 
+def same_origin(request: Request) -> None:
+    """403 for a form posted from another site (cross-site request forgery): a browser
+    says where a post comes from (``Sec-Fetch-Site``, ``Origin``); a client that says
+    neither is no browser, and no other site's page can make it post."""
+    site = request.headers.get("sec-fetch-site")
+    origin = request.headers.get("origin")
+    if (site is not None and site not in ("same-origin", "none")) or (
+        origin is not None and _host_of(origin) != request.headers.get("host")
+    ):
+        raise ApiProblem(
+            403,
+            "Cross-site form refused",
+            f"{request.url.path} takes forms of this site's own pages only "
+            f"(Origin {origin!r:.60}, Sec-Fetch-Site {site!r:.30})",
+        )
+
+
+def _host_of(origin: str) -> str | None:
+    """The host (and port) of an ``Origin`` header; None for ``null`` or nonsense."""
+    try:
+        return urlsplit(origin).netloc or None
+    except ValueError:
+        return None
+
+
 router = APIRouter(include_in_schema=False, dependencies=[Depends(require_page_read)])
 login_router = APIRouter(include_in_schema=False)
+#: Forms of this site only.
+SameOrigin = Depends(same_origin)
 #: The largest login form read, bytes.
 LOGIN_BODY_BYTES = 4096
 
 PAGE_SIZE = 50
 
-Text = Annotated[str, Query(max_length=100)]
+Filter = Annotated[Text, Query(max_length=100)]
 Choice = TypeVar("Choice", StandKind, RunState)
 
 
@@ -92,6 +123,8 @@ def _day(field: str, value: str, *, end: bool = False) -> datetime | None:
         raise ApiProblem(
             422, "Invalid filter", f"{field} must be a date like 2026-11-22, got {value[:40]!r}"
         ) from None
+    if end and day == date.max:
+        return None  # the end of the last day there is: no bound
     return datetime.combine(day + timedelta(days=1 if end else 0), time(), tzinfo=UTC)
 
 
@@ -99,11 +132,11 @@ def _day(field: str, value: str, *, end: bool = False) -> datetime | None:
 def runs(
     request: Request,
     services: ServicesDep,
-    stand: Text = "",
-    operator: Text = "",
-    state: Text = "",
-    since: Text = "",
-    until: Text = "",
+    stand: Filter = "",
+    operator: Filter = "",
+    state: Filter = "",
+    since: Filter = "",
+    until: Filter = "",
     offset: Annotated[int, Query(ge=0)] = 0,
     lang: Lang | None = None,
 ) -> HTMLResponse:
@@ -157,17 +190,42 @@ def run_results(
     return HTMLResponse(html, headers={"Content-Language": chosen, "Vary": "Accept-Language"})
 
 
+@router.get("/series", response_class=HTMLResponse)
+def series_list(request: Request, services: ServicesDep, lang: Lang | None = None) -> HTMLResponse:
+    chosen = negotiate(lang, request.headers.get("accept-language"))
+    html = series_list_page(
+        series=services.series.list(), lang=chosen, signed_in=_signed_in(request, services)
+    )
+    return HTMLResponse(html, headers={"Content-Language": chosen, "Vary": "Accept-Language"})
+
+
+@router.get("/series/{series_id}", response_class=HTMLResponse)
+def series(
+    series_id: str, request: Request, services: ServicesDep, lang: Lang | None = None
+) -> HTMLResponse:
+    chosen = negotiate(lang, request.headers.get("accept-language"))
+    detail, context = series_view(services, series_id, chosen)
+    html = series_page(
+        detail=detail,
+        context=context,
+        body=render_series_body(context),
+        lang=chosen,
+        signed_in=_signed_in(request, services),
+    )
+    return HTMLResponse(html, headers={"Content-Language": chosen, "Vary": "Accept-Language"})
+
+
 @login_router.get("/login", response_class=HTMLResponse)
 def login_form(
     request: Request,
-    next: Annotated[str, Query(max_length=2000)] = "/",
+    next: Annotated[Text, Query(max_length=2000)] = "/",
     lang: Lang | None = None,
 ) -> HTMLResponse:
     chosen = negotiate(lang, request.headers.get("accept-language"))
     return HTMLResponse(login_page(next_page=_local(next), refused=False, lang=chosen))
 
 
-@login_router.post("/login")
+@login_router.post("/login", dependencies=[SameOrigin])
 async def login(request: Request, services: ServicesDep, lang: Lang | None = None) -> Response:
     """The login form posted (``key``, ``next``): a session and back to ``next``, or the form
     again (401) if the key is unknown or may not read."""
@@ -194,7 +252,7 @@ async def login(request: Request, services: ServicesDep, lang: Lang | None = Non
     return response
 
 
-@login_router.post("/logout")
+@login_router.post("/logout", dependencies=[SameOrigin])
 def logout(request: Request, services: ServicesDep) -> Response:
     token = request.cookies.get(COOKIE)
     if token:

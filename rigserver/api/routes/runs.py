@@ -8,14 +8,26 @@ from typing import Annotated, Any
 from fastapi import APIRouter, Header, Query, Response, status
 from pydantic import ValidationError
 
-from rigserver.api.deps import CallerDep, ReadAccess, Services, ServicesDep, require_write
-from rigserver.api.problems import ApiProblem
+from rigserver.api.auth import ApiKey
+from rigserver.api.deps import (
+    CallerDep,
+    ReadAccess,
+    Services,
+    ServicesDep,
+    WriteAccess,
+    require_write,
+)
+from rigserver.api.problems import ApiProblem, violations
 from rigserver.api.run_results import compute_results
-from schemas.channels import Violation
+from rigserver.api.strict_json import StrictJsonRoute
+from rigserver.storage.errors import KeyReused
 from schemas.runs import Run, RunCreate, RunPage, RunQuery, RunState, is_run_id, new_run_id
 from schemas.stands import with_overrides
 
-router = APIRouter(prefix="/runs", tags=["runs"])
+#: An Idempotency-Key: printable ASCII, no spaces (a UUID, a counter, a hash).
+IDEMPOTENCY_KEY_PATTERN = r"^[!-~]+$"
+
+router = APIRouter(prefix="/runs", tags=["runs"], route_class=StrictJsonRoute)
 
 
 def load_run(services: Services, run_id: str) -> Run:
@@ -29,6 +41,15 @@ def load_run(services: Services, run_id: str) -> Run:
     return services.store.get_run(run_id)
 
 
+def owned_key(caller: ApiKey | None, idempotency_key: str | None) -> str | None:
+    """The Idempotency-Key as the store keeps it: prefixed by the fingerprint of the API
+    key that sent it, so that another API key sending the same string opens a run of its
+    own and never learns the run the first one opened."""
+    if idempotency_key is None or caller is None:
+        return idempotency_key
+    return f"{caller.fingerprint}:{idempotency_key}"
+
+
 @router.post(
     "",
     status_code=status.HTTP_201_CREATED,
@@ -36,8 +57,13 @@ def load_run(services: Services, run_id: str) -> Run:
     description="Needs a key with the scope `write:<stand>`. The run keeps a snapshot of the "
     "stand's configuration with the overrides given here. With an `Idempotency-Key` header "
     "(any unique string, e.g. a UUID, sent again with every retry) a retried opening is "
-    "answered 200 with the run the first one opened; 409 if it asks for another.",
+    "answered 200 with the run the first one opened; 409 if it asks for another. An "
+    "Idempotency-Key belongs to the API key that sent it: sent with another API key, it "
+    "opens a run of its own. Values that cannot be stored or shown are refused (422 naming "
+    "the field): NaN, infinities and numbers beyond a double's range, whole numbers beyond "
+    "±2^63, NUL characters.",
     responses={200: {"description": "the run opened before with this Idempotency-Key"}},
+    dependencies=[WriteAccess],
 )
 def create_run(
     body: RunCreate,
@@ -45,7 +71,13 @@ def create_run(
     caller: CallerDep,
     response: Response,
     idempotency_key: Annotated[
-        str | None, Header(min_length=1, max_length=200, description="makes retries safe")
+        str | None,
+        Header(
+            min_length=1,
+            max_length=200,
+            pattern=IDEMPOTENCY_KEY_PATTERN,
+            description="makes retries safe: printable ASCII without spaces, e.g. a UUID",
+        ),
     ] = None,
 ) -> Run:
     require_write(caller, body.stand)
@@ -53,17 +85,8 @@ def create_run(
     try:
         configuration = with_overrides(stand.configuration, body.configuration)
     except ValidationError as exc:
-        errors = [
-            Violation(
-                field="configuration." + ".".join(str(p) for p in e["loc"]),
-                value=e["input"] if isinstance(e.get("input"), int | float | str) else None,
-                message=f"configuration.{'.'.join(str(p) for p in e['loc'])}: {e['msg']}",
-            )
-            for e in exc.errors()[:20]
-        ]
-        raise ApiProblem(
-            422, "Invalid configuration", errors[0].message if errors else str(exc), errors
-        ) from None
+        errors = violations(exc.errors(), "configuration.")
+        raise ApiProblem(422, "Invalid configuration", errors[0].message, errors) from None
     run = Run(
         id=new_run_id(),
         stand=body.stand,
@@ -75,7 +98,15 @@ def create_run(
         configuration=configuration.model_dump(mode="json"),
         created=datetime.now(UTC),
     )
-    stored = services.store.create_run(run, idempotency_key)
+    try:
+        stored = services.store.create_run(run, owned_key(caller, idempotency_key))
+    except KeyReused:
+        raise ApiProblem(
+            409,
+            "Idempotency-Key reused",
+            f"the Idempotency-Key {idempotency_key!r} opened another run with other values; "
+            "a new run needs a new key",
+        ) from None
     if stored.id != run.id:
         response.status_code = status.HTTP_200_OK
     return stored
@@ -106,11 +137,16 @@ def _end(run_id: str, services: Services, caller: Any, state: RunState) -> Run:
 @router.post(
     "/{run_id}/finish",
     summary="Finish a run: compute and store its results, finalize its file",
+    dependencies=[WriteAccess],
 )
 def finish_run(run_id: str, services: ServicesDep, caller: CallerDep) -> Run:
     return _end(run_id, services, caller, RunState.FINISHED)
 
 
-@router.post("/{run_id}/abort", summary="Abort a run: keep its readings, take no more")
+@router.post(
+    "/{run_id}/abort",
+    summary="Abort a run: keep its readings, take no more",
+    dependencies=[WriteAccess],
+)
 def abort_run(run_id: str, services: ServicesDep, caller: CallerDep) -> Run:
     return _end(run_id, services, caller, RunState.ABORTED)

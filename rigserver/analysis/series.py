@@ -1,0 +1,304 @@
+"""A series' statistics: each headline result of its runs gathered and summarised.
+
+Every stand declares the results a series compares (:data:`HEADLINES`): a path into the
+run's results (``experimental.intensity``; ``steps[].friction_measured`` stands for one
+result per load step) and, where the run reports one, the path of its own standard
+uncertainty. Aborted runs are listed but left out of the statistics; open runs count with
+what they hold so far.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from typing import Any
+
+from pydantic import BaseModel
+
+from rigserver.core import statistics
+from schemas.quantity import description_paths, unit_paths
+from schemas.results import MtosResults, ProfilometerResults, SlideBearingResults, Smts2Results
+from schemas.runs import Run, RunState
+from schemas.series import (
+    ComparisonResult,
+    GrubbsResult,
+    LevelSummary,
+    ResultStatistics,
+    RunValue,
+    Series,
+    SeriesDetail,
+    SeriesPurpose,
+    SeriesRun,
+    Summary,
+    Untested,
+)
+from schemas.stands import StandKind
+
+#: Why a result's levels were not compared, as the API says it (the pages translate the code).
+UNTESTED: dict[Untested, str] = {
+    "no_values": "no run has this result yet",
+    "one_level": "a comparison needs runs at two levels or more",
+    "few_runs": "a comparison needs at least two runs at every level",
+    "no_spread": "the runs within each level agree exactly: no spread to test against",
+}
+
+#: Paths of a list of per-step results: one headline per step, keyed by the step's index.
+_EACH = "[]"
+
+
+@dataclass(frozen=True, slots=True)
+class Headline:
+    """A result a series compares: its path in the results, its symbol (the manual's), and
+    the path of the run's own standard uncertainty of it, where the results hold one."""
+
+    path: str
+    symbol: str
+    uncertainty: str | None = None
+
+
+HEADLINES: dict[StandKind, tuple[Headline, ...]] = {
+    StandKind.SMTS2: (
+        Headline("friction_steady", "f"),
+        Headline("experimental.intensity", "I_h"),
+        Headline("experimental.volume", "V"),
+        Headline("experimental.mass_loss", "Δm"),
+    ),
+    StandKind.SLIDE_BEARING: (
+        Headline("chi_mean", "χ_ср"),
+        Headline("pressure_max", "p_max"),
+        Headline("phi_max", "φ_{p max}"),
+    ),
+    StandKind.MTOS: (
+        Headline("friction_fluid", "f_э"),
+        Headline("h_min_smallest", "h_min"),
+        Headline("steps[].friction_measured", "f_э"),
+        Headline("steps[].chi", "χ"),
+    ),
+    StandKind.PROFILOMETER: (
+        Headline("ra", "R_a"),
+        Headline("rz", "R_z"),
+        Headline("rq", "R_q"),
+        Headline("rmax", "R_max"),
+        Headline("sm", "S_m"),
+    ),
+}
+
+RESULT_MODELS: dict[StandKind, type[BaseModel]] = {
+    StandKind.SMTS2: Smts2Results,
+    StandKind.SLIDE_BEARING: SlideBearingResults,
+    StandKind.MTOS: MtosResults,
+    StandKind.PROFILOMETER: ProfilometerResults,
+}
+
+
+@dataclass(frozen=True, slots=True)
+class Member:
+    """A run of the series as the statistics see it: its metadata, level and results."""
+
+    run: Run
+    level: str | None
+    values: Mapping[str, Any] | None
+
+
+def series_statistics(
+    series: Series, members: Sequence[Member], missing: list[str]
+) -> SeriesDetail:
+    """The series with its per-run table and the statistics of every headline result.
+
+    ``members`` are the runs that could be read, in the order they joined; ``missing``
+    says which could not, and why.
+    """
+    stand = members[0].run.stand if members else None
+    keys = _keys(stand, members) if stand else []
+    rows = [
+        SeriesRun(
+            run_id=m.run.id,
+            level=m.level,
+            stand=m.run.stand,
+            state=m.run.state,
+            operator=m.run.operator,
+            title=m.run.title,
+            created=m.run.created,
+            values={key: _number(m.values, key) for key, _ in keys},
+        )
+        for m in members
+    ]
+    counted = [m for m in members if m.run.state is not RunState.ABORTED and m.values is not None]
+    comparison = series.purpose is SeriesPurpose.COMPARISON
+    units = unit_paths(RESULT_MODELS[stand]) if stand else {}
+    described = description_paths(RESULT_MODELS[stand]) if stand else {}
+    statistics_ = [
+        _result_statistics(key, headline, counted, comparison, units, described)
+        for key, headline in keys
+    ]
+    return SeriesDetail(
+        **series.model_dump(),
+        stand=stand,
+        runs=rows,
+        statistics=statistics_,
+        open_runs=sum(m.run.state is RunState.OPEN for m in members),
+        missing=missing,
+    )
+
+
+def _keys(stand: StandKind, members: Sequence[Member]) -> list[tuple[str, Headline]]:
+    """Each headline's keys: its path, or one path per step for a per-step result."""
+    keys: list[tuple[str, Headline]] = []
+    for headline in HEADLINES[stand]:
+        if _EACH not in headline.path:
+            keys.append((headline.path, headline))
+            continue
+        head, _, _ = headline.path.partition(_EACH)
+        steps = max((len(_resolve(m.values, head) or []) for m in members), default=0)
+        keys.extend((headline.path.replace(_EACH, f"[{i}]", 1), headline) for i in range(steps))
+    return keys
+
+
+def _result_statistics(
+    key: str,
+    headline: Headline,
+    members: Sequence[Member],
+    comparison: bool,
+    units: Mapping[str, str],
+    described: Mapping[str, str],
+) -> ResultStatistics:
+    generic = _generic(key)
+    values = [
+        RunValue(
+            run_id=m.run.id,
+            level=m.level,
+            value=value,
+            uncertainty=_uncertainty(m.values, key, headline),
+        )
+        for m in members
+        if (value := _number(m.values, key)) is not None
+    ]
+    result = ResultStatistics(
+        key=key,
+        symbol=_symbol(key, headline),
+        unit=units.get(generic, "1"),
+        description=described.get(generic, key),
+        values=values,
+    )
+    if not values:
+        result.untested = "no_values"
+        result.notes.append(UNTESTED["no_values"])
+        return result
+    numbers = [v.value for v in values]
+    result.overall = _summary(numbers, [v.run_id for v in values])
+    levels: dict[str, list[RunValue]] = {}
+    for v in values:
+        levels.setdefault(v.level or "", []).append(v)
+    groups = [[v.value for v in group] for group in levels.values()]
+    result.repeatability_std = statistics.pooled_standard_deviation(groups)
+    if comparison:
+        result.levels = [
+            LevelSummary(
+                level=name,
+                summary=_summary([v.value for v in group], [v.run_id for v in group]),
+            )
+            for name, group in levels.items()
+        ]
+        result.untested = _untested(levels, result.repeatability_std)
+        if result.untested is None:
+            result.comparison = _comparison(levels)
+        else:
+            result.notes.append(UNTESTED[result.untested])
+    return result
+
+
+def _summary(values: list[float], run_ids: list[str]) -> Summary:
+    found = statistics.summarise(values)
+    test = found.grubbs
+    return Summary(
+        n=found.n,
+        mean=found.mean,
+        std=found.std,
+        sem=found.sem,
+        ci_low=found.ci_low,
+        ci_high=found.ci_high,
+        confidence=found.confidence,
+        grubbs=None
+        if test is None
+        else GrubbsResult(
+            statistic=test.statistic,
+            critical=test.critical,
+            alpha=test.alpha,
+            run_id=run_ids[test.index],
+            outlier=test.outlier,
+        ),
+    )
+
+
+def _untested(
+    levels: Mapping[str, list[RunValue]], repeatability_std: float | None
+) -> Untested | None:
+    """Why the levels cannot be compared (None when they can)."""
+    if len(levels) < 2:
+        return "one_level"
+    if min(len(group) for group in levels.values()) < 2:
+        return "few_runs"
+    if not repeatability_std:
+        return "no_spread"
+    return None
+
+
+def _comparison(levels: Mapping[str, list[RunValue]]) -> ComparisonResult:
+    found = statistics.compare({k: [v.value for v in g] for k, g in levels.items()})
+    return ComparisonResult(
+        test="welch" if found.test == "welch" else "anova",
+        statistic=found.statistic,
+        df=list(found.df),
+        p_value=found.p_value,
+        significant=found.significant,
+        difference=found.difference,
+        difference_low=found.difference_low,
+        difference_high=found.difference_high,
+    )
+
+
+def _symbol(key: str, headline: Headline) -> str:
+    """``f_э`` of the load step ``steps[2]`` -> ``f_{э,3}`` (steps counted from 1)."""
+    if _EACH not in headline.path:
+        return headline.symbol
+    step = int(key.partition("[")[2].partition("]")[0]) + 1
+    base, _, sub = headline.symbol.partition("_")
+    return f"{base}_{{{sub.strip('{}')},{step}}}" if sub else f"{base}_{step}"
+
+
+def _generic(key: str) -> str:
+    """``steps[3].chi`` -> ``steps[].chi``: the path the units and descriptions use."""
+    head, bracket, rest = key.partition("[")
+    if not bracket:
+        return key
+    _, _, tail = rest.partition("]")
+    return f"{head}[]{tail}"
+
+
+def _resolve(values: Mapping[str, Any] | None, path: str) -> Any:
+    node: Any = values
+    for part in path.split("."):
+        name, bracket, index = part.partition("[")
+        if not isinstance(node, Mapping):
+            return None
+        node = node.get(name)
+        if bracket:
+            if not isinstance(node, list):
+                return None
+            i = int(index.rstrip("]"))
+            node = node[i] if i < len(node) else None
+    return node
+
+
+def _number(values: Mapping[str, Any] | None, path: str) -> float | None:
+    node = _resolve(values, path)
+    if isinstance(node, bool) or not isinstance(node, int | float):
+        return None
+    return float(node) if math.isfinite(node) else None
+
+
+def _uncertainty(values: Mapping[str, Any] | None, key: str, headline: Headline) -> float | None:
+    if headline.uncertainty is None:
+        return None
+    return _number(values, headline.uncertainty)

@@ -1,0 +1,241 @@
+"""``/series``: named sets of runs (repeats, or a comparison by a factor) and their statistics,
+the series report and the per-run table as CSV."""
+
+from __future__ import annotations
+
+from datetime import UTC, datetime
+from typing import Annotated, Any
+
+from fastapi import APIRouter, Query, Request, status
+from fastapi.concurrency import run_in_threadpool
+from fastapi.responses import HTMLResponse, Response
+
+from rigserver.analysis.series import Member, series_statistics
+from rigserver.api.deps import (
+    CallerDep,
+    ReadAccess,
+    Services,
+    ServicesDep,
+    WriteAccess,
+    require_scope,
+)
+from rigserver.api.problems import ApiProblem
+from rigserver.api.routes.runs import load_run
+from rigserver.api.run_results import StoredReadings, results_payload
+from rigserver.api.strict_json import StrictJsonRoute
+from rigserver.reports.i18n import Lang, negotiate
+from rigserver.reports.pdf import html_to_pdf
+from rigserver.reports.series_report import render_series_report, series_context, series_csv
+from rigserver.storage.errors import RunNotFound, SeriesNotFound, StorageError
+from schemas.runs import RunState
+from schemas.series import (
+    SERIES_RUNS_LIMIT,
+    Series,
+    SeriesCreate,
+    SeriesDetail,
+    SeriesMemberAdd,
+    SeriesPurpose,
+    is_series_id,
+)
+
+router = APIRouter(prefix="/series", tags=["series"], route_class=StrictJsonRoute)
+
+#: The scope that creates series and changes their runs (``write:*`` has it too).
+WRITE_SERIES = "write:series"
+
+LangQuery = Annotated[
+    Lang | None,
+    Query(description="report language; without it, the best of Accept-Language (else en)"),
+]
+
+
+def load_series(services: Services, series_id: str) -> Series:
+    if not is_series_id(series_id):
+        raise SeriesNotFound(
+            f"{series_id[:40]!r} is not a series id (they look like s-0123456789ab)"
+        )
+    return services.series.get(series_id)
+
+
+def series_detail(services: Services, series_id: str) -> SeriesDetail:
+    """The series, each member run with its results (computed on what an open run holds),
+    and the statistics."""
+    return _detail(services, series_id)[0]
+
+
+def _detail(services: Services, series_id: str) -> tuple[SeriesDetail, list[Member]]:
+    series = load_series(services, series_id)
+    members: list[Member] = []
+    missing: list[str] = []
+    for member in series.members:
+        try:
+            run = services.store.get_run(member.run_id)
+        except StorageError as exc:
+            missing.append(f"{member.run_id}: {exc}")
+            continue
+        values = None
+        if run.state is not RunState.ABORTED:
+            values = results_payload(services, run)["values"]
+        members.append(Member(run=run, level=member.level, values=values))
+    return series_statistics(series, members, missing), members
+
+
+@router.post(
+    "",
+    status_code=status.HTTP_201_CREATED,
+    summary="Open a series: repeats of one test, or a comparison by a named factor",
+    description=f"Needs a key with the scope `{WRITE_SERIES}` (or `write:*`).",
+    dependencies=[WriteAccess],
+)
+def create_series(body: SeriesCreate, services: ServicesDep, caller: CallerDep) -> Series:
+    require_scope(caller, WRITE_SERIES)
+    return services.series.create(body)
+
+
+@router.get("", summary="Every series, newest first", dependencies=[ReadAccess])
+def list_series(services: ServicesDep) -> list[Series]:
+    return services.series.list()
+
+
+@router.get(
+    "/{series_id}",
+    summary="A series: its runs, their levels and the statistics of every headline result",
+    description="Per result: n, mean, standard deviation, standard error, the 95 % interval "
+    "of the mean (Student's t), the repeatability standard deviation and Grubbs' outlier "
+    "test (flagged, never removed); for a comparison also per level, and Welch's t-test "
+    "(two levels) or one-way ANOVA. Open runs count with what they hold so far.",
+    dependencies=[ReadAccess],
+)
+async def get_series(series_id: str, services: ServicesDep) -> SeriesDetail:
+    return await run_in_threadpool(series_detail, services, series_id)
+
+
+def _add(services: Services, series_id: str, body: SeriesMemberAdd) -> Series:
+    series = load_series(services, series_id)
+    run = load_run(services, body.run_id)
+    if series.purpose is SeriesPurpose.COMPARISON and body.level is None:
+        raise ApiProblem(
+            422,
+            "Level required",
+            f"series {series.id} compares by {series.factor!r}: give the run's level",
+        )
+    if series.purpose is SeriesPurpose.REPEATABILITY and body.level is not None:
+        raise ApiProblem(
+            422, "No levels in a repeatability series", "its runs are repeats of one test"
+        )
+    if len(series.members) >= SERIES_RUNS_LIMIT:
+        raise ApiProblem(409, "Series full", f"a series holds at most {SERIES_RUNS_LIMIT} runs")
+    for member in series.members:
+        try:
+            other = services.store.get_run(member.run_id)
+        except RunNotFound:
+            continue
+        if other.stand is not run.stand:
+            raise ApiProblem(
+                409,
+                "Run of another stand",
+                f"series {series.id} holds {other.stand.value} runs; "
+                f"run {run.id} is a {run.stand.value} run",
+            )
+        break
+    return services.series.add(series.id, run.id, body.level)
+
+
+@router.post(
+    "/{series_id}/runs",
+    status_code=status.HTTP_201_CREATED,
+    summary="Add a run to a series (a run may belong to several)",
+    description=f"Needs the scope `{WRITE_SERIES}`. All runs of a series are of one stand; "
+    "in a comparison each run has a level of the factor.",
+    dependencies=[WriteAccess],
+)
+async def add_run(
+    series_id: str, body: SeriesMemberAdd, services: ServicesDep, caller: CallerDep
+) -> Series:
+    require_scope(caller, WRITE_SERIES)
+    return await run_in_threadpool(_add, services, series_id, body)
+
+
+@router.delete(
+    "/{series_id}/runs/{run_id}",
+    summary="Take a run out of a series (the run itself stays)",
+    description=f"Needs the scope `{WRITE_SERIES}`.",
+    dependencies=[WriteAccess],
+)
+def remove_run(series_id: str, run_id: str, services: ServicesDep, caller: CallerDep) -> Series:
+    require_scope(caller, WRITE_SERIES)
+    series = load_series(services, series_id)
+    return services.series.remove(series.id, run_id)
+
+
+@router.get(
+    "/{series_id}/runs.csv",
+    summary="The per-run table as CSV: one row per run, one column per headline result",
+    response_class=Response,
+    responses={200: {"content": {"text/csv": {}}}},
+    dependencies=[ReadAccess],
+)
+async def runs_csv(series_id: str, services: ServicesDep) -> Response:
+    detail = await run_in_threadpool(series_detail, services, series_id)
+    return Response(
+        series_csv(detail),
+        media_type="text/csv",
+        headers={"Content-Disposition": f'attachment; filename="{detail.id}-runs.csv"'},
+    )
+
+
+def _report(services: Services, series_id: str, lang: Lang) -> tuple[SeriesDetail, str]:
+    detail, context = series_view(services, series_id, lang)
+    return detail, render_series_report(context, made=datetime.now(UTC))
+
+
+def series_view(
+    services: Services, series_id: str, lang: Lang
+) -> tuple[SeriesDetail, dict[str, Any]]:
+    """The series' statistics and what its report and page show of them."""
+    detail, members = _detail(services, series_id)
+    context = series_context(
+        detail,
+        values={m.run.id: m.values for m in members},
+        readings={m.run.id: StoredReadings(services, m.run) for m in members},
+        lang=lang,
+    )
+    return detail, context
+
+
+@router.get(
+    "/{series_id}/report.html",
+    summary="The series report: the per-run table, the statistics and the overlay plots",
+    response_class=HTMLResponse,
+    dependencies=[ReadAccess],
+)
+async def report_html(
+    series_id: str, request: Request, services: ServicesDep, lang: LangQuery = None
+) -> HTMLResponse:
+    chosen = negotiate(lang, request.headers.get("accept-language"))
+    _, html = await run_in_threadpool(_report, services, series_id, chosen)
+    return HTMLResponse(html, headers={"Content-Language": chosen, "Vary": "Accept-Language"})
+
+
+@router.get(
+    "/{series_id}/report.pdf",
+    summary="The series report as an A4 PDF",
+    response_class=Response,
+    responses={200: {"content": {"application/pdf": {}}}},
+    dependencies=[ReadAccess],
+)
+async def report_pdf(
+    series_id: str, request: Request, services: ServicesDep, lang: LangQuery = None
+) -> Response:
+    chosen = negotiate(lang, request.headers.get("accept-language"))
+    detail, html = await run_in_threadpool(_report, services, series_id, chosen)
+    pdf = await run_in_threadpool(html_to_pdf, html)
+    return Response(
+        pdf,
+        media_type="application/pdf",
+        headers={
+            "Content-Language": chosen,
+            "Vary": "Accept-Language",
+            "Content-Disposition": f'attachment; filename="{detail.id}-report-{chosen}.pdf"',
+        },
+    )

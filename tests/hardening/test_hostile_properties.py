@@ -1,0 +1,261 @@
+"""Hypothesis sends hostile values across the API: NaN, infinities, literals beyond a
+double, whole numbers beyond 64 bits, NUL characters, lone surrogates, duplicated keys,
+values as text or flags. Whatever comes, the service never answers 5xx, stores nothing
+it refused, and every run it stored stays readable, also after a restart of the server
+process (a clean stop or a kill) on the same data directory."""
+
+from __future__ import annotations
+
+import json
+import shutil
+import tempfile
+from pathlib import Path
+
+import httpx
+from fastapi.testclient import TestClient
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+from hypothesis.stateful import (
+    Bundle,
+    RuleBasedStateMachine,
+    consumes,
+    initialize,
+    invariant,
+    rule,
+)
+
+from schemas.stands import CONFIG_MODELS, StandKind
+from tests.api.conftest import READER, WRITER, Server, auth
+from tests.hardening.conftest import API, keys_file
+
+# --- hostile JSON, written as raw text (Python's json cannot write 1e400 or a duplicate) --
+
+_HOSTILE_CHARS = st.one_of(
+    st.characters(codec="utf-8"),
+    st.sampled_from(["\x00", "\ud800", "\udfff", "\ud83d", "\u0661", "\uff11"]),
+)
+_TEXT = st.text(_HOSTILE_CHARS, max_size=8)
+#: A JSON number, string, flag or null, as JSON text.
+_LEAF = st.one_of(
+    st.floats(allow_nan=True, allow_infinity=True).map(json.dumps),  # NaN, Infinity literals
+    st.integers(min_value=-(2**70), max_value=2**70).map(str),
+    st.sampled_from(["1e400", "-1e400", "1E999", "-0", "0.5", "300", "1000", "true", "null"]),
+    _TEXT.map(json.dumps),  # lone surrogates as \\ud800 escapes
+    _TEXT.map(lambda s: json.dumps(s.lstrip("-") or "1.5")),  # numbers as text
+)
+
+
+def _object(keys: st.SearchStrategy[str], values: st.SearchStrategy[str]) -> st.SearchStrategy[str]:
+    """A JSON object as text; a key may come twice."""
+    pairs = st.lists(st.tuples(keys, values), max_size=4)
+    return pairs.map(lambda kv: "{" + ",".join(f"{json.dumps(k)}:{v}" for k, v in kv) + "}")
+
+
+_ARRAY = st.lists(_LEAF, max_size=4).map(lambda items: "[" + ",".join(items) + "]")
+
+
+@st.composite
+def run_bodies(draw: st.DrawFn) -> tuple[str, bytes]:
+    """A body of POST /runs: a real stand, hostile values in its free fields and overrides."""
+    stand = draw(st.sampled_from(list(StandKind)))
+    config_keys = st.sampled_from(sorted(CONFIG_MODELS[stand].model_fields)) | _TEXT
+    fields = {
+        "stand": json.dumps(stand.value),
+        "operator": draw(st.just('"Ivanova"') | _LEAF),
+        "title": draw(st.just('""') | _LEAF),
+        "specimen": draw(_object(st.sampled_from(["pin", "disc"]) | _TEXT, _LEAF)),
+        "test_plan": draw(_object(st.sampled_from(["steps", "mode"]) | _TEXT, _LEAF | _ARRAY)),
+        "configuration": draw(st.just("{}") | _object(config_keys, _LEAF | _ARRAY)),
+    }
+    chosen = draw(st.lists(st.sampled_from(sorted(fields)), unique=True))
+    keys = ["stand", "operator", *(k for k in chosen if k not in ("stand", "operator"))]
+    body = "{" + ",".join(f'"{k}":{fields[k]}' for k in keys) + "}"
+    return stand.value, body.encode("utf-8", "surrogatepass")
+
+
+_CHANNELS = ["time", "load", "speed", "friction_moment", "revolutions"]
+
+
+@st.composite
+def batches(draw: st.DrawFn, seq: int) -> bytes:
+    """A JSON batch of the SMTs-2 friction record, good or with hostile values in it."""
+    rows = draw(st.integers(1, 3))
+    good = {
+        "time": [float(seq * 10 + k) for k in range(rows)],
+        "load": [300.0] * rows,
+        "speed": [1000.0] * rows,
+        "friction_moment": [2.5] * rows,
+        "revolutions": [float(seq)] * rows,
+    }
+    columns = [f'"{n}":{json.dumps(v)}' for n, v in good.items()]
+    if draw(st.booleans()):  # spoil one value, or add a channel, or a key twice
+        i = draw(st.integers(0, len(columns) - 1))
+        name = _CHANNELS[i]
+        columns[i] = draw(
+            st.one_of(
+                _ARRAY.map(lambda a, n=name: f'"{n}":{a}'),
+                st.just(columns[i] + "," + columns[i]),
+                _TEXT.map(lambda t, c=columns[i]: f"{c},{json.dumps(t)}:[1]"),
+            )
+        )
+    seq_text = draw(st.just(str(seq)) | st.sampled_from([f'"{seq}"', "true", f"{seq}.0"]))
+    body = f'{{"seq":{seq_text},"group":"friction","columns":{{{",".join(columns)}}}}}'
+    return body.encode("utf-8", "surrogatepass")
+
+
+# --- stateless: in process, over the HDF5 store ---------------------------------------------
+
+
+@settings(max_examples=80, deadline=None, suppress_health_check=list(HealthCheck))
+@given(run_bodies())
+def test_opening_runs_with_hostile_values(
+    hdf5_client: TestClient, opened: tuple[str, bytes]
+) -> None:
+    _, body = opened
+    before = hdf5_client.get(f"{API}/runs", headers=auth(READER)).json()["total"]
+    headers = {**auth(WRITER), "content-type": "application/json"}
+    r = hdf5_client.post(f"{API}/runs", content=body, headers=headers)
+    assert r.status_code in (201, 422), r.text
+    r.json()  # it renders
+    listed = hdf5_client.get(f"{API}/runs", headers=auth(READER))
+    assert listed.status_code == 200
+    assert listed.json()["total"] == before + (r.status_code == 201)
+    assert all(run["damage"] is None for run in listed.json()["runs"])
+    if r.status_code == 201:
+        run_id = r.json()["id"]
+        assert hdf5_client.get(f"{API}/runs/{run_id}", headers=auth(READER)).status_code == 200
+        assert hdf5_client.get(f"/runs/{run_id}", headers=auth(READER)).status_code == 200
+        assert hdf5_client.get("/", headers=auth(READER)).status_code == 200
+
+
+# --- stateful: a real server process, restarted on its data directory ------------------------
+
+
+class HostileClients(RuleBasedStateMachine):
+    """Open runs, post, finish, abort, read, restart; the server's answers and what it
+    stored are held against what it acknowledged."""
+
+    runs = Bundle("runs")
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.tmp = Path(tempfile.mkdtemp(prefix="rig-hostile-"))
+        self.server = Server(self.tmp / "data", keys_file(self.tmp))
+        self.server.start()
+        self.http = httpx.Client(base_url=self.server.url, timeout=60)
+        #: run id -> rows of the friction record acknowledged; its state
+        self.rows: dict[str, int] = {}
+        self.state: dict[str, str] = {}
+        self.next_seq: dict[str, int] = {}
+        #: runs acknowledged, of any stand
+        self.opened = 0
+
+    def teardown(self) -> None:
+        self.http.close()
+        self.server.stop()
+        shutil.rmtree(self.tmp, ignore_errors=True)
+
+    def _answer(self, r: httpx.Response) -> httpx.Response:
+        assert r.status_code < 500, (r.request.method, r.request.url, r.status_code, r.text)
+        return r
+
+    @initialize(target=runs)
+    def a_sound_run(self) -> str:
+        r = self._answer(
+            self.http.post(
+                f"{API}/runs", json={"stand": "smts2", "operator": "x"}, headers=auth(WRITER)
+            )
+        )
+        assert r.status_code == 201
+        return self._opened(r.json()["id"])
+
+    def _opened(self, run_id: str) -> str:
+        self.opened += 1
+        self.rows[run_id], self.state[run_id], self.next_seq[run_id] = 0, "open", 0
+        return run_id
+
+    @rule(target=runs, opened=run_bodies())
+    def open_run(self, opened: tuple[str, bytes]) -> str:
+        headers = {**auth(WRITER), "content-type": "application/json"}
+        r = self._answer(self.http.post(f"{API}/runs", content=opened[1], headers=headers))
+        assert r.status_code in (201, 422), r.text
+        if r.status_code == 201 and opened[0] == "smts2":
+            return self._opened(r.json()["id"])
+        self.opened += r.status_code == 201
+        return next(iter(self.rows))  # a run refused adds nothing: post to the first one
+
+    @rule(run_id=runs, data=st.data())
+    def post(self, run_id: str, data: st.DataObject) -> None:
+        seq = self.next_seq[run_id]
+        body = data.draw(batches(seq))
+        headers = {**auth(WRITER), "content-type": "application/json"}
+        r = self._answer(
+            self.http.post(f"{API}/runs/{run_id}/readings", content=body, headers=headers)
+        )
+        if r.status_code == 201:
+            assert self.state[run_id] == "open"
+            self.rows[run_id] += r.json()["rows"]
+            self.next_seq[run_id] = seq + 1
+        else:
+            assert r.status_code in (409, 422), r.text
+
+    @rule(run_id=consumes(runs), end=st.sampled_from(["finish", "abort"]))
+    def end(self, run_id: str, end: str) -> None:
+        r = self._answer(self.http.post(f"{API}/runs/{run_id}/{end}", headers=auth(WRITER)))
+        if r.status_code == 200:
+            assert self.state[run_id] == "open"
+            self.state[run_id] = "finished" if end == "finish" else "aborted"
+        else:  # ended before, or too few readings for the results
+            assert r.status_code in (409, 422), r.text
+
+    @rule(run_id=runs)
+    def read(self, run_id: str) -> None:
+        for path in ("", "/results", "/readings?group=friction", "/report.html"):
+            self._answer(self.http.get(f"{API}/runs/{run_id}{path}", headers=auth(READER)))
+        assert (
+            self._answer(self.http.get(f"/runs/{run_id}", headers=auth(READER))).status_code == 200
+        )
+
+    @rule(
+        query=st.sampled_from(
+            [
+                "since=0001-01-01T00:00:00%2B01:00",
+                "limit=%D9%A1",
+                "offset=" + "9" * 5000,
+                "operator=%00",
+                "until=9999-12-31T23:59:59-01:00",
+            ]
+        )
+    )
+    def hostile_list(self, query: str) -> None:
+        assert (
+            self._answer(self.http.get(f"{API}/runs?{query}", headers=auth(READER))).status_code
+            == 422
+        )
+
+    @rule(kill=st.booleans())
+    def restart(self, kill: bool) -> None:
+        (self.server.kill if kill else self.server.stop)()
+        self.server.start()
+
+    @invariant()
+    def stored_runs_stay_readable(self) -> None:
+        listed = self._answer(self.http.get(f"{API}/runs?limit=500", headers=auth(READER)))
+        assert listed.status_code == 200
+        runs = {run["id"]: run for run in listed.json()["runs"]}
+        assert listed.json()["total"] == self.opened  # nothing refused was stored
+        for run_id, rows in self.rows.items():
+            run = runs[run_id]
+            assert run["damage"] is None
+            assert run["rows"]["friction"] == rows
+            assert run["state"] == self.state[run_id]
+        assert self._answer(self.http.get("/", headers=auth(READER))).status_code == 200
+
+
+HostileClients.TestCase.settings = settings(
+    max_examples=3,
+    stateful_step_count=10,
+    deadline=None,
+    suppress_health_check=list(HealthCheck),
+)
+TestHostileClients = HostileClients.TestCase

@@ -1,0 +1,54 @@
+"""The series report's overlay plots for every stand, and its tables in both languages."""
+
+from __future__ import annotations
+
+from datetime import UTC, datetime
+
+import pytest
+
+from rigserver.analysis.series import Member, series_statistics
+from rigserver.reports.series_report import render_series_report, series_context
+from schemas.series import Series, SeriesPurpose
+from schemas.stands import StandKind
+from tests.reports.simulated import simulated, tables
+
+MADE = datetime(2026, 11, 25, 12, 0, tzinfo=UTC)
+#: The overlays each stand's series draws (docs/series.md).
+PLOTS = {
+    StandKind.SMTS2: 1,
+    StandKind.MTOS: 2,
+    StandKind.SLIDE_BEARING: 1,
+    StandKind.PROFILOMETER: 2,
+}
+
+
+@pytest.mark.parametrize("kind", list(StandKind))
+@pytest.mark.parametrize("lang", ["en", "ru"])
+def test_series_report_of_every_stand(kind: StandKind, lang: str) -> None:
+    runs = [simulated(kind)] * 3  # one simulated run three times: the plots and tables only
+    members = [
+        Member(
+            run=r.run.model_copy(update={"id": f"20261125T120000Z-0000000{i}"}),
+            level=level,
+            values=r.result.payload["values"],
+        )
+        for i, (r, level) in enumerate(zip(runs, ("A", "A", "B"), strict=True))
+    ]
+    series = Series(
+        id="s-00000000000a", name="n", purpose=SeriesPurpose.COMPARISON, factor="oil", created=MADE
+    )
+    detail = series_statistics(series, members, [])
+    readings = {m.run.id: r.readings for m, r in zip(members, runs, strict=True)}
+    context = series_context(
+        detail, values={m.run.id: m.values for m in members}, readings=readings, lang=lang
+    )
+    assert len(context["plots"]) == PLOTS[kind]
+    html = render_series_report(context, made=MADE)
+    assert html.count("<svg") == PLOTS[kind]
+    found = tables(html)
+    runs_table = found[1]  # after the particulars
+    assert [row[0] for row in runs_table.rows] == [m.run.id for m in members]
+    header = found[2].header
+    assert header[0] == ("Result" if lang == "en" else "Результат")
+    comparison = found[3]
+    assert {row[1] for row in comparison.rows if row[1] in ("A", "B")} == {"A", "B"}

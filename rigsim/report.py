@@ -1,4 +1,5 @@
-"""Results and truth printed for a person at the lab PC (rich tables)."""
+"""Results and truth printed for a person at the lab PC (rich tables): the results with
+their declared labels, in the display units (:mod:`schemas.labels`)."""
 
 from __future__ import annotations
 
@@ -10,33 +11,10 @@ import numpy as np
 from rich.console import Console
 from rich.table import Table
 
-
-def _scalars(values: Mapping[str, Any], prefix: str = "") -> list[tuple[str, Any]]:
-    out: list[tuple[str, Any]] = []
-    for name, value in values.items():
-        if isinstance(value, Mapping):
-            out += _scalars(value, f"{prefix}{name}.")
-        elif isinstance(value, bool | int | float | str) or value is None:
-            out.append((f"{prefix}{name}", value))
-    return out
-
-
-#: The columns shown of each list of rows in the results (all, if a list is not named here).
-ROW_COLUMNS: dict[str, tuple[str, ...]] = {
-    "steps": (
-        "load",
-        "regime",
-        "chi",
-        "angle",
-        "friction_measured",
-        "friction_theory",
-        "viscosity",
-        "h_min",
-        "film",
-    ),
-    "table": ("limb_angle", "phi_model", "pressure", "chi", "pi_measured", "pi_short", "pi_long"),
-    "axial": ("z", "pressure", "pi_measured", "pi_short", "error"),
-}
+from schemas import labelled
+from schemas.labels import Label, plain_symbol
+from schemas.stands import StandKind
+from schemas.units import UNITS
 
 
 def _text(value: Any) -> str:
@@ -45,32 +23,55 @@ def _text(value: Any) -> str:
     return str(value)
 
 
+def _shown(label: Label, value: Any, stored: str) -> str:
+    """A result as its label declares it: display unit, digits, 0 below its resolution."""
+    if value is None:
+        return ""
+    if isinstance(value, bool) or not isinstance(value, int | float):
+        return str(value)
+    return f"{label.shown(value, stored):.{label.digits}g}"
+
+
+def _unit(label: Label) -> str:
+    return "" if label.unit == "1" else UNITS[label.unit].symbol.replace("um", "µm")
+
+
 def results_tables(results: Mapping[str, Any]) -> list[Table]:
-    """The results' scalars with units, then one table per list of rows (steps, table...)."""
-    values: Mapping[str, Any] = results.get("values", {})
-    units: Mapping[str, str] = results.get("units", {})
-    main = Table(title=f"results ({results.get('stand', '?')})")
+    """The single results in the declared order with their labels, in the display units
+    (:mod:`schemas.labels`: µm, mg, mm³), then one table per per-row table (steps, ...)."""
+    kind = StandKind(results["stand"])
+    main = Table(title=f"results ({kind.value})")
     main.add_column("quantity")
+    main.add_column("symbol")
     main.add_column("value", justify="right")
     main.add_column("unit")
-    for name, value in _scalars(values):
-        if value not in (None, ""):
-            main.add_row(name, _text(value), units.get(name, ""))
+    for e in labelled.scalars(kind, results):
+        main.add_row(
+            _name(e.label),
+            plain_symbol(e.label.symbol),
+            _shown(e.label, e.value, e.stored),
+            _unit(e.label),
+        )
     tables = [main]
-    for name, rows in values.items():
-        if not (isinstance(rows, list) and rows and isinstance(rows[0], Mapping)):
-            continue
-        present = [k for k, _ in _scalars(rows[0])]
-        columns = [c for c in ROW_COLUMNS.get(name, tuple(present)) if c in present]
-        table = Table(title=name)
-        for column in columns:
-            unit = units.get(f"{name}[].{column}", "")
-            table.add_column(f"{column} [{unit}]" if unit else column, justify="right")
-        for row in rows:
-            flat = dict(_scalars(row))
-            table.add_row(*(_text(flat.get(c)) for c in columns))
+    for found in labelled.row_tables(kind, results):
+        table = Table(title=found.table.caption)
+        for c in found.columns:
+            unit = _unit(c.label)
+            head = plain_symbol(c.symbol) or c.label.text
+            table.add_column(f"{head} [{unit}]" if unit else head, justify="right")
+        for row in found.rows:
+            table.add_row(
+                *(
+                    _shown(c.label, cell, c.stored)
+                    for c, cell in zip(found.columns, row, strict=True)
+                )
+            )
         tables.append(table)
     return tables
+
+
+def _name(label: Label) -> str:
+    return f"{label.text} ({label.equation})" if label.equation else label.text
 
 
 def truth_tables(truth: Any) -> list[Table]:

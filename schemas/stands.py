@@ -15,6 +15,7 @@ from typing import Literal
 from pydantic import BaseModel, ConfigDict, Field
 
 from schemas.channels import Channel, ChannelGroup, Limit, Order, configured_groups
+from schemas.messages import N_
 from schemas.quantity import quantity
 from schemas.units import UnitSymbol
 from schemas.wire import Text
@@ -226,7 +227,7 @@ _TIME = _c("time", "s", "time since the start of the run", Limit(low=0), Order.I
 SMTS2_GROUPS = (
     ChannelGroup(
         name="friction",
-        long_name="friction record (SMTs-2 recorder)",
+        long_name=N_("friction record (SMTs-2 recorder)"),
         aligned=True,
         signals=("friction_moment",),
         axis="time",
@@ -251,7 +252,7 @@ SMTS2_GROUPS = (
     ),
     ChannelGroup(
         name=MEASUREMENTS,
-        long_name="weighings and the disc's roughness",
+        long_name=N_("weighings and the disc's roughness"),
         aligned=False,
         channels=(
             _c(
@@ -274,21 +275,24 @@ SMTS2_GROUPS = (
 SLIDE_BEARING_GROUPS = (
     ChannelGroup(
         name="rows",
-        long_name="one row of table 3.1 per position of the loader limb",
+        long_name=N_("one row of table 3.1 per position of the loader limb"),
         aligned=True,
         signals=("p1", "p2", "p3", "p4", "p5"),
         axis="limb_angle",
         channels=(
             _c("limb_angle", "deg", "φ_limb, loader limb angle", Limit(low=-360, high=720)),
             *(
-                _c(
-                    f"p{k}",
-                    "at",
-                    f"gauge pressure at manometer {k}",
-                    Limit(low=-1.0, high=100.0),
-                    unit_from="gauge_unit",
+                _c(f"p{k}", "at", long_name, Limit(low=-1.0, high=100.0), unit_from="gauge_unit")
+                for k, long_name in enumerate(
+                    (
+                        N_("gauge pressure at manometer 1"),
+                        N_("gauge pressure at manometer 2"),
+                        N_("gauge pressure at manometer 3"),
+                        N_("gauge pressure at manometer 4"),
+                        N_("gauge pressure at manometer 5"),
+                    ),
+                    start=1,
                 )
-                for k in range(1, 6)
             ),
             _c("x", "div", "X, displacement gauge reading"),
             _c("y", "div", "Y, displacement gauge reading"),
@@ -298,7 +302,7 @@ SLIDE_BEARING_GROUPS = (
     ),
     ChannelGroup(
         name=MEASUREMENTS,
-        long_name="zero readings, the end of the load zone, the load",
+        long_name=N_("zero readings, the end of the load zone, the load"),
         aligned=False,
         channels=(
             _c("load_zone_end", "deg", "φ_k, limb angle at the end of the load zone (3.20)"),
@@ -312,7 +316,7 @@ SLIDE_BEARING_GROUPS = (
 MTOS_GROUPS = (
     ChannelGroup(
         name="steps",
-        long_name="one row of tables 4.1-4.3 per load step",
+        long_name=N_("one row of tables 4.1-4.3 per load step"),
         aligned=True,
         signals=("indicator",),
         axis="load",
@@ -327,13 +331,16 @@ MTOS_GROUPS = (
             _c("x", "um", "X, displacement sensor"),
             _c("y", "um", "Y, displacement sensor"),
             *(
-                _c(f"t{k}", "degC", f"t{k}, oil temperature {where}", Limit(low=-20, high=200))
-                for k, where in (
-                    (1, "at the inlet"),
-                    (2, "at the outlet"),
-                    (3, "near the film, loaded zone"),
-                    (4, "near the film, loaded zone"),
-                    (5, "near the film, loaded zone"),
+                _c(f"t{k}", "degC", long_name, Limit(low=-20, high=200))
+                for k, long_name in enumerate(
+                    (
+                        N_("t1, oil temperature at the inlet"),
+                        N_("t2, oil temperature at the outlet"),
+                        N_("t3, oil temperature near the film, loaded zone"),
+                        N_("t4, oil temperature near the film, loaded zone"),
+                        N_("t5, oil temperature near the film, loaded zone"),
+                    ),
+                    start=1,
                 )
             ),
             _c(
@@ -346,7 +353,7 @@ MTOS_GROUPS = (
     ),
     ChannelGroup(
         name=MEASUREMENTS,
-        long_name="zero readings of the displacement sensors",
+        long_name=N_("zero readings of the displacement sensors"),
         aligned=False,
         channels=(
             _c("x_zero", "um", "X_уст, sensor zero (4.11)"),
@@ -358,7 +365,7 @@ MTOS_GROUPS = (
 PROFILOMETER_GROUPS = (
     ChannelGroup(
         name="profile",
-        long_name="profile trace y(x)",
+        long_name=N_("profile trace y(x)"),
         aligned=True,
         signals=("y",),
         axis="x",
@@ -375,7 +382,7 @@ PROFILOMETER_GROUPS = (
     ),
     ChannelGroup(
         name=MEASUREMENTS,
-        long_name="instrument settings of the trace",
+        long_name=N_("instrument settings of the trace"),
         aligned=False,
         channels=(
             _c("base_length", "mm", "l, base length", Limit(low=0.01, high=100.0)),

@@ -12,6 +12,7 @@ from rigserver.analysis.readings import Readings
 from rigserver.analysis.references import Profiles
 from rigserver.core import bearing, film, stands
 from rigserver.core.errors import ModelInputError
+from schemas.messages import N_
 from schemas.results import MtosResults, MtosStep
 from schemas.runs import Run
 from schemas.stands import MtosConfig
@@ -61,9 +62,9 @@ def analyse(run: Run, readings: Readings, profiles: Profiles | None = None) -> M
     rows = readings.read(GROUP)
     m = readings.measurements()
     if not rows:
-        result.pending.append("no load steps yet")
+        result.pending.append(N_("no load steps yet"))
     if "x_zero" not in m or "y_zero" not in m:
-        result.pending.append("needs the measurements x_zero, y_zero")
+        result.pending.append(N_("needs the measurements x_zero, y_zero"))
     if result.pending:
         return result
     load = rows["load"]

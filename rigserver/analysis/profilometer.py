@@ -8,6 +8,7 @@ from rigserver.analysis.readings import Readings
 from rigserver.analysis.uncertainty import estimate, from_limit
 from rigserver.core import roughness
 from rigserver.core.errors import ModelInputError
+from schemas.messages import N_
 from schemas.results import BearingFitResult, ProfilometerResults
 from schemas.runs import Run
 from schemas.stands import ProfilometerConfig
@@ -23,7 +24,7 @@ def analyse(run: Run, readings: Readings) -> ProfilometerResults:
     result = ProfilometerResults(rows=readings.rows(GROUP))
     trace = readings.read(GROUP)
     if not trace:
-        result.pending.append("no profile yet")
+        result.pending.append(N_("no profile yet"))
         return result
     x = trace["x"] * _M_PER_MM
     y = trace["y"] * _M_PER_UM

@@ -10,6 +10,7 @@ from rigserver.analysis.readings import Readings
 from rigserver.analysis.uncertainty import estimate
 from rigserver.core import bearing, reynolds, stands
 from rigserver.core.errors import ModelInputError
+from schemas.messages import N_
 from schemas.results import AxialPoint, SlideBearingResults, SlideBearingRow
 from schemas.runs import Run
 from schemas.stands import SlideBearingConfig
@@ -33,7 +34,7 @@ def analyse(run: Run, readings: Readings) -> SlideBearingResults:
     rows = readings.read(GROUP)
     missing = [k for k in ("x_zero", "y_zero", "load_zone_end") if k not in m]
     if not rows:
-        result.pending.append("no limb rows yet")
+        result.pending.append(N_("no limb rows yet"))
     if missing:
         result.pending.append("needs the measurements " + ", ".join(missing))
     if not rows or missing:

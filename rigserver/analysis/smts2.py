@@ -15,6 +15,7 @@ from rigserver.analysis.uncertainty import batch_mean, estimate, from_limit, fro
 from rigserver.core import wear
 from rigserver.core.errors import ModelInputError
 from rigserver.core.wear_validity import wear_theory_validity
+from schemas.messages import N_
 from schemas.results import (
     AdequacyResult,
     DiscWearResult,
@@ -79,7 +80,7 @@ def analyse(run: Run, readings: Readings, profiles: Profiles | None = None) -> S
         friction=series.series("time", "friction coefficient"),
     )
     if total == 0:
-        result.pending.append("no friction record yet")
+        result.pending.append(N_("no friction record yet"))
         return result
     acc = config.accuracy
     steady = [
@@ -119,7 +120,7 @@ def analyse(run: Run, readings: Readings, profiles: Profiles | None = None) -> S
         _wear_uncertainty(config, result, m["pin_mass_before"], m["pin_mass_after"], revolutions)
     else:
         result.pending.append(
-            "experimental wear needs pin_mass_before, pin_mass_after and revolutions"
+            N_("experimental wear needs pin_mass_before, pin_mass_after and revolutions")
         )
     track = (profiles or Profiles()).traces.get("disc")
     if track is not None and revolutions > 0:
@@ -128,7 +129,7 @@ def analyse(run: Run, readings: Readings, profiles: Profiles | None = None) -> S
         _theoretical(config, result, m["disc_ra"] * _M_PER_UM)
     else:
         result.pending.append(
-            "theoretical wear needs disc_ra (the disc's Ra from the profilometer)"
+            N_("theoretical wear needs disc_ra (the disc's Ra from the profilometer)")
         )
     if result.validity is not None and not result.validity.within_range:
         result.verdict = "theory outside its range: " + "; ".join(result.validity.reasons)

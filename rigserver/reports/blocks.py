@@ -8,9 +8,10 @@ from markupsafe import Markup
 from pydantic import BaseModel
 
 from rigserver.reports.document import Table, Text
-from rigserver.reports.formatting import fmt, html_symbol, tex, with_uncertainty
+from rigserver.reports.formatting import fmt, html_symbol, shown, tex, with_uncertainty
 from rigserver.reports.i18n import Messages
 from schemas.channels import ChannelGroup
+from schemas.labels import Label
 from schemas.quantity import units_of
 
 
@@ -30,35 +31,36 @@ def axis(t: Messages, symbol: str, unit: str | None = None) -> str:
     return f"{label}, {t.unit(unit)}"
 
 
-def unit_of(model: type[BaseModel], name: str) -> str:
-    """The unit a result field is declared with (``quantity``)."""
-    return units_of(model)[name]
-
-
 def quantities(
     t: Messages,
     caption: Text,
     model: BaseModel,
     fields: Sequence[tuple[str, str, str]],
     errors: Mapping[str, float | None] | None = None,
+    *,
+    labels: Mapping[str, Label],
+    prefix: str = "",
 ) -> Table:
     """One row per quantity: its name, symbol, value and unit.
 
-    ``fields`` holds ``(field name, symbol, message key of the quantity's name)``;
-    ``errors`` adds a column of the instrument error of some fields.
+    ``fields`` holds ``(field name, symbol, message key of the quantity's name)``; the value
+    is printed in the display unit and digits of its label (``labels[prefix + name]``);
+    ``errors`` adds a column of the instrument error of some fields (labels ``<name>_error``).
     """
     units = units_of(type(model))
     rows: list[list[Text]] = []
     for name, symbol, key in fields:
-        unit = units.get(name)
+        label = labels[prefix + name]
+        stored = units.get(name, label.unit)
         row: list[Text] = [
             html_symbol(t(key)),
             html_symbol(symbol),
-            fmt(getattr(model, name)),
-            t.unit(unit) if unit is not None else "",
+            shown(label, getattr(model, name), stored),
+            t.unit(label.unit),
         ]
         if errors is not None:
-            row.append(fmt(errors.get(name)))
+            error = labels.get(f"{prefix}{name}_error", label)
+            row.append(shown(error, errors.get(name), stored))
         rows.append(row)
     head: list[Text] = [t("col.quantity"), t("col.symbol"), t("col.value"), t("col.unit")]
     if errors is not None:
@@ -66,17 +68,54 @@ def quantities(
     return Table(caption=caption, header=head, rows=rows, labels=2)
 
 
+def field(
+    t: Messages,
+    label: Label,
+    symbol: str,
+    stored: str,
+    values: Sequence[float | None],
+) -> tuple[Markup, list[Text]]:
+    """A table column of a result: its header (``symbol``, display unit) and its values in
+    the display unit and digits of ``label`` (stored in ``stored``)."""
+    return header(t, symbol, label.unit), [shown(label, v, stored) for v in values]
+
+
+def result_table(
+    t: Messages,
+    caption: Text,
+    rows: Sequence[BaseModel],
+    fields: Sequence[tuple[str, str]],
+    *,
+    model: type[BaseModel],
+    labels: Mapping[str, Label],
+    note: Text = "",
+) -> Table:
+    """A table of result rows (``model`` each, labelled ``labels["<field>"]``), one column
+    per ``(field name, symbol)``, in the display units and digits of the labels."""
+    units = units_of(model)
+    columns = [
+        field(t, labels[name], symbol, units[name], [getattr(r, name) for r in rows])
+        for name, symbol in fields
+    ]
+    return Table(
+        caption=caption,
+        header=[h for h, _ in columns],
+        rows=[list(row) for row in zip(*(c for _, c in columns), strict=True)],
+        note=note,
+    )
+
+
 def measurements(t: Messages, group: ChannelGroup, values: Mapping[str, float]) -> Table:
     """The single measurements posted (masses, zero readings) with their declared units."""
     rows: list[list[Text]] = [
-        [t.channel(c.name, c.long_name), c.name, fmt(values.get(c.name)), t.unit(c.unit)]
+        [html_symbol(t.gettext(c.long_name)), fmt(values.get(c.name)), t.unit(c.unit)]
         for c in group.channels
     ]
     return Table(
         caption=t("caption.measurements"),
-        header=[t("col.quantity"), t("col.channel"), t("col.value"), t("col.unit")],
+        header=[t("col.quantity"), t("col.value"), t("col.unit")],
         rows=rows,
-        labels=2,
+        labels=1,
     )
 
 

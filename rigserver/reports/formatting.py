@@ -1,6 +1,9 @@
 """How numbers and symbols are printed in the reports and pages.
 
-Numbers carry four significant figures (``fmt``); a power of ten is printed as ``·10ⁿ``.
+Numbers carry four significant figures (``fmt``), or the digits a result is declared with
+(:class:`schemas.labels.Label`, :func:`shown`); a power of ten is printed as ``·10ⁿ``; the
+decimal sign is the language's (Babel: a comma in Russian), set for the work at hand by
+:func:`number_locale`.
 Symbols are written once in a small TeX-like syntax (``"Π_э"``, ``"t_{pэ}"``, ``"S_1^{-1}"``)
 and printed as HTML (``<sub>``/``<sup>``) in tables and as mathtext in the plots.
 Message texts use the same syntax, so a caption or a legend prints its symbols alike.
@@ -10,10 +13,15 @@ from __future__ import annotations
 
 import math
 import re
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterator, Sequence
+from contextlib import contextmanager
+from contextvars import ContextVar
 from typing import Any
 
+from babel.numbers import get_decimal_symbol
 from markupsafe import Markup, escape
+
+from schemas.labels import Label
 
 DASH = "—"
 _SUPERSCRIPT = str.maketrans("0123456789-+", "⁰¹²³⁴⁵⁶⁷⁸⁹⁻⁺")
@@ -21,11 +29,31 @@ _SCRIPT = re.compile(r"([_^])(\{[^}]*\}|[\w∞]+)")
 _SCRIPTED = re.compile(r"([^\s_^{}$(),=·…/+-]*)((?:[_^](?:\{[^}]*\}|[\w∞]+))+)")
 
 
-def fmt(value: float | int | None) -> str:
-    """``value`` with four significant figures: ``0.3985``, ``3.833·10⁻⁸``; ``—`` for none.
+_LOCALE: ContextVar[str] = ContextVar("number_locale", default="en")
 
-    Fixed notation for decimal exponents -4..3 (as Python's ``.4g``), otherwise a mantissa
-    and a power of ten. Booleans are not numbers here (a verdict is printed in words).
+
+@contextmanager
+def number_locale(lang: str) -> Iterator[None]:
+    """Numbers printed by :func:`fmt` inside the block use ``lang``'s decimal sign."""
+    token = _LOCALE.set(lang)
+    try:
+        yield
+    finally:
+        _LOCALE.reset(token)
+
+
+def decimal_sign() -> str:
+    """The decimal sign of the numbers printed now (``.`` or ``,``)."""
+    return get_decimal_symbol(_LOCALE.get())
+
+
+def fmt(value: float | int | None, digits: int = 4) -> str:
+    """``value`` with ``digits`` significant figures: ``0.3985``, ``3.833·10⁻⁸``; ``—`` for
+    none; ``0,3985`` in Russian (:func:`number_locale`).
+
+    Fixed notation for decimal exponents -4..digits-1 (as Python's ``g``), otherwise a
+    mantissa and a power of ten. Booleans are not numbers here (a verdict is printed in
+    words).
     """
     if value is None or isinstance(value, bool):
         return DASH
@@ -33,7 +61,7 @@ def fmt(value: float | int | None) -> str:
         return DASH
     if value == 0:
         return "0"
-    text = f"{value:.4g}"
+    text = f"{value:.{digits}g}".replace(".", decimal_sign())
     if "e" not in text:
         return text
     mantissa, exponent = text.split("e")
@@ -54,6 +82,14 @@ def with_uncertainty(value: float | None, expanded: float | None) -> str:
     return f"({value / scale:.{digits}f} ± {expanded / scale:.{digits}f})·10{power} (k = 2)"
 
 
+def shown(label: Label, value: float | None, stored: str) -> str:
+    """A result as its label declares it: in the display unit, to its digits, 0 below its
+    resolution (``e_x = 2.7·10⁻²⁰ m`` is printed ``0``)."""
+    if value is None or isinstance(value, bool) or not math.isfinite(value):
+        return fmt(value)
+    return fmt(label.shown(value, stored), label.digits)
+
+
 def value_text(value: Any) -> str:
     """A free-form value (specimen, test plan, configuration): numbers by :func:`fmt`,
     lists joined by commas, words as they are."""
@@ -64,11 +100,6 @@ def value_text(value: Any) -> str:
     if isinstance(value, Sequence):
         return ", ".join(value_text(v) for v in value)
     return str(value)
-
-
-def pairs(mapping: Mapping[str, Any]) -> str:
-    """``pin: St3sp; disc: R9``."""
-    return "; ".join(f"{k}: {value_text(v)}" for k, v in mapping.items())
 
 
 def html_symbol(symbol: str) -> Markup:

@@ -11,8 +11,9 @@ from collections.abc import Sequence
 
 from matplotlib.axes import Axes
 from matplotlib.figure import Figure
+from matplotlib.ticker import ScalarFormatter
 
-from rigserver.reports.formatting import tex
+from rigserver.reports.formatting import decimal_sign, tex
 
 WIDTH = 7.0
 """Width of a report figure, inches: the text width of an A4 page with 15 mm margins."""
@@ -35,6 +36,26 @@ def axes(
     return fig, list(found[0])
 
 
+class LocaleTicks(ScalarFormatter):
+    """Matplotlib's tick labels with the decimal sign of the report's language (a comma in
+    Russian), chosen when the axes are decorated (:func:`formatting.number_locale`)."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.decimal = decimal_sign()
+
+    def __call__(self, x: float, pos: int | None = None) -> str:
+        return self._local(super().__call__(x, pos))
+
+    def get_offset(self) -> str:
+        return self._local(super().get_offset())
+
+    def _local(self, text: str) -> str:
+        if self.decimal == ".":
+            return text
+        return text.replace(".", "{,}" if "$" in text else self.decimal)
+
+
 def decorate(
     ax: Axes, *, xlabel: str, ylabel: str, title: str = "", legend_outside: bool = False
 ) -> None:
@@ -45,6 +66,8 @@ def decorate(
     """
     ax.set_xlabel(xlabel)
     ax.set_ylabel(ylabel)
+    ax.xaxis.set_major_formatter(LocaleTicks())
+    ax.yaxis.set_major_formatter(LocaleTicks())
     if title:
         ax.set_title(title, fontsize=10)
     ax.grid(True, linewidth=0.3)

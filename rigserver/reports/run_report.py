@@ -13,10 +13,12 @@ from pydantic import BaseModel
 from rigserver.analysis import Readings
 from rigserver.reports.context import Context, LabReport
 from rigserver.reports.document import Items, Paragraph, Report, Section, Table, Text
-from rigserver.reports.formatting import html_symbol, pairs, value_text
+from rigserver.reports.formatting import fmt, html_symbol, number_locale, value_text
 from rigserver.reports.i18n import Lang, Messages
 from rigserver.reports.labs import mtos, profilometer, slide_bearing, smts2
 from rigserver.reports.render import render
+from schemas.labels import PARTICULARS
+from schemas.messages import N_
 from schemas.results import MtosResults, ProfilometerResults, SlideBearingResults, Smts2Results
 from schemas.runs import Run, RunState
 from schemas.stands import CONFIG_MODELS, Stand, StandKind
@@ -60,7 +62,18 @@ def build_report(
     made
         When the report is made (printed in the footer), UTC.
     """
-    t = Messages(lang)
+    with number_locale(lang):
+        return _build(run, stand, values, readings, Messages(lang), made)
+
+
+def _build(
+    run: Run,
+    stand: Stand,
+    values: Mapping[str, Any],
+    readings: Readings,
+    t: Messages,
+    made: datetime,
+) -> Report:
     kind = run.stand.value
     model = RESULT_MODELS[run.stand].model_validate(values)
     lab = _LABS[run.stand](Context(run=run, stand=stand, readings=readings, t=t), model)
@@ -73,14 +86,14 @@ def build_report(
         sections.append(Section(t("sec.conclusions"), [Items(lab.conclusions)]))
     for key, items in (("sec.pending", model.pending), ("sec.notes", model.notes)):  # type: ignore[attr-defined]
         if items:  # the analysis' words, printed as they are (x_zero is not x subscript zero)
-            sections.append(Section(t(key), [Items([escape(item) for item in items])]))
+            sections.append(Section(t(key), [Items([escape(t.gettext(item)) for item in items])]))
     return Report(
-        lang=lang,
+        lang=t.lang,
         title=f"{t('lab_work', n=stand.lab_work)}. {t('title.' + kind)}",
         subtitle=t("stand." + kind),
         aim_label=t("aim"),
         aim=t("aim." + kind),
-        particulars=_particulars(t, run),
+        particulars=_particulars(t, run, stand),
         sections=sections,
         footer=t("footer", run=run.id, time=f"{made:%Y-%m-%d %H:%M}"),
     )
@@ -91,7 +104,28 @@ def render_report(report: Report) -> str:
     return render("report.html", report=report)
 
 
-def _particulars(t: Messages, run: Run) -> list[tuple[str, str]]:
+def particulars_text(t: Messages, mapping: Mapping[str, Any]) -> str:
+    """A test plan or a specimen with the declared labels (:data:`schemas.labels.PARTICULARS`):
+    ``load N = 300 Н; simulated: да``; a key not declared is shown as it is (user data)."""
+    parts = []
+    for key, value in mapping.items():
+        label = PARTICULARS.get(key)
+        if label is None:
+            parts.append(f"{key}: {value_text(value)}")
+            continue
+        words = t.gettext(label.text)
+        if isinstance(value, bool):
+            shown = t("yes") if value else t("no")
+        elif isinstance(value, str):
+            shown = t.gettext(value)
+        else:
+            shown = value_text(value)
+        unit = "" if label.unit == "1" else f" {t.unit(label.unit)}"
+        parts.append(f"{words}: {shown}{unit}")
+    return "; ".join(parts)
+
+
+def _particulars(t: Messages, run: Run, stand: Stand) -> list[tuple[str, str]]:
     rows = [
         (t("run"), run.id),
         (t("stand"), t("stand." + run.stand.value)),
@@ -101,43 +135,66 @@ def _particulars(t: Messages, run: Run) -> list[tuple[str, str]]:
     if run.title:
         rows.append((t("run_title"), run.title))
     if run.specimen:
-        rows.append((t("specimen"), pairs(run.specimen)))
+        rows.append((t("specimen"), particulars_text(t, run.specimen)))
     if run.test_plan:
-        rows.append((t("test_plan"), pairs(run.test_plan)))
+        rows.append((t("test_plan"), particulars_text(t, run.test_plan)))
     rows.append((t("created"), f"{run.created:%Y-%m-%d %H:%M:%S} UTC"))
     if run.ended is not None:
         rows.append((t("ended"), f"{run.ended:%Y-%m-%d %H:%M:%S} UTC"))
-    rows.append((t("rows"), pairs(run.rows)))
+    rows.append((t("rows"), _rows_text(t, run, stand)))
     if run.notes:
         rows.append((t("notes"), run.notes))
     return rows
 
 
+def _rows_text(t: Messages, run: Run, stand: Stand) -> str:
+    """The rows stored per channel group, each group by its name in ``t``'s language."""
+    names = {g.name: t.gettext(g.long_name) for g in stand.groups}
+    return "; ".join(f"{names.get(g, g)}: {fmt(n)}" for g, n in run.rows.items())
+
+
 def _configuration(t: Messages, run: Run) -> Table:
     """The configuration snapshot of the run, each field with its description and unit."""
-    rows: list[list[Text]] = []
+    head = [t("col.description"), t("col.value"), t("col.unit")]
+    rows: list[list[Text]] = [list(row) for row in configuration_rows(t, run)]
+    return Table(caption=t("caption.configuration"), header=head, rows=rows, labels=1)
 
-    def walk(model: type[BaseModel], data: Mapping[str, Any], prefix: str) -> None:
+
+def configuration_rows(t: Messages, run: Run) -> list[tuple[Text, str, str]]:
+    """The configuration snapshot of the run: each field's description (with the manual's
+    symbol) in ``t``'s language, its value and its unit."""
+    rows: list[tuple[Text, str, str]] = []
+
+    def walk(model: type[BaseModel], data: Mapping[str, Any], owner: str) -> None:
         for name, info in model.model_fields.items():
             value = data.get(name)
             inner = info.annotation
             if isinstance(inner, type) and issubclass(inner, BaseModel):
-                walk(inner, value or {}, f"{prefix}{name}.")
+                label = PARTICULARS.get(name)
+                walk(inner, value or {}, t.gettext(label.text) + ": " if label else "")
                 continue
             extra = info.json_schema_extra
             unit = extra.get("unit") if isinstance(extra, dict) else None
-            rows.append(
-                [
-                    f"{prefix}{name}",
-                    html_symbol(info.description or ""),
-                    value_text(value),
-                    t.unit(str(unit)) if unit is not None else "",
-                ]
-            )
+            words = owner + t.gettext(info.description or _FIELD_WORDS.get(name, name))
+            if name == "gauge_unit" and isinstance(value, str):
+                shown = t.unit(value)
+            elif isinstance(value, str):
+                shown = t.gettext(value)
+            else:
+                shown = value_text(value)
+            unit_text = t.unit(str(unit)) if unit is not None and unit != "1" else ""
+            rows.append((html_symbol(words), shown, unit_text))
 
     walk(CONFIG_MODELS[run.stand], run.configuration, "")
-    head = [t("col.parameter"), t("col.description"), t("col.value"), t("col.unit")]
-    return Table(caption=t("caption.configuration"), header=head, rows=rows, labels=2)
+    return rows
+
+
+_FIELD_WORDS = {
+    "name": N_("material"),
+    "gauge_unit": N_("unit of the manometers"),
+    "instrument": N_("instrument"),
+}
+"""Words for the configuration fields declared without a description."""
 
 
 __all__ = ["RESULT_MODELS", "build_report", "render_report"]

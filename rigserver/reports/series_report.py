@@ -25,86 +25,67 @@ from rigserver.reports.formatting import fmt
 from rigserver.reports.i18n import Lang, Messages
 from rigserver.reports.render import render
 from rigserver.reports.series_plots import Curve, overlay
+from schemas.messages import N_
 from schemas.series import ResultStatistics, SeriesDetail, SeriesPurpose
 from schemas.stands import StandKind
 
-#: The report's own texts, English and Russian.
-TEXT: dict[str, tuple[str, str]] = {
-    "title": ("Series report", "Отчёт по серии испытаний"),
-    "repeatability": ("repeatability (repeats of one test)", "повторяемость (повторные испытания)"),
-    "comparison": ("comparison by {factor}", "сравнение по фактору «{factor}»"),
-    "stand": ("Stand", "Стенд"),
-    "purpose": ("Purpose", "Назначение"),
-    "made": ("Report made", "Отчёт составлен"),
-    "open_runs": (
-        "{n} of the runs are still open: their figures may change.",
-        "Испытаний ещё не завершено: {n}; их значения могут измениться.",
-    ),
-    "sec.runs": ("Runs", "Испытания"),
-    "sec.statistics": ("Statistics of the results", "Статистика результатов"),
-    "sec.comparison": ("Comparison of the levels", "Сравнение уровней"),
-    "sec.plots": ("Overlay plots", "Совмещённые графики"),
-    "run": ("Run", "Испытание"),
-    "level": ("Level", "Уровень"),
-    "state": ("State", "Состояние"),
-    "operator": ("Operator", "Оператор"),
-    "result": ("Result", "Результат"),
-    "unit": ("Unit", "Ед."),
-    "n": ("n", "n"),
-    "mean": ("mean x̄", "среднее x̄"),
-    "std": ("s", "s"),
-    "sem": ("s/√n", "s/√n"),
-    "ci": ("95 % interval of the mean", "95 % интервал среднего"),
-    "s_r": ("s_r", "s_r"),
-    "u_runs": ("runs' own u (mean)", "собственная u испытаний (средняя)"),
-    "grubbs": ("Grubbs (E178)", "Граббс (E178)"),
-    "outlier": ("outlier: {run}", "выброс: {run}"),
-    "no_outlier": ("none", "нет"),
-    "test": ("Test", "Критерий"),
-    "welch": ("Welch's t", "t Уэлча"),
-    "anova": ("one-way ANOVA, F", "дисперсионный анализ, F"),
-    "statistic": ("statistic", "статистика"),
-    "p": ("p", "p"),
-    "difference": ("difference of means (95 % interval)", "разность средних (95 % интервал)"),
-    "significant": ("significant at 5 %", "значимо при 5 %"),
-    "yes": ("yes", "да"),
-    "no": ("no", "нет"),
-    "missing": ("Runs that could not be read", "Испытания, которые не удалось прочитать"),
-    "empty": ("The series has no runs yet.", "В серии ещё нет испытаний."),
-    "none": ("No series yet.", "Серий пока нет."),
-    "why.no_values": (
-        "no run has this result yet",
-        "ни в одном испытании этого результата ещё нет",
-    ),
-    "why.one_level": (
-        "a comparison needs runs at two levels or more",
-        "для сравнения нужны испытания хотя бы на двух уровнях",
-    ),
-    "why.few_runs": (
-        "a comparison needs at least two runs at every level",
-        "для сравнения нужно не меньше двух испытаний на каждом уровне",
-    ),
-    "why.no_spread": (
-        "the runs within each level agree exactly: no spread to test against",
-        "испытания внутри уровней совпадают точно: разброса для критерия нет",
-    ),
-    "runs_csv": ("Runs and their results, CSV", "Испытания и их результаты, CSV"),
-    "mean_curve": ("mean", "среднее"),
-    "plot.friction": (
-        "f against the sliding distance L (time scaled by the run's L)",
-        "f в зависимости от пути трения L (время, приведённое к L испытания)",
-    ),
-    "plot.mtos_f": ("f_э against the load N", "f_э в зависимости от нагрузки N"),
-    "plot.stribeck": (
-        "f_э against S_1 (Hersey-Stribeck)",
-        "f_э в зависимости от S_1 (диаграмма Герси-Штрибека)",
-    ),
-    "plot.pressure": ("Π_э against φ (z = 0)", "Π_э в зависимости от φ (z = 0)"),
-    "plot.bearing": ("Bearing curves t_p(ε)", "Опорные кривые t_p(ε)"),
-    "plot.profile": ("Profiles y(x)", "Профилограммы y(x)"),
-    "state.open": ("open", "идёт"),
-    "state.finished": ("finished", "завершено"),
-    "state.aborted": ("aborted", "прервано"),
+#: The report's own texts by key: English, the message ids of the catalogs
+#: (``rigserver/locale``).
+TEXT: dict[str, str] = {
+    "title": N_("Series report"),
+    "repeatability": N_("repeatability (repeats of one test)"),
+    "comparison": N_("comparison by {factor}"),
+    "stand": N_("Stand"),
+    "purpose": N_("Purpose"),
+    "made": N_("Report made"),
+    "open_runs": N_("{n} of the runs are still open: their figures may change."),
+    "sec.runs": N_("Runs"),
+    "sec.statistics": N_("Statistics of the results"),
+    "sec.comparison": N_("Comparison of the levels"),
+    "sec.plots": N_("Overlay plots"),
+    "run": N_("Run"),
+    "level": N_("Factor level"),
+    "state": N_("State"),
+    "operator": N_("Operator"),
+    "result": N_("Result"),
+    "unit": N_("Unit"),
+    "n": N_("n"),
+    "mean": N_("mean x̄"),
+    "std": N_("s"),
+    "sem": N_("s/√n"),
+    "ci": N_("95 % interval of the mean"),
+    "s_r": N_("s_r"),
+    "u_runs": N_("runs' own u (mean)"),
+    "grubbs": N_("Grubbs (E178)"),
+    "outlier": N_("outlier: {run}"),
+    "no_outlier": N_("none"),
+    "test": N_("Test"),
+    "welch": N_("Welch's t"),
+    "anova": N_("one-way ANOVA, F"),
+    "statistic": N_("statistic"),
+    "p": N_("p"),
+    "difference": N_("difference of means (95 % interval)"),
+    "significant": N_("significant at 5 %"),
+    "yes": N_("yes"),
+    "no": N_("no"),
+    "missing": N_("Runs that could not be read"),
+    "empty": N_("The series has no runs yet."),
+    "none": N_("No series yet."),
+    "why.no_values": N_("no run has this result yet"),
+    "why.one_level": N_("a comparison needs runs at two levels or more"),
+    "why.few_runs": N_("a comparison needs at least two runs at every level"),
+    "why.no_spread": N_("the runs within each level agree exactly: no spread to test against"),
+    "runs_csv": N_("Runs and their results, CSV"),
+    "mean_curve": N_("mean"),
+    "plot.friction": N_("f against the sliding distance L (time scaled by the run's L)"),
+    "plot.mtos_f": N_("f_э against the load N"),
+    "plot.stribeck": N_("f_э against S_1 (Hersey-Stribeck)"),
+    "plot.pressure": N_("Π_э against φ (z = 0)"),
+    "plot.bearing": N_("Bearing curves t_p(ε)"),
+    "plot.profile": N_("Profiles y(x)"),
+    "state.open": N_("open"),
+    "state.finished": N_("finished"),
+    "state.aborted": N_("aborted"),
 }
 
 #: Per-step results (``steps[3].chi``) are in the statistics table only, not in the runs'.
@@ -114,10 +95,11 @@ PROFILE_POINTS = 800
 
 
 def text(lang: Lang) -> Callable[..., str]:
-    index = 0 if lang == "en" else 1
+    """The report's texts in ``lang``: ``s("title")``, ``s("comparison", factor=...)``."""
+    translations = Messages(lang)
 
     def t(key: str, **values: object) -> str:
-        return TEXT[key][index].format(**values)
+        return translations.gettext(TEXT[key]).format(**values)
 
     return t
 

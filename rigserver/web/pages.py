@@ -12,12 +12,16 @@ from functools import lru_cache
 from typing import Any
 from urllib.parse import urlencode
 
+from babel import Locale
 from jinja2 import Environment, PackageLoader, select_autoescape
 from markupsafe import Markup
 
-from rigserver.reports.formatting import fmt, html_symbol, pairs
-from rigserver.reports.i18n import LANGS, UNIT_LABELS, Lang, Messages
-from rigserver.reports.run_report import RESULT_MODELS
+from rigserver.reports import results_view
+from rigserver.reports.formatting import decimal_sign, fmt, html_symbol, number_locale, shown
+from rigserver.reports.i18n import LANGS, Lang, Messages
+from rigserver.reports.run_report import RESULT_MODELS, configuration_rows, particulars_text
+from schemas import labelled
+from schemas.labels import RESULTS
 from schemas.quantity import unit_paths
 from schemas.runs import Run, RunPage, RunState
 from schemas.stands import Stand, StandKind
@@ -32,48 +36,100 @@ LIVE_AXES: dict[StandKind, tuple[str, str]] = {
 }
 """The channels drawn first on a run's live chart: x and y (any channel can be chosen)."""
 
-KEY_SYMBOLS: dict[str, str] = {
-    "friction_steady": "f",
-    "experimental.intensity": "I_{h,exp}",
-    "experimental.specific_wear_rate": "k",
-    "theoretical.intensity": "I_{h,theor}",
-    "chi_mean": "χ_ср",
-    "pressure_max": "p_max",
-    "phi_max": "φ_pmax",
-    "friction_fluid": "f_э",
-    "h_min_smallest": "h_min",
-    "h_crit": "h_min^crit",
-    "ra": "R_a",
-    "rz": "R_z",
-    "complex_parameter": "Δ",
-}
-"""How the runs list names the headline results of each stand (``Run.key_results``)."""
-
 
 @lru_cache
-def environment() -> Environment:
+def environment(lang: Lang) -> Environment:
+    """The pages' templates in ``lang``: ``_()`` of Jinja2's i18n extension is the
+    language's catalog."""
     env = Environment(
         loader=PackageLoader("rigserver.web", "templates"),
         autoescape=select_autoescape(["html"]),
         trim_blocks=True,
         lstrip_blocks=True,
+        extensions=["jinja2.ext.i18n"],
     )
+    env.install_gettext_translations(Messages(lang).translations, newstyle=True)  # type: ignore[attr-defined]
     env.filters["fmt"] = fmt
     env.filters["sym"] = html_symbol
-    env.filters["pairs"] = pairs
     return env
 
 
+def render_page(template: str, lang: Lang, **context: Any) -> str:
+    """A page of the site in ``lang``: the template with ``t``, ``_()`` and the link to the
+    other language."""
+    t = Messages(lang)
+    other = _other(lang)
+    with number_locale(lang):
+        return (
+            environment(lang)
+            .get_template(template)
+            .render(
+                t=t,
+                lang=lang,
+                other=other,
+                other_name=(Locale.parse(other).get_display_name(other) or other).capitalize(),
+                **context,
+            )
+        )
+
+
 def key_results(t: Messages, run: Run) -> Markup:
-    """``f = 0.3985; I_h,exp = 3.833·10⁻⁸`` with the units of the stand's results."""
+    """``f = 0.3985; I_h,exp = 3.833·10⁻⁸`` in the display units of the stand's results."""
     units = unit_paths(RESULT_MODELS[run.stand])
+    labels = RESULTS[run.stand]
     parts = []
     for path, value in run.key_results.items():
-        unit = units.get(path, "1")
-        shown = f"{fmt(value)} {t.unit(unit)}" if unit != "1" else fmt(value)
-        name = html_symbol(KEY_SYMBOLS[path]) if path in KEY_SYMBOLS else path
-        parts.append(Markup("{} = {}").format(name, shown))
+        label = labels[path]
+        text = shown(label, value, units.get(path, label.unit))
+        unit = results_view.unit(t, label)
+        name = html_symbol(label.symbol or t.gettext(label.text))
+        parts.append(Markup("{} = {}").format(name, f"{text} {unit}" if unit else text))
     return Markup("; ").join(parts)
+
+
+def results_html(*, run: Run, payload: Mapping[str, Any], lang: Lang) -> str:
+    """The results of a run grouped as in the report (measured, theory, comparison), in
+    the declared order, then its per-row tables: a part of the run page."""
+    t = Messages(lang)
+
+    def entry(e: labelled.Entry) -> dict[str, Any]:
+        return {
+            "path": e.path,
+            "name": html_symbol(results_view.name(t, e.label)),
+            "symbol": html_symbol(e.label.symbol),
+            "value": results_view.value(t, e.label, e.value, e.stored),
+            "unit": results_view.unit(t, e.label),
+        }
+
+    with number_locale(lang):
+        parts = [
+            (title, [entry(e) for e in entries])
+            for title, entries in labelled.by_part(labelled.scalars(run.stand, payload))
+        ]
+        tables = [
+            {
+                "name": found.table.name,
+                "caption": t.gettext(found.table.caption),
+                "header": [
+                    {
+                        "name": results_view.name(t, c.label),
+                        "symbol": html_symbol(c.symbol or t.gettext(c.label.text)),
+                        "unit": results_view.unit(t, c.label),
+                    }
+                    for c in found.columns
+                ],
+                "rows": [
+                    [
+                        results_view.value(t, c.label, cell, c.stored) if cell is not None else ""
+                        for c, cell in zip(found.columns, row, strict=True)
+                    ]
+                    for row in found.rows
+                ],
+            }
+            for found in labelled.row_tables(run.stand, payload)
+        ]
+    pending = [t.gettext(item) for item in payload.get("values", {}).get("pending", [])]
+    return render_page("results.html", lang, parts=parts, tables=tables, pending=pending)
 
 
 def runs_page(
@@ -96,38 +152,39 @@ def runs_page(
     def link(at: int) -> str:
         return "/?" + urlencode({**kept, "offset": at, "lang": lang})
 
-    return (
-        environment()
-        .get_template("runs.html")
-        .render(
-            t=t,
-            lang=lang,
-            other=_other(lang),
-            signed_in=signed_in,
-            page=page,
-            rows=[(run, key_results(t, run)) for run in page.runs],
-            filters=filters,
-            stands=list(StandKind),
-            states=list(RunState),
-            first=offset + 1 if page.runs else 0,
-            last=offset + len(page.runs),
-            newer=link(max(0, offset - limit)) if offset > 0 else None,
-            older=link(offset + limit) if offset + limit < page.total else None,
-        )
+    with number_locale(lang):
+        rows = [(run, key_results(t, run)) for run in page.runs]
+    return render_page(
+        "runs.html",
+        lang,
+        signed_in=signed_in,
+        page=page,
+        rows=rows,
+        filters=filters,
+        stands=list(StandKind),
+        states=list(RunState),
+        first=offset + 1 if page.runs else 0,
+        last=offset + len(page.runs),
+        newer=link(max(0, offset - limit)) if offset > 0 else None,
+        older=link(offset + limit) if offset + limit < page.total else None,
     )
 
 
 def login_page(*, next_page: str, refused: bool, lang: Lang) -> str:
     """The form that turns a key with the ``read`` scope into a session of the pages."""
-    return (
-        environment()
-        .get_template("login.html")
-        .render(t=Messages(lang), lang=lang, other=_other(lang), next=next_page, refused=refused)
-    )
+    return render_page("login.html", lang, next=next_page, refused=refused)
 
 
-def run_page(*, run: Run, stand: Stand, lang: Lang, signed_in: bool = False) -> str:
-    """A run: its particulars, the live chart of its record, its results, the downloads."""
+def run_page(
+    *,
+    run: Run,
+    stand: Stand,
+    payload: Mapping[str, Any],
+    lang: Lang,
+    signed_in: bool = False,
+) -> str:
+    """A run: its particulars, the live chart of its record, its results (``payload``, as
+    ``/results`` answers), the downloads."""
     t = Messages(lang)
     record = next(g for g in stand.groups if g.aligned)
     x, y = LIVE_AXES.get(stand.kind, (record.channels[0].name, record.channels[-1].name))
@@ -139,34 +196,42 @@ def run_page(*, run: Run, stand: Stand, lang: Lang, signed_in: bool = False) -> 
         "x": x,
         "y": y,
         "channels": [
-            {"name": c.name, "unit": t.unit(c.unit), "long_name": c.long_name}
+            {"name": c.name, "unit": t.unit(c.unit), "label": t.gettext(c.long_name)}
             for c in record.channels
         ],
         "live_url": f"{base}/live?group={record.name}",
-        "results_url": f"{base}/results",
-        "units": {symbol: t.unit(symbol) for symbol in UNIT_LABELS},
+        "results_url": f"/runs/{run.id}/results?lang={lang}",
+        "decimal": decimal_sign_of(lang),
         "text": {
             key: t(f"page.{key}") for key in ("connecting", "streaming", "reconnecting", "ended")
         }
         | {f"state_{s.value}": t(f"state.{s.value}") for s in RunState},
     }
-    return (
-        environment()
-        .get_template("run.html")
-        .render(
-            t=t,
-            lang=lang,
-            other=_other(lang),
-            signed_in=signed_in,
-            run=run,
-            stand=stand,
-            groups=[g.name for g in stand.groups],
-            base=base,
-            config=config,
-            record=record,
-            y=y,
-        )
+    with number_locale(lang):
+        specimen = particulars_text(t, run.specimen)
+        test_plan = particulars_text(t, run.test_plan)
+        configuration = configuration_rows(t, run)
+    return render_page(
+        "run.html",
+        lang,
+        signed_in=signed_in,
+        run=run,
+        stand=stand,
+        base=base,
+        config=config,
+        record=record,
+        y=y,
+        specimen=specimen,
+        test_plan=test_plan,
+        configuration=configuration,
+        results=Markup(results_html(run=run, payload=payload, lang=lang)),
     )
+
+
+def decimal_sign_of(lang: Lang) -> str:
+    """The decimal sign of ``lang``'s numbers (for the live chart's ticks)."""
+    with number_locale(lang):
+        return decimal_sign()
 
 
 def _other(lang: Lang) -> Lang:

@@ -9,9 +9,9 @@ from typing import Any
 
 from markupsafe import Markup
 
-from rigserver.reports.i18n import LANGS, Lang, Messages
+from rigserver.reports.i18n import Lang
 from rigserver.reports.series_report import text
-from rigserver.web.pages import environment
+from rigserver.web.pages import render_page
 from schemas.series import Series, SeriesDetail
 
 #: Seconds between refreshes of a series page while a member run is open.
@@ -19,18 +19,7 @@ REFRESH_SECONDS = 5
 
 
 def series_list_page(*, series: list[Series], lang: Lang, signed_in: bool = False) -> str:
-    return (
-        environment()
-        .get_template("series_list.html")
-        .render(
-            t=Messages(lang),
-            s=text(lang),
-            lang=lang,
-            other=next(code for code in LANGS if code != lang),
-            signed_in=signed_in,
-            series=series,
-        )
-    )
+    return render_page("series_list.html", lang, s=text(lang), signed_in=signed_in, series=series)
 
 
 def series_page(
@@ -42,18 +31,13 @@ def series_page(
     signed_in: bool = False,
 ) -> str:
     """A series: what it is for, and the report's tables and plots (``body``)."""
-    return (
-        environment()
-        .get_template("series.html")
-        .render(
-            t=Messages(lang),
-            s=text(lang),
-            lang=lang,
-            other=next(code for code in LANGS if code != lang),
-            signed_in=signed_in,
-            detail=detail,
-            purpose=context["purpose"],
-            body=body,
-            refresh=REFRESH_SECONDS if detail.open_runs else 0,
-        )
+    return render_page(
+        "series.html",
+        lang,
+        s=text(lang),
+        signed_in=signed_in,
+        detail=detail,
+        purpose=context["purpose"],
+        body=body,
+        refresh=REFRESH_SECONDS if detail.open_runs else 0,
     )

@@ -8,6 +8,8 @@ must print) or are computed here from the posted readings (raw tables, means, ra
 
 from __future__ import annotations
 
+import re
+from collections.abc import Sequence
 from functools import lru_cache
 
 import numpy as np
@@ -17,6 +19,7 @@ from rigserver.analysis import analyse
 from rigserver.reports.formatting import fmt, with_uncertainty
 from rigserver.reports.i18n import Lang
 from rigserver.reports.run_report import build_report, render_report
+from schemas.labels import MTOS, PROFILOMETER, SLIDE_BEARING, Label
 from schemas.results import MtosResults, ProfilometerResults, SlideBearingResults, Smts2Results
 from schemas.runs import RunState
 from schemas.stands import StandKind
@@ -42,6 +45,19 @@ def printed(values: list[float] | list[float | None] | np.ndarray) -> list[str]:
     return [fmt(None if v is None else float(v)) for v in values]
 
 
+def declared(label: Label, values: Sequence[float | None], factor: float = 1.0) -> list[str]:
+    """The values as their label declares them: times ``factor`` (SI to the display unit),
+    rounded to the label's digits, 0 below its resolution."""
+    out = []
+    for v in values:
+        if v is None:
+            out.append(fmt(None))
+            continue
+        x = v * factor
+        out.append(fmt(0.0 if abs(x) < label.resolution else float(f"{x:.{label.digits}g}")))
+    return out
+
+
 def row_of(html: str, caption: str, name: str) -> list[str]:
     """The cells after the first of the row whose first cell is ``name``."""
     rows = [r for r in table(html, caption).rows if r[0] == name]
@@ -63,9 +79,10 @@ def test_profilometer_tables_1_6_to_1_8() -> None:
     assert isinstance(v, ProfilometerResults) and v.fit_manual and v.fit_lsq
     html = report(StandKind.PROFILOMETER)
     t16 = table(html, "Table 1.6.")
-    assert t16.rows[0][1:] == printed(v.levels)
-    assert t16.rows[1][1:] == printed(v.tp)
-    assert t16.rows[2][1:] == printed(v.eps)
+    assert t16.rows[0][:1] == ["pi, µm"]  # depths in µm, not metres
+    assert t16.rows[0][1:] == declared(PROFILOMETER["levels"], v.levels, 1e6)
+    assert t16.rows[1][1:] == declared(PROFILOMETER["tp"], v.tp)
+    assert t16.rows[2][1:] == declared(PROFILOMETER["eps"], v.eps)
     manual = row_of(html, "Table 1.7.", "three pairs of levels (1.16)-(1.19)")
     assert manual == [
         *printed(v.fit_manual.nu_partial),
@@ -87,13 +104,17 @@ def test_profilometer_parameters_with_instrument_errors() -> None:
     assert isinstance(v, ProfilometerResults)
     html = report(StandKind.PROFILOMETER)
     caption = "Roughness parameters"
+    # micrometres, to the digits declared (Ra three, its instrument error two)
     assert row_of(html, caption, "arithmetic mean deviation (1.3)") == [
         "Ra",
-        fmt(v.ra),
-        "m",
-        fmt(v.ra_error),
+        fmt(float(f"{v.ra * 1e6:.3g}")),
+        "µm",
+        fmt(float(f"{v.ra_error * 1e6:.2g}")),
     ]
-    assert row_of(html, caption, "ten-point height (1.4)")[1::2] == [fmt(v.rz), fmt(v.rz_error)]
+    assert row_of(html, caption, "ten-point height (1.4)")[1::2] == [
+        fmt(float(f"{v.rz * 1e6:.3g}")),
+        fmt(float(f"{v.rz_error * 1e6:.2g}")),
+    ]
     assert row_of(html, "Complex roughness", "complex parameter (1.9)")[1] == fmt(
         v.complex_parameter
     )
@@ -112,15 +133,15 @@ def test_smts2_wear_tables_and_validity() -> None:
     caption = "Experimental linear wear intensity"
     assert row_of(html, caption, "mass loss of the pin (2.9)") == [
         "Δm",
-        fmt(v.experimental.mass_loss),
-        "kg",
+        fmt(float(f"{v.experimental.mass_loss * 1e6:.4g}")),  # kg -> mg
+        "mg",
     ]
     assert row_of(html, caption, "wear intensity (2.13)")[1] == fmt(v.experimental.intensity)
     theory = "Theoretical linear wear intensity"
     assert row_of(html, theory, "contour pressure (2.3)") == [
         "pc",
-        fmt(v.theoretical.contour_pressure),
-        "Pa",
+        fmt(float(f"{v.theoretical.contour_pressure / 1e6:.4g}")),  # Pa -> MPa
+        "MPa",
     ]
     assert row_of(html, theory, "wear intensity (2.1)")[1] == fmt(v.theoretical.intensity)
     validity = "Validity of the fatigue-wear theory (2.1)"
@@ -143,7 +164,7 @@ def test_smts2_measurements_as_posted() -> None:
     posted = s.sim.columns("measurements")
     html = report(StandKind.SMTS2)
     row = row_of(html, "Single measurements", "m1, pin mass before the test (2.9)")
-    assert row == ["pin_mass_before", fmt(float(posted["pin_mass_before"][-1])), "g"]
+    assert row == [fmt(float(posted["pin_mass_before"][-1])), "g"]
     plots = svgs(html)
     assert len(plots) == 2 and all("<path" in p for p in plots)  # f(L), wear intensity
 
@@ -159,8 +180,10 @@ def test_slide_bearing_table_3_1_readings_beside_their_processing() -> None:
     t31 = table(report(StandKind.SLIDE_BEARING), "Table 3.1.")
     assert t31.column(0)[:-1] == printed(rows["limb_angle"])
     assert t31.column(2)[:-1] == printed(rows["x"])
-    assert t31.column(9)[:-1] == printed([r.chi for r in v.table])
+    assert t31.column(9)[:-1] == declared(SLIDE_BEARING["table[].chi"], [r.chi for r in v.table])
     assert t31.column(10)[:-1] == printed([r.phi_model for r in v.table])
+    e_x = declared(SLIDE_BEARING["table[].e_x"], [r.e_x for r in v.table], 1e6)  # m -> µm
+    assert t31.column(6)[:-1] == e_x and t31.header[6] == "ex, µm"
     mean = t31.rows[-1]
     assert mean[0] == "Mean"
     assert mean[4:6] == [fmt(float(np.mean(rows["t1"]))), fmt(float(np.mean(rows["t2"])))]
@@ -172,24 +195,17 @@ def test_slide_bearing_tables_3_2_and_3_3() -> None:
     assert isinstance(v, SlideBearingResults)
     html = report(StandKind.SLIDE_BEARING)
     t32 = table(html, "Table 3.2.")
-    assert t32.column(0) == printed([p.z for p in v.axial])
-    assert t32.column(2) == printed([p.pi_measured for p in v.axial])
-    assert t32.column(3) == printed([p.pi_short for p in v.axial])
-    assert t32.column(5) == printed([p.error for p in v.axial])
+    axial = {k: SLIDE_BEARING[f"axial[].{k}"] for k in ("z", "pi_measured", "pi_short", "error")}
+    assert t32.column(0) == declared(axial["z"], [p.z for p in v.axial])
+    assert t32.column(2) == declared(axial["pi_measured"], [p.pi_measured for p in v.axial])
+    assert t32.column(3) == declared(axial["pi_short"], [p.pi_short for p in v.axial])
+    assert t32.column(5) == declared(axial["error"], [p.error for p in v.axial])
     t33 = table(html, "Table 3.3.")
     by_angle = sorted(v.table, key=lambda r: r.phi_model)
+    names = ("phi_model", "pi_short", "pi_long", "pi_finite", "pi_measured")
+    names += ("error_short", "error_long")
     assert t33.rows == [
-        printed(
-            [
-                r.phi_model,
-                r.pi_short,
-                r.pi_long,
-                r.pi_finite,
-                r.pi_measured,
-                r.error_short,
-                r.error_long,
-            ]
-        )
+        [declared(SLIDE_BEARING[f"table[].{n}"], [getattr(r, n)])[0] for n in names]
         for r in by_angle
     ]
     assert len(svgs(html)) == 2  # Π(φ), Π(z)
@@ -212,12 +228,13 @@ def test_mtos_readings_and_processing_tables() -> None:
     t44 = [t for t in tables(html) if t.caption.startswith("Table 4.4.")]
     assert len(t44) == 2  # the table and its continuation; the theory part follows
     first = [x for x in v.steps if x.regime == "fluid"]
-    assert t44[0].column(4) == printed([x.chi for x in first])
+    assert t44[0].column(4) == declared(MTOS["steps[].chi"], [x.chi for x in first])
     assert t44[0].column(9) == printed([x.friction_measured for x in first])
     assert t44[1].column(2) == printed([x.bearing_characteristic for x in first])
     theory = table(html, "Table 4.4, end.")
     assert theory.column(2) == printed([x.friction_theory for x in first])
-    assert theory.column(3) == printed([x.friction_error for x in first])
+    error = MTOS["steps[].friction_error"]
+    assert theory.column(3) == declared(error, [x.friction_error for x in first])
 
 
 def test_mtos_mixed_friction_against_fluid_friction() -> None:
@@ -244,8 +261,11 @@ def test_the_russian_report_prints_the_same_numbers(kind: StandKind) -> None:
     english, russian = tables(en), tables(ru)
     assert len(english) == len(russian)
     for a, b in zip(english, russian, strict=True):
+        # the same numbers, with a decimal comma in Russian
         numbers = [[c for c in row if c[:1].isdigit() or c[:1] == "-"] for row in a.rows]
-        assert numbers == [[c for c in row if c[:1].isdigit() or c[:1] == "-"] for row in b.rows]
+        commas = [[c.replace(".", ",") for c in row] for row in numbers]
+        assert commas == [[c for c in row if c[:1].isdigit() or c[:1] == "-"] for row in b.rows]
+        assert not any("." in c for row in b.rows for c in row if c[:1].isdigit())
 
 
 @pytest.mark.parametrize("kind", list(StandKind))
@@ -281,9 +301,24 @@ def test_input_data_print_the_configuration_with_units() -> None:
     s: Simulated = simulated(StandKind.SLIDE_BEARING)
     html = report(StandKind.SLIDE_BEARING)
     config = table(html, "Stand configuration of this run")
-    rows = {r[0]: r[2:] for r in config.rows}
-    assert rows["clearance"] == [fmt(s.run.configuration["clearance"]), "m"]
-    assert rows["viscosity.alpha"] == [fmt(s.run.configuration["viscosity"]["alpha"]), "1/°C"]
+    rows = {r[0]: r[1:] for r in config.rows}
+    assert rows["h0, radial clearance (3.17)"] == [fmt(s.run.configuration["clearance"]), "m"]
+    assert rows["α of μ = A·exp(α·t) (3.21)"] == [
+        fmt(s.run.configuration["viscosity"]["alpha"]),
+        "1/°C",
+    ]
+
+
+@pytest.mark.parametrize("kind", list(StandKind))
+def test_the_russian_report_has_no_tex_and_no_english(kind: StandKind) -> None:
+    html = re.sub(r"<(svg|style)\b.*?</\1>", "", report(kind, "ru"), flags=re.S)
+    text = re.sub(r"<[^>]+>", " ", html)
+    assert not re.findall(r"\S*[_^{}]\S*", text)  # h_min^кр, Δ^(1/2) print as scripts or √
+    run = simulated(kind).run
+    typed = " ".join([run.operator, run.title or "", *map(str, run.specimen.values())])
+    typed += " " + " ".join(str(v) for v in run.test_plan.values())
+    words = set(re.findall(r"\b[A-Za-z]{3,}\b", text)) - set(re.findall(r"[A-Za-z]+", typed))
+    assert words <= {"Rmax", "max", "min", "rev", "exp", "pmax", "rig", "UTC"}, words
 
 
 def test_headline_results_carry_their_expanded_uncertainty() -> None:

@@ -7,8 +7,10 @@ import io
 import json
 import zipfile
 from collections.abc import Iterator
+from datetime import datetime
 from pathlib import Path
 
+import numpy as np
 import pytest
 from fastapi.testclient import TestClient
 
@@ -25,7 +27,7 @@ API = "/api/v1"
 
 @pytest.fixture(scope="module")
 def served(tmp_path_factory: pytest.TempPathFactory) -> Iterator[tuple[TestClient, dict[str, str]]]:
-    """The service with a finished SMTs-2 run and an open slide-bearing run."""
+    """The service with finished SMTs-2 and MTOS runs and an open slide-bearing run."""
     settings = Settings(data_dir=Path(tmp_path_factory.mktemp("data")))
     app = create_app(
         settings, MemoryStore(), [ApiKey.model_validate(k) for k in KEYS], configure_stands()
@@ -34,6 +36,7 @@ def served(tmp_path_factory: pytest.TempPathFactory) -> Iterator[tuple[TestClien
         ids = {
             "smts2": post(client, simulated(StandKind.SMTS2).sim, WRITER),
             "open": post(client, simulated(StandKind.SLIDE_BEARING).sim, WRITER, finish=False),
+            "mtos": post(client, simulated(StandKind.MTOS).sim, WRITER),
         }
         yield client, ids
 
@@ -84,11 +87,26 @@ def test_results_csv_rows_carry_values_and_units(
     results = client.get(f"{API}/runs/{ids['smts2']}/results", headers=auth(READER)).json()
     answer = client.get(f"{API}/runs/{ids['smts2']}/results.csv", headers=auth(READER))
     assert answer.headers["content-type"].startswith("text/csv")
-    rows = {r["quantity"]: r for r in csv.DictReader(io.StringIO(answer.text))}
-    assert float(rows["friction_steady"]["value"]) == results["values"]["friction_steady"]
-    assert rows["experimental.mass_loss"]["unit"] == "kg"
-    assert rows["theoretical.contact"]["value"] == "elastic"
-    assert float(rows["friction.y[0]"]["value"]) == results["values"]["friction"]["y"][0]
+    rows = {r["path"]: r for r in csv.DictReader(io.StringIO(answer.text))}
+    steady = rows["friction_steady"]
+    assert steady["Quantity"] == "friction coefficient, steady part (2.8)"
+    assert float(steady["Value"]) == float(f"{results['values']['friction_steady']:.4g}")
+    mass = rows["experimental.mass_loss"]  # kg stored, mg shown (the manual's)
+    assert (mass["Symbol"], mass["Unit"]) == ("Δm", "mg")
+    assert float(mass["Value"]) == float(
+        f"{results['values']['experimental']['mass_loss'] * 1e6:.4g}"
+    )
+    assert rows["theoretical.contact"]["Value"] == "elastic"
+    assert not [p for p in rows if p.startswith("friction.")]  # no plot series
+    assert len(rows) == len(set(rows)) < 40
+    excel = client.get(
+        f"{API}/runs/{ids['smts2']}/results.csv?dialect=excel-ru", headers=auth(READER)
+    )
+    assert excel.content.startswith("\ufeff".encode())
+    ru = list(csv.reader(io.StringIO(excel.text.lstrip("\ufeff")), delimiter=";"))
+    assert ru[0][:4] == ["Величина", "Обозначение", "Значение", "Ед."]
+    by_path = {r[-1]: r for r in ru[1:]}
+    assert by_path["experimental.mass_loss"][2] == mass["Value"].replace(".", ",")
 
 
 def test_export_zip_has_every_group_and_the_results(
@@ -104,6 +122,13 @@ def test_export_zip_has_every_group_and_the_results(
         f"{run_id}/{name}"
         for name in ("run.json", "results.json", "results.csv", "friction.csv", "measurements.csv")
     )
+    made = datetime(*archive.getinfo(f"{run_id}/run.json").date_time)
+    assert made.year >= 2026  # the real time, not 1980
+    weighed = list(csv.DictReader(io.StringIO(archive.read(f"{run_id}/measurements.csv").decode())))
+    posted = simulated(StandKind.SMTS2).sim.columns("measurements")
+    assert {r["channel"]: float(r["value"]) for r in weighed} == {
+        name: float(values[~np.isnan(values)][-1]) for name, values in posted.items()
+    }  # one named value per channel, no NaN padding
     sim = simulated(StandKind.SMTS2).sim
     friction = list(csv.reader(io.StringIO(archive.read(f"{run_id}/friction.csv").decode())))
     assert friction[0][0] == "time [s]"
@@ -119,9 +144,37 @@ def test_export_zip_has_every_group_and_the_results(
     assert json.loads(archive.read(f"{run_id}/results.json")) == stored
 
 
+def test_export_zip_has_a_csv_per_table(served: tuple[TestClient, dict[str, str]]) -> None:
+    client, ids = served
+    run_id = ids["mtos"]
+    answer = client.get(f"{API}/runs/{run_id}/export.zip", headers=auth(READER))
+    archive = zipfile.ZipFile(io.BytesIO(answer.content))
+    steps = list(csv.reader(io.StringIO(archive.read(f"{run_id}/results_steps.csv").decode())))
+    stored = client.get(f"{API}/runs/{run_id}/results", headers=auth(READER)).json()
+    assert len(steps) == 1 + len(stored["values"]["steps"])
+    assert "eccentricity ratio (4.11), χ" in steps[0]
+    assert "film thickness, hₘᵢₙ [µm]" in steps[0]  # µm, not m
+    assert not any("[0]" in h for h in steps[0])
+
+
 @pytest.mark.parametrize("path", ["report.html", "report.pdf", "results.csv", "export.zip"])
 def test_reads_need_a_key(served: tuple[TestClient, dict[str, str]], path: str) -> None:
     client, ids = served
     answer = client.get(f"{API}/runs/{ids['smts2']}/{path}")
     assert answer.status_code == 401
     assert "read" in answer.json()["detail"]
+
+
+def test_measurements_are_named_single_values_in_json(
+    served: tuple[TestClient, dict[str, str]],
+) -> None:
+    client, ids = served
+    answer = client.get(
+        f"{API}/runs/{ids['smts2']}/readings?group=measurements", headers=auth(READER)
+    )
+    found = answer.json()["measurements"]
+    posted = simulated(StandKind.SMTS2).sim.columns("measurements")
+    assert found["values"] == {
+        name: float(values[~np.isnan(values)][-1]) for name, values in posted.items()
+    }  # no null padding: one value per channel
+    assert found["units"] == {"pin_mass_before": "g", "pin_mass_after": "g", "disc_ra": "um"}

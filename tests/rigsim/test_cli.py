@@ -73,7 +73,9 @@ def test_results_are_printed_with_units() -> None:
         ),
     )
     text = console.export_text()
-    assert "h_crit" in text and "4.8e-06" in text and "load [N]" in text
+    # labelled, in µm (the manual's unit for film thickness), not 4.8e-06 m
+    assert "critical film thickness" in text and "4.8" in text and "µm" in text
+    assert "4.8 " in text.split("simulator truth")[0] and "N [N]" in text and "χ" in text
     assert "truth: steps" in text and "representable" in text
 
 

@@ -16,8 +16,9 @@ from rigserver.api.auth import ApiKey
 from rigserver.api.routes import pages
 from rigserver.api.sessions import COOKIE, SESSION_SECONDS, Sessions
 from rigserver.api.settings import Settings
-from rigserver.reports.formatting import fmt
+from rigserver.reports.formatting import shown
 from rigserver.storage import MemoryStore
+from schemas.labels import PROFILOMETER, SMTS2
 from schemas.stands import StandKind, configure_stands
 from tests.api.conftest import KEYS, MTOS_ONLY, READER, WRITER, auth
 from tests.reports.simulated import post, simulated
@@ -50,7 +51,8 @@ def test_runs_newest_first_with_their_key_results(
     assert answer.headers["content-type"].startswith("text/html")
     assert run_links(answer.text) == [ids["open"], ids["wear"], ids["profile"]]
     ra = simulated(StandKind.PROFILOMETER).result.key_results["ra"]
-    assert f"R<sub>a</sub> = {fmt(ra)} m" in answer.text  # the stand's unit, 4 figures
+    # in the manual's unit (µm) and the digits declared for Ra (three)
+    assert f"R<sub>a</sub> = {shown(PROFILOMETER['ra'], ra, 'm')} µm" in answer.text
     assert "1–3 of 3" in answer.text
 
 
@@ -111,19 +113,39 @@ def test_a_run_page_has_the_live_view_and_the_downloads(
     html = client.get(f"/runs/{run_id}").text
     config = json.loads(re.search(r'id="run-config">(.*?)</script>', html, re.S).group(1))  # type: ignore[union-attr]
     assert config["live_url"] == f"/api/v1/runs/{run_id}/live?group=friction"
-    assert config["results_url"] == f"/api/v1/runs/{run_id}/results"
+    assert config["results_url"] == f"/runs/{run_id}/results?lang=en"
     assert (config["state"], config["x"], config["y"]) == ("open", "time", "friction_moment")
     for link in (
         f"/api/v1/runs/{run_id}/report.pdf?lang=en",
         f"/api/v1/runs/{run_id}/report.html?lang=en",
         f"/api/v1/runs/{run_id}/readings?group=friction&amp;format=csv",
-        f"/api/v1/runs/{run_id}/results.csv",
-        f"/api/v1/runs/{run_id}/export.zip",
+        f"/api/v1/runs/{run_id}/results.csv?lang=en",
+        f"/api/v1/runs/{run_id}/export.zip?lang=en",
         f"/api/v1/runs/{run_id}/readings?format=hdf5",
     ):
         assert f'href="{link}"' in html
     script = client.get("/static/live.js")
     assert script.status_code == 200 and "EventSource" in script.text
+
+
+def test_a_finished_run_shows_its_results_as_the_report_groups_them(
+    site: tuple[TestClient, dict[str, str]],
+) -> None:
+    client, ids = site
+    html = client.get(f"/runs/{ids['wear']}", params={"lang": "ru"}).text
+    assert "Пока испытание идёт" not in html  # no "while the run is open" on a finished run
+    parts = re.findall(r"<h3>([^<]+)</h3>", html)
+    assert parts[:3] == ["Результаты измерений", "Теория", "Сравнение теории и опыта"]
+    paths = re.findall(r'data-path="([^"]+)"', html)
+    declared = [p for p in SMTS2 if p in paths]
+    assert paths == declared  # the declared order, not the alphabet
+    assert "theoretical.k_nu" not in re.sub(r'data-path="[^"]+"', "", html)
+    assert "коэффициент трения, установившийся участок (2.8)" in html
+    assert "нагрузка: 300 Н" in html  # the test plan with labels, not load_N: 300
+    fragment = client.get(f"/runs/{ids['wear']}/results", params={"lang": "en"}).text
+    assert "friction coefficient, steady part (2.8)" in fragment
+    open_page = client.get(f"/runs/{ids['open']}").text
+    assert 'id="results-note"' in open_page
 
 
 def test_an_unknown_run_page_is_a_404(site: tuple[TestClient, dict[str, str]]) -> None:

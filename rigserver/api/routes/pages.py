@@ -18,10 +18,11 @@ from rigserver.api.deps import Services, ServicesDep, caller_of, require_scope
 from rigserver.api.problems import ApiProblem
 from rigserver.api.routes.runs import load_run
 from rigserver.api.routes.series import series_view
+from rigserver.api.run_results import results_payload
 from rigserver.api.sessions import COOKIE, SESSION_SECONDS
 from rigserver.reports.i18n import Lang, negotiate
 from rigserver.reports.series_report import render_series_body
-from rigserver.web.pages import login_page, run_page, runs_page
+from rigserver.web.pages import login_page, results_html, run_page, runs_page
 from rigserver.web.series_pages import series_list_page, series_page
 from schemas.channels import Violation
 from schemas.runs import RunQuery, RunState
@@ -171,9 +172,21 @@ def run(
     html = run_page(
         run=found,
         stand=services.stand_of(found),
+        payload=results_payload(services, found),
         lang=chosen,
         signed_in=_signed_in(request, services),
     )
+    return HTMLResponse(html, headers={"Content-Language": chosen, "Vary": "Accept-Language"})
+
+
+@router.get("/runs/{run_id}/results", response_class=HTMLResponse)
+def run_results(
+    run_id: str, request: Request, services: ServicesDep, lang: Lang | None = None
+) -> HTMLResponse:
+    """The results part of a run's page (refreshed by the page while the run is open)."""
+    chosen = negotiate(lang, request.headers.get("accept-language"))
+    found = load_run(services, run_id)
+    html = results_html(run=found, payload=results_payload(services, found), lang=chosen)
     return HTMLResponse(html, headers={"Content-Language": chosen, "Vary": "Accept-Language"})
 
 

@@ -264,6 +264,8 @@ Format = Literal["json", "csv", "hdf5"]
 @router.get(
     "",
     summary="Read the readings back as JSON, CSV or the run's HDF5 file",
+    description="An aligned group gives its columns; the single measurements (masses, zero "
+    "readings) are named single values, the latest posted of each channel.",
     dependencies=[ReadAccess],
     responses={
         200: {
@@ -307,11 +309,11 @@ def get_readings(
 def _json_group(
     services: Services, run: Run, group: ChannelGroup, start: int, stop: int | None
 ) -> dict[str, Any]:
-    if not group.aligned:
-        data = services.store.read(run.id, group.name)
+    if not group.aligned:  # named single values: the latest of each channel posted
+        values = services.store.last_values(run.id, group.name) if run.rows.get(group.name) else {}
         return {
-            "units": {c.name: c.unit for c in group.channels},
-            "columns": {name: values.tolist() for name, values in data.items()},
+            "units": {c.name: c.unit for c in group.channels if c.name in values},
+            "values": values,
         }
     total = run.rows.get(group.name, 0)
     end = total if stop is None else min(stop, total)

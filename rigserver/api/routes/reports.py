@@ -16,8 +16,8 @@ from starlette.background import BackgroundTask
 from rigserver.api.deps import ReadAccess, Services, ServicesDep
 from rigserver.api.routes.runs import load_run
 from rigserver.api.run_results import StoredReadings, results_payload
-from rigserver.reports.export import export_zip, results_csv
-from rigserver.reports.i18n import Lang, negotiate
+from rigserver.reports.export import DIALECTS, Dialect, export_zip, results_csv
+from rigserver.reports.i18n import Lang, Messages, negotiate
 from rigserver.reports.pdf import html_to_pdf
 from rigserver.reports.run_report import build_report, render_report
 from schemas.runs import Run
@@ -83,27 +83,60 @@ async def report_pdf(
     return Response(pdf, media_type="application/pdf", headers=headers)
 
 
-def _results_csv(services: Services, run_id: str) -> tuple[Run, str]:
+LabelsQuery = Annotated[
+    Lang | None,
+    Query(description="language of the labels; without it, Russian for excel-ru, else en"),
+]
+DialectQuery = Annotated[
+    Dialect,
+    Query(
+        description="csv (comma, decimal point) or excel-ru (semicolon, decimal comma, "
+        "UTF-8 BOM; labels in Russian unless lang says otherwise)"
+    ),
+]
+
+
+def _csv_language(lang: Lang | None, dialect: Dialect) -> Lang:
+    """The labels' language of a CSV: ``lang``, else Russian for ``excel-ru``, else English
+    (a download is not negotiated: the same link gives the same file)."""
+    return lang if lang is not None else ("ru" if dialect == "excel-ru" else "en")
+
+
+def _results_csv(services: Services, run_id: str, lang: Lang, dialect: Dialect) -> tuple[Run, str]:
     run = load_run(services, run_id)
-    return run, results_csv(results_payload(services, run))
+    text = results_csv(
+        results_payload(services, run),
+        stand=services.stand_of(run),
+        t=Messages(lang),
+        dialect=DIALECTS[dialect],
+    )
+    return run, text
 
 
 @router.get(
     "/results.csv",
-    summary="The results as CSV: one row per quantity with its value and unit",
+    summary="The single results as CSV: one row per quantity with its label, its value in "
+    "the display unit and the unit (per-row tables and plot series: export.zip, results)",
     response_class=Response,
     responses={200: {"content": {"text/csv": {}}}},
 )
-async def get_results_csv(run_id: str, services: ServicesDep) -> Response:
-    run, text = await run_in_threadpool(_results_csv, services, run_id)
+async def get_results_csv(
+    run_id: str,
+    services: ServicesDep,
+    lang: LabelsQuery = None,
+    dialect: DialectQuery = "csv",
+) -> Response:
+    run, text = await run_in_threadpool(
+        _results_csv, services, run_id, _csv_language(lang, dialect), dialect
+    )
     return Response(
         text,
-        media_type="text/csv",
+        media_type="text/csv; charset=utf-8",
         headers={"Content-Disposition": f'attachment; filename="{run.id}-results.csv"'},
     )
 
 
-def _export(services: Services, run_id: str) -> tuple[Run, str]:
+def _export(services: Services, run_id: str, lang: Lang, dialect: Dialect) -> tuple[Run, str]:
     run = load_run(services, run_id)
     handle, path = tempfile.mkstemp(prefix="rig-export-", suffix=".zip")
     try:
@@ -114,6 +147,8 @@ def _export(services: Services, run_id: str) -> tuple[Run, str]:
                 stand=services.stand_of(run),
                 readings=StoredReadings(services, run),
                 payload=results_payload(services, run),
+                t=Messages(lang),
+                dialect=DIALECTS[dialect],
             )
     except BaseException:
         os.unlink(path)
@@ -128,8 +163,15 @@ def _export(services: Services, run_id: str) -> tuple[Run, str]:
     response_class=FileResponse,
     responses={200: {"content": {"application/zip": {}}}},
 )
-async def get_export(run_id: str, services: ServicesDep) -> FileResponse:
-    run, path = await run_in_threadpool(_export, services, run_id)
+async def get_export(
+    run_id: str,
+    services: ServicesDep,
+    lang: LabelsQuery = None,
+    dialect: DialectQuery = "csv",
+) -> FileResponse:
+    run, path = await run_in_threadpool(
+        _export, services, run_id, _csv_language(lang, dialect), dialect
+    )
     return FileResponse(
         path,
         media_type="application/zip",

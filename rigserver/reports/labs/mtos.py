@@ -5,17 +5,20 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 import numpy as np
+from markupsafe import Markup
 from matplotlib.axes import Axes
 
 from rigserver.reports import blocks
 from rigserver.reports.context import Context, LabReport
 from rigserver.reports.document import Block, Figure, Section, Table, Text
-from rigserver.reports.formatting import fmt, html_symbol, tex
+from rigserver.reports.formatting import fmt, html_symbol, shown, tex
 from rigserver.reports.i18n import Messages
 from rigserver.reports.plots import axes, decorate, to_svg
+from schemas.labels import MTOS, row_labels
 from schemas.quantity import units_of
 from schemas.results import MtosResults, MtosStep
 from schemas.stands import MEASUREMENTS, MtosConfig
+from schemas.units import UNITS
 
 GROUP = "steps"
 REGIMES = ("fluid", "mixed", "boundary")
@@ -43,6 +46,7 @@ def build(ctx: Context, v: MtosResults) -> LabReport:
                 ("friction_fluid", "f_э", "m.friction_fluid"),
                 ("half_width", "a", "m.half_width"),
             ],
+            labels=MTOS,
         )
     )
     processed: list[Block] = []
@@ -112,54 +116,58 @@ def _processed_tables(
     regime_name = t("regime." + regime)
     caption = t("m.processed", table=experiment + 3, n=experiment, regime=regime_name)
     angle = "δ" if regime == "fluid" else "γ"
-    first = blocks.columns(
+
+    labels = row_labels(MTOS, "steps[].")
+
+    def field(name: str, symbol: str) -> tuple[Markup, list[Text]]:
+        return blocks.field(t, labels[name], symbol, u[name], [getattr(s, name) for s in steps])
+
+    first = blocks.result_table(
+        t,
         caption,
+        steps,
         [
-            blocks.header(t, "N", u["load"]),
-            blocks.header(t, "e_x", u["e_x"]),
-            blocks.header(t, "e_y", u["e_y"]),
-            blocks.header(t, "e", u["e"]),
-            blocks.header(t, "χ", u["chi"]),
-            blocks.header(t, angle, u["angle"]),
-            blocks.header(t, "F", u["spring_force"]),
-            blocks.header(t, "M_тр", u["friction_moment"]),
-            blocks.header(t, "F_тр", u["friction_force"]),
-            blocks.header(t, "f_э", u["friction_measured"]),
+            ("load", "N"),
+            ("e_x", "e_x"),
+            ("e_y", "e_y"),
+            ("e", "e"),
+            ("chi", "χ"),
+            ("angle", angle),
+            ("spring_force", "F"),
+            ("friction_moment", "M_тр"),
+            ("friction_force", "F_тр"),
+            ("friction_measured", "f_э"),
         ],
-        [
-            [s.load for s in steps],
-            [s.e_x for s in steps],
-            [s.e_y for s in steps],
-            [s.e for s in steps],
-            [s.chi for s in steps],
-            [s.angle for s in steps],
-            [s.spring_force for s in steps],
-            [s.friction_moment for s in steps],
-            [s.friction_force for s in steps],
-            [s.friction_measured for s in steps],
-        ],
+        model=MtosStep,
+        labels=labels,
     )
     rises = RISES if regime == "fluid" else RISES[1:]
-    head = [
-        blocks.header(t, "N", u["load"]),
-        blocks.header(t, "μ_t", u["viscosity"]),
-        blocks.header(t, "S_1", u["bearing_characteristic"]),
-        *(blocks.header(t, f"Δt_{k[1]}", u["temperature_rise"]) for k in rises),
-        blocks.header(t, "h_min", u["h_min"]),
-        t("col.film"),
-        blocks.header(t, "Λ", u["film_parameter"]),
-        t("col.film_lambda"),
+    rise = MTOS["steps[].temperature_rise"]
+    fields = [
+        field("load", "N"),
+        field("viscosity", "μ_t"),
+        field("bearing_characteristic", "S_1"),
+        *(
+            blocks.field(
+                t,
+                rise,
+                f"Δt_{k[1]}",
+                u["temperature_rise"],
+                [s.temperature_rise.get(k) for s in steps],
+            )
+            for k in rises
+        ),
+        field("h_min", "h_min"),
+        field("film_parameter", "Λ"),
     ]
-    data: list[Sequence[float | Text | None]] = [
-        [s.load for s in steps],
-        [s.viscosity for s in steps],
-        [s.bearing_characteristic for s in steps],
-        *([s.temperature_rise.get(k) for s in steps] for k in rises),
-        [s.h_min for s in steps],
-        [t("regime." + s.film) for s in steps],
-        [s.film_parameter for s in steps],
-        [t("regime." + s.film_lambda) for s in steps],
+    head: list[Text] = [
+        *(h for h, _ in fields),
+        html_symbol(t("col.film")),
+        html_symbol(t("col.film_lambda")),
     ]
+    data: list[Sequence[float | Text | None]] = [c for _, c in fields]
+    data.append([t("regime." + s.film) for s in steps])
+    data.append([t("regime." + s.film_lambda) for s in steps])
     note: Text = ""
     if regime != "fluid":
         fluid = {s.load: s.friction_measured for s in _of(every, "fluid")}
@@ -171,24 +179,21 @@ def _processed_tables(
     second = blocks.columns(f"{caption}, {t('m.continued')}", head, data, note=note)
     if regime != "fluid":
         return [first, second]
-    third = blocks.columns(
+    finite = t("m.f_finite")
+    third = blocks.result_table(
+        t,
         html_symbol(t("m.theory")),
+        steps,
         [
-            blocks.header(t, "N", u["load"]),
-            blocks.header(t, "f_э", u["friction_measured"]),
-            blocks.header(t, "f_T", u["friction_theory"]),
-            blocks.header(t, "Δf", u["friction_error"]),
-            html_symbol(f"f, {t('m.f_finite')}"),
-            html_symbol(f"N, {t('m.f_finite')}, {t.unit(u['load_finite'])}"),
+            ("load", "N"),
+            ("friction_measured", "f_э"),
+            ("friction_theory", "f_T"),
+            ("friction_error", "Δf"),
+            ("friction_finite", f"f, {finite}"),
+            ("load_finite", f"N, {finite}"),
         ],
-        [
-            [s.load for s in steps],
-            [s.friction_measured for s in steps],
-            [s.friction_theory for s in steps],
-            [s.friction_error for s in steps],
-            [s.friction_finite for s in steps],
-            [s.load_finite for s in steps],
-        ],
+        model=MtosStep,
+        labels=labels,
     )
     return [first, second, third]
 
@@ -218,7 +223,7 @@ def _stribeck_svg(t: Messages, v: MtosResults, config: MtosConfig) -> str:
     if fluid:
         worst = max(fluid, key=lambda s: s.e)
         ax.annotate(
-            tex(t("m.h_min_mark", h=fmt(config.clearance - worst.e))),
+            tex(t("m.h_min_mark", h=shown(MTOS["steps[].h_min"], config.clearance - worst.e, "m"))),
             xy=(worst.bearing_characteristic, worst.friction_measured),
             xytext=(0.35, 0.85),
             textcoords="axes fraction",
@@ -237,7 +242,9 @@ def _trajectory_svg(t: Messages, v: MtosResults, config: MtosConfig) -> str:
     """The journal centre (e_x, e_y) of every step (4.11) inside the clearance circle, with
     the Gümbel semicircle: the diameter from the bearing centre to the point h0 along the
     load line (e_x = e_y, δ = 0 in (4.12)), on the side the fluid-film steps lie."""
-    h0 = config.clearance
+    shown_in = MTOS["steps[].e_x"].unit  # µm, the manual's
+    scale = 1.0 / UNITS[shown_in].factor
+    h0 = config.clearance * scale
     fig, (ax,) = axes(height=4.2)
     along = np.array([1.0, 1.0]) / np.sqrt(2.0)
     across = np.array([-1.0, 1.0]) / np.sqrt(2.0)
@@ -255,8 +262,8 @@ def _trajectory_svg(t: Messages, v: MtosResults, config: MtosConfig) -> str:
         steps = _of(v.steps, regime)
         if steps:
             ax.plot(
-                [s.e_x for s in steps],
-                [s.e_y for s in steps],
+                [s.e_x * scale for s in steps],
+                [s.e_y * scale for s in steps],
                 MARKERS[regime] + "-",
                 linewidth=0.8,
                 markersize=5,
@@ -265,17 +272,16 @@ def _trajectory_svg(t: Messages, v: MtosResults, config: MtosConfig) -> str:
             for s in steps if regime == "fluid" else ():
                 ax.annotate(
                     fmt(s.load),
-                    (s.e_x, s.e_y),
+                    (s.e_x * scale, s.e_y * scale),
                     fontsize=6,
                     xytext=(4, -2),
                     textcoords="offset points",
                 )
     ax.set_aspect("equal")
-    u = units_of(MtosStep)
     decorate(
         ax,
-        xlabel=blocks.axis(t, "e_x", u["e_x"]),
-        ylabel=blocks.axis(t, "e_y", u["e_y"]),
+        xlabel=blocks.axis(t, "e_x", shown_in),
+        ylabel=blocks.axis(t, "e_y", shown_in),
         legend_outside=True,
     )
     return to_svg(fig)
@@ -351,7 +357,14 @@ def _conclusions(t: Messages, v: MtosResults) -> list[Text]:
     if v.steps:
         thin = sum(s.film != "fluid" for s in v.steps)
         found.append(
-            html_symbol(t("m.c_film", h_crit=fmt(v.h_crit), count=thin, total=len(v.steps)))
+            html_symbol(
+                t(
+                    "m.c_film",
+                    h_crit=shown(MTOS["h_crit"], v.h_crit, "m"),
+                    count=thin,
+                    total=len(v.steps),
+                )
+            )
         )
     if v.regime_disagreements:
         found.append(html_symbol(t("m.disagree", items="; ".join(v.regime_disagreements))))

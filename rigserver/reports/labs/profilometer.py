@@ -10,9 +10,11 @@ from rigserver.reports import blocks
 from rigserver.reports.context import Context, LabReport
 from rigserver.reports.document import Block, Figure, Section, Table, Text
 from rigserver.reports.downsample import min_max
-from rigserver.reports.formatting import DASH, fmt, html_symbol
+from rigserver.reports.formatting import DASH, fmt, html_symbol, shown
 from rigserver.reports.i18n import Messages
 from rigserver.reports.plots import axes, decorate, to_svg
+from schemas.labels import PROFILOMETER
+from schemas.quantity import units_of
 from schemas.results import BearingFitResult, ProfilometerResults
 from schemas.stands import MEASUREMENTS
 from schemas.units import UNITS
@@ -45,6 +47,7 @@ def build(ctx: Context, v: ProfilometerResults) -> LabReport:
                     ("asperity_radius", "R", "p.r"),
                 ],
                 errors={"ra": v.ra_error, "rz": v.rz_error, "rmax": v.rmax_error, "sm": v.sm_error},
+                labels=PROFILOMETER,
             )
         )
     processed: list[Block] = []
@@ -68,6 +71,7 @@ def build(ctx: Context, v: ProfilometerResults) -> LabReport:
                     ("ra_from_complex", "R_a", "p.ra_delta"),
                     ("complex_parameter_equilibrium", "Δ_T", "p.delta_t"),
                 ],
+                labels=PROFILOMETER,
             )
         )
     spread = blocks.uncertainties(t, v, [("ra", "R_a", "p.ra"), ("rz", "R_z", "p.rz")])
@@ -119,12 +123,12 @@ def _levels_table(t: Messages, caption: Text, rows: list[list[Text]], count: int
 
 
 def _table_1_6(t: Messages, v: ProfilometerResults) -> Table:
-    unit = blocks.unit_of(ProfilometerResults, "levels")
-    rows: list[list[Text]] = [
-        [blocks.header(t, "p_i", unit), *(fmt(p) for p in v.levels)],
-        [html_symbol("t_p = η_p/l"), *(fmt(p) for p in v.tp)],
-        [html_symbol("ε = p_i/R_max"), *(fmt(p) for p in v.eps)],
-    ]
+    units = units_of(ProfilometerResults)
+    fields = (("levels", "p_i"), ("tp", "t_p = η_p/l"), ("eps", "ε = p_i/R_max"))
+    rows: list[list[Text]] = []
+    for name, symbol in fields:  # µm for the depths, as the manual's table 1.6
+        head, cells = blocks.field(t, PROFILOMETER[name], symbol, units[name], getattr(v, name))
+        rows.append([head, *cells])
     return _levels_table(t, html_symbol(t("p.table_1_6")), rows, len(v.tp))
 
 
@@ -195,8 +199,8 @@ def _conclusions(t: Messages, v: ProfilometerResults) -> list[Text]:
             html_symbol(
                 t(
                     "p.c_ra",
-                    ra=fmt(v.ra),
-                    ra_delta=fmt(v.ra_from_complex),
+                    ra=shown(PROFILOMETER["ra"], v.ra, "m"),
+                    ra_delta=shown(PROFILOMETER["ra_from_complex"], v.ra_from_complex, "m"),
                     diff=_percent(v.ra, v.ra_from_complex),
                 )
             )

@@ -5,13 +5,15 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 import numpy as np
+from markupsafe import Markup
 
 from rigserver.reports import blocks
 from rigserver.reports.context import Context, LabReport
 from rigserver.reports.document import Block, Figure, Section, Table, Text
-from rigserver.reports.formatting import fmt, html_symbol
+from rigserver.reports.formatting import fmt, html_symbol, shown
 from rigserver.reports.i18n import Messages
 from rigserver.reports.plots import axes, decorate, to_svg
+from schemas.labels import SLIDE_BEARING, row_labels
 from schemas.quantity import units_of
 from schemas.results import AxialPoint, SlideBearingResults, SlideBearingRow
 from schemas.stands import MEASUREMENTS
@@ -43,6 +45,7 @@ def build(ctx: Context, v: SlideBearingResults) -> LabReport:
                 ("phi_max", "φ_pmax", "b.phi_max"),
                 ("pressure_max", "p_max", "b.p_max"),
             ],
+            labels=SLIDE_BEARING,
         )
     )
     processed: list[Block] = []
@@ -76,62 +79,59 @@ def _table_3_1(ctx: Context, v: SlideBearingResults) -> Table:
     def col(name: str) -> list[float | None]:
         return [getattr(r, name) if r is not None else None for r in rows]
 
+    row_units = units_of(SlideBearingRow)
+
+    def field(name: str, symbol: str) -> tuple[Markup, list[Text]]:
+        return blocks.field(t, SLIDE_BEARING[f"table[].{name}"], symbol, row_units[name], col(name))
+
+    processed = [
+        field("e_x", "e_x"),
+        field("e_y", "e_y"),
+        field("e", "e"),
+        field("chi", "χ"),
+        field("phi_model", "φ_мод"),
+    ]
+    pressure = field("pressure", "p")
     data: list[Sequence[float | Text | None]] = [
         raw["limb_angle"].tolist(),
-        col("pressure"),
+        pressure[1],
         raw["x"].tolist(),
         raw["y"].tolist(),
         raw["t1"].tolist(),
         raw["t2"].tolist(),
-        col("e_x"),
-        col("e_y"),
-        col("e"),
-        col("chi"),
-        col("phi_model"),
+        *(cells for _, cells in processed),
     ]
-    row_units = units_of(SlideBearingRow)
     head = [
         blocks.header(t, "φ_лимб", units["limb_angle"]),
-        blocks.header(t, "p", row_units["pressure"]),
+        pressure[0],
         blocks.header(t, "X", units["x"]),
         blocks.header(t, "Y", units["y"]),
         blocks.header(t, "t_1", units["t1"]),
         blocks.header(t, "t_2", units["t2"]),
-        blocks.header(t, "e_x", row_units["e_x"]),
-        blocks.header(t, "e_y", row_units["e_y"]),
-        blocks.header(t, "e", row_units["e"]),
-        blocks.header(t, "χ", row_units["chi"]),
-        blocks.header(t, "φ_мод", row_units["phi_model"]),
+        *(h for h, _ in processed),
     ]
     table = blocks.columns(html_symbol(t("b.table_3_1")), head, data)
     mean: list[Text] = [t("mean"), "", "", "", fmt(float(np.mean(raw["t1"])))]
-    mean += [fmt(float(np.mean(raw["t2"]))), "", "", "", fmt(v.chi_mean), ""]
+    chi_mean = shown(SLIDE_BEARING["chi_mean"], v.chi_mean, "1")
+    mean += [fmt(float(np.mean(raw["t2"]))), "", "", "", chi_mean, ""]
     return Table(caption=table.caption, header=table.header, rows=[*table.rows, mean])
 
 
 def _table_3_2(t: Messages, v: SlideBearingResults) -> Table:
-    units = units_of(AxialPoint)
-    a = v.axial
-    head = [
-        blocks.header(t, "z", units["z"]),
-        blocks.header(t, "p", units["pressure"]),
-        blocks.header(t, "Π_z", units["pi_measured"]),
-        blocks.header(t, "Π_m", units["pi_short"]),
-        html_symbol(f"Π, {t('b.finite')}"),
-        blocks.header(t, "ΔΠ", units["error"]),
-    ]
-    data: list[Sequence[float | Text | None]] = [
-        [p.z for p in a],
-        [p.pressure for p in a],
-        [p.pi_measured for p in a],
-        [p.pi_short for p in a],
-        [p.pi_finite for p in a],
-        [p.error for p in a],
-    ]
-    return blocks.columns(
+    return blocks.result_table(
+        t,
         html_symbol(t("b.table_3_2", phi=fmt(v.phi_max))),
-        head,
-        data,
+        v.axial,
+        [
+            ("z", "z"),
+            ("pressure", "p"),
+            ("pi_measured", "Π_z"),
+            ("pi_short", "Π_m"),
+            ("pi_finite", f"Π, {t('b.finite')}"),
+            ("error", "ΔΠ"),
+        ],
+        model=AxialPoint,
+        labels=row_labels(SLIDE_BEARING, "axial[]."),
         note=html_symbol(t("b.edges", a=fmt(v.half_width))),
     )
 
@@ -141,27 +141,22 @@ def _by_angle(table: Sequence[SlideBearingRow]) -> list[SlideBearingRow]:
 
 
 def _table_3_3(t: Messages, table: Sequence[SlideBearingRow]) -> Table:
-    units = units_of(SlideBearingRow)
-    rows = _by_angle(table)
-    head = [
-        blocks.header(t, "φ", units["phi_model"]),
-        blocks.header(t, "Π_0", units["pi_short"]),
-        blocks.header(t, "Π_∞", units["pi_long"]),
-        html_symbol(f"Π, {t('b.finite')}"),
-        blocks.header(t, "Π_э", units["pi_measured"]),
-        blocks.header(t, "ΔΠ_0", units["error_short"]),
-        blocks.header(t, "ΔΠ_∞", units["error_long"]),
-    ]
-    data: list[Sequence[float | Text | None]] = [
-        [r.phi_model for r in rows],
-        [r.pi_short for r in rows],
-        [r.pi_long for r in rows],
-        [r.pi_finite for r in rows],
-        [r.pi_measured for r in rows],
-        [r.error_short for r in rows],
-        [r.error_long for r in rows],
-    ]
-    return blocks.columns(html_symbol(t("b.table_3_3")), head, data)
+    return blocks.result_table(
+        t,
+        html_symbol(t("b.table_3_3")),
+        _by_angle(table),
+        [
+            ("phi_model", "φ"),
+            ("pi_short", "Π_0"),
+            ("pi_long", "Π_∞"),
+            ("pi_finite", f"Π, {t('b.finite')}"),
+            ("pi_measured", "Π_э"),
+            ("error_short", "ΔΠ_0"),
+            ("error_long", "ΔΠ_∞"),
+        ],
+        model=SlideBearingRow,
+        labels=row_labels(SLIDE_BEARING, "table[]."),
+    )
 
 
 def _curve(values: Sequence[float | None]) -> list[float]:
@@ -210,7 +205,13 @@ def _conclusions(t: Messages, v: SlideBearingResults) -> list[Text]:
     if v.chi_mean is not None and v.pressure_max is not None:
         found.append(
             html_symbol(
-                t("b.c_chi", chi=fmt(v.chi_mean), p=fmt(v.pressure_max), phi=fmt(v.phi_max))
+                t(
+                    "b.c_chi",
+                    chi=shown(SLIDE_BEARING["chi_mean"], v.chi_mean, "1"),
+                    p=shown(SLIDE_BEARING["pressure_max"], v.pressure_max, "Pa"),
+                    unit=t.unit(SLIDE_BEARING["pressure_max"].unit),
+                    phi=fmt(v.phi_max),
+                )
             )
         )
     short = _mean_abs([r.error_short for r in v.table])

@@ -14,6 +14,7 @@ from rigserver.reports.document import Block, Figure, Section, Table, Text
 from rigserver.reports.formatting import fmt, html_symbol
 from rigserver.reports.i18n import Messages
 from rigserver.reports.plots import axes, decorate, to_svg
+from schemas.labels import SMTS2
 from schemas.results import Smts2Results
 from schemas.stands import MEASUREMENTS, Smts2Config
 from schemas.units import UNITS
@@ -45,6 +46,7 @@ def build(ctx: Context, v: Smts2Results) -> LabReport:
                     ("friction_steady_std", "σ_f", "w.f_std"),
                     ("steady_from_time", "t_s", "w.steady_from"),
                 ],
+                labels=SMTS2,
             )
         )
         measured.append(Figure(t("w.fig_friction"), _friction_svg(ctx, v, config)))
@@ -63,6 +65,8 @@ def build(ctx: Context, v: Smts2Results) -> LabReport:
                     ("intensity", "I_h", "w.intensity_exp"),
                     ("specific_wear_rate", "k", "w.k"),
                 ],
+                labels=SMTS2,
+                prefix="experimental.",
             )
         )
     if v.disc_wear is not None:
@@ -76,6 +80,8 @@ def build(ctx: Context, v: Smts2Results) -> LabReport:
                     ("volume", "V", "w.disc_volume"),
                     ("specific_wear_rate", "k", "w.k"),
                 ],
+                labels=SMTS2,
+                prefix="disc_wear.",
             )
         )
     if v.theoretical is not None:
@@ -97,6 +103,8 @@ def build(ctx: Context, v: Smts2Results) -> LabReport:
                 ("k_f", "k_f", "w.k_f"),
                 ("intensity", "I_h", "w.intensity_theor"),
             ],
+            labels=SMTS2,
+            prefix="theoretical.",
         )
         contact: list[Text] = [t("w.contact"), "", t("contact." + v.theoretical.contact), ""]
         processed.append(dataclasses.replace(theory, rows=[contact, *theory.rows]))
@@ -142,6 +150,8 @@ def _validity(t: Messages, v: Smts2Results) -> Table:
             ("cycles_to_failure", "n", "w.cycles"),
             ("plastic_k_f", "k_f^n", "w.kf_plastic"),
         ],
+        labels=SMTS2,
+        prefix="validity.",
     )
     verdict: list[Text] = [
         t("w.within_range"),

@@ -3,7 +3,7 @@
 // The readings of the run's record arrive as server-sent events from /runs/{id}/live:
 // "rows" events carry the new rows (id = rows seen, so the browser's EventSource resumes
 // after a dropped connection), "end" says the run is over. The results are fetched every
-// 5 s while the run is open. Long records are thinned for drawing only (min-max per pixel
+// 5 s while the run is open (the server renders them, /runs/{id}/results?lang=). Long records are thinned for drawing only (min-max per pixel
 // column); every row is kept.
 (function () {
   "use strict";
@@ -14,11 +14,14 @@
   const status = document.getElementById("live-status");
   const counter = document.getElementById("live-rows");
   const stateCell = document.getElementById("run-state");
+  const note = document.getElementById("results-note");
   const columns = {};
   const units = {};
+  const labels = {};
   for (const c of config.channels) {
     columns[c.name] = [];
     units[c.name] = c.unit;
+    labels[c.name] = c.label;
   }
   let rows = 0;
   let open = config.state === "open";
@@ -30,7 +33,8 @@
     status.dataset.state = key;
   }
 
-  // --- numbers as the reports print them: four significant figures, powers of ten ------
+  // --- numbers as the reports print them: four significant figures, powers of ten, the
+  // page language's decimal sign ---------------------------------------------------------
   const SUPERSCRIPT = { "0": "⁰", "1": "¹", "2": "²", "3": "³", "4": "⁴", "5": "⁵",
     "6": "⁶", "7": "⁷", "8": "⁸", "9": "⁹", "-": "⁻", "+": "" };
 
@@ -40,11 +44,11 @@
     const a = Math.abs(v);
     if (a >= 1e4 || a < 1e-4) {
       const [m, e] = v.toExponential(3).split("e");
-      const mantissa = m.includes(".") ? m.replace(/\.?0+$/, "") : m;
+      const mantissa = (m.includes(".") ? m.replace(/\.?0+$/, "") : m).replace(".", config.decimal);
       return mantissa + "·10" + e.replace(/^\+/, "").split("").map((c) => SUPERSCRIPT[c]).join("");
     }
     const s = v.toPrecision(4);
-    return s.includes(".") ? s.replace(/\.?0+$/, "") : s;
+    return (s.includes(".") ? s.replace(/\.?0+$/, "") : s).replace(".", config.decimal);
   }
 
   // --- the live readings ---------------------------------------------------------------
@@ -154,12 +158,12 @@
     ctx.strokeRect(left, top, plotW, plotH);
     ctx.textAlign = "center";
     ctx.textBaseline = "bottom";
-    ctx.fillText(config.x + ", " + units[config.x], left + plotW / 2, height - 2);
+    ctx.fillText(labels[config.x] + ", " + units[config.x], left + plotW / 2, height - 2);
     ctx.save();
     ctx.translate(14, top + plotH / 2);
     ctx.rotate(-Math.PI / 2);
     ctx.textBaseline = "top";
-    ctx.fillText(select.value + ", " + units[select.value], 0, -10);
+    ctx.fillText(labels[select.value] + ", " + units[select.value], 0, -10);
     ctx.restore();
 
     // Points in row order; few are drawn as markers, many as a line thinned to min-max per
@@ -206,54 +210,15 @@
     canvas.dataset.points = String(drawn);
   }
 
-  // --- the results -----------------------------------------------------------------------
-  function flatten(values, unitPaths, path, out) {
-    for (const key of Object.keys(values)) {
-      const value = values[key];
-      const here = path ? path + "." + key : key;
-      if (typeof value === "number" || typeof value === "boolean" ||
-          (typeof value === "string" && key !== "stand")) {
-        out.push([here, value, unitPaths[here] || ""]);
-      } else if (value && typeof value === "object" && !Array.isArray(value) &&
-                 !Object.values(value).some(Array.isArray)) {
-        flatten(value, unitPaths, here, out);  // a record reduced for drawing is left out
-      }
-    }
-    return out;
-  }
-
-  function cell(row, text) {
-    const td = document.createElement("td");
-    td.textContent = text;
-    row.appendChild(td);
-  }
-
-  function showResults(payload) {
-    const body = document.querySelector("#results-table tbody");
-    body.replaceChildren();
-    for (const [path, value, unit] of flatten(payload.values || {}, payload.units || {}, "", [])) {
-      const row = document.createElement("tr");
-      cell(row, path);
-      cell(row, typeof value === "number" ? fmt(value) : String(value));
-      cell(row, unit && unit !== "1" ? (config.units[unit] || unit) : "");
-      body.appendChild(row);
-    }
-    const pending = document.getElementById("results-pending");
-    pending.replaceChildren();
-    for (const text of (payload.values && payload.values.pending) || []) {
-      const li = document.createElement("li");
-      li.textContent = text;
-      pending.appendChild(li);
-    }
-  }
-
+  // --- the results: the server renders them in the page's language ------------------------
   async function refreshResults() {
     try {
-      const answer = await fetch(config.results_url, { headers: { Accept: "application/json" } });
-      if (answer.ok) showResults(await answer.json());
+      const answer = await fetch(config.results_url, { headers: { Accept: "text/html" } });
+      if (answer.ok) document.getElementById("results").innerHTML = await answer.text();
     } catch (error) {
       // the next refresh tries again
     }
+    if (!open && note !== null) note.remove();
     if (!open && resultsTimer !== null) {
       window.clearInterval(resultsTimer);
       resultsTimer = null;

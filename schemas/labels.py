@@ -1,0 +1,493 @@
+"""How people read the results: a label, a display unit and digits for every result.
+
+Declared apart from the code that computes the results (as openHTF declares its
+measurements): one table per stand, keyed by the result's path in the results payload
+(``"ra"``, ``"experimental.intensity"``, ``"steps[].chi"``), in the order the report
+prints them. SI stays the unit of storage and of the JSON API; the label says how a page,
+a report, a CSV or a console shows the value: in the manual's unit (µm for roughness, film
+thickness, clearance and displacements; mg for masses; mm³ for wear volume), rounded to
+its significant digits, and 0 below its resolution (no ``e_x = 2.7·10⁻²⁰ m``).
+
+The English words are the message ids of the gettext catalogs
+(``rigserver/locale/<lang>/LC_MESSAGES/messages.po``): a label's Russian lives there.
+A new result gets one line in its stand's table; ``tests/schemas/test_labels.py`` fails
+while any result the pipelines produce, or any channel, has no label or no translation.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from collections.abc import Mapping
+from dataclasses import dataclass
+from enum import StrEnum
+
+from schemas.messages import N_
+from schemas.stands import StandKind
+from schemas.units import UNITS, UnitSymbol
+
+
+class Part(StrEnum):
+    """The part of the report a result belongs to."""
+
+    MEASURED = "measured"
+    THEORY = "theory"
+    COMPARISON = "comparison"
+
+
+PARTS: dict[Part, str] = {
+    Part.MEASURED: N_("Results of the measurements"),
+    Part.THEORY: N_("Theory"),
+    Part.COMPARISON: N_("Theory against experiment"),
+}
+
+
+@dataclass(frozen=True, slots=True)
+class Label:
+    """A result as people read it.
+
+    ``text`` is the English name (a message id), ``symbol`` the manual's symbol in the
+    TeX-like syntax of the reports (``"I_{h,exp}"``), ``equation`` its number in the manual
+    (``"2.13"``) or a correction (``"E3"``); ``unit`` the display unit; ``digits`` the
+    significant digits shown; ``resolution`` (display unit) the smallest magnitude that is
+    not rounding noise.
+    """
+
+    text: str
+    symbol: str = ""
+    equation: str = ""
+    unit: UnitSymbol = "1"
+    digits: int = 4
+    resolution: float = 0.0
+    part: Part = Part.MEASURED
+
+    def shown(self, value: float, stored: str) -> float:
+        """``value`` (stored in ``stored``) in the display unit, rounded to the label's
+        digits, 0 below its resolution."""
+        if stored == self.unit:
+            factor = 1.0
+        else:
+            have, want = UNITS[stored], UNITS[self.unit]
+            if have.si != want.si:
+                raise ValueError(f"{stored} cannot be shown in {self.unit}")
+            factor = have.factor / want.factor
+        return round_to(value * factor, self.digits, self.resolution)
+
+
+def round_to(value: float, digits: int, resolution: float = 0.0) -> float:
+    """``value`` to ``digits`` significant digits; 0 if ``|value| < resolution``."""
+    if not math.isfinite(value) or value == 0 or abs(value) < resolution:
+        return 0.0 if math.isfinite(value) else value
+    return float(f"{value:.{digits}g}")
+
+
+_MEASURED, _THEORY, _COMPARISON = Part.MEASURED, Part.THEORY, Part.COMPARISON
+_NOISE_UM = 1e-3  # µm: below a nanometre is the arithmetic's noise, not a displacement
+_NOISE_PI = 1e-4  # dimensionless pressures and eccentricity ratios
+
+SMTS2: dict[str, Label] = {
+    "rows": Label(N_("rows analysed"), "n", digits=9),
+    "duration": Label(N_("duration of the record"), "t", unit="s"),
+    "revolutions": Label(N_("disc revolutions"), "M_rev", unit="rev"),
+    "sliding_distance": Label(N_("sliding distance"), "L", "2.12", "m"),
+    "mean_load": Label(N_("mean load, steady part"), "N", unit="N"),
+    "friction_steady": Label(N_("friction coefficient, steady part"), "f", "2.8"),
+    "friction_steady_uncertainty": Label(
+        N_("standard uncertainty of the friction coefficient"), "u(f)", "GUM"
+    ),
+    "friction_steady_expanded": Label(
+        N_("expanded uncertainty of the friction coefficient (k = 2)"), "U(f)", "GUM"
+    ),
+    "friction_steady_std": Label(N_("standard deviation of the friction coefficient"), "σ_f"),
+    "steady_from_time": Label(N_("steady part from"), "t_s", unit="s"),
+    "experimental.mass_loss": Label(N_("mass loss of the pin"), "Δm", "2.9", "mg"),
+    "experimental.volume": Label(N_("worn volume"), "V", "2.10", "mm^3"),
+    "experimental.wear_depth": Label(N_("linear wear"), "h", "2.11", "um"),
+    "experimental.sliding_distance": Label(N_("sliding distance"), "L", "2.12", "m"),
+    "experimental.intensity": Label(N_("experimental wear intensity"), "I_{h,exp}", "2.13"),
+    "experimental.intensity_uncertainty": Label(
+        N_("standard uncertainty of the wear intensity"), "u(I_h)", "GUM"
+    ),
+    "experimental.intensity_expanded": Label(
+        N_("expanded uncertainty of the wear intensity (k = 2)"), "U(I_h)", "GUM"
+    ),
+    "experimental.specific_wear_rate": Label(
+        N_("specific wear rate of the pin, V/(F·L)"), "k", "ASTM G99", "mm^3/(N*m)"
+    ),
+    "experimental.specific_wear_rate_uncertainty": Label(
+        N_("standard uncertainty of the specific wear rate"), "u(k)", "GUM", "mm^3/(N*m)"
+    ),
+    "experimental.specific_wear_rate_expanded": Label(
+        N_("expanded uncertainty of the specific wear rate (k = 2)"), "U(k)", "GUM", "mm^3/(N*m)"
+    ),
+    "disc_wear.profile_run": Label(N_("profilometer run across the disc's track")),
+    "disc_wear.track_area": Label(
+        N_("cross-section area of the wear track"), "A", "ASTM G99", "mm^2"
+    ),
+    "disc_wear.volume": Label(N_("worn volume of the disc"), "V", "ASTM G99", "mm^3"),
+    "disc_wear.specific_wear_rate": Label(
+        N_("specific wear rate of the disc"), "k", "ASTM G99", "mm^3/(N*m)"
+    ),
+    "theoretical.contact": Label(N_("contact mode"), "", "2.7", part=_THEORY),
+    "theoretical.fatigue_t": Label(N_("fatigue parameter"), "t", "2.1", part=_THEORY),
+    "theoretical.contour_pressure": Label(
+        N_("contour pressure"), "p_c", "2.3", "MPa", part=_THEORY
+    ),
+    "theoretical.nominal_area": Label(N_("nominal area"), "A_a", "2.5", "mm^2", part=_THEORY),
+    "theoretical.contour_area": Label(N_("contour area"), "A_c", "2.4", "mm^2", part=_THEORY),
+    "theoretical.eta_c": Label(N_("ratio of the contour to the nominal area"), "η_c", part=_THEORY),
+    "theoretical.complex_parameter": Label(
+        N_("complex roughness parameter of the disc"), "Δ", "2.6, E2", part=_THEORY
+    ),
+    "theoretical.rmax_over_r": Label(
+        N_("ratio of the peak height to the radius"), "R_max/R", part=_THEORY
+    ),
+    "theoretical.C": Label(N_("coefficient C"), "C", "2.1", part=_THEORY),
+    "theoretical.beta": Label(N_("exponent β = 1/(1 + 2ν)"), "β", "2.1", part=_THEORY),
+    "theoretical.k_nu": Label(N_("coefficient k_ν"), "k_ν", "2.1", part=_THEORY),
+    "theoretical.k_f": Label(N_("coefficient of the contact mode"), "k_f", "2.1", part=_THEORY),
+    "theoretical.intensity": Label(
+        N_("theoretical wear intensity"), "I_{h,theor}", "2.1", part=_THEORY
+    ),
+    "adequacy.relative_error_percent": Label(
+        N_("relative difference"), "ΔI_h", "2.14", "%", 3, part=_COMPARISON
+    ),
+    "adequacy.lower": Label(N_("lower bound 0.4·I_{h,theor}"), "", "2.15", part=_COMPARISON),
+    "adequacy.upper": Label(N_("upper bound 2.6·I_{h,theor}"), "", "2.15", part=_COMPARISON),
+    "adequacy.adequate": Label(N_("model adequate"), "", "2.15", part=_COMPARISON),
+    "validity.within_range": Label(N_("theory within its range"), part=_COMPARISON),
+    "validity.reasons": Label(N_("why the theory is outside its range"), part=_COMPARISON),
+    "validity.approach": Label(N_("relative approach at the contour pressure"), "ε", part=_THEORY),
+    "validity.real_area_ratio": Label(
+        N_("real contact area over the contour area"), "η_r", part=_THEORY
+    ),
+    "validity.real_contact_pressure": Label(
+        N_("real-contact pressure at the asperities"), "p_r", unit="MPa", part=_THEORY
+    ),
+    "validity.hardness": Label(N_("hardness of the pin"), "HB", unit="MPa", part=_THEORY),
+    "validity.asperity_stress": Label(N_("stress at an asperity"), "σ", unit="MPa", part=_THEORY),
+    "validity.fatigue_strength": Label(
+        N_("fatigue strength of the pin"), "σ_0", unit="MPa", part=_THEORY
+    ),
+    "validity.cycles_to_failure": Label(N_("cycles to failure per asperity"), "n", part=_THEORY),
+    "validity.plastic_k_f": Label(
+        N_("coefficient of the plastic contact"), "k_f^n", "2.1", part=_THEORY
+    ),
+    "verdict": Label(N_("verdict on the wear theory"), part=_COMPARISON),
+    "sensitivity[].fatigue_t": Label(N_("fatigue parameter"), "t", "2.1", part=_THEORY),
+    "sensitivity[].strength_ratio": Label(
+        N_("ratio of the fatigue strength to the tensile strength"), "σ_0/σ_B", part=_THEORY
+    ),
+    "sensitivity[].intensity": Label(N_("wear intensity (2.1)"), "I_h", "2.1", part=_THEORY),
+    "sensitivity[].cycles_to_failure": Label(
+        N_("cycles to failure per asperity"), "n", part=_THEORY
+    ),
+}
+
+SLIDE_BEARING: dict[str, Label] = {
+    "rows": Label(N_("rows of table 3.1"), "n", digits=9),
+    "load": Label(N_("load from the loader scale"), "N", unit="N"),
+    "temperature": Label(N_("mean oil temperature"), "t", "3.21", "degC", 3),
+    "viscosity": Label(N_("oil viscosity"), "μ_t", "3.21", "Pa*s"),
+    "mu_bar": Label(N_("dimensionless viscosity"), "μ̄", "3.22"),
+    "chi_mean": Label(N_("mean eccentricity ratio"), "χ_ср", "3.23", resolution=_NOISE_PI),
+    "chi_mean_uncertainty": Label(
+        N_("standard uncertainty of the mean eccentricity ratio"), "u(χ_ср)", "GUM"
+    ),
+    "chi_mean_expanded": Label(
+        N_("expanded uncertainty of the mean eccentricity ratio (k = 2)"), "U(χ_ср)", "GUM"
+    ),
+    "attitude_angle": Label(
+        N_("attitude angle, from the load line to the line of centres"), "ψ", unit="deg"
+    ),
+    "rupture_angle": Label(
+        N_("rupture angle of the finite film past the thinnest film"),
+        "φ_r",
+        unit="deg",
+        part=_THEORY,
+    ),
+    "half_width": Label(N_("relative half-width"), "a", "3.24, E3"),
+    "phi_max": Label(N_("angle of the largest pressure"), "φ_pmax", unit="deg"),
+    "pressure_max": Label(N_("largest pressure"), "p_max", unit="at"),
+    "table[].limb_angle": Label(N_("limb angle"), "φ_лимб", unit="deg"),
+    "table[].phi_model": Label(N_("angle in the model frame"), "φ", "3.20", "deg"),
+    "table[].pressure": Label(N_("pressure at z = 0"), "p", unit="at", resolution=1e-4),
+    "table[].e_x": Label(N_("displacement of the journal along x"), "e_x", "3.16", "um", 4, 1e-3),
+    "table[].e_y": Label(N_("displacement of the journal along y"), "e_y", "3.16", "um", 4, 1e-3),
+    "table[].e": Label(N_("eccentricity"), "e", "3.16", "um", 4, _NOISE_UM),
+    "table[].chi": Label(N_("eccentricity ratio"), "χ", "3.17", resolution=_NOISE_PI),
+    "table[].pi_measured": Label(
+        N_("measured dimensionless pressure"), "Π_э", "3.18", resolution=_NOISE_PI
+    ),
+    "table[].pi_short": Label(
+        N_("short bearing"), "Π_0", "3.10", resolution=_NOISE_PI, part=_THEORY
+    ),
+    "table[].pi_long": Label(N_("long bearing"), "Π_∞", "3.15", resolution=_NOISE_PI, part=_THEORY),
+    "table[].pi_finite": Label(
+        N_("finite bearing"), "Π", "3.1", resolution=_NOISE_PI, part=_THEORY
+    ),
+    "table[].error_short": Label(
+        N_("difference from the short bearing"), "ΔΠ_0", "3.26", "%", 3, 0.01, _COMPARISON
+    ),
+    "table[].error_long": Label(
+        N_("difference from the long bearing"), "ΔΠ_∞", "3.27", "%", 3, 0.01, _COMPARISON
+    ),
+    "axial[].z": Label(N_("axial coordinate"), "z", "", resolution=_NOISE_PI),
+    "axial[].pressure": Label(N_("pressure"), "p", unit="at", resolution=1e-4),
+    "axial[].pi_measured": Label(
+        N_("measured dimensionless pressure"), "Π_z", "3.18", resolution=_NOISE_PI
+    ),
+    "axial[].pi_short": Label(
+        N_("short bearing"), "Π_m", "3.10", resolution=_NOISE_PI, part=_THEORY
+    ),
+    "axial[].pi_finite": Label(
+        N_("finite bearing"), "Π", "3.1", resolution=_NOISE_PI, part=_THEORY
+    ),
+    "axial[].error": Label(
+        N_("difference from the short bearing"), "ΔΠ", "3.25", "%", 3, 0.01, _COMPARISON
+    ),
+    "table[].attitude": Label(N_("attitude angle"), "ψ", unit="deg"),
+}
+
+MTOS: dict[str, Label] = {
+    "rows": Label(N_("load steps"), "n", digits=9),
+    "h_crit": Label(N_("critical film thickness, sum of the five terms"), "h_min^кр", "", "um"),
+    "h_min_smallest": Label(N_("smallest film thickness of the run"), "h_min", "", "um"),
+    "friction_fluid": Label(N_("mean friction coefficient, fluid film"), "f_э", "4.16"),
+    "half_width": Label(N_("relative half-width"), "a", "E3"),
+    "steps[].load": Label(N_("load"), "N", unit="N"),
+    "steps[].regime": Label(N_("lubrication regime")),
+    "steps[].e_x": Label(N_("displacement of the journal along x"), "e_x", "4.11", "um", 4, 1e-3),
+    "steps[].e_y": Label(N_("displacement of the journal along y"), "e_y", "4.11", "um", 4, 1e-3),
+    "steps[].e": Label(N_("eccentricity"), "e", "4.11", "um", 4, _NOISE_UM),
+    "steps[].chi": Label(N_("eccentricity ratio"), "χ", "4.11", resolution=_NOISE_PI),
+    "steps[].chi_uncertainty": Label(
+        N_("standard uncertainty of the eccentricity ratio"), "u(χ)", "GUM"
+    ),
+    "steps[].chi_expanded": Label(
+        N_("expanded uncertainty of the eccentricity ratio (k = 2)"), "U(χ)", "GUM"
+    ),
+    "steps[].angle": Label(N_("attitude angle"), "δ, γ", "4.12", "deg"),
+    "steps[].spring_force": Label(N_("spring force"), "F", "4.13", "N"),
+    "steps[].friction_moment": Label(N_("friction moment"), "M_тр", "4.14", "N*m"),
+    "steps[].friction_force": Label(N_("friction force"), "F_тр", "4.15", "N"),
+    "steps[].friction_measured": Label(N_("measured friction coefficient"), "f_э", "4.16"),
+    "steps[].viscosity": Label(N_("oil viscosity"), "μ_t", "4.18", "Pa*s"),
+    "steps[].bearing_characteristic": Label(N_("bearing characteristic"), "S_1", "4.21, E9"),
+    "steps[].temperature_rise": Label(N_("temperature rise of the oil"), "Δt", "4.19", "degC", 3),
+    "steps[].h_min": Label(N_("film thickness"), "h_min", "", "um", 4, _NOISE_UM),
+    "steps[].film": Label(N_("film (against the critical thickness)")),
+    "steps[].friction_theory": Label(
+        N_("friction coefficient, fluid film theory"), "f_T", "4.10", part=_THEORY
+    ),
+    "steps[].friction_finite": Label(
+        N_("friction coefficient of the finite bearing"), "f", "3.1", part=_THEORY
+    ),
+    "steps[].load_finite": Label(
+        N_("load the finite bearing carries"), "W", "3.1", "N", part=_THEORY
+    ),
+    "steps[].friction_error": Label(
+        N_("difference from the theory"), "Δf", "", "%", 3, 0.01, _COMPARISON
+    ),
+    "steps[].friction_measured_uncertainty": Label(
+        N_("standard uncertainty of the friction coefficient"), "u(f_э)", "GUM"
+    ),
+    "steps[].friction_measured_expanded": Label(
+        N_("expanded uncertainty of the friction coefficient (k = 2)"), "U(f_э)", "GUM"
+    ),
+    "steps[].film_parameter": Label(
+        N_("film parameter h_min/√(Rq_journal² + Rq_bush²)"), "Λ", digits=3
+    ),
+    "steps[].film_lambda": Label(N_("regime by the film parameter")),
+    "journal_rq": Label(N_("root-mean-square roughness of the journal"), "R_q", unit="um"),
+    "bush_rq": Label(N_("root-mean-square roughness of the bush"), "R_q", unit="um"),
+    "roughness_source": Label(N_("where the roughness comes from")),
+    "regime_disagreements": Label(
+        N_("steps whose regime differs from the experiment's"), part=_COMPARISON
+    ),
+}
+
+_FIT = {
+    "method": Label(N_("fitting method"), "", "", part=_THEORY),
+    "nu": Label(N_("exponent of the bearing curve"), "ν", "1.8", part=_THEORY),
+    "b": Label(N_("coefficient of the bearing curve"), "b", "1.8", part=_THEORY),
+    "nu_partial": Label(N_("exponent by a pair of levels"), "ν_i", "1.16", part=_THEORY),
+    "b_partial": Label(N_("coefficient by a level"), "b_i", "1.18", part=_THEORY),
+}
+
+PROFILOMETER: dict[str, Label] = {
+    "rows": Label(N_("points of the trace"), "n", digits=9),
+    "base_length": Label(N_("base length"), "l", "", "mm"),
+    "ra": Label(N_("arithmetic mean deviation"), "R_a", "1.3", "um", 3),
+    "ra_uncertainty": Label(
+        N_("standard uncertainty of the arithmetic mean deviation"), "u(R_a)", "GUM", "um", 3
+    ),
+    "ra_expanded": Label(
+        N_("expanded uncertainty of the arithmetic mean deviation (k = 2)"),
+        "U(R_a)",
+        "GUM",
+        "um",
+        3,
+    ),
+    "ra_error": Label(N_("instrument error of Ra"), "δR_a", "1.14", "um", 2),
+    "rq": Label(N_("root-mean-square deviation"), "R_q", "", "um", 3),
+    "rz": Label(N_("ten-point height"), "R_z", "1.4", "um", 3),
+    "rz_uncertainty": Label(
+        N_("standard uncertainty of the ten-point height"), "u(R_z)", "GUM", "um", 3
+    ),
+    "rz_expanded": Label(
+        N_("expanded uncertainty of the ten-point height (k = 2)"), "U(R_z)", "GUM", "um", 3
+    ),
+    "rz_error": Label(N_("instrument error of Rz"), "δR_z", "1.14", "um", 2),
+    "rmax": Label(N_("peak line to valley line"), "R_max", "", "um", 3),
+    "rmax_error": Label(N_("instrument error of Rmax"), "δR_max", "1.14", "um", 2),
+    "sm": Label(N_("mean spacing of profile elements"), "S_m", "", "mm", 3),
+    "sm_error": Label(N_("instrument error of Sm"), "δS_m", "1.14", "mm", 2),
+    "asperity_radius": Label(N_("mean asperity radius"), "R", "1.1, E5", "um", 3),
+    "levels": Label(N_("depth of the level below the peak line"), "p_i", "", "um", 3),
+    "eps": Label(N_("relative depth"), "ε", "1.7", digits=3),
+    "tp": Label(N_("relative bearing length"), "t_p", "1.6", digits=3),
+    **{
+        f"fit_{method}.{name}": label
+        for method in ("manual", "lsq")
+        for name, label in _FIT.items()
+    },
+    "fit_manual.residuals": Label(
+        N_("difference from the fit by three pairs of levels"), "Δt_p", "1.8", digits=3
+    ),
+    "fit_lsq.residuals": Label(
+        N_("difference from the least-squares fit"), "Δt_p", "1.8", digits=3
+    ),
+    "complex_parameter": Label(N_("complex roughness parameter"), "Δ", "1.9", part=_THEORY),
+    "ra_from_complex": Label(
+        N_("Ra from the complex parameter"), "R_a", "1.10", "um", 3, 0, _THEORY
+    ),
+    "complex_parameter_equilibrium": Label(
+        N_("complex parameter of the equilibrium roughness"), "Δ_T", "1.11", part=_COMPARISON
+    ),
+}
+
+
+def row_labels(labels: Mapping[str, Label], prefix: str) -> dict[str, Label]:
+    """The labels of the rows of a per-row table by field name: ``row_labels(MTOS,
+    "steps[].")["chi"]``."""
+    return {k.removeprefix(prefix): v for k, v in labels.items() if k.startswith(prefix)}
+
+
+RESULTS: dict[StandKind, Mapping[str, Label]] = {
+    StandKind.SMTS2: SMTS2,
+    StandKind.SLIDE_BEARING: SLIDE_BEARING,
+    StandKind.MTOS: MTOS,
+    StandKind.PROFILOMETER: PROFILOMETER,
+}
+"""Every stand's results as people read them, in the order of the report."""
+
+
+@dataclass(frozen=True, slots=True)
+class RowTable:
+    """A per-row table of the results (a CSV of its own): its file name, its caption and
+    its columns, paths of lists of equal length (``"steps[].chi"``, ``"levels"``)."""
+
+    name: str
+    caption: str
+    columns: tuple[str, ...]
+
+
+def _columns(labels: Mapping[str, Label], prefix: str) -> tuple[str, ...]:
+    return tuple(path for path in labels if path.startswith(prefix))
+
+
+TABLES: dict[StandKind, tuple[RowTable, ...]] = {
+    StandKind.SMTS2: (),
+    StandKind.SLIDE_BEARING: (
+        RowTable(
+            "angles",
+            N_("Tables 3.1 and 3.3: pressure along the angle at z = 0"),
+            _columns(SLIDE_BEARING, "table[]."),
+        ),
+        RowTable(
+            "axial_profile",
+            N_("Table 3.2: pressure along the axis"),
+            _columns(SLIDE_BEARING, "axial[]."),
+        ),
+    ),
+    StandKind.MTOS: (
+        RowTable("steps", N_("Tables 4.4-4.6: the load steps"), _columns(MTOS, "steps[].")),
+    ),
+    StandKind.PROFILOMETER: (
+        RowTable(
+            "bearing_curve",
+            N_("Tables 1.6 and 1.8: the bearing curve"),
+            ("levels", "eps", "tp", "fit_manual.residuals", "fit_lsq.residuals"),
+        ),
+        RowTable(
+            "partial_fits",
+            N_("Table 1.7: coefficients by pairs of levels"),
+            ("fit_manual.nu_partial", "fit_manual.b_partial"),
+        ),
+    ),
+}
+"""The per-row tables of each stand's results."""
+
+#: Results that are plot series or the analysis' own words, not quantities.
+NOT_QUANTITIES = frozenset({"stand", "friction", "pending", "notes"})
+
+_SUB = str.maketrans("0123456789aehijklmnoprstuvx+-", "₀₁₂₃₄₅₆₇₈₉ₐₑₕᵢⱼₖₗₘₙₒₚᵣₛₜᵤᵥₓ₊₋")
+_SUP = str.maketrans("0123456789+-n", "⁰¹²³⁴⁵⁶⁷⁸⁹⁺⁻ⁿ")
+_SCRIPT = re.compile(r"([_^])(\{[^}]*\}|[\w∞]+)")
+
+
+def plain_symbol(symbol: str) -> str:
+    """The symbol in plain Unicode for CSV and consoles: ``"e_x"`` -> ``"eₓ"``,
+    ``"S_1^{-1}"`` -> ``"S₁⁻¹"``; a script Unicode cannot write stays as ``_min``."""
+
+    def script(match: re.Match[str]) -> str:
+        text = match.group(2).strip("{}")
+        table = _SUB if match.group(1) == "_" else _SUP
+        turned = text.translate(table)
+        if any(c == t for c, t in zip(text, turned, strict=True) if c not in ",·"):
+            return match.group(1) + text
+        return turned
+
+    return _SCRIPT.sub(script, symbol)
+
+
+PARTICULARS: dict[str, Label] = {
+    "mode": Label(N_("mode")),
+    "load_N": Label(N_("load"), "N", unit="N"),
+    "speed_rpm": Label(N_("disc speed"), "n", unit="rpm"),
+    "revolutions": Label(N_("disc revolutions"), "M_rev", unit="rev"),
+    "loads_fluid": Label(N_("loads, fluid film"), "N", unit="N"),
+    "loads_mixed": Label(N_("loads, mixed lubrication"), "N", unit="N"),
+    "loads_boundary": Label(N_("loads, boundary lubrication"), "N", unit="N"),
+    "bearing_model": Label(N_("bearing model of the simulator")),
+    "simulated": Label(N_("simulated")),
+    "ra_um": Label(N_("roughness of the surface"), "R_a", unit="um"),
+    "base_length_mm": Label(N_("base length"), "l", unit="mm"),
+    "loader_scale_mm": Label(N_("loader scale reading"), unit="mm"),
+    "limb_step_deg": Label(N_("step of the limb"), "Δφ", unit="deg"),
+    "pin": Label(N_("pin")),
+    "disc": Label(N_("disc")),
+    "journal": Label(N_("journal")),
+    "bush": Label(N_("bush")),
+    "bearing": Label(N_("bearing")),
+    "surface": Label(N_("surface")),
+}
+"""The usual keys of a run's test plan and specimen (free fields: a key not named here is
+shown as it is, as user data), each value in the unit of its key."""
+
+WORDS: tuple[str, ...] = (
+    N_("fluid"),
+    N_("mixed"),
+    N_("boundary"),
+    N_("elastic"),
+    N_("plastic"),
+    N_("manual"),
+    N_("lsq"),
+    N_("yes"),
+    N_("no"),
+    N_("wear"),
+    N_("ABRIS-PM7"),
+)
+"""The words results, test plans and configurations hold as values (regimes, contact
+modes, methods, the instrument)."""

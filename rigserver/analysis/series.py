@@ -17,6 +17,7 @@ from typing import Any
 from pydantic import BaseModel
 
 from rigserver.core import statistics
+from schemas.labels import RESULTS, Label, round_to
 from schemas.quantity import description_paths, unit_paths
 from schemas.results import MtosResults, ProfilometerResults, SlideBearingResults, Smts2Results
 from schemas.runs import Run, RunState
@@ -191,7 +192,9 @@ def _result_statistics(
         result.notes.append(UNTESTED["no_values"])
         return result
     numbers = [v.value for v in values]
-    result.overall = _summary(numbers, [v.run_id for v in values])
+    label = label_of(members[0].run.stand, key)
+    digits = label.digits if label is not None else 4
+    result.overall = _summary(numbers, [v.run_id for v in values], digits)
     levels: dict[str, list[RunValue]] = {}
     for v in values:
         levels.setdefault(v.level or "", []).append(v)
@@ -201,7 +204,7 @@ def _result_statistics(
         result.levels = [
             LevelSummary(
                 level=name,
-                summary=_summary([v.value for v in group], [v.run_id for v in group]),
+                summary=_summary([v.value for v in group], [v.run_id for v in group], digits),
             )
             for name, group in levels.items()
         ]
@@ -213,9 +216,13 @@ def _result_statistics(
     return result
 
 
-def _summary(values: list[float], run_ids: list[str]) -> Summary:
+def _summary(values: list[float], run_ids: list[str], digits: int) -> Summary:
+    """The summary of the values; Grubbs' test only on three values or more that differ as
+    printed (to the result's declared digits): values that differ below that are ties of
+    the instruments' resolution, which the test would flag by rounding alone."""
     found = statistics.summarise(values)
-    test = found.grubbs
+    distinct = len({round_to(v, digits) for v in values})
+    test = found.grubbs if distinct >= 3 else None
     return Summary(
         n=found.n,
         mean=found.mean,
@@ -261,6 +268,11 @@ def _comparison(levels: Mapping[str, list[RunValue]]) -> ComparisonResult:
         difference_low=found.difference_low,
         difference_high=found.difference_high,
     )
+
+
+def label_of(stand: StandKind, key: str) -> Label | None:
+    """The label (schemas.labels) of a headline result: ``steps[3].chi`` -> ``steps[].chi``."""
+    return RESULTS[stand].get(_generic(key))
 
 
 def _symbol(key: str, headline: Headline) -> str:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import base64
 from functools import lru_cache
 from typing import Any
 
@@ -17,6 +18,11 @@ def symbols(text: str) -> Markup:
     return text if isinstance(text, Markup) else html_symbol(text)
 
 
+def base64_text(text: str) -> str:
+    """The ``b64`` filter: ``text`` (UTF-8) in base64, for a ``data:`` URL."""
+    return base64.b64encode(text.encode()).decode("ascii")
+
+
 @lru_cache
 def environment() -> Environment:
     env = Environment(
@@ -26,6 +32,7 @@ def environment() -> Environment:
         lstrip_blocks=True,
     )
     env.filters["sym"] = symbols
+    env.filters["b64"] = base64_text
     return env
 
 

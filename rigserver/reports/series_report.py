@@ -19,15 +19,19 @@ import numpy as np
 from markupsafe import Markup
 
 from rigserver.analysis import Readings
+from rigserver.analysis.series import label_of
+from rigserver.reports import results_view
 from rigserver.reports.blocks import axis
 from rigserver.reports.downsample import min_max
-from rigserver.reports.formatting import fmt
+from rigserver.reports.formatting import fmt, number_locale, shown
 from rigserver.reports.i18n import Lang, Messages
 from rigserver.reports.render import render
 from rigserver.reports.series_plots import Curve, overlay
+from schemas.labels import Label
 from schemas.messages import N_
 from schemas.series import ResultStatistics, SeriesDetail, SeriesPurpose
 from schemas.stands import StandKind
+from schemas.units import UNITS
 
 #: The report's own texts by key: English, the message ids of the catalogs
 #: (``rigserver/locale``).
@@ -106,25 +110,32 @@ def text(lang: Lang) -> Callable[..., str]:
 
 def series_csv(detail: SeriesDetail) -> str:
     """One row per run: id, level, state, operator, start, then every headline result
-    (``key [unit]``) at full precision; empty where a run lacks it."""
+    (``key [unit]``, in its display unit: mm³, mg, µm) at full precision; empty where a run
+    lacks it."""
     out = io.StringIO()
     writer = csv.writer(out)
-    units = {s.key: s.unit for s in detail.statistics}
-    keys = list(units)
+    shown_in: dict[str, tuple[str, float]] = {}
+    for stats in detail.statistics:
+        label = label_of(detail.stand, stats.key) if detail.stand else None
+        unit = label.unit if label is not None else stats.unit
+        shown_in[stats.key] = (unit, UNITS[stats.unit].factor / UNITS[unit].factor)
     writer.writerow(
-        ["run_id", "level", "state", "operator", "created", *(f"{k} [{units[k]}]" for k in keys)]
+        [
+            "run_id",
+            "level",
+            "state",
+            "operator",
+            "created",
+            *(f"{key} [{unit}]" for key, (unit, _) in shown_in.items()),
+        ]
     )
     for row in detail.runs:
-        writer.writerow(
-            [
-                row.run_id,
-                row.level or "",
-                row.state.value,
-                row.operator,
-                row.created.isoformat(),
-                *("" if row.values.get(k) is None else repr(row.values[k]) for k in keys),
-            ]
-        )
+        values = [
+            "" if (value := row.values.get(key)) is None else repr(value * factor)
+            for key, (_, factor) in shown_in.items()
+        ]
+        when = row.created.isoformat()
+        writer.writerow([row.run_id, row.level or "", row.state.value, row.operator, when, *values])
     return out.getvalue()
 
 
@@ -140,7 +151,10 @@ def series_context(
     ``values`` are each run's results (by run id), ``readings`` each run's readings (for
     the profiles of the profilometer)."""
     t = text(lang)
-    rows = [_statistics_row(s) for s in detail.statistics]
+    m = Messages(lang)
+    rows = [_statistics_row(detail.stand, s, m) for s in detail.statistics]
+    with number_locale(lang):
+        plots = _plots(detail, values, readings, t, m)
     purpose = (
         t("comparison", factor=detail.factor or "")
         if detail.purpose is SeriesPurpose.COMPARISON
@@ -150,30 +164,46 @@ def series_context(
         "lang": lang,
         "t": t,
         "fmt": fmt,
-        "unit": Messages(lang).unit,
         "detail": detail,
         "purpose": purpose,
         "rows": rows,
         "run_columns": [r for r in rows if _PER_STEP not in r["stats"].key],
         "own_uncertainty": any(r["own_uncertainty"] is not None for r in rows),
-        "plots": _plots(detail, values, readings, t, Messages(lang)),
+        "plots": plots,
     }
 
 
 def render_series_report(context: Mapping[str, Any], *, made: datetime) -> str:
     """The series report as a standalone HTML page (and the PDF's source)."""
-    return render("series.html", made=made, **context)
+    with number_locale(context["lang"]):
+        return render("series.html", made=made, **context)
 
 
 def render_series_body(context: Mapping[str, Any]) -> Markup:
-    """The report's tables and plots, for the series page."""
-    return Markup(render("series_body.html", **context))
+    """The report's tables and plots, for the series page: the plots as images (``data:``
+    URLs), since a page's Content-Security-Policy refuses the inline styles of an SVG."""
+    with number_locale(context["lang"]):
+        return Markup(render("series_body.html", as_images=True, **context))
 
 
-def _statistics_row(stats: ResultStatistics) -> dict[str, Any]:
+def _statistics_row(
+    stand: StandKind | None, stats: ResultStatistics, m: Messages
+) -> dict[str, Any]:
+    """A headline result as the tables print it: its label's words, symbol and display unit
+    (schemas.labels), and a formatter of its values (and spreads) in that unit."""
+    label = label_of(stand, stats.key) if stand else None
+    if label is None:
+        label = Label(stats.description, stats.symbol, unit=stats.unit)  # type: ignore[arg-type]
     own = [v.uncertainty for v in stats.values if v.uncertainty is not None]
+
+    def show(value: float | None) -> str:
+        return "—" if value is None else shown(label, value, stats.unit)
+
     return {
         "stats": stats,
+        "name": results_view.name(m, label),
+        "unit": results_view.unit(m, label),
+        "show": show,
         "own_uncertainty": float(np.mean(own)) if own else None,
     }
 

@@ -15,7 +15,7 @@ from rigsim.stands.smts2 import Smts2Settings
 from schemas.stands import StandKind
 from tests.api.conftest import KEYS, WRITER, Server, auth
 from tests.reports.simulated import post
-from tests.web.test_browser import ARGS, CHROMIUM
+from tests.web.test_browser import ARGS, CHROMIUM, until
 
 pytestmark = [
     pytest.mark.slow,
@@ -67,16 +67,14 @@ def test_series_page_refreshes_while_a_run_is_open(public_server: Server, tmp_pa
                 statistics = page.locator("#series-statistics")
                 assert "Результат" in statistics.inner_text()
                 assert page.locator("#series-runs tbody tr, #series-runs tr").count() >= 3
-                assert page.locator("#series-body svg").count() >= 1  # the overlay
+                overlay = page.locator("#series-body figure img").first  # an SVG as an image
+                until(lambda: overlay.evaluate("i => i.complete && i.naturalWidth > 0"))
                 page.screenshot(path=str(tmp_path / "series-ru.png"), full_page=True)
 
                 answer = http.post(f"/api/v1/runs/{open_run}/finish", headers=auth(WRITER))
                 assert answer.status_code == 200, answer.text
                 # The next refresh (every 5 s) shows the run finished and stops refreshing.
-                page.wait_for_function(
-                    "document.getElementById('series-body').dataset.refresh === '0'",
-                    timeout=20_000,
-                )
+                until(lambda: body.get_attribute("data-refresh") == "0", seconds=20)
                 assert body.get_attribute("data-updated")
                 assert "идёт" not in page.locator("#series-runs").inner_text()
             finally:

@@ -149,14 +149,6 @@ SMTS2: dict[str, Label] = {
     "theoretical.intensity": Label(
         N_("theoretical wear intensity"), "I_{h,theor}", "2.1", part=_THEORY
     ),
-    "adequacy.relative_error_percent": Label(
-        N_("relative difference"), "ΔI_h", "2.14", "%", 3, part=_COMPARISON
-    ),
-    "adequacy.lower": Label(N_("lower bound 0.4·I_{h,theor}"), "", "2.15", part=_COMPARISON),
-    "adequacy.upper": Label(N_("upper bound 2.6·I_{h,theor}"), "", "2.15", part=_COMPARISON),
-    "adequacy.adequate": Label(N_("model adequate"), "", "2.15", part=_COMPARISON),
-    "validity.within_range": Label(N_("theory within its range"), part=_COMPARISON),
-    "validity.reasons": Label(N_("why the theory is outside its range"), part=_COMPARISON),
     "validity.approach": Label(N_("relative approach at the contour pressure"), "ε", part=_THEORY),
     "validity.real_area_ratio": Label(
         N_("real contact area over the contour area"), "η_r", part=_THEORY
@@ -173,7 +165,6 @@ SMTS2: dict[str, Label] = {
     "validity.plastic_k_f": Label(
         N_("coefficient of the plastic contact"), "k_f^n", "2.1", part=_THEORY
     ),
-    "verdict": Label(N_("verdict on the wear theory"), part=_COMPARISON),
     "sensitivity[].fatigue_t": Label(N_("fatigue parameter"), "t", "2.1", part=_THEORY),
     "sensitivity[].strength_ratio": Label(
         N_("ratio of the fatigue strength to the tensile strength"), "σ_0/σ_B", part=_THEORY
@@ -182,6 +173,15 @@ SMTS2: dict[str, Label] = {
     "sensitivity[].cycles_to_failure": Label(
         N_("cycles to failure per asperity"), "n", part=_THEORY
     ),
+    "adequacy.relative_error_percent": Label(
+        N_("relative difference"), "ΔI_h", "2.14", "%", 3, part=_COMPARISON
+    ),
+    "adequacy.lower": Label(N_("lower bound 0.4·I_{h,theor}"), "", "2.15", part=_COMPARISON),
+    "adequacy.upper": Label(N_("upper bound 2.6·I_{h,theor}"), "", "2.15", part=_COMPARISON),
+    "adequacy.adequate": Label(N_("model adequate"), "", "2.15", part=_COMPARISON),
+    "validity.within_range": Label(N_("theory within its range"), part=_COMPARISON),
+    "validity.reasons": Label(N_("why the theory is outside its range"), part=_COMPARISON),
+    "verdict": Label(N_("verdict on the wear theory"), part=_COMPARISON),
 }
 
 SLIDE_BEARING: dict[str, Label] = {

@@ -56,7 +56,7 @@ def analyse(run: Run, readings: Readings, profiles: Profiles | None = None) -> M
         half_width=c.width / c.diameter,
         journal_rq=c.journal_rq if journal_rq is None else journal_rq,
         bush_rq=c.bush_rq if bush_rq is None else bush_rq,
-        roughness_source=source or "configuration",
+        roughness_source=source or N_("the stand's configuration"),
         notes=list(profiles.problems),
     )
     rows = readings.read(GROUP)

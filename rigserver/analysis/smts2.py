@@ -35,6 +35,23 @@ _KG_PER_G = UNITS["g"].factor
 _M_PER_UM = UNITS["um"].factor
 _M_PER_MM = UNITS["mm"].factor
 #: t over the range of table 2.1 (1.3 for plastic steels to 13-14 for steel 30).
+#: Why (2.1) is outside its range, by the codes of core.wear_validity (the figures behind
+#: each are in the validity result beside them).
+REASONS = {
+    "plastic_asperities": N_(
+        "the asperities are plastic: the real-contact pressure p_r exceeds HB, though "
+        "p_c <= HB by (2.7)"
+    ),
+    "few_cycles": N_(
+        "an asperity fails in fewer passes n = (σ0/σ)^t than the fatigue theory needs (n ≫ 1)"
+    ),
+    "no_plastic_k_f": N_("the plastic branch has no k_f^n: σ_T <= 2f·HB"),
+}
+#: The verdicts on the wear theory (2.1) against the experiment.
+VERDICT_OUTSIDE = N_("theory outside its range")
+VERDICT_ADEQUATE = N_("model (2.1) adequate (2.15)")
+VERDICT_NOT_ADEQUATE = N_("model (2.1) not adequate (2.15)")
+
 SENSITIVITY_T = (1.3, 2.0, 3.0, 5.0, 8.0, 11.0, 14.0)
 #: σ0/σ_B of the sensitivity table, at the t that (2.7) picks.
 SENSITIVITY_STRENGTH = (0.5, 1.0, 2.0, 5.0, 10.0)
@@ -132,7 +149,7 @@ def analyse(run: Run, readings: Readings, profiles: Profiles | None = None) -> S
             N_("theoretical wear needs disc_ra (the disc's Ra from the profilometer)")
         )
     if result.validity is not None and not result.validity.within_range:
-        result.verdict = "theory outside its range: " + "; ".join(result.validity.reasons)
+        result.verdict = VERDICT_OUTSIDE
     elif result.experimental and result.theoretical and result.experimental.intensity > 0:
         adequacy = wear.wear_adequacy(
             i_exp=result.experimental.intensity, i_theor=result.theoretical.intensity
@@ -143,10 +160,7 @@ def analyse(run: Run, readings: Readings, profiles: Profiles | None = None) -> S
             lower=adequacy.lower,
             upper=adequacy.upper,
         )
-        result.verdict = (
-            f"model (2.1) {'adequate' if adequacy.adequate else 'not adequate'} (2.15): "
-            f"ΔI_h = {adequacy.relative_error_percent:.3g} %"
-        )
+        result.verdict = VERDICT_ADEQUATE if adequacy.adequate else VERDICT_NOT_ADEQUATE
     return result
 
 
@@ -219,7 +233,8 @@ def _validity(
         b=config.b,
         nu=config.nu,
     )
-    return WearValidityResult.model_validate(dataclasses.asdict(v))
+    found = dataclasses.asdict(v) | {"reasons": [REASONS[code] for code in v.reasons]}
+    return WearValidityResult.model_validate(found)
 
 
 def _sensitivity(

@@ -52,7 +52,10 @@ class WearTheoryValidity:
         True when the branch (2.7) picks applies: elastic with p_r <= HB and n >= MIN_CYCLES,
         or plastic with k_f^n defined.
     reasons : tuple of str
-        Why not, one sentence each (empty when within range).
+        Why not (empty when within range), as codes: ``"plastic_asperities"`` (elastic by
+        (2.7), but p_r > HB), ``"few_cycles"`` (n < MIN_CYCLES), ``"no_plastic_k_f"``
+        (k_f^n undefined, σ_T <= 2f·HB, where the plastic branch would be needed); the
+        figures behind each are the other attributes.
     """
 
     approach: float
@@ -146,21 +149,11 @@ def wear_theory_validity(
     reasons: list[str] = []
     if theory.contact == "elastic":
         if p_r > hb:
-            reasons.append(
-                f"the asperities are plastic: the real-contact pressure p_r = {p_r / 1e6:.0f} MPa "
-                f"exceeds HB = {hb / 1e6:.0f} MPa, though p_c = "
-                f"{theory.contour_pressure / 1e6:.3g} MPa <= HB by (2.7)"
-            )
+            reasons.append("plastic_asperities")
         if cycles < MIN_CYCLES:
-            reasons.append(
-                f"an asperity fails in n = (σ0/σ)^t = {cycles:.3g} passes, where the fatigue "
-                f"theory needs n ≫ 1 (here n >= {MIN_CYCLES:g})"
-            )
+            reasons.append("few_cycles")
     if k_f_n is None and (theory.contact == "plastic" or p_r > hb):
-        reasons.append(
-            f"the plastic branch has no k_f^n: σ_T = {yield_strength / 1e6:.0f} MPa <= 2f·HB = "
-            f"{2.0 * friction_coefficient * hb / 1e6:.0f} MPa"
-        )
+        reasons.append("no_plastic_k_f")
     return WearTheoryValidity(
         approach=approach,
         real_area_ratio=area_ratio,

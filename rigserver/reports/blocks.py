@@ -13,6 +13,7 @@ from rigserver.reports.i18n import Messages
 from schemas.channels import ChannelGroup
 from schemas.labels import Label
 from schemas.quantity import units_of
+from schemas.units import UNITS
 
 
 def header(t: Messages, symbol: str, unit: str | None = None) -> Markup:
@@ -134,24 +135,34 @@ def columns(
 
 
 def uncertainties(
-    t: Messages, model: BaseModel, fields: Sequence[tuple[str, str, str]], label: str = ""
+    t: Messages,
+    model: BaseModel,
+    fields: Sequence[tuple[str, str, str]],
+    label: str = "",
+    *,
+    labels: Mapping[str, Label],
+    prefix: str = "",
 ) -> list[list[Text]]:
     """Rows of the uncertainty table: ``(field, symbol, message key)`` with the field's
-    ``<field>_expanded`` beside it, printed ``value ± U (k = 2)``; fields without a value
-    are left out. ``label`` goes after the quantity's name (an MTOS step)."""
+    ``<field>_expanded`` beside it, printed ``value ± U (k = 2)`` in the display unit of
+    its label (``labels[prefix + field]``); fields without a value are left out. ``label``
+    goes after the quantity's name (an MTOS step)."""
     units = units_of(type(model))
     rows: list[list[Text]] = []
     for name, symbol, key in fields:
         value = getattr(model, name)
         if value is None:
             continue
-        unit = units.get(name)
+        shown_as = labels[prefix + name]
+        stored = units.get(name, shown_as.unit)
+        factor = UNITS[stored].factor / UNITS[shown_as.unit].factor
+        expanded = getattr(model, f"{name}_expanded", None)
         rows.append(
             [
                 html_symbol(f"{t(key)}{label}"),
                 html_symbol(symbol),
-                with_uncertainty(value, getattr(model, f"{name}_expanded", None)),
-                t.unit(unit) if unit is not None else "",
+                with_uncertainty(value * factor, None if expanded is None else expanded * factor),
+                t.unit(shown_as.unit),
             ]
         )
     return rows

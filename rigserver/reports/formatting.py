@@ -75,11 +75,13 @@ def with_uncertainty(value: float | None, expanded: float | None) -> str:
         return fmt(value)
     places = 1 - math.floor(math.log10(expanded))
     if -4 <= math.floor(math.log10(abs(value) or expanded)) <= 3 and places >= 0:
-        return f"{value:.{places}f} ± {expanded:.{places}f} (k = 2)"
-    scale = 10.0 ** math.floor(math.log10(abs(value) or expanded))
-    digits = max(0, places + math.floor(math.log10(scale)))
-    power = str(int(math.log10(scale))).translate(_SUPERSCRIPT)
-    return f"({value / scale:.{digits}f} ± {expanded / scale:.{digits}f})·10{power} (k = 2)"
+        text = f"{value:.{places}f} ± {expanded:.{places}f} (k = 2)"
+    else:
+        scale = 10.0 ** math.floor(math.log10(abs(value) or expanded))
+        digits = max(0, places + math.floor(math.log10(scale)))
+        power = str(int(math.log10(scale))).translate(_SUPERSCRIPT)
+        text = f"({value / scale:.{digits}f} ± {expanded / scale:.{digits}f})·10{power} (k = 2)"
+    return text.replace(".", decimal_sign())
 
 
 def shown(label: Label, value: float | None, stored: str) -> str:

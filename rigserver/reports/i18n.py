@@ -411,7 +411,7 @@ MESSAGES: dict[str, str] = {
     "w.disc_wear": N_("Wear of the disc from a profile across its track (ASTM G99)"),
     "w.track_area": N_("cross-section area of the track"),
     "w.disc_volume": N_("worn volume of the disc"),
-    "w.validity": N_("Validity of the fatigue-wear theory (2.1) (docs/validity.md)"),
+    "w.validity": N_("Validity of the fatigue-wear theory (2.1)"),
     "w.within_range": N_("theory within its range"),
     "w.approach": N_("relative approach ε"),
     "w.eta_r": N_("real contact area over contour area"),

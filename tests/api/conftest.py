@@ -38,7 +38,8 @@ def auth(key: str) -> dict[str, str]:
 
 
 def read_columns(url: str, run_id: str, group: str) -> dict[str, list[float]]:
-    """A stored run's channel group as columns, read over HTTP from the server at ``url``."""
+    """A stored run's channel group as columns, read over HTTP from the server at ``url``
+    (the single measurements as one-value columns: their latest values)."""
     r = httpx.get(
         f"{url}/api/v1/runs/{run_id}/readings",
         params={"group": group},
@@ -46,7 +47,10 @@ def read_columns(url: str, run_id: str, group: str) -> dict[str, list[float]]:
         timeout=60,
     )
     r.raise_for_status()
-    columns: dict[str, list[float]] = r.json()[group]["columns"]
+    found = r.json()[group]
+    if "values" in found:  # the single measurements: the latest value of each, by name
+        return {name: [value] for name, value in found["values"].items()}
+    columns: dict[str, list[float]] = found["columns"]
     return columns
 
 

@@ -7,6 +7,7 @@ import time
 from collections.abc import Callable
 from concurrent.futures import ThreadPoolExecutor
 from datetime import UTC, datetime
+from typing import Any
 
 import pytest
 from fastapi.testclient import TestClient
@@ -144,10 +145,10 @@ def analyses(monkeypatch: pytest.MonkeyPatch) -> list[str]:
     seen: list[str] = []
     real: Callable[..., AnalysisResult] = run_results.analyse
 
-    def counting(run: Run, readings: run_results.StoredReadings) -> AnalysisResult:
+    def counting(run: Run, readings: run_results.StoredReadings, *lookup: Any) -> AnalysisResult:
         seen.append(run.id)
         time.sleep(0.3)  # long enough for concurrent requests to meet
-        return real(run, readings)
+        return real(run, readings, *lookup)
 
     monkeypatch.setattr(run_results, "analyse", counting)
     return seen

@@ -62,6 +62,8 @@ def build(ctx: Context, v: MtosResults) -> LabReport:
             s,
             [("chi", "χ", "m.chi"), ("friction_measured", "f_э", "m.f_measured")],
             label=t("u.step", i=i + 1, load=fmt(s.load)),
+            labels=MTOS,
+            prefix="steps[].",
         )
     ]
     if spread:

@@ -74,7 +74,9 @@ def build(ctx: Context, v: ProfilometerResults) -> LabReport:
                 labels=PROFILOMETER,
             )
         )
-    spread = blocks.uncertainties(t, v, [("ra", "R_a", "p.ra"), ("rz", "R_z", "p.rz")])
+    spread = blocks.uncertainties(
+        t, v, [("ra", "R_a", "p.ra"), ("rz", "R_z", "p.rz")], labels=PROFILOMETER
+    )
     if spread and v.ra_expanded is not None:
         processed.append(blocks.uncertainty_table(t, spread))
     return LabReport(

@@ -56,7 +56,7 @@ def build(ctx: Context, v: SlideBearingResults) -> LabReport:
         processed.append(Figure(html_symbol(t("b.fig_phi")), _angle_svg(t, v.table)))
     if v.axial:
         processed.append(Figure(html_symbol(t("b.fig_z")), _axial_svg(t, v)))
-    spread = blocks.uncertainties(t, v, [("chi_mean", "χ_ср", "b.chi_mean")])
+    spread = blocks.uncertainties(t, v, [("chi_mean", "χ_ср", "b.chi_mean")], labels=SLIDE_BEARING)
     if spread:
         processed.append(blocks.uncertainty_table(t, spread))
     return LabReport(

@@ -5,6 +5,7 @@ from __future__ import annotations
 import dataclasses
 
 import numpy as np
+from markupsafe import Markup
 
 from rigserver.analysis.streaming import BlockSeries
 from rigserver.core import wear
@@ -116,12 +117,14 @@ def build(ctx: Context, v: Smts2Results) -> LabReport:
         processed.append(_adequacy(t, v))
     if v.experimental is not None or v.theoretical is not None:
         processed.append(Figure(t("w.fig_wear"), _wear_svg(t, v)))
-    spread = blocks.uncertainties(t, v, [("friction_steady", "f", "w.f")])
+    spread = blocks.uncertainties(t, v, [("friction_steady", "f", "w.f")], labels=SMTS2)
     if v.experimental is not None:
         spread += blocks.uncertainties(
             t,
             v.experimental,
             [("intensity", "I_h", "w.intensity_exp"), ("specific_wear_rate", "k", "w.k")],
+            labels=SMTS2,
+            prefix="experimental.",
         )
     if v.rows:
         processed.append(blocks.uncertainty_table(t, spread))
@@ -167,8 +170,8 @@ def _sensitivity(t: Messages, v: Smts2Results) -> Table:
     head: list[Text] = [
         html_symbol("t"),
         html_symbol("σ_0/σ_B"),
-        f"{html_symbol('I_h')} [{one}]",
-        f"{html_symbol('n')} [{one}]",
+        Markup("{} [{}]").format(html_symbol("I_h"), one),
+        Markup("{} [{}]").format(html_symbol("n"), one),
     ]
     rows: list[list[Text]] = [
         [fmt(p.fatigue_t), fmt(p.strength_ratio), fmt(p.intensity), fmt(p.cycles_to_failure)]
@@ -273,7 +276,8 @@ def _conclusions(t: Messages, v: Smts2Results) -> list[Text]:
             )
         )
     if v.validity is not None and not v.validity.within_range:
-        found.append(html_symbol(t("w.c_outside", reasons="; ".join(v.validity.reasons))))
+        reasons = "; ".join(t.gettext(r) for r in v.validity.reasons)
+        found.append(html_symbol(t("w.c_outside", reasons=reasons)))
     if v.adequacy is not None and v.experimental and v.theoretical:
         key = "w.c_adequate" if v.adequacy.adequate else "w.c_inadequate"
         text = t(

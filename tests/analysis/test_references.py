@@ -52,7 +52,7 @@ def test_unresolved_names_fall_back_to_the_configuration(mtos_run: Any) -> None:
     store = {"M-1": (other.run, SimulatedReadings(other.sim))}
     run = _named(mtos_run.run, journal_profile_run="M-1", bush_profile_run="nope")
     v = analyse(run, mtos_run.readings, store.get).values
-    assert isinstance(v, MtosResults) and v.roughness_source == "configuration"
+    assert isinstance(v, MtosResults) and v.roughness_source == "the stand's configuration"
     c = mtos.simulated_configuration()
     assert (v.journal_rq, v.bush_rq) == (c.journal_rq, c.bush_rq)
     assert any("a mtos run, not a profilometer run" in n for n in v.notes)

@@ -24,7 +24,11 @@ stream polls the run's row counts (:meth:`get_run`). :meth:`readings_version` (t
 batch count) grows with every stored batch: a results cache in any process compares it to
 see that it is stale.
 
-The arrays are read from the journal (the batches overlapping the rows asked for). A run's
+The arrays are read from the journal (the batches overlapping the rows asked for), or, with
+HSDS (``hsds``, the ``cluster`` extra), the rows already materialised there
+(:mod:`~rigserver.storage.materialiser`, a background thread) from the run's HSDS domain
+and the rest from the journal; while HSDS is down such reads raise ``StorageUnavailable``
+(posts are unaffected: PostgreSQL acknowledges them). A run's
 HDF5 file (:meth:`run_file`) is materialised from the journal into ``files_dir``: once for
 an ended run (``runs/<id>.h5``, written atomically, shared by the workers when
 ``files_dir`` is on a shared file system), afresh for an open run (a snapshot).
@@ -45,7 +49,7 @@ import threading
 from collections.abc import Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import psycopg
@@ -78,10 +82,17 @@ from rigserver.storage.errors import (
     SequenceConflict,
 )
 from rigserver.storage.journal import run_filters
+from rigserver.storage.materialiser import MARKS_SCHEMA, materialised_rows
 from rigserver.storage.payloads import decode, encode
 from rigserver.storage.runfile import RunFile, write_file
+from schemas.channels import ChannelGroup
 from schemas.readings import BatchReceipt
 from schemas.runs import Run, RunPage, RunQuery, RunState
+
+if TYPE_CHECKING:
+    from rigserver.storage.hsds import HsdsArrays
+    from rigserver.storage.hsds_settings import HsdsSettings
+    from rigserver.storage.materialiser import Materialiser
 
 log = logging.getLogger(__name__)
 
@@ -155,9 +166,18 @@ class PostgresStore:
         system); a temporary directory of this process if ``None``.
     pool_size : int
         Most connections this process holds.
+    hsds : HsdsSettings, optional
+        The HSDS service holding the run arrays (needs h5pyd); none: the journal only.
     """
 
-    def __init__(self, url: str, *, files_dir: Path | None = None, pool_size: int = 8) -> None:
+    def __init__(
+        self,
+        url: str,
+        *,
+        files_dir: Path | None = None,
+        pool_size: int = 8,
+        hsds: HsdsSettings | None = None,
+    ) -> None:
         self.url = url
         self._own_dir = files_dir is None
         if files_dir is None:
@@ -188,11 +208,22 @@ class PostgresStore:
                 with self._pool.connection() as conn, conn.transaction():
                     conn.execute("SELECT pg_advisory_xact_lock(%s)", (_SCHEMA_LOCK,))
                     conn.execute(_SCHEMA)
+                    conn.execute(MARKS_SCHEMA)
             except BaseException:
                 self._pool.close()
                 if self._own_dir:
                     shutil.rmtree(self.files_dir, ignore_errors=True)
                 raise
+        self._arrays: HsdsArrays | None = None
+        self._materialiser: Materialiser | None = None
+        if hsds is not None:
+            # the cluster extra: imported only when used
+            from rigserver.storage.hsds import HsdsArrays
+            from rigserver.storage.materialiser import Materialiser
+
+            self._arrays = HsdsArrays(hsds)
+            self._materialiser = Materialiser(url, self._pool, self._arrays)
+            self._materialiser.start()
 
     def __enter__(self) -> PostgresStore:
         return self
@@ -406,7 +437,8 @@ class PostgresStore:
         stop: int | None = None,
     ) -> dict[str, NDArray[np.float64]]:
         """Rows ``start:stop`` (slice semantics) of the channels: from an ended run's
-        materialised file if it is there, else from the batches holding them."""
+        materialised file if it is there, else from HSDS as far as materialised there and
+        from the batches holding the rest."""
         run = self.get_run(run_id)
         decl = channel_group(run.stand, group)
         names = channel_names(decl, channels)
@@ -423,21 +455,20 @@ class PostgresStore:
         if hi <= lo:
             return {n: np.empty(0) for n in names}
         with failures_as(f"reading run {run_id}", PG_FAILURES), self._pool.connection() as conn:
+            done = 0 if self._arrays is None else materialised_rows(conn, run_id, group)
             rows = conn.execute(
                 "SELECT payload, rows, group_rows FROM rig_batches WHERE run_id = %s "
                 "AND grp = %s AND group_rows > %s AND group_rows - rows < %s "
                 "ORDER BY group_rows",
-                (run_id, group, lo, hi),
+                (run_id, group, max(lo, done), hi),
             ).fetchall()
-        if not rows:
-            return {n: np.empty(0) for n in names}
-        first = int(rows[0][2]) - int(rows[0][1])
-        parts: dict[str, list[NDArray[np.float64]]] = {n: [] for n in names}
-        for payload, n_rows, _ in rows:
-            full = padded(decl, decode(bytes(payload)), int(n_rows))
-            for n in names:
-                parts[n].append(full[n])
-        return {n: np.concatenate(p)[lo - first : hi - first].copy() for n, p in parts.items()}
+        if self._arrays is not None and lo < done:
+            stored = self._arrays.read(run_id, group, names, lo, min(hi, done))
+            if hi <= done:
+                return stored
+            rest = _journal_rows(decl, names, rows, done, hi)
+            return {n: np.concatenate((stored[n], rest[n])) for n in names}
+        return _journal_rows(decl, names, rows, lo, hi)
 
     def iter_chunks(
         self, run_id: str, group: str, channels: list[str] | None = None, rows: int = 1 << 20
@@ -564,7 +595,10 @@ class PostgresStore:
         return True
 
     def close(self) -> None:
-        """Close the pool; remove the files directory if it was this process's own."""
+        """Stop materialising; close the pool; remove the files directory if it was this
+        process's own."""
+        if self._materialiser is not None:
+            self._materialiser.stop()
         self._pool.close()
         if self._own_dir:
             shutil.rmtree(self.files_dir, ignore_errors=True)
@@ -659,6 +693,22 @@ def _last_values(conn: psycopg.Connection[Any], run: Run, group: str) -> dict[st
         if len(rows) < _LOOK_BACK:
             break
     return found
+
+
+def _journal_rows(
+    decl: ChannelGroup, names: list[str], rows: list[tuple[Any, ...]], lo: int, hi: int
+) -> dict[str, NDArray[np.float64]]:
+    """Rows ``lo:hi`` of the channels from the batches ``rows`` (payload, rows, group_rows)
+    that hold them, in order."""
+    if not rows:
+        return {n: np.empty(0) for n in names}
+    first = int(rows[0][2]) - int(rows[0][1])
+    parts: dict[str, list[NDArray[np.float64]]] = {n: [] for n in names}
+    for payload, n_rows, _ in rows:
+        full = padded(decl, decode(bytes(payload)), int(n_rows))
+        for n in names:
+            parts[n].append(full[n])
+    return {n: np.concatenate(p)[lo - first : hi - first].copy() for n, p in parts.items()}
 
 
 def _remember_last(last: dict[str, float], batch: Batch) -> None:

@@ -8,8 +8,10 @@ serve`` workers on free loopback ports sharing the database and the run files di
 ``DIR/worker-N.log``, and prints one line per worker: its URL. ``down --dir DIR`` stops
 exactly those workers (their process groups) and that server (``pg_ctl stop``).
 
-HSDS is not started: the cluster's arrays are read from the PostgreSQL journal and its run
-files materialised into ``DIR/files`` (docs/scale-out.md says why).
+When hsds and h5pyd are installed (the ``cluster`` extra), ``up`` also starts HSDS in
+``DIR/hsds`` (unix sockets only, POSIX storage; :mod:`rigserver.storage.hsdsserver`) and
+the workers materialise the run arrays there (``--hsds-endpoint``); otherwise it says so
+in one line and the arrays stay in the journal. ``down`` stops it too.
 """
 
 from __future__ import annotations
@@ -24,10 +26,13 @@ import subprocess
 import sys
 import time
 from collections.abc import Sequence
+from dataclasses import asdict
 from pathlib import Path
 
 import httpx
 
+from rigserver.storage.hsds_settings import HsdsSettings
+from rigserver.storage.hsdsserver import LocalHsds, hsds_missing, start_hsds
 from rigserver.storage.pgserver import LocalPostgres, NoPostgres, start_local
 
 #: Seconds a worker has to answer after it was started, and to stop after SIGTERM
@@ -49,6 +54,19 @@ def _postgres_of(directory: Path) -> LocalPostgres:
     return LocalPostgres(directory / "postgres", int(state["postgres_port"]))
 
 
+def _state(directory: Path) -> dict[str, object]:
+    path = directory / "cluster.json"
+    return dict(json.loads(path.read_text(encoding="utf-8"))) if path.exists() else {}
+
+
+def hsds_of(directory: Path) -> LocalHsds | None:
+    """The HSDS service ``up`` started in ``directory``, if it started one."""
+    found = _state(directory).get("hsds")
+    if not isinstance(found, dict):
+        return None
+    return LocalHsds(directory / "hsds", HsdsSettings(**found))
+
+
 def write_keys(directory: Path) -> str:
     """A new API key with every scope in ``directory/keys.json`` (mode 600); the key."""
     key = secrets.token_urlsafe(32)
@@ -66,6 +84,15 @@ def start_worker(directory: Path, n: int, url: str | None, *, args: Sequence[str
     (``None``: the embedded store in ``directory/files``); its URL once it answers."""
     port = free_port()
     key = json.loads((directory / "keys.json").read_text(encoding="utf-8"))[0]["key"]
+    hsds = hsds_of(directory) if url else None
+    env = {**os.environ, "PYTHONUNBUFFERED": "1"}
+    if hsds is not None:
+        args = ["--hsds-endpoint", hsds.settings.endpoint, *args]
+        env |= {
+            "RIG_HSDS_USERNAME": hsds.settings.username,
+            "RIG_HSDS_PASSWORD": hsds.settings.password,
+            "RIG_HSDS_BUCKET": hsds.settings.bucket,
+        }
     command = [
         sys.executable,
         "-m",
@@ -92,7 +119,7 @@ def start_worker(directory: Path, n: int, url: str | None, *, args: Sequence[str
             stderr=out,
             stdin=subprocess.DEVNULL,
             start_new_session=True,
-            env={**os.environ, "PYTHONUNBUFFERED": "1"},
+            env=env,
         )
     _STARTED[proc.pid] = proc
     (directory / f"worker-{n}.pid").write_text(f"{proc.pid}\n", encoding="utf-8")
@@ -116,11 +143,21 @@ def up(directory: Path, workers: int) -> list[str]:
     directory.chmod(0o711)  # the database's user (not root) passes through it
     (directory / "files").mkdir(exist_ok=True)
     port = free_port()
-    (directory / "cluster.json").write_text(json.dumps({"postgres_port": port}), encoding="utf-8")
+    state: dict[str, object] = {"postgres_port": port}
+    (directory / "cluster.json").write_text(json.dumps(state), encoding="utf-8")
     server = start_local(directory / "postgres", port)
     write_keys(directory)
     urls = []
     try:
+        why = hsds_missing()
+        if why is None:
+            state["hsds"] = asdict(start_hsds(directory / "hsds").settings)
+            (directory / "cluster.json").write_text(json.dumps(state), encoding="utf-8")
+            (directory / "cluster.json").chmod(0o600)  # HSDS's password
+        else:
+            print(
+                f"cluster: HSDS not started, the arrays stay in the journal: {why}", file=sys.stderr
+            )
         for n in range(1, workers + 1):
             urls.append(start_worker(directory, n, server.url))
     except BaseException:
@@ -164,6 +201,9 @@ def down(directory: Path) -> None:
     """Stop the workers ``up`` started in ``directory``, then its database."""
     for pid_file in sorted(directory.glob("worker-*.pid")):
         stop_worker(pid_file)
+    hsds = hsds_of(directory)
+    if hsds is not None and (hsds.directory / "hsds.pid").exists():
+        hsds.stop()
     if (directory / "cluster.json").exists():
         _postgres_of(directory).stop()
 

@@ -80,9 +80,7 @@ def test_a_read_needing_hsds_while_it_is_down_is_unavailable(
             store.read(run.id, "friction", ["time"])["time"], friction(0, 10)["time"]
         )
         with psycopg.connect(postgres_url) as conn:  # as if materialised before HSDS went
-            conn.execute(
-                "INSERT INTO rig_hsds_marks VALUES (%s, 'friction', 10, 1)", (run.id,)
-            )
+            conn.execute("INSERT INTO rig_hsds_marks VALUES (%s, 'friction', 10, 1)", (run.id,))
         with pytest.raises(StorageUnavailable, match="HSDS"):
             store.read(run.id, "friction", ["time"])
         assert marks(postgres_url, run.id) == {"friction": (10, 1)}

@@ -11,6 +11,7 @@ import threading
 import time
 from collections.abc import Iterator
 from pathlib import Path
+from typing import cast
 
 import httpx
 import numpy as np
@@ -105,9 +106,8 @@ def test_hsds_killed_posts_acknowledged_reads_503_then_everything_materialised(
         hsds.restart()
     assert statuses == [201] * 40  # every post acknowledged by PostgreSQL
     wait_materialised(c, run_id, 500)
-    expected = {
-        k: np.concatenate([batch(s)["columns"][k] for s in range(50)]) for k in batch(0)["columns"]
-    }  # type: ignore[index]
+    posted = [cast(dict[str, list[float]], batch(s)["columns"]) for s in range(50)]
+    expected = {k: np.concatenate([cols[k] for cols in posted]) for k in posted[0]}
     for url in c.urls:
         assert stored_times(c, url, run_id) == list(expected["time"])
     in_hsds = HsdsArrays(hsds.settings).read(run_id, "friction", list(expected), 0, 500)

@@ -49,7 +49,8 @@ def free_port() -> int:
         return int(s.getsockname()[1])
 
 
-def _postgres_of(directory: Path) -> LocalPostgres:
+def postgres_of(directory: Path) -> LocalPostgres:
+    """The PostgreSQL server ``up`` started in ``directory``."""
     state = json.loads((directory / "cluster.json").read_text(encoding="utf-8"))
     return LocalPostgres(directory / "postgres", int(state["postgres_port"]))
 
@@ -137,8 +138,9 @@ def start_worker(directory: Path, n: int, url: str | None, *, args: Sequence[str
     raise RuntimeError(f"worker {n} did not answer within {START_SECONDS:.0f} s (see {log})")
 
 
-def up(directory: Path, workers: int) -> list[str]:
-    """Start the database and the workers; the workers' URLs."""
+def up(directory: Path, workers: int, *, hsds: bool = True) -> list[str]:
+    """Start the database, HSDS (if ``hsds`` and it is installed) and the workers; the
+    workers' URLs."""
     directory.mkdir(parents=True, exist_ok=True)
     directory.chmod(0o711)  # the database's user (not root) passes through it
     (directory / "files").mkdir(exist_ok=True)
@@ -149,7 +151,7 @@ def up(directory: Path, workers: int) -> list[str]:
     write_keys(directory)
     urls = []
     try:
-        why = hsds_missing()
+        why = hsds_missing() if hsds else "not asked for (--no-hsds)"
         if why is None:
             state["hsds"] = asdict(start_hsds(directory / "hsds").settings)
             (directory / "cluster.json").write_text(json.dumps(state), encoding="utf-8")
@@ -205,7 +207,7 @@ def down(directory: Path) -> None:
     if hsds is not None and (hsds.directory / "hsds.pid").exists():
         hsds.stop()
     if (directory / "cluster.json").exists():
-        _postgres_of(directory).stop()
+        postgres_of(directory).stop()
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -214,6 +216,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     start = sub.add_parser("up", help="start PostgreSQL and N workers")
     start.add_argument("--workers", type=int, default=2)
     start.add_argument("--dir", type=Path, required=True)
+    start.add_argument("--no-hsds", action="store_true", help="keep the arrays in the journal")
     stop = sub.add_parser("down", help="stop what up started")
     stop.add_argument("--dir", type=Path, required=True)
     args = parser.parse_args(argv)
@@ -223,7 +226,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     if args.workers < 1:
         parser.error(f"--workers must be at least 1, not {args.workers}")
     try:
-        urls = up(args.dir, args.workers)
+        urls = up(args.dir, args.workers, hsds=not args.no_hsds)
     except NoPostgres as exc:
         print(f"cluster: {exc}", file=sys.stderr)
         return 1

@@ -470,6 +470,12 @@ class PostgresStore:
             return {n: np.concatenate((stored[n], rest[n])) for n in names}
         return _journal_rows(decl, names, rows, lo, hi)
 
+    def materialised(self, run_id: str, group: str) -> int:
+        """Rows of the group in HSDS's storage (0 without HSDS)."""
+        doing = f"reading the HSDS mark of run {run_id}"
+        with failures_as(doing, PG_FAILURES), self._pool.connection() as conn:
+            return 0 if self._arrays is None else materialised_rows(conn, run_id, group)
+
     def iter_chunks(
         self, run_id: str, group: str, channels: list[str] | None = None, rows: int = 1 << 20
     ) -> Iterator[dict[str, NDArray[np.float64]]]:

@@ -67,7 +67,9 @@ def main() -> None:
     hsds = start_hsds(work / "hsds")
     out: dict[str, Any] = {"rows": batches * ROWS, "rows_per_batch": ROWS}
     try:
-        with PostgresStore(server.url, files_dir=work / "a", hsds=hsds.settings) as with_hsds:
+        with PostgresStore(
+            server.url, files_dir=work / "a", hsds=hsds.settings, hsds_reads=True
+        ) as with_hsds:
             created = datetime.now(UTC)
             run = Run(
                 id=new_run_id(created),

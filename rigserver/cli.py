@@ -87,7 +87,10 @@ def build_app(settings: Settings) -> FastAPI:
         raise ValueError("hsds_endpoint needs database_url: HSDS holds a cluster's arrays")
     if settings.database_url:
         store = PostgresStore(
-            settings.database_url, files_dir=settings.data_dir, hsds=_hsds(settings)
+            settings.database_url,
+            files_dir=settings.data_dir,
+            hsds=_hsds(settings),
+            hsds_reads=settings.hsds_reads,
         )
         series = PostgresSeries(settings.database_url)
     else:

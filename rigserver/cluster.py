@@ -93,6 +93,7 @@ def start_worker(directory: Path, n: int, url: str | None, *, args: Sequence[str
             "RIG_HSDS_USERNAME": hsds.settings.username,
             "RIG_HSDS_PASSWORD": hsds.settings.password,
             "RIG_HSDS_BUCKET": hsds.settings.bucket,
+            "RIG_HSDS_READS": "1" if _state(directory).get("hsds_reads") else "0",
         }
     command = [
         sys.executable,
@@ -138,9 +139,9 @@ def start_worker(directory: Path, n: int, url: str | None, *, args: Sequence[str
     raise RuntimeError(f"worker {n} did not answer within {START_SECONDS:.0f} s (see {log})")
 
 
-def up(directory: Path, workers: int, *, hsds: bool = True) -> list[str]:
-    """Start the database, HSDS (if ``hsds`` and it is installed) and the workers; the
-    workers' URLs."""
+def up(directory: Path, workers: int, *, hsds: bool = True, hsds_reads: bool = False) -> list[str]:
+    """Start the database, HSDS (if ``hsds`` and it is installed) and the workers (reading
+    the arrays materialised in HSDS from there if ``hsds_reads``); the workers' URLs."""
     directory.mkdir(parents=True, exist_ok=True)
     directory.chmod(0o711)  # the database's user (not root) passes through it
     (directory / "files").mkdir(exist_ok=True)
@@ -154,6 +155,7 @@ def up(directory: Path, workers: int, *, hsds: bool = True) -> list[str]:
         why = hsds_missing() if hsds else "not asked for (--no-hsds)"
         if why is None:
             state["hsds"] = asdict(start_hsds(directory / "hsds").settings)
+            state["hsds_reads"] = hsds_reads
             (directory / "cluster.json").write_text(json.dumps(state), encoding="utf-8")
             (directory / "cluster.json").chmod(0o600)  # HSDS's password
         else:
@@ -217,6 +219,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     start.add_argument("--workers", type=int, default=2)
     start.add_argument("--dir", type=Path, required=True)
     start.add_argument("--no-hsds", action="store_true", help="keep the arrays in the journal")
+    start.add_argument(
+        "--hsds-reads", action="store_true", help="read the arrays materialised in HSDS there"
+    )
     stop = sub.add_parser("down", help="stop what up started")
     stop.add_argument("--dir", type=Path, required=True)
     args = parser.parse_args(argv)
@@ -226,7 +231,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     if args.workers < 1:
         parser.error(f"--workers must be at least 1, not {args.workers}")
     try:
-        urls = up(args.dir, args.workers, hsds=not args.no_hsds)
+        urls = up(args.dir, args.workers, hsds=not args.no_hsds, hsds_reads=args.hsds_reads)
     except NoPostgres as exc:
         print(f"cluster: {exc}", file=sys.stderr)
         return 1

@@ -72,6 +72,11 @@ class Settings(BaseSettings):
     hsds_username: str = Field(default="rig", description="HSDS user")
     hsds_password: str = Field(default="", description="HSDS password (set it in the env)")
     hsds_bucket: str = Field(default="rig", description="HSDS bucket of the run domains")
+    hsds_reads: bool = Field(
+        default=False,
+        description="read the rows materialised in HSDS from there; off: every read from "
+        "the PostgreSQL journal (faster on one machine, docs/scale-out.md)",
+    )
 
 
 @lru_cache

@@ -24,11 +24,13 @@ stream polls the run's row counts (:meth:`get_run`). :meth:`readings_version` (t
 batch count) grows with every stored batch: a results cache in any process compares it to
 see that it is stale.
 
-The arrays are read from the journal (the batches overlapping the rows asked for), or, with
-HSDS (``hsds``, the ``cluster`` extra), the rows already materialised there
-(:mod:`~rigserver.storage.materialiser`, a background thread) from the run's HSDS domain
-and the rest from the journal; while HSDS is down such reads raise ``StorageUnavailable``
-(posts are unaffected: PostgreSQL acknowledges them). A run's
+The arrays are read from the journal (the batches overlapping the rows asked for). With
+HSDS (``hsds``, the ``cluster`` extra) a background thread materialises every run's arrays
+in a domain of its own (:mod:`~rigserver.storage.materialiser`); with ``hsds_reads`` the
+rows materialised there are read from HSDS and the rest from the journal, and while HSDS is
+down such reads raise ``StorageUnavailable`` (posts are unaffected: PostgreSQL acknowledges
+them). Reads from the journal are the default: they are faster here
+(``benchmarks/hsds_reads.py``, docs/scale-out.md). A run's
 HDF5 file (:meth:`run_file`) is materialised from the journal into ``files_dir``: once for
 an ended run (``runs/<id>.h5``, written atomically, shared by the workers when
 ``files_dir`` is on a shared file system), afresh for an open run (a snapshot).
@@ -168,6 +170,8 @@ class PostgresStore:
         Most connections this process holds.
     hsds : HsdsSettings, optional
         The HSDS service holding the run arrays (needs h5pyd); none: the journal only.
+    hsds_reads : bool
+        Read the rows materialised in HSDS from there (else every read is the journal's).
     """
 
     def __init__(
@@ -177,6 +181,7 @@ class PostgresStore:
         files_dir: Path | None = None,
         pool_size: int = 8,
         hsds: HsdsSettings | None = None,
+        hsds_reads: bool = False,
     ) -> None:
         self.url = url
         self._own_dir = files_dir is None
@@ -221,8 +226,9 @@ class PostgresStore:
             from rigserver.storage.hsds import HsdsArrays
             from rigserver.storage.materialiser import Materialiser
 
-            self._arrays = HsdsArrays(hsds)
-            self._materialiser = Materialiser(url, self._pool, self._arrays)
+            arrays = HsdsArrays(hsds)
+            self._arrays = arrays if hsds_reads else None
+            self._materialiser = Materialiser(url, self._pool, arrays)
             self._materialiser.start()
 
     def __enter__(self) -> PostgresStore:
@@ -474,7 +480,7 @@ class PostgresStore:
         """Rows of the group in HSDS's storage (0 without HSDS)."""
         doing = f"reading the HSDS mark of run {run_id}"
         with failures_as(doing, PG_FAILURES), self._pool.connection() as conn:
-            return 0 if self._arrays is None else materialised_rows(conn, run_id, group)
+            return materialised_rows(conn, run_id, group)
 
     def iter_chunks(
         self, run_id: str, group: str, channels: list[str] | None = None, rows: int = 1 << 20

@@ -38,7 +38,7 @@ def with_hsds() -> Iterator[Cluster]:
     top.chmod(0o711)
     directory = top / "c"
     try:
-        urls = cluster.up(directory, 2)
+        urls = cluster.up(directory, 2, hsds_reads=True)
     except NoPostgres as exc:
         shutil.rmtree(top, ignore_errors=True)
         pytest.skip(NO_POSTGRES.format(exc))

@@ -36,7 +36,8 @@ def wait_for_marks(url: str, run_id: str, rows: int, seconds: float = 30.0) -> N
 def test_batches_reach_hsds_in_order_and_reads_span_both(
     postgres_url: str, hsds_service: LocalHsds, tmp_path: Path
 ) -> None:
-    with PostgresStore(postgres_url, files_dir=tmp_path, hsds=hsds_service.settings) as store:
+    settings = hsds_service.settings
+    with PostgresStore(postgres_url, files_dir=tmp_path, hsds=settings, hsds_reads=True) as store:
         run = store.create_run(make_run())
         for seq in range(5):  # batches of 7 rows: chunk boundaries fall inside batches
             store.append(run.id, seq, "friction", friction(7 * seq, 7))
@@ -73,7 +74,7 @@ def test_a_read_needing_hsds_while_it_is_down_is_unavailable(
         password="x",
         bucket="rig",
     )
-    with PostgresStore(postgres_url, files_dir=tmp_path, hsds=nowhere) as store:
+    with PostgresStore(postgres_url, files_dir=tmp_path, hsds=nowhere, hsds_reads=True) as store:
         run = store.create_run(make_run())
         store.append(run.id, 0, "friction", friction(0, 10))
         np.testing.assert_array_equal(
@@ -84,3 +85,25 @@ def test_a_read_needing_hsds_while_it_is_down_is_unavailable(
         with pytest.raises(StorageUnavailable, match="HSDS"):
             store.read(run.id, "friction", ["time"])
         assert marks(postgres_url, run.id) == {"friction": (10, 1)}
+
+
+def test_by_default_reads_come_from_the_journal_whatever_hsds_holds(
+    postgres_url: str, tmp_path: Path
+) -> None:
+    """Without hsds_reads a read never asks HSDS (here: nobody listens), marks or not."""
+    from rigserver.storage.hsds_settings import HsdsSettings
+
+    nowhere = HsdsSettings(
+        endpoint=f"http+unix://{str(tmp_path / 'none.sock').replace('/', '%2F')}",
+        username="rig",
+        password="x",
+        bucket="rig",
+    )
+    with PostgresStore(postgres_url, files_dir=tmp_path, hsds=nowhere) as store:
+        run = store.create_run(make_run())
+        store.append(run.id, 0, "friction", friction(0, 10))
+        with psycopg.connect(postgres_url) as conn:
+            conn.execute("INSERT INTO rig_hsds_marks VALUES (%s, 'friction', 10, 1)", (run.id,))
+        got = store.read(run.id, "friction", ["time", "load"], 2, 8)
+        np.testing.assert_array_equal(got["time"], friction(2, 6)["time"])
+        np.testing.assert_array_equal(got["load"], friction(2, 6)["load"])

@@ -209,7 +209,22 @@ def down(directory: Path) -> None:
     if hsds is not None and (hsds.directory / "hsds.pid").exists():
         hsds.stop()
     if (directory / "cluster.json").exists():
-        postgres_of(directory).stop()
+        server = postgres_of(directory)
+        postmaster = server.data / "postmaster.pid"
+        pid = int(postmaster.read_text().split()[0]) if postmaster.exists() else None
+        server.stop()
+        if pid is not None:  # pg_ctl returns once the pid file has gone, a moment before
+            _wait_exited(pid)
+
+
+def _wait_exited(pid: int) -> None:
+    deadline = time.monotonic() + STOP_SECONDS
+    while time.monotonic() < deadline:
+        try:
+            os.kill(pid, 0)
+        except ProcessLookupError:
+            return
+        time.sleep(0.05)
 
 
 def main(argv: Sequence[str] | None = None) -> int:

@@ -74,4 +74,4 @@ def test_up_and_down(tmp_path: Path) -> None:
         )
         shutil.rmtree(top, ignore_errors=True)
     assert down.returncode == 0, down.stderr
-    assert not any(_alive(pid) for pid in [*pids, pg_pid])
+    assert [pid for pid in [*pids, pg_pid] if _alive(pid)] == [], (pids, pg_pid)

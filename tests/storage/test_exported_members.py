@@ -13,5 +13,6 @@ def test_all_is_sorted_and_importable() -> None:
             assert member.__module__.startswith("rigserver.storage."), name
     public = {n for n in dir(storage) if not n.startswith("_")} - {"annotations"}
     modules = {"base", "check", "errors", "hdf5", "memory", "journal", "payloads", "runfile"}
-    modules |= {"postgres", "pgserver", "migrate", "series"}
+    modules |= {"postgres", "pgserver", "migrate", "series", "series_postgres"}
+    modules |= {"hsds", "hsds_settings", "hsdsserver", "materialiser"}
     assert public - modules == set(storage.__all__)

@@ -30,8 +30,13 @@ BUCKET = "rig"
 USER = "rig"
 #: Settings of the service changed from its packaged config.yml: write chunks to storage
 #: soon after they change and answer a flush as soon as they are written (its defaults,
-#: whole seconds, make every flush take about two seconds)
-TUNED = {"s3_sync_interval": "0.1", "s3_age_time": "0", "flush_sleep_interval": "0.05"}
+#: whole seconds, make every flush take about two seconds); the user is its admin
+TUNED = {
+    "s3_sync_interval": "0.1",
+    "s3_age_time": "0",
+    "flush_sleep_interval": "0.05",
+    "admin_user": USER,  # makes the top folder of the runs
+}
 #: The services this process started, by process id (reaped when stopped)
 _STARTED: dict[int, subprocess.Popen[bytes]] = {}
 
@@ -96,8 +101,8 @@ def start_hsds(directory: Path) -> LocalHsds:
     (directory / "sockets").mkdir(exist_ok=True)
     password_file = directory / "password"
     if not password_file.exists():
-        password_file.write_text(secrets.token_urlsafe(24), encoding="utf-8")
-        password_file.chmod(0o600)
+        password_file.touch(0o600)
+        password_file.write_text(secrets.token_hex(16), encoding="utf-8")
     settings = _settings(directory, password_file.read_text(encoding="utf-8"))
     _write_config(directory / "config")
     _launch(directory, settings)
@@ -115,6 +120,15 @@ def _write_config(config_dir: Path) -> None:
     (config_dir / "config.yml").write_text("\n".join(lines) + "\n", encoding="utf-8")
 
 
+def _users_file(directory: Path, settings: HsdsSettings) -> Path:
+    """HSDS's password file (``user:password`` lines, mode 600): the password stays out
+    of the command lines of its processes."""
+    users = directory / "passwd.txt"
+    users.touch(0o600)
+    users.write_text(f"{settings.username}:{settings.password}\n", encoding="utf-8")
+    return users
+
+
 def _launch(directory: Path, settings: HsdsSettings) -> None:
     for stale in (directory / "sockets").glob("*.sock"):
         stale.unlink()
@@ -130,10 +144,8 @@ def _launch(directory: Path, settings: HsdsSettings) -> None:
         str(directory / "sockets"),
         "--count",
         "1",
-        "--hs_username",
-        settings.username,
-        "--hs_password",
-        settings.password,
+        "--password_file",
+        str(_users_file(directory, settings)),
         "--config_dir",
         str(directory / "config"),
         "--logfile",

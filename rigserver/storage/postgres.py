@@ -19,8 +19,10 @@ Several processes. Every append locks its runs' catalogue rows (``SELECT ... FOR
 in id order: no deadlock), so the row counts, the retry lookups and the last values a
 batch is checked against are those of the batches committed before it, whichever worker
 took them; ending a run takes the same lock and happens once. Every read goes to the
-database, so a worker sees what the others stored as soon as it is committed; the live
-stream polls the run's row counts (:meth:`get_run`). :meth:`readings_version` (the run's
+database, so a worker sees what the others stored as soon as it is committed. Every such
+commit (and the end of a run) notifies ``rig_runs`` (:mod:`~rigserver.storage.notify`):
+the live streams of every worker wait on :meth:`wait_for_appends` and read the run's row
+counts (:meth:`get_run`) when woken. :meth:`readings_version` (the run's
 batch count) grows with every stored batch: a results cache in any process compares it to
 see that it is stale.
 
@@ -85,6 +87,7 @@ from rigserver.storage.errors import (
 )
 from rigserver.storage.journal import run_filters
 from rigserver.storage.materialiser import MARKS_SCHEMA, materialised_rows
+from rigserver.storage.notify import Appends, notify
 from rigserver.storage.payloads import decode, encode
 from rigserver.storage.runfile import RunFile, write_file
 from schemas.channels import ChannelGroup
@@ -219,6 +222,8 @@ class PostgresStore:
                 if self._own_dir:
                     shutil.rmtree(self.files_dir, ignore_errors=True)
                 raise
+        self._appends: Appends | None = None
+        self._appends_lock = threading.Lock()
         self._arrays: HsdsArrays | None = None
         self._materialiser: Materialiser | None = None
         if hsds is not None:
@@ -303,6 +308,7 @@ class PostgresStore:
                 "UPDATE rig_runs SET state = %s, ended = %s, run = %s WHERE id = %s",
                 (state.value, ended.ended, ended.model_dump_json(), run_id),
             )
+            notify(conn, run_id, run.batches)
         try:
             self._final_file(ended)
         except Exception as exc:  # the run has ended; its file is made when next asked for
@@ -341,6 +347,7 @@ class PostgresStore:
                             "WHERE id = %s",
                             (lr.run.batches, json.dumps(lr.run.rows), lr.max_seq, lr.run.id),
                         )
+                        notify(conn, lr.run.id, lr.run.batches)
         except PG_FAILURES as exc:
             failure = translated(exc, doing)
             # a retry's receipt or conflict may stem from a batch of this call: void
@@ -475,6 +482,16 @@ class PostgresStore:
             rest = _journal_rows(decl, names, rows, done, hi)
             return {n: np.concatenate((stored[n], rest[n])) for n in names}
         return _journal_rows(decl, names, rows, lo, hi)
+
+    async def wait_for_appends(self, run_id: str, batches: int, timeout: float) -> bool:
+        """Until any worker stores more than ``batches`` batches of the run or ends it:
+        True if notified, False after ``timeout`` seconds (the listener starts at the
+        first call)."""
+        with self._appends_lock:
+            if self._appends is None:
+                self._appends = Appends(self.url)
+            appends = self._appends
+        return await appends.wait(run_id, batches, timeout)
 
     def materialised(self, run_id: str, group: str) -> int:
         """Rows of the group in HSDS's storage (0 without HSDS)."""
@@ -611,6 +628,8 @@ class PostgresStore:
         process's own."""
         if self._materialiser is not None:
             self._materialiser.stop()
+        if self._appends is not None:
+            self._appends.close()
         self._pool.close()
         if self._own_dir:
             shutil.rmtree(self.files_dir, ignore_errors=True)

@@ -152,13 +152,13 @@ def up(directory: Path, workers: int, *, hsds: bool = True, hsds_reads: bool = F
     write_keys(directory)
     urls = []
     try:
-        why = hsds_missing() if hsds else "not asked for (--no-hsds)"
-        if why is None:
+        why = hsds_missing() if hsds else None
+        if hsds and why is None:
             state["hsds"] = asdict(start_hsds(directory / "hsds").settings)
             state["hsds_reads"] = hsds_reads
             (directory / "cluster.json").write_text(json.dumps(state), encoding="utf-8")
             (directory / "cluster.json").chmod(0o600)  # HSDS's password
-        else:
+        elif why is not None:
             print(
                 f"cluster: HSDS not started, the arrays stay in the journal: {why}", file=sys.stderr
             )

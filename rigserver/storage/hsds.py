@@ -69,17 +69,19 @@ class HsdsArrays:
     def domain(self, run_id: str) -> str:
         return f"{self.settings.folder}{run_id}.h5"
 
-    def _open(self, run_id: str, mode: str) -> Any:
+    def _access(self) -> dict[str, Any]:
+        """h5pyd's arguments naming the service, the user and the bucket."""
         s = self.settings
+        return {
+            "endpoint": s.endpoint,
+            "username": s.username,
+            "password": s.password,
+            "bucket": s.bucket,
+        }
+
+    def _open(self, run_id: str, mode: str) -> Any:
         return h5pyd.File(
-            self.domain(run_id),
-            mode,
-            endpoint=s.endpoint,
-            username=s.username,
-            password=s.password,
-            bucket=s.bucket,
-            retries=1,
-            timeout=TIMEOUT_SECONDS,
+            self.domain(run_id), mode, retries=1, timeout=TIMEOUT_SECONDS, **self._access()
         )
 
     def ready(self) -> None:
@@ -92,17 +94,11 @@ class HsdsArrays:
     def _make_folder(self) -> None:
         if self._folder_made:
             return
-        s = self.settings
-        access = {
-            "endpoint": s.endpoint,
-            "username": s.username,
-            "password": s.password,
-            "bucket": s.bucket,
-        }
+        folder_name = self.settings.folder
         try:
-            folder = h5pyd.Folder(s.folder, mode="r", **access)
+            folder = h5pyd.Folder(folder_name, mode="r", **self._access())
         except FileNotFoundError:
-            folder = h5pyd.Folder(s.folder, mode="x", **access)
+            folder = h5pyd.Folder(folder_name, mode="x", **self._access())
         folder.close()
         self._folder_made = True
 
@@ -130,16 +126,7 @@ class HsdsArrays:
 
     def _flush_storage(self, run_id: str) -> None:
         """Have the service write the domain's chunks to storage (``PUT /?flush=1``)."""
-        s = self.settings
-        conn = HttpConn(
-            self.domain(run_id),
-            endpoint=s.endpoint,
-            username=s.username,
-            password=s.password,
-            bucket=s.bucket,
-            retries=1,
-            timeout=TIMEOUT_SECONDS,
-        )
+        conn = HttpConn(self.domain(run_id), retries=1, timeout=TIMEOUT_SECONDS, **self._access())
         try:
             conn.open()
             rsp = conn.PUT("/", params={"flush": 1})

@@ -4,13 +4,9 @@ materialisation resumes when it is back: every row is then in HSDS and reads equ
 
 from __future__ import annotations
 
-import json
-import shutil
-import tempfile
 import threading
 import time
 from collections.abc import Iterator
-from pathlib import Path
 from typing import cast
 
 import httpx
@@ -21,10 +17,8 @@ import pytest
 from rigserver import cluster
 from rigserver.storage.hsds import HsdsArrays
 from rigserver.storage.hsdsserver import LocalHsds, hsds_missing
-from rigserver.storage.pgserver import NoPostgres
-from tests.cluster.test_cluster import API, Cluster, batch, open_run, post, stored_times
+from tests.cluster.test_cluster import API, Cluster, batch, open_run, post, running, stored_times
 from tests.hsds import NO_HSDS
-from tests.postgres import NO_POSTGRES
 
 pytestmark = pytest.mark.slow
 
@@ -34,20 +28,7 @@ def with_hsds() -> Iterator[Cluster]:
     why = hsds_missing()
     if why is not None:
         pytest.skip(NO_HSDS.format(why))
-    top = Path(tempfile.mkdtemp(prefix="rig-hsds-cluster-"))
-    top.chmod(0o711)
-    directory = top / "c"
-    try:
-        urls = cluster.up(directory, 2, hsds_reads=True)
-    except NoPostgres as exc:
-        shutil.rmtree(top, ignore_errors=True)
-        pytest.skip(NO_POSTGRES.format(exc))
-    key = json.loads((directory / "keys.json").read_text())[0]["key"]
-    try:
-        yield Cluster(directory, urls, key)
-    finally:
-        cluster.down(directory)
-        shutil.rmtree(top, ignore_errors=True)
+    yield from running(hsds_reads=True)
 
 
 def materialised(c: Cluster, run_id: str) -> int:

@@ -5,17 +5,28 @@ from __future__ import annotations
 
 import time
 from pathlib import Path
+from urllib.parse import quote
 
 import numpy as np
 import psycopg
 import pytest
 
+from rigserver.storage.errors import StorageUnavailable
 from rigserver.storage.hsds import HsdsArrays
+from rigserver.storage.hsds_settings import HsdsSettings
 from rigserver.storage.hsdsserver import LocalHsds
 from rigserver.storage.postgres import PostgresStore
 from tests.storage.conftest import friction, make_run
 
 pytestmark = pytest.mark.slow
+
+
+def unanswered(tmp_path: Path) -> HsdsSettings:
+    """An endpoint nobody listens on."""
+    socket = quote(str(tmp_path / "none.sock"), safe="")
+    return HsdsSettings(
+        endpoint=f"http+unix://{socket}", username="rig", password="x", bucket="rig"
+    )
 
 
 def marks(url: str, run_id: str) -> dict[str, tuple[int, int]]:
@@ -65,15 +76,7 @@ def test_a_read_needing_hsds_while_it_is_down_is_unavailable(
     postgres_url: str, tmp_path: Path
 ) -> None:
     """An endpoint nobody listens on: the journal-only part reads, the rest is 503."""
-    from rigserver.storage.errors import StorageUnavailable
-    from rigserver.storage.hsds_settings import HsdsSettings
-
-    nowhere = HsdsSettings(
-        endpoint=f"http+unix://{str(tmp_path / 'none.sock').replace('/', '%2F')}",
-        username="rig",
-        password="x",
-        bucket="rig",
-    )
+    nowhere = unanswered(tmp_path)
     with PostgresStore(postgres_url, files_dir=tmp_path, hsds=nowhere, hsds_reads=True) as store:
         run = store.create_run(make_run())
         store.append(run.id, 0, "friction", friction(0, 10))
@@ -91,14 +94,7 @@ def test_by_default_reads_come_from_the_journal_whatever_hsds_holds(
     postgres_url: str, tmp_path: Path
 ) -> None:
     """Without hsds_reads a read never asks HSDS (here: nobody listens), marks or not."""
-    from rigserver.storage.hsds_settings import HsdsSettings
-
-    nowhere = HsdsSettings(
-        endpoint=f"http+unix://{str(tmp_path / 'none.sock').replace('/', '%2F')}",
-        username="rig",
-        password="x",
-        bucket="rig",
-    )
+    nowhere = unanswered(tmp_path)
     with PostgresStore(postgres_url, files_dir=tmp_path, hsds=nowhere) as store:
         run = store.create_run(make_run())
         store.append(run.id, 0, "friction", friction(0, 10))

@@ -14,8 +14,11 @@ per second.
 ``embedded``
     ``rigserver serve`` on a data directory (SQLite journal, HDF5 run files): the baseline.
 ``cluster_1``, ``cluster_2``
-    ``scripts/cluster up`` with 1 and 2 workers on one local PostgreSQL; ``ratio`` is the
-    readings/s over the embedded store's, measured in the same run.
+    ``scripts/cluster up --no-hsds`` with 1 and 2 workers on one local PostgreSQL;
+    ``ratio`` is the readings/s over the embedded store's, measured in the same run.
+``cluster_2_hsds`` (when hsds and h5pyd are installed)
+    the same with HSDS, the workers materialising the arrays there as they come;
+    ``materialised_after_s`` is how long after the last post HSDS held every row.
 
 On a machine of two cores the workers, PostgreSQL and the clients share them: the figures
 show what the cluster costs per reading, not how it scales (docs/scale-out.md).
@@ -36,11 +39,13 @@ from typing import Any
 from urllib.parse import urlsplit
 
 import httpx
+import psycopg
 
 sys.path.insert(0, str(Path(__file__).parent))
 from ingest import body
 
 from rigserver import cluster
+from rigserver.storage.hsdsserver import hsds_missing
 
 API = "/api/v1"
 CLIENTS = 4
@@ -121,14 +126,32 @@ def embedded(work: Path, seconds: float) -> dict[str, Any]:
         cluster.stop_worker(directory / "worker-1.pid")
 
 
-def clustered(work: Path, workers: int, seconds: float) -> dict[str, Any]:
-    directory = work / f"cluster-{workers}"
-    urls = cluster.up(directory, workers)
+def clustered(work: Path, workers: int, seconds: float, *, hsds: bool) -> dict[str, Any]:
+    directory = work / f"cluster-{workers}{'-hsds' if hsds else ''}"
+    urls = cluster.up(directory, workers, hsds=hsds)
     try:
         key = json.loads((directory / "keys.json").read_text())[0]["key"]
-        return ingest(urls, key, seconds)
+        result = ingest(urls, key, seconds)
+        if hsds:
+            result["materialised_after_s"] = _caught_up(directory)
+        return result
     finally:
         cluster.down(directory)
+
+
+def _caught_up(directory: Path) -> float:
+    """Seconds until every stored batch is marked materialised in HSDS."""
+    server = cluster.postgres_of(directory)
+    t0 = time.perf_counter()
+    with psycopg.connect(server.url, autocommit=True) as conn:
+        while True:
+            row = conn.execute(
+                "SELECT (SELECT SUM(batches) FROM rig_runs) - "
+                "COALESCE((SELECT SUM(batches) FROM rig_hsds_marks), 0)"
+            ).fetchone()
+            if row is not None and int(row[0]) == 0:
+                return round(time.perf_counter() - t0, 2)
+            time.sleep(0.1)
 
 
 def main() -> None:
@@ -142,9 +165,13 @@ def main() -> None:
         out["embedded"] = embedded(work, seconds)
         base = out["embedded"]["readings_per_s"]
         for workers in (1, 2):
-            result = clustered(work, workers, seconds)
+            result = clustered(work, workers, seconds, hsds=False)
             result["ratio"] = round(result["readings_per_s"] / base, 3)
             out[f"cluster_{workers}"] = result
+        if hsds_missing() is None:
+            result = clustered(work, 2, seconds, hsds=True)
+            result["ratio"] = round(result["readings_per_s"] / base, 3)
+            out["cluster_2_hsds"] = result
     finally:
         shutil.rmtree(work, ignore_errors=True)
     print(json.dumps(out, indent=2))

@@ -30,6 +30,7 @@ from rigserver.api.auth import ApiKey, load_keys
 from rigserver.api.settings import Settings
 from rigserver.storage import HDF5Store, PostgresStore, RunStore, StorageError
 from rigserver.storage.check import check_data_dir
+from rigserver.storage.hsds_settings import HsdsSettings
 from rigserver.storage.migrate import MigrationMismatch, migrate
 from rigserver.storage.series import SeriesStore, SqliteSeries
 from rigserver.storage.series_postgres import PostgresSeries
@@ -106,13 +107,32 @@ def build_app(settings: Settings) -> FastAPI:
     settings.data_dir.mkdir(parents=True, exist_ok=True)
     store: RunStore
     series: SeriesStore
+    if settings.hsds_endpoint and not settings.database_url:
+        raise ValueError("hsds_endpoint needs database_url: HSDS holds a cluster's arrays")
     if settings.database_url:
-        store = PostgresStore(settings.database_url, files_dir=settings.data_dir)
+        store = PostgresStore(
+            settings.database_url,
+            files_dir=settings.data_dir,
+            hsds=_hsds(settings),
+            hsds_reads=settings.hsds_reads,
+        )
         series = PostgresSeries(settings.database_url)
     else:
         store = HDF5Store(settings.data_dir, synchronous=settings.synchronous)  # type: ignore[arg-type]
         series = SqliteSeries(settings.data_dir / "series.sqlite")
     return create_app(settings, store, keys, configure_stands(overrides), series)
+
+
+def _hsds(settings: Settings) -> HsdsSettings | None:
+    """Where the cluster's run arrays live in HSDS, if anywhere."""
+    if settings.hsds_endpoint is None:
+        return None
+    return HsdsSettings(
+        endpoint=settings.hsds_endpoint,
+        username=settings.hsds_username,
+        password=settings.hsds_password,
+        bucket=settings.hsds_bucket,
+    )
 
 
 def check_command(data_dir: Path) -> int:
@@ -204,6 +224,11 @@ def main(argv: Sequence[str] | None = None) -> int:
         help="PostgreSQL of a cluster: catalogue and journal shared by the workers "
         "(RIG_DATABASE_URL); the data dir then holds the run files materialised",
     )
+    serve.add_argument(
+        "--hsds-endpoint",
+        help="HSDS holding the cluster's run arrays, materialised from the journal "
+        "(RIG_HSDS_ENDPOINT; RIG_HSDS_USERNAME, RIG_HSDS_PASSWORD, RIG_HSDS_BUCKET)",
+    )
     serve.add_argument("--log-level", default="info")
     check = sub.add_parser("check", help="list the damaged runs of a data directory")
     check.add_argument("--data-dir", type=Path, required=True, help="the data directory")
@@ -233,6 +258,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         "synchronous": args.synchronous,
         "database_url": args.database_url,
         "results_workers": args.results_workers,
+        "hsds_endpoint": args.hsds_endpoint,
     }
     settings = Settings(**{k: v for k, v in given.items() if v is not None})
     logging.basicConfig(

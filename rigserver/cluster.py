@@ -8,8 +8,10 @@ serve`` workers on free loopback ports sharing the database and the run files di
 ``DIR/worker-N.log``, and prints one line per worker: its URL. ``down --dir DIR`` stops
 exactly those workers (their process groups) and that server (``pg_ctl stop``).
 
-HSDS is not started: the cluster's arrays are read from the PostgreSQL journal and its run
-files materialised into ``DIR/files`` (docs/scale-out.md says why).
+When hsds and h5pyd are installed (the ``cluster`` extra), ``up`` also starts HSDS in
+``DIR/hsds`` (unix sockets only, POSIX storage; :mod:`rigserver.storage.hsdsserver`) and
+the workers materialise the run arrays there (``--hsds-endpoint``); otherwise it says so
+in one line and the arrays stay in the journal. ``down`` stops it too.
 """
 
 from __future__ import annotations
@@ -24,10 +26,13 @@ import subprocess
 import sys
 import time
 from collections.abc import Sequence
+from dataclasses import asdict
 from pathlib import Path
 
 import httpx
 
+from rigserver.storage.hsds_settings import HsdsSettings
+from rigserver.storage.hsdsserver import LocalHsds, hsds_missing, start_hsds
 from rigserver.storage.pgserver import LocalPostgres, NoPostgres, start_local
 
 #: Seconds a worker has to answer after it was started, and to stop after SIGTERM
@@ -44,9 +49,23 @@ def free_port() -> int:
         return int(s.getsockname()[1])
 
 
-def _postgres_of(directory: Path) -> LocalPostgres:
+def postgres_of(directory: Path) -> LocalPostgres:
+    """The PostgreSQL server ``up`` started in ``directory``."""
     state = json.loads((directory / "cluster.json").read_text(encoding="utf-8"))
     return LocalPostgres(directory / "postgres", int(state["postgres_port"]))
+
+
+def _state(directory: Path) -> dict[str, object]:
+    path = directory / "cluster.json"
+    return dict(json.loads(path.read_text(encoding="utf-8"))) if path.exists() else {}
+
+
+def hsds_of(directory: Path) -> LocalHsds | None:
+    """The HSDS service ``up`` started in ``directory``, if it started one."""
+    found = _state(directory).get("hsds")
+    if not isinstance(found, dict):
+        return None
+    return LocalHsds(directory / "hsds", HsdsSettings(**found))
 
 
 def write_keys(directory: Path) -> str:
@@ -66,6 +85,16 @@ def start_worker(directory: Path, n: int, url: str | None, *, args: Sequence[str
     (``None``: the embedded store in ``directory/files``); its URL once it answers."""
     port = free_port()
     key = json.loads((directory / "keys.json").read_text(encoding="utf-8"))[0]["key"]
+    hsds = hsds_of(directory) if url else None
+    env = {**os.environ, "PYTHONUNBUFFERED": "1"}
+    if hsds is not None:
+        args = ["--hsds-endpoint", hsds.settings.endpoint, *args]
+        env |= {
+            "RIG_HSDS_USERNAME": hsds.settings.username,
+            "RIG_HSDS_PASSWORD": hsds.settings.password,
+            "RIG_HSDS_BUCKET": hsds.settings.bucket,
+            "RIG_HSDS_READS": "1" if _state(directory).get("hsds_reads") else "0",
+        }
     command = [
         sys.executable,
         "-m",
@@ -92,7 +121,7 @@ def start_worker(directory: Path, n: int, url: str | None, *, args: Sequence[str
             stderr=out,
             stdin=subprocess.DEVNULL,
             start_new_session=True,
-            env={**os.environ, "PYTHONUNBUFFERED": "1"},
+            env=env,
         )
     _STARTED[proc.pid] = proc
     (directory / f"worker-{n}.pid").write_text(f"{proc.pid}\n", encoding="utf-8")
@@ -110,17 +139,29 @@ def start_worker(directory: Path, n: int, url: str | None, *, args: Sequence[str
     raise RuntimeError(f"worker {n} did not answer within {START_SECONDS:.0f} s (see {log})")
 
 
-def up(directory: Path, workers: int) -> list[str]:
-    """Start the database and the workers; the workers' URLs."""
+def up(directory: Path, workers: int, *, hsds: bool = True, hsds_reads: bool = False) -> list[str]:
+    """Start the database, HSDS (if ``hsds`` and it is installed) and the workers (reading
+    the arrays materialised in HSDS from there if ``hsds_reads``); the workers' URLs."""
     directory.mkdir(parents=True, exist_ok=True)
     directory.chmod(0o711)  # the database's user (not root) passes through it
     (directory / "files").mkdir(exist_ok=True)
     port = free_port()
-    (directory / "cluster.json").write_text(json.dumps({"postgres_port": port}), encoding="utf-8")
+    state: dict[str, object] = {"postgres_port": port}
+    (directory / "cluster.json").write_text(json.dumps(state), encoding="utf-8")
     server = start_local(directory / "postgres", port)
     write_keys(directory)
     urls = []
     try:
+        why = hsds_missing() if hsds else None
+        if hsds and why is None:
+            state["hsds"] = asdict(start_hsds(directory / "hsds").settings)
+            state["hsds_reads"] = hsds_reads
+            (directory / "cluster.json").write_text(json.dumps(state), encoding="utf-8")
+            (directory / "cluster.json").chmod(0o600)  # HSDS's password
+        elif why is not None:
+            print(
+                f"cluster: HSDS not started, the arrays stay in the journal: {why}", file=sys.stderr
+            )
         for n in range(1, workers + 1):
             urls.append(start_worker(directory, n, server.url))
     except BaseException:
@@ -172,8 +213,26 @@ def down(directory: Path) -> None:
     """Stop the workers ``up`` started in ``directory``, then its database."""
     for pid_file in sorted(directory.glob("worker-*.pid")):
         stop_worker(pid_file)
+    hsds = hsds_of(directory)
+    if hsds is not None and (hsds.directory / "hsds.pid").exists():
+        hsds.stop()
     if (directory / "cluster.json").exists():
-        _postgres_of(directory).stop()
+        server = postgres_of(directory)
+        postmaster = server.data / "postmaster.pid"
+        pid = int(postmaster.read_text().split()[0]) if postmaster.exists() else None
+        server.stop()
+        if pid is not None:  # pg_ctl returns once the pid file has gone, a moment before
+            _wait_exited(pid)
+
+
+def _wait_exited(pid: int) -> None:
+    deadline = time.monotonic() + STOP_SECONDS
+    while time.monotonic() < deadline:
+        try:
+            os.kill(pid, 0)
+        except ProcessLookupError:
+            return
+        time.sleep(0.05)
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -182,6 +241,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     start = sub.add_parser("up", help="start PostgreSQL and N workers")
     start.add_argument("--workers", type=int, default=2)
     start.add_argument("--dir", type=Path, required=True)
+    start.add_argument("--no-hsds", action="store_true", help="keep the arrays in the journal")
+    start.add_argument(
+        "--hsds-reads", action="store_true", help="read the arrays materialised in HSDS there"
+    )
     stop = sub.add_parser("down", help="stop what up started")
     stop.add_argument("--dir", type=Path, required=True)
     args = parser.parse_args(argv)
@@ -191,7 +254,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     if args.workers < 1:
         parser.error(f"--workers must be at least 1, not {args.workers}")
     try:
-        urls = up(args.dir, args.workers)
+        urls = up(args.dir, args.workers, hsds=not args.no_hsds, hsds_reads=args.hsds_reads)
     except NoPostgres as exc:
         print(f"cluster: {exc}", file=sys.stderr)
         return 1

@@ -70,6 +70,19 @@ class Settings(BaseSettings):
         "share it); none: the embedded store in data_dir. Run files are then materialised "
         "into data_dir, which the workers may share",
     )
+    hsds_endpoint: str | None = Field(
+        default=None,
+        description="HSDS service holding a cluster's run arrays (needs database_url and "
+        "the cluster extra; http+unix://... for a unix socket); none: the journal only",
+    )
+    hsds_username: str = Field(default="rig", description="HSDS user")
+    hsds_password: str = Field(default="", description="HSDS password (set it in the env)")
+    hsds_bucket: str = Field(default="rig", description="HSDS bucket of the run domains")
+    hsds_reads: bool = Field(
+        default=False,
+        description="read the rows materialised in HSDS from there; off: every read from "
+        "the PostgreSQL journal (faster on one machine, docs/scale-out.md)",
+    )
 
 
 @lru_cache

@@ -19,12 +19,20 @@ Several processes. Every append locks its runs' catalogue rows (``SELECT ... FOR
 in id order: no deadlock), so the row counts, the retry lookups and the last values a
 batch is checked against are those of the batches committed before it, whichever worker
 took them; ending a run takes the same lock and happens once. Every read goes to the
-database, so a worker sees what the others stored as soon as it is committed; the live
-stream polls the run's row counts (:meth:`get_run`). :meth:`readings_version` (the run's
+database, so a worker sees what the others stored as soon as it is committed. Every such
+commit (and the end of a run) notifies ``rig_runs`` (:mod:`~rigserver.storage.notify`):
+the live streams of every worker wait on :meth:`wait_for_appends` and read the run's row
+counts (:meth:`get_run`) when woken. :meth:`readings_version` (the run's
 batch count) grows with every stored batch: a results cache in any process compares it to
 see that it is stale.
 
-The arrays are read from the journal (the batches overlapping the rows asked for). A run's
+The arrays are read from the journal (the batches overlapping the rows asked for). With
+HSDS (``hsds``, the ``cluster`` extra) a background thread materialises every run's arrays
+in a domain of its own (:mod:`~rigserver.storage.materialiser`); with ``hsds_reads`` the
+rows materialised there are read from HSDS and the rest from the journal, and while HSDS is
+down such reads raise ``StorageUnavailable`` (posts are unaffected: PostgreSQL acknowledges
+them). Reads from the journal are the default: they are faster here
+(``benchmarks/hsds_reads.py``, docs/scale-out.md). A run's
 HDF5 file (:meth:`run_file`) is materialised from the journal into ``files_dir``: once for
 an ended run (``runs/<id>.h5``, written atomically, shared by the workers when
 ``files_dir`` is on a shared file system), afresh for an open run (a snapshot).
@@ -45,7 +53,7 @@ import threading
 from collections.abc import Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import psycopg
@@ -78,10 +86,18 @@ from rigserver.storage.errors import (
     SequenceConflict,
 )
 from rigserver.storage.journal import run_filters
+from rigserver.storage.materialiser import MARKS_SCHEMA, materialised_rows
+from rigserver.storage.notify import Appends, notify
 from rigserver.storage.payloads import decode, encode
 from rigserver.storage.runfile import RunFile, write_file
+from schemas.channels import ChannelGroup
 from schemas.readings import BatchReceipt
 from schemas.runs import Run, RunPage, RunQuery, RunState
+
+if TYPE_CHECKING:
+    from rigserver.storage.hsds import HsdsArrays
+    from rigserver.storage.hsds_settings import HsdsSettings
+    from rigserver.storage.materialiser import Materialiser
 
 log = logging.getLogger(__name__)
 
@@ -155,9 +171,21 @@ class PostgresStore:
         system); a temporary directory of this process if ``None``.
     pool_size : int
         Most connections this process holds.
+    hsds : HsdsSettings, optional
+        The HSDS service holding the run arrays (needs h5pyd); none: the journal only.
+    hsds_reads : bool
+        Read the rows materialised in HSDS from there (else every read is the journal's).
     """
 
-    def __init__(self, url: str, *, files_dir: Path | None = None, pool_size: int = 8) -> None:
+    def __init__(
+        self,
+        url: str,
+        *,
+        files_dir: Path | None = None,
+        pool_size: int = 8,
+        hsds: HsdsSettings | None = None,
+        hsds_reads: bool = False,
+    ) -> None:
         self.url = url
         self._own_dir = files_dir is None
         if files_dir is None:
@@ -188,11 +216,25 @@ class PostgresStore:
                 with self._pool.connection() as conn, conn.transaction():
                     conn.execute("SELECT pg_advisory_xact_lock(%s)", (_SCHEMA_LOCK,))
                     conn.execute(_SCHEMA)
+                    conn.execute(MARKS_SCHEMA)
             except BaseException:
                 self._pool.close()
                 if self._own_dir:
                     shutil.rmtree(self.files_dir, ignore_errors=True)
                 raise
+        self._appends: Appends | None = None
+        self._appends_lock = threading.Lock()
+        self._arrays: HsdsArrays | None = None
+        self._materialiser: Materialiser | None = None
+        if hsds is not None:
+            # the cluster extra: imported only when used
+            from rigserver.storage.hsds import HsdsArrays
+            from rigserver.storage.materialiser import Materialiser
+
+            arrays = HsdsArrays(hsds)
+            self._arrays = arrays if hsds_reads else None
+            self._materialiser = Materialiser(url, self._pool, arrays)
+            self._materialiser.start()
 
     def __enter__(self) -> PostgresStore:
         return self
@@ -266,6 +308,7 @@ class PostgresStore:
                 "UPDATE rig_runs SET state = %s, ended = %s, run = %s WHERE id = %s",
                 (state.value, ended.ended, ended.model_dump_json(), run_id),
             )
+            notify(conn, run_id, run.batches)
         try:
             self._final_file(ended)
         except Exception as exc:  # the run has ended; its file is made when next asked for
@@ -304,6 +347,7 @@ class PostgresStore:
                             "WHERE id = %s",
                             (lr.run.batches, json.dumps(lr.run.rows), lr.max_seq, lr.run.id),
                         )
+                        notify(conn, lr.run.id, lr.run.batches)
         except PG_FAILURES as exc:
             failure = translated(exc, doing)
             # a retry's receipt or conflict may stem from a batch of this call: void
@@ -406,7 +450,8 @@ class PostgresStore:
         stop: int | None = None,
     ) -> dict[str, NDArray[np.float64]]:
         """Rows ``start:stop`` (slice semantics) of the channels: from an ended run's
-        materialised file if it is there, else from the batches holding them."""
+        materialised file if it is there, else from HSDS as far as materialised there and
+        from the batches holding the rest."""
         run = self.get_run(run_id)
         decl = channel_group(run.stand, group)
         names = channel_names(decl, channels)
@@ -423,21 +468,36 @@ class PostgresStore:
         if hi <= lo:
             return {n: np.empty(0) for n in names}
         with failures_as(f"reading run {run_id}", PG_FAILURES), self._pool.connection() as conn:
+            done = 0 if self._arrays is None else materialised_rows(conn, run_id, group)
             rows = conn.execute(
                 "SELECT payload, rows, group_rows FROM rig_batches WHERE run_id = %s "
                 "AND grp = %s AND group_rows > %s AND group_rows - rows < %s "
                 "ORDER BY group_rows",
-                (run_id, group, lo, hi),
+                (run_id, group, max(lo, done), hi),
             ).fetchall()
-        if not rows:
-            return {n: np.empty(0) for n in names}
-        first = int(rows[0][2]) - int(rows[0][1])
-        parts: dict[str, list[NDArray[np.float64]]] = {n: [] for n in names}
-        for payload, n_rows, _ in rows:
-            full = padded(decl, decode(bytes(payload)), int(n_rows))
-            for n in names:
-                parts[n].append(full[n])
-        return {n: np.concatenate(p)[lo - first : hi - first].copy() for n, p in parts.items()}
+        if self._arrays is not None and lo < done:
+            stored = self._arrays.read(run_id, group, names, lo, min(hi, done))
+            if hi <= done:
+                return stored
+            rest = _journal_rows(decl, names, rows, done, hi)
+            return {n: np.concatenate((stored[n], rest[n])) for n in names}
+        return _journal_rows(decl, names, rows, lo, hi)
+
+    async def wait_for_appends(self, run_id: str, batches: int, timeout: float) -> bool:
+        """Until any worker stores more than ``batches`` batches of the run or ends it:
+        True if notified, False after ``timeout`` seconds (the listener starts at the
+        first call)."""
+        with self._appends_lock:
+            if self._appends is None:
+                self._appends = Appends(self.url)
+            appends = self._appends
+        return await appends.wait(run_id, batches, timeout)
+
+    def materialised(self, run_id: str, group: str) -> int:
+        """Rows of the group in HSDS's storage (0 without HSDS)."""
+        doing = f"reading the HSDS mark of run {run_id}"
+        with failures_as(doing, PG_FAILURES), self._pool.connection() as conn:
+            return materialised_rows(conn, run_id, group)
 
     def iter_chunks(
         self, run_id: str, group: str, channels: list[str] | None = None, rows: int = 1 << 20
@@ -564,7 +624,12 @@ class PostgresStore:
         return True
 
     def close(self) -> None:
-        """Close the pool; remove the files directory if it was this process's own."""
+        """Stop materialising; close the pool; remove the files directory if it was this
+        process's own."""
+        if self._materialiser is not None:
+            self._materialiser.stop()
+        if self._appends is not None:
+            self._appends.close()
         self._pool.close()
         if self._own_dir:
             shutil.rmtree(self.files_dir, ignore_errors=True)
@@ -659,6 +724,22 @@ def _last_values(conn: psycopg.Connection[Any], run: Run, group: str) -> dict[st
         if len(rows) < _LOOK_BACK:
             break
     return found
+
+
+def _journal_rows(
+    decl: ChannelGroup, names: list[str], rows: list[tuple[Any, ...]], lo: int, hi: int
+) -> dict[str, NDArray[np.float64]]:
+    """Rows ``lo:hi`` of the channels from the batches ``rows`` (payload, rows, group_rows)
+    that hold them, in order."""
+    if not rows:
+        return {n: np.empty(0) for n in names}
+    first = int(rows[0][2]) - int(rows[0][1])
+    parts: dict[str, list[NDArray[np.float64]]] = {n: [] for n in names}
+    for payload, n_rows, _ in rows:
+        full = padded(decl, decode(bytes(payload)), int(n_rows))
+        for n in names:
+            parts[n].append(full[n])
+    return {n: np.concatenate(p)[lo - first : hi - first].copy() for n, p in parts.items()}
 
 
 def _remember_last(last: dict[str, float], batch: Batch) -> None:

@@ -86,6 +86,11 @@ def _axis(decl: ChannelGroup) -> str | None:
     return next((c.name for c in decl.channels if c.order is Order.INCREASING), None)
 
 
+def chunk_rows(decl: ChannelGroup) -> int:
+    """Rows per chunk of the group's datasets (module docstring)."""
+    return STREAM_CHUNK_ROWS if decl.aligned and _axis(decl) is not None else TABLE_CHUNK_ROWS
+
+
 class RunFile:
     """An open run file; not thread-safe (the store serialises the calls)."""
 
@@ -305,7 +310,7 @@ def _create_group(entry: h5py.Group, decl: ChannelGroup) -> None:
             g.attrs[f"{decl.axis}_indices"] = 0
     else:
         g.attrs["NX_class"] = "NXcollection"
-    chunk = STREAM_CHUNK_ROWS if decl.aligned and _axis(decl) is not None else TABLE_CHUNK_ROWS
+    chunk = chunk_rows(decl)
     for ch in decl.channels:
         ds = g.create_dataset(ch.name, shape=(0,), maxshape=(None,), chunks=(chunk,), dtype="f8")
         ds.attrs.update(units=ch.unit, long_name=ch.long_name)

@@ -48,11 +48,16 @@ class Cluster:
 
 @pytest.fixture(scope="module")
 def two_workers() -> Iterator[Cluster]:
+    yield from running(hsds_reads=False)
+
+
+def running(*, hsds_reads: bool) -> Iterator[Cluster]:
+    """Two workers (``scripts/cluster up``) until the generator is closed."""
     top = Path(tempfile.mkdtemp(prefix="rig-cluster-test-"))
     top.chmod(0o711)
     directory = top / "c"
     try:
-        urls = cluster.up(directory, 2)
+        urls = cluster.up(directory, 2, hsds_reads=hsds_reads)
     except NoPostgres as exc:
         shutil.rmtree(top, ignore_errors=True)
         pytest.skip(NO_POSTGRES.format(exc))

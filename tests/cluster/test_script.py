@@ -15,6 +15,7 @@ import httpx
 import pytest
 
 from rigserver.cluster import alive
+from rigserver.storage.hsdsserver import hsds_missing
 from rigserver.storage.pgserver import NoPostgres, server_bin
 from tests.postgres import NO_POSTGRES
 
@@ -47,6 +48,11 @@ def test_up_and_down(tmp_path: Path) -> None:
         pids = [int((directory / f"worker-{n}.pid").read_text()) for n in (1, 2)]
         postmaster = directory / "postgres" / "pgdata" / "postmaster.pid"
         pg_pid = int(postmaster.read_text().split()[0])
+        if hsds_missing() is None:  # HSDS runs, listening on unix sockets only
+            pids.append(int((directory / "hsds" / "hsds.pid").read_text()))
+            assert (directory / "hsds" / "sockets" / "sn_1.sock").is_socket()
+        else:
+            assert "HSDS not started" in up.stderr
         for url in urls:
             r = httpx.get(f"{url}/api/v1/runs", headers={"Authorization": f"Bearer {key}"})
             assert r.status_code == 200, r.text

@@ -14,6 +14,7 @@ from rigserver.storage import HDF5Store, MemoryStore, RunStore
 from rigserver.storage.postgres import PostgresStore
 from schemas.runs import Run, new_run_id
 from schemas.stands import StandKind
+from tests.hsds import hsds_service  # noqa: F401 (fixture)
 from tests.postgres import postgres_server, postgres_url  # noqa: F401 (fixtures)
 
 T0 = datetime(2024, 3, 1, 9, 0, tzinfo=UTC)

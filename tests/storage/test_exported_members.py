@@ -14,4 +14,5 @@ def test_all_is_sorted_and_importable() -> None:
     public = {n for n in dir(storage) if not n.startswith("_")} - {"annotations"}
     modules = {"base", "check", "errors", "hdf5", "memory", "journal", "payloads", "runfile"}
     modules |= {"postgres", "pgserver", "migrate", "series", "series_postgres"}
+    modules |= {"hsds", "hsds_settings", "hsdsserver", "materialiser"}
     assert public - modules == set(storage.__all__)

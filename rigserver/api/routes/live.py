@@ -6,9 +6,11 @@ sends that id back as ``Last-Event-ID`` when it reconnects, so a dropped connect
 resumes where it broke, with no row lost or repeated (``?from=`` sets the first row of a
 new connection). When the run has ended and every row is sent, an ``end`` event carries
 its state and the stream closes. The store is polled for the run's row counts, a cheap
-catalogue look-up. A connection is closed after ``MAX_SECONDS`` (the client reconnects and
-resumes), and at the next poll once the server is asked to stop, so no stream holds up a
-server's shutdown; a client that goes away is
+catalogue look-up; a store that notifies appends across processes (PostgreSQL's
+``wait_for_appends``) wakes the stream at once instead, and is polled only every
+``NOTIFIED_POLL_SECONDS`` in case a notification was lost. A connection is closed after
+``MAX_SECONDS`` (the client reconnects and resumes), and at the next poll once the server
+is asked to stop, so no stream holds up a server's shutdown; a client that goes away is
 noticed at the next write (a keep-alive comment at the latest).
 """
 
@@ -37,6 +39,8 @@ router = APIRouter(prefix="/runs/{run_id}", tags=["live"], dependencies=[ReadAcc
 
 POLL_SECONDS = 0.5
 """How often the store is asked for the run's row counts."""
+NOTIFIED_POLL_SECONDS = 5.0
+"""The same for a store that notifies appends."""
 MAX_ROWS = 5_000
 """Most rows in one event; a longer backlog goes out in several."""
 KEEPALIVE_SECONDS = 15.0
@@ -115,7 +119,11 @@ async def _stream(services: Services, run_id: str, group: str, seen: int) -> Asy
         if now - last_sent > KEEPALIVE_SECONDS:
             yield ": keep-alive\n\n"
             last_sent = now
-        await asyncio.sleep(POLL_SECONDS)
+        wait = getattr(services.store, "wait_for_appends", None)
+        if wait is None:
+            await asyncio.sleep(POLL_SECONDS)
+        else:
+            await wait(run_id, run.batches, NOTIFIED_POLL_SECONDS)
 
 
 @router.get(

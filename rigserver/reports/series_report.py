@@ -166,6 +166,7 @@ def series_context(
         "fmt": fmt,
         "detail": detail,
         "purpose": purpose,
+        "stand_name": m(f"stand.{detail.stand.value}") if detail.stand else None,
         "rows": rows,
         "run_columns": [r for r in rows if _PER_STEP not in r["stats"].key],
         "own_uncertainty": any(r["own_uncertainty"] is not None for r in rows),

@@ -22,7 +22,6 @@ import os
 import secrets
 import signal
 import socket
-import subprocess
 import sys
 import time
 from collections.abc import Sequence
@@ -31,6 +30,7 @@ from pathlib import Path
 
 import httpx
 
+from rigserver.storage._processes import STARTED, start_logged
 from rigserver.storage.hsds_settings import HsdsSettings
 from rigserver.storage.hsdsserver import LocalHsds, hsds_missing, start_hsds
 from rigserver.storage.pgserver import LocalPostgres, NoPostgres, start_local
@@ -38,8 +38,6 @@ from rigserver.storage.pgserver import LocalPostgres, NoPostgres, start_local
 #: Seconds a worker has to answer after it was started, and to stop after SIGTERM
 START_SECONDS = 60.0
 STOP_SECONDS = 15.0
-#: The workers this process started, by process id (waited for when stopped)
-_STARTED: dict[int, subprocess.Popen[bytes]] = {}
 
 
 def free_port() -> int:
@@ -114,17 +112,7 @@ def start_worker(directory: Path, n: int, url: str | None, *, args: Sequence[str
         *args,
     ]
     log = directory / f"worker-{n}.log"
-    with log.open("ab") as out:
-        proc = subprocess.Popen(
-            command,
-            stdout=out,
-            stderr=out,
-            stdin=subprocess.DEVNULL,
-            start_new_session=True,
-            env=env,
-        )
-    _STARTED[proc.pid] = proc
-    (directory / f"worker-{n}.pid").write_text(f"{proc.pid}\n", encoding="utf-8")
+    proc = start_logged(command, log=log, pid_file=directory / f"worker-{n}.pid", env=env)
     base = f"http://127.0.0.1:{port}"
     deadline = time.monotonic() + START_SECONDS
     while time.monotonic() < deadline:
@@ -186,7 +174,7 @@ def stop_worker(pid_file: Path) -> None:
         time.sleep(0.1)
     else:
         os.killpg(pid, signal.SIGKILL)
-        proc = _STARTED.pop(pid, None)
+        proc = STARTED.pop(pid, None)
         if proc is not None:
             proc.wait(STOP_SECONDS)
     pid_file.unlink()
@@ -204,9 +192,9 @@ def alive(pid: int) -> bool:
 
 def _reap(pid: int) -> None:
     """Collect the worker's exit if this process started it (``up`` and ``down`` in one)."""
-    proc = _STARTED.get(pid)
+    proc = STARTED.get(pid)
     if proc is not None and proc.poll() is not None:
-        del _STARTED[pid]
+        del STARTED[pid]
 
 
 def down(directory: Path) -> None:

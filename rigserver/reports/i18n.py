@@ -31,6 +31,12 @@ UNIT_CONTEXT = "unit"
 """The message context of unit symbols (``s`` the unit is not ``s`` the word)."""
 
 
+def language_headers(lang: str) -> dict[str, str]:
+    """The headers of an answer in ``lang`` chosen by :func:`negotiate`: its language, and
+    that it varies with ``Accept-Language`` (for caches)."""
+    return {"Content-Language": lang, "Vary": "Accept-Language"}
+
+
 def negotiate(requested: str | None, accept_language: str | None) -> Lang:
     """The language: ``requested`` if given, else the best of ``Accept-Language``.
 

@@ -14,13 +14,13 @@ import importlib.util
 import os
 import secrets
 import signal
-import subprocess
 import sys
 import time
 from dataclasses import dataclass
 from pathlib import Path
 from urllib.parse import quote
 
+from rigserver.storage._processes import STARTED, start_logged
 from rigserver.storage.errors import StorageError
 from rigserver.storage.hsds_settings import HsdsSettings
 
@@ -37,8 +37,6 @@ TUNED = {
     "flush_sleep_interval": "0.05",
     "admin_user": USER,  # makes the top folder of the runs
 }
-#: The services this process started, by process id (reaped when stopped)
-_STARTED: dict[int, subprocess.Popen[bytes]] = {}
 
 
 class NoHsds(RuntimeError):
@@ -153,17 +151,9 @@ def _launch(directory: Path, settings: HsdsSettings) -> None:
         "--loglevel",
         "WARNING",
     ]
-    with (directory / "hsds.out").open("ab") as out:
-        proc = subprocess.Popen(
-            command,
-            stdout=out,
-            stderr=out,
-            stdin=subprocess.DEVNULL,
-            start_new_session=True,
-            cwd=directory,
-        )
-    _STARTED[proc.pid] = proc
-    (directory / "hsds.pid").write_text(f"{proc.pid}\n", encoding="utf-8")
+    proc = start_logged(
+        command, log=directory / "hsds.out", pid_file=directory / "hsds.pid", cwd=directory
+    )
     from rigserver.storage.hsds import HsdsArrays  # the cluster extra, checked above
 
     arrays = HsdsArrays(settings)
@@ -184,7 +174,7 @@ def _launch(directory: Path, settings: HsdsSettings) -> None:
 
 def _wait_gone(pid: int) -> None:
     """Until the process group has gone (reaped if it was a child of this process)."""
-    proc = _STARTED.pop(pid, None)
+    proc = STARTED.pop(pid, None)
     if proc is not None:
         proc.wait(10)
     for _ in range(200):

@@ -20,7 +20,7 @@ from rigserver.api.routes.runs import load_run
 from rigserver.api.routes.series import series_view
 from rigserver.api.run_results import results_payload
 from rigserver.api.sessions import COOKIE, SESSION_SECONDS
-from rigserver.reports.i18n import Lang, negotiate
+from rigserver.reports.i18n import Lang, language_headers, negotiate
 from rigserver.reports.series_report import render_series_body
 from rigserver.web.pages import login_page, results_html, run_page, runs_page
 from rigserver.web.series_pages import series_list_page, series_page
@@ -160,7 +160,7 @@ def runs(
         lang=chosen,
         signed_in=_signed_in(request, services),
     )
-    return HTMLResponse(html, headers={"Content-Language": chosen, "Vary": "Accept-Language"})
+    return HTMLResponse(html, headers=language_headers(chosen))
 
 
 @router.get("/runs/{run_id}", response_class=HTMLResponse)
@@ -176,7 +176,7 @@ def run(
         lang=chosen,
         signed_in=_signed_in(request, services),
     )
-    return HTMLResponse(html, headers={"Content-Language": chosen, "Vary": "Accept-Language"})
+    return HTMLResponse(html, headers=language_headers(chosen))
 
 
 @router.get("/runs/{run_id}/results", response_class=HTMLResponse)
@@ -187,7 +187,7 @@ def run_results(
     chosen = negotiate(lang, request.headers.get("accept-language"))
     found = load_run(services, run_id)
     html = results_html(run=found, payload=results_payload(services, found), lang=chosen)
-    return HTMLResponse(html, headers={"Content-Language": chosen, "Vary": "Accept-Language"})
+    return HTMLResponse(html, headers=language_headers(chosen))
 
 
 @router.get("/series", response_class=HTMLResponse)
@@ -196,7 +196,7 @@ def series_list(request: Request, services: ServicesDep, lang: Lang | None = Non
     html = series_list_page(
         series=services.series.list(), lang=chosen, signed_in=_signed_in(request, services)
     )
-    return HTMLResponse(html, headers={"Content-Language": chosen, "Vary": "Accept-Language"})
+    return HTMLResponse(html, headers=language_headers(chosen))
 
 
 @router.get("/series/{series_id}", response_class=HTMLResponse)
@@ -212,7 +212,7 @@ def series(
         lang=chosen,
         signed_in=_signed_in(request, services),
     )
-    return HTMLResponse(html, headers={"Content-Language": chosen, "Vary": "Accept-Language"})
+    return HTMLResponse(html, headers=language_headers(chosen))
 
 
 @login_router.get("/login", response_class=HTMLResponse)

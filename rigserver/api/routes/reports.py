@@ -17,7 +17,7 @@ from rigserver.api.deps import ReadAccess, Services, ServicesDep
 from rigserver.api.routes.runs import load_run
 from rigserver.api.run_results import StoredReadings, results_payload
 from rigserver.reports.export import DIALECTS, Dialect, export_zip, results_csv
-from rigserver.reports.i18n import Lang, Messages, negotiate
+from rigserver.reports.i18n import Lang, Messages, language_headers, negotiate
 from rigserver.reports.pdf import html_to_pdf
 from rigserver.reports.run_report import build_report, render_report
 from schemas.runs import Run
@@ -47,10 +47,6 @@ def _language(request: Request, lang: Lang | None) -> Lang:
     return negotiate(lang, request.headers.get("accept-language"))
 
 
-def _vary(lang: Lang) -> dict[str, str]:
-    return {"Content-Language": lang, "Vary": "Accept-Language"}
-
-
 @router.get(
     "/report.html",
     summary="The run's report as a web page (the manual's tables, plots, conclusions)",
@@ -61,7 +57,7 @@ async def report_html(
 ) -> HTMLResponse:
     chosen = _language(request, lang)
     _, html = await run_in_threadpool(_report_html, services, run_id, chosen)
-    return HTMLResponse(html, headers=_vary(chosen))
+    return HTMLResponse(html, headers=language_headers(chosen))
 
 
 @router.get(
@@ -77,7 +73,7 @@ async def report_pdf(
     run, html = await run_in_threadpool(_report_html, services, run_id, chosen)
     pdf = await run_in_threadpool(html_to_pdf, html)
     headers = {
-        **_vary(chosen),
+        **language_headers(chosen),
         "Content-Disposition": f'attachment; filename="{run.id}-report-{chosen}.pdf"',
     }
     return Response(pdf, media_type="application/pdf", headers=headers)

@@ -23,7 +23,7 @@ from rigserver.api.problems import ApiProblem
 from rigserver.api.routes.runs import load_run
 from rigserver.api.run_results import StoredReadings, results_payload
 from rigserver.api.strict_json import StrictJsonRoute
-from rigserver.reports.i18n import Lang, negotiate
+from rigserver.reports.i18n import Lang, language_headers, negotiate
 from rigserver.reports.pdf import html_to_pdf
 from rigserver.reports.series_report import render_series_report, series_context, series_csv
 from rigserver.storage.errors import RunNotFound, SeriesNotFound, StorageError
@@ -214,7 +214,7 @@ async def report_html(
 ) -> HTMLResponse:
     chosen = negotiate(lang, request.headers.get("accept-language"))
     _, html = await run_in_threadpool(_report, services, series_id, chosen)
-    return HTMLResponse(html, headers={"Content-Language": chosen, "Vary": "Accept-Language"})
+    return HTMLResponse(html, headers=language_headers(chosen))
 
 
 @router.get(
@@ -234,8 +234,7 @@ async def report_pdf(
         pdf,
         media_type="application/pdf",
         headers={
-            "Content-Language": chosen,
-            "Vary": "Accept-Language",
+            **language_headers(chosen),
             "Content-Disposition": f'attachment; filename="{detail.id}-report-{chosen}.pdf"',
         },
     )

@@ -18,7 +18,7 @@ from schemas.channels import Channel, ChannelGroup, Limit, Order, configured_gro
 from schemas.messages import N_
 from schemas.quantity import quantity
 from schemas.units import UnitSymbol
-from schemas.wire import Text
+from schemas.wire import Number, Text
 
 
 class StandKind(StrEnum):
@@ -29,7 +29,8 @@ class StandKind(StrEnum):
 
 
 class _Config(BaseModel):
-    model_config = ConfigDict(frozen=True, extra="forbid", allow_inf_nan=False)
+    # strict: a flag or a text is no number (``true`` for a spring rate is refused, not 1.0)
+    model_config = ConfigDict(frozen=True, extra="forbid", allow_inf_nan=False, strict=True)
 
 
 # --- SMTs-2 friction and wear machine, lab work 2 -------------------------------------
@@ -118,8 +119,11 @@ class SlideBearingConfig(_Config):
     omega0: float = quantity(329.0, "rad/s", "ω0, journal angular speed (3.18)", gt=0)
     viscosity: ViscosityLaw = ViscosityLaw()
     gauge_unit: Literal["at", "atm"] = "at"
-    manometer_z: tuple[float, float, float, float, float] = quantity(
-        (-0.394, -0.197, 0.0, 0.197, 0.394), "1", "z = Z/R of manometers 1..5 (table 3.2)"
+    manometer_z: tuple[Number, Number, Number, Number, Number] = quantity(
+        (-0.394, -0.197, 0.0, 0.197, 0.394),
+        "1",
+        "z = Z/R of manometers 1..5 (table 3.2)",
+        strict=False,  # a JSON array; its items are strict
     )
     loader_rate: float = quantity(16.2, "N/mm", "load per mm of the loader scale", gt=0)
     displacement_per_division: float = quantity(

@@ -23,7 +23,7 @@ from rigserver.analysis.series import label_of
 from rigserver.reports import results_view
 from rigserver.reports.blocks import axis
 from rigserver.reports.downsample import min_max
-from rigserver.reports.formatting import fmt, number_locale, shown
+from rigserver.reports.formatting import fmt, number_locale, shown, spreadsheet_text
 from rigserver.reports.i18n import Lang, Messages
 from rigserver.reports.render import render
 from rigserver.reports.series_plots import Curve, overlay
@@ -111,7 +111,8 @@ def text(lang: Lang) -> Callable[..., str]:
 def series_csv(detail: SeriesDetail) -> str:
     """One row per run: id, level, state, operator, start, then every headline result
     (``key [unit]``, in its display unit: mm³, mg, µm) at full precision; empty where a run
-    lacks it."""
+    lacks it. A text cell that a spreadsheet would take for a formula (``=HYPERLINK(...)``
+    for a level) starts with ``'`` (:func:`~rigserver.reports.formatting.spreadsheet_text`)."""
     out = io.StringIO()
     writer = csv.writer(out)
     shown_in: dict[str, tuple[str, float]] = {}
@@ -135,7 +136,8 @@ def series_csv(detail: SeriesDetail) -> str:
             for key, (_, factor) in shown_in.items()
         ]
         when = row.created.isoformat()
-        writer.writerow([row.run_id, row.level or "", row.state.value, row.operator, when, *values])
+        texts = [row.run_id, row.level or "", row.state.value, row.operator, when]
+        writer.writerow([*(spreadsheet_text(cell) for cell in texts), *values])
     return out.getvalue()
 
 

@@ -4,21 +4,25 @@ from __future__ import annotations
 
 from collections.abc import AsyncIterator
 from contextlib import asynccontextmanager
+from functools import partial
 
 from fastapi import FastAPI
 from starlette.middleware.cors import CORSMiddleware
+from starlette.types import Scope
 
 from rigserver.api import problems
 from rigserver.api.auth import ApiKey, Keyring
 from rigserver.api.body_limit import BodyLimit
-from rigserver.api.deps import Services
+from rigserver.api.deps import Services, caller_in
 from rigserver.api.gate import Gate
 from rigserver.api.openapi import add_components
 from rigserver.api.page_policy import PagePolicy
+from rigserver.api.problems import ApiProblem
 from rigserver.api.rate_limit import RateLimit
 from rigserver.api.routes import api_docs, live, models, pages, readings, reports, results, runs
 from rigserver.api.routes import series as series_routes
 from rigserver.api.routes import stands as stand_routes
+from rigserver.api.routes.pages import LOGIN_BODY_BYTES
 from rigserver.api.settings import Settings
 from rigserver.storage.base import RunStore
 from rigserver.storage.series import SeriesStore, SqliteSeries
@@ -38,6 +42,27 @@ API_ROUTERS = (
     live.router,
     series_routes.router,
 )
+
+
+#: The bodies of routes without a key, bytes: the login and logout forms.
+FORM_BODY_BYTES = {"/login": LOGIN_BODY_BYTES, "/logout": LOGIN_BODY_BYTES}
+#: The largest body of any other request without a key (a calculator's input, when reads
+#: are public), bytes.
+ANONYMOUS_BODY_BYTES = 64 << 10
+
+
+def body_limit(services: Services, scope: Scope) -> int:
+    """The largest body the request may send: its route's own (the login form), else
+    ``max_body_bytes`` with a key and :data:`ANONYMOUS_BODY_BYTES` without one (a key
+    this server does not know is none: :mod:`rigserver.api.gate` answers it 401)."""
+    own = FORM_BODY_BYTES.get(scope["path"])
+    if own is not None:
+        return own
+    try:
+        caller = caller_in(scope, services)
+    except ApiProblem:
+        caller = None
+    return services.settings.max_body_bytes if caller is not None else ANONYMOUS_BODY_BYTES
 
 
 def create_app(
@@ -84,8 +109,13 @@ def create_app(
     api_docs.install(app)
     pages.install(app)
     # the last added is the outermost: rate, then key, then size
-    app.add_middleware(BodyLimit, max_bytes=settings.max_body_bytes, timeout=settings.body_timeout)
     services = app.state.services
+    app.add_middleware(
+        BodyLimit,
+        max_bytes=settings.max_body_bytes,
+        timeout=settings.body_timeout,
+        limit_of=partial(body_limit, services),
+    )
     api_routes = [route for router in API_ROUTERS for route in router.routes]
     app.add_middleware(Gate, services=services, prefix=API_PREFIX, routes=api_routes)
     if settings.rate_limit:

@@ -155,7 +155,8 @@ def test_a_users_text_is_never_a_formula_in_a_csv_cell(text: str) -> None:
     if cell == text and text:  # left alone: no spreadsheet takes it for a formula
         stripped = text.lstrip(" \t\r\n")
         assert text[0] not in "\t\r"
-        assert not stripped.startswith(("=", "+", "-", "@")) or float(text.replace(",", "."))
+        if stripped.startswith(("=", "+", "-", "@")):  # only a number is left so
+            float(text.replace(",", "."))
 
 
 @pytest.mark.filterwarnings("ignore:Glyph .* missing from font")  # a box is drawn for it

@@ -891,7 +891,11 @@ class SpoolLock:
             time.sleep(0.05)
         self._fd = fd
         since = datetime.now().astimezone().isoformat(timespec="seconds")
-        info = {"pid": os.getpid(), "command": " ".join(sys.argv), "since": since}
+        prog = Path(sys.argv[0]).name if sys.argv and sys.argv[0] else "python"
+        if prog in ("cli.py", "__main__.py", "-c"):  # python -m rigclient.cli
+            prog = "rigclient"
+        command = " ".join([prog, *sys.argv[1:]])
+        info = {"pid": os.getpid(), "command": command, "since": since}
         with contextlib.suppress(OSError):  # who holds it is a courtesy; the lock is the fd
             (self.directory / OWNERNAME).write_text(json.dumps(info), encoding="utf-8")
 

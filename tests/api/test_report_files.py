@@ -18,6 +18,7 @@ from rigserver.api import report_files, report_jobs
 from rigserver.api.app import create_app
 from rigserver.api.auth import ApiKey
 from rigserver.api.settings import Settings
+from rigserver.reports.run_report import build_report
 from rigserver.storage import MemoryStore
 from schemas.runs import Run
 from schemas.stands import StandKind, configure_stands
@@ -42,7 +43,7 @@ def _client(tmp_path: Path, **settings: Any) -> TestClient:
 def renders(monkeypatch: pytest.MonkeyPatch) -> list[str]:
     """The languages of the run reports built in this process, in order."""
     built: list[str] = []
-    real = report_jobs.build_report
+    real = build_report
 
     def counting(**kwargs: Any) -> Any:
         built.append(kwargs["lang"])
@@ -121,7 +122,7 @@ def test_one_key_beyond_its_share_is_answered_503_and_another_key_gets_its_repor
     once (503, Retry-After), while the reader's key gets its report."""
     held = threading.Event()
     release = threading.Event()
-    real = report_jobs.build_report
+    real = build_report
 
     def slow_russian(**kwargs: Any) -> Any:
         if kwargs["lang"] == "ru":

@@ -81,6 +81,13 @@ class Services:
             retry_after=self.settings.retry_after,
         )
 
+    def stop(self) -> None:
+        """The server is asked to stop: long requests end (live streams are woken)."""
+        self.stopping.set()
+        wake = getattr(self.store, "wake_waiters", None)
+        if wake is not None:
+            wake()
+
     def stand_of(self, run: Run) -> Stand:
         """The run's stand as its configuration snapshot sets it (the gauges' unit)."""
         return self.stands[run.stand].for_run(run.configuration)

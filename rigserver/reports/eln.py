@@ -149,6 +149,12 @@ def term(name: str) -> str:
     return TRIBAIN + name
 
 
+def kind(*names: str) -> Any:
+    """``additionalType``: the tribAIn classes as links (one, or a list)."""
+    links = [ref(term(n)) for n in names]
+    return links[0] if len(links) == 1 else links
+
+
 def ref(entity_id: str) -> dict[str, str]:
     return {"@id": entity_id}
 
@@ -389,7 +395,7 @@ def add_run(crate: Crate, part: RunPart, *, series: str | None = None) -> str:
             encoding=HDF5,
             description="The run file: every reading of every channel group, the run's "
             "metadata and results (NeXus/HDF5)",
-            additionalType=term("MeasurementSeries"),
+            additionalType=kind("MeasurementSeries"),
         )
     ]
     members = export_members(
@@ -469,7 +475,7 @@ def _describe_run(
     dataset: Node = {
         "@id": folder,
         "@type": "Dataset",
-        "additionalType": term("TribologicalTesting"),
+        "additionalType": kind("TribologicalTesting"),
         "name": run.title or f"{stand.title}: run {run.id}",
         "identifier": run.id,
         "url": crate.publisher.run_url(run.id),
@@ -537,7 +543,7 @@ def _add_stand(crate: Crate, run: Run, stand: Stand) -> str:
         {
             "@id": f"#stand-{stand.kind.value}",
             "@type": "IndividualProduct",
-            "additionalType": term("Device"),
+            "additionalType": kind("Device"),
             "name": stand.title,
             "identifier": stand.kind.value,
             "description": f"Test stand of lab work {stand.lab_work}",
@@ -558,17 +564,17 @@ def _add_specimens(crate: Crate, run: Run) -> list[str]:
             {
                 "@id": f"#material-{_slug(text)}",
                 "@type": "Product",
-                "additionalType": term("Material"),
+                "additionalType": kind("Material"),
                 "name": text,
             }
         )
-        types = [term("Sample")] + ([term(ROLES[role])] if role in ROLES else [])
+        roles = ("Sample", ROLES[role]) if role in ROLES else ("Sample",)
         found.append(
             crate.add(
                 {
                     "@id": f"#run-{run.id}/specimen/{_slug(role)}",
                     "@type": "IndividualProduct",
-                    "additionalType": types,
+                    "additionalType": kind(*roles),
                     "name": f"{role}: {text}",
                     "category": role,
                     "material": ref(material),
@@ -807,7 +813,7 @@ def _add_series(crate: Crate, series: SeriesPart, folder: str, runs: list[str]) 
     dataset: Node = {
         "@id": folder,
         "@type": "Dataset",
-        "additionalType": term("TestSeries"),
+        "additionalType": kind("TestSeries"),
         "name": detail.name,
         "identifier": detail.id,
         "dateCreated": _iso(detail.created),

@@ -208,7 +208,7 @@ def _rig_run(graph: Mapping[str, dict[str, Any]]) -> tuple[dict[str, Any], str, 
     runs = [
         graph[p]
         for p in _ids(root.get("hasPart"))
-        if p in graph and term("TribologicalTesting") in _as_list(graph[p].get("additionalType"))
+        if p in graph and term("TribologicalTesting") in _ids(graph[p].get("additionalType"))
     ]
     if len(runs) != 1:
         raise ArchiveRefused(

@@ -29,8 +29,13 @@ class Settings(BaseSettings):
     import_max_bytes: int = Field(
         default=1 << 30,
         gt=0,
-        description="largest .eln archive that POST /runs/import takes; the members it "
-        "unpacks may declare at most four times as much",
+        description="largest .eln archive that POST /runs/import takes",
+    )
+    import_unpacked_bytes: int = Field(
+        default=8 << 30,
+        gt=0,
+        description="most bytes the members of an imported archive may declare unpacked "
+        "(more is refused as a zip bomb); each is read no further than it declares",
     )
     license: str | None = Field(
         default=None,

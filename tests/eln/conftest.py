@@ -7,6 +7,7 @@ from __future__ import annotations
 import hashlib
 import io
 import json
+import warnings
 import zipfile
 from collections.abc import Iterator
 from dataclasses import dataclass
@@ -104,7 +105,11 @@ def graph_of(archive: bytes) -> dict[str, dict[str, Any]]:
 def rezip(files: dict[str, bytes] | list[tuple[str, bytes]]) -> bytes:
     """An archive of these members (a list may name one twice)."""
     out = io.BytesIO()
-    with zipfile.ZipFile(out, "w", compression=zipfile.ZIP_DEFLATED) as z:
+    with (
+        zipfile.ZipFile(out, "w", compression=zipfile.ZIP_DEFLATED) as z,
+        warnings.catch_warnings(),
+    ):
+        warnings.simplefilter("ignore")  # "Duplicate name": the point of some archives
         for name, data in files.items() if isinstance(files, dict) else files:
             z.writestr(name, data)
     return out.getvalue()

@@ -250,3 +250,19 @@ def test_the_series_archive_holds_each_run_and_the_statistics(lab: Lab, tmp_path
     done = _validate(unzipped(lab.series_archive, tmp_path))
     assert done.returncode == 0, done.stdout[-3000:]
     ROCrate(tmp_path / lab.series_id)
+
+
+@pytest.mark.parametrize(
+    ("lang", "words"),
+    [("en", "Everything for an electronic lab notebook"), ("ru", "электронного лабораторного")],
+)
+def test_the_run_and_series_pages_link_the_archive(lab: Lab, lang: str, words: str) -> None:
+    run_id = lab.runs[StandKind.MTOS]
+    for page, link in (
+        (f"/runs/{run_id}", f"/api/v1/runs/{run_id}/export.eln"),
+        (f"/series/{lab.series_id}", f"/api/v1/series/{lab.series_id}/export.eln"),
+    ):
+        html = lab.source.get(f"{page}?lang={lang}", headers=auth(WRITER)).text
+        anchor = html[html.index('id="export-eln"') :]
+        assert f'href="{link}"' in anchor[: anchor.index(">")]
+        assert words in anchor[: anchor.index("</a>")]

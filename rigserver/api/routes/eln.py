@@ -56,8 +56,6 @@ from schemas.stands import CONFIG_MODELS, MEASUREMENTS, Stand
 
 router = APIRouter(tags=["eln"])
 
-#: The members an import unpacks may declare at most this many times the archive's limit.
-UNPACKED_RATIO = 4
 #: Tries for a free id when an imported run's id is taken (ids carry 32 random bits).
 ID_TRIES = 3
 
@@ -198,7 +196,7 @@ def _refused(exc: ArchiveRefused) -> ApiProblem:
 
 def _unpack(services: Services, archive: Path, directory: Path) -> tuple[ArchivedRun, Run]:
     """The archive checked and its run as rig wrote it (run.json); 422 naming the member."""
-    limit = services.settings.import_max_bytes * UNPACKED_RATIO
+    limit = services.settings.import_unpacked_bytes
     try:
         with archive.open("rb") as source:
             found = read_run_archive(source, directory, unpacked_limit=limit)

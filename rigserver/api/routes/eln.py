@@ -4,12 +4,14 @@ which recreates a run exported by a rig server under a new id (naming the origin
 
 from __future__ import annotations
 
+import io
 import math
 import os
 import shutil
 import tempfile
 from collections.abc import Callable, Iterator, Mapping
 from datetime import UTC, datetime
+from functools import lru_cache
 from pathlib import Path
 from typing import IO, Any
 
@@ -50,11 +52,15 @@ from rigserver.reports.pdf import html_to_pdf
 from rigserver.reports.series_report import series_csv
 from rigserver.storage.archived import IMPORT_ROWS, FileReadings, file_batches, summary
 from rigserver.storage.errors import RunNotFound, StorageError
+from rigserver.storage.runfile import write_file
 from schemas.channels import check_columns
 from schemas.runs import ImportedFrom, Run, RunState, new_run_id
-from schemas.stands import CONFIG_MODELS, MEASUREMENTS, Stand
+from schemas.stands import CONFIG_MODELS, MEASUREMENTS, Stand, StandKind, default_stands
 
 router = APIRouter(tags=["eln"])
+
+#: Where the OpenAPI document's example archive is served (rigserver.api.routes.api_docs).
+ELN_EXAMPLE = "/docs/examples/run.eln"
 
 #: Tries for a free id when an imported run's id is taken (ids carry 32 random bits).
 ID_TRIES = 3
@@ -296,6 +302,49 @@ def _import(services: Services, found: ArchivedRun, original: Run) -> Run:
     raise ApiProblem(503, "No free run id", "try the import again", headers={"Retry-After": "1"})
 
 
+@lru_cache(maxsize=1)
+def example_archive() -> bytes:
+    """The archive of a small profilometer run made up here (a sine trace of 1 µm amplitude
+    and 0.1 mm pitch over the 0.8 mm base length, sampled every 0.5 µm), the import's
+    example in the OpenAPI document."""
+    made = datetime(2026, 11, 22, 11, 40, 26, tzinfo=UTC)
+    stand = default_stands()[StandKind.PROFILOMETER]
+    x = np.linspace(0.0, 0.8, 1601)
+    trace = {"x": x, "y": np.sin(2.0 * np.pi * x / 0.1)}
+    weighed = {"base_length": np.array([0.8]), "subrange": np.array([3.2])}
+    run = Run(
+        id="20261122T114026Z-0e1ec0de",
+        stand=StandKind.PROFILOMETER,
+        state=RunState.FINISHED,
+        operator="Ivanova",
+        title="Run-in surface, example",
+        specimen={"surface": "steel 45, run in"},
+        test_plan={"base_length_mm": 0.8},
+        configuration=stand.configuration.model_dump(mode="json"),
+        created=made,
+        ended=made,
+        batches=2,
+        rows={"profile": len(x), "measurements": 1},
+    )
+    with tempfile.TemporaryDirectory(prefix="rig-example-") as directory:
+        path = Path(directory) / "run.h5"
+        write_file(
+            path, run, [("profile", trace, len(x)), (MEASUREMENTS, weighed, 1)], None, final=True
+        )
+        readings = FileReadings(path)
+        part = RunPart(
+            run=run,
+            stand=stand,
+            readings=readings,
+            payload=analyse(run, readings).payload,
+            run_file=path,
+        )
+        target = io.BytesIO()
+        publisher = Publisher("http://rig.example/")
+        write_run_archive(target, part, made=made, publisher=publisher, licence=None)
+    return target.getvalue()
+
+
 async def _body_to(request: Request, path: Path) -> None:
     with path.open("wb") as target:
         async for piece in request.stream():
@@ -319,7 +368,17 @@ async def _body_to(request: Request, path: Path) -> None:
     openapi_extra={
         "requestBody": {
             "required": True,
-            "content": {ELN_MEDIA_TYPE: {"schema": {"type": "string", "format": "binary"}}},
+            "content": {
+                ELN_MEDIA_TYPE: {
+                    "schema": {"type": "string", "format": "binary"},
+                    "examples": {
+                        "profile": {
+                            "summary": "a profilometer run exported by a rig server",
+                            "externalValue": ELN_EXAMPLE,
+                        }
+                    },
+                }
+            },
         }
     },
 )

@@ -87,9 +87,10 @@ def settings_for(
     """The stand's default settings with the bearing model (MTOS, slide bearing), the
     SMTs-2 mode, the faults and the noise chosen on the command line.
 
-    Without noise every instrument is ideal (no noise, drift, offset or quantisation) and the
-    SMTs-2 friction does not fluctuate: the readings are the truth, so the analysis must
-    return it to round-off or to its own discretisation error."""
+    Without noise every instrument is ideal (no noise, drift, offset or quantisation) and
+    the friction of the SMTs-2 and the tribometers does not fluctuate: the readings are the
+    truth, so the analysis must return it to round-off or to its own discretisation
+    error."""
     if kind is StandKind.SMTS2:
         settings: Any = Smts2Settings.for_mode(mode or "wear")  # type: ignore[arg-type]
     else:
@@ -99,7 +100,7 @@ def settings_for(
     if not noise:
         ideal = {f.name: Instrument() for f in fields(settings.instruments)}
         settings = replace(settings, instruments=replace(settings.instruments, **ideal))
-        if isinstance(settings, Smts2Settings):
+        if hasattr(settings, "friction_fluctuation"):
             settings = replace(settings, friction_fluctuation=0.0)
     return replace(settings, faults=tuple(faults)) if faults else settings
 

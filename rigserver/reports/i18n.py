@@ -150,6 +150,9 @@ UNIT_LABELS: dict[str, str] = {
     "div": C_("unit", "div"),
     "code": C_("unit", "code"),
     "%": C_("unit", "%"),
+    "Hz": C_("unit", "Hz"),
+    "m/s": C_("unit", "m/s"),
+    "GPa": C_("unit", "GPa"),
 }
 """Every unit symbol of :mod:`schemas.units` as printed in English (message ids in the
 context ``unit``)."""

@@ -227,7 +227,7 @@ class PlannedTest(_Config):
     load: float = quantity(5.0, "N", "F, normal load", gt=0)
     speed: float = quantity(0.1, "m/s", "v, sliding speed (mean, reciprocating)", gt=0)
     distance: float = quantity(100.0, "m", "L, sliding distance planned", gt=0)
-    lubricant: Text = "none"
+    lubricant: Text = Field(default="none", description=N_("lubricant"))
     temperature: float = quantity(23.0, "degC", "ambient temperature", gt=-273.15)
     humidity: float = quantity(50.0, "%", "relative humidity", ge=0, le=100)
 
@@ -253,7 +253,7 @@ class TribometerConfig(_Config):
 
     tip: Literal["ball", "flat_pin"] = Field(
         default="ball",
-        description="the counter-body: a ball (ISO 20808), or a pin with a flat end (ASTM G99)",
+        description=N_("the counter-body: a ball (ISO 20808), or a pin with a flat end (ASTM G99)"),
     )
     tip_diameter: float = quantity(
         6e-3, "m", "diameter of the ball, or of the pin's flat end", gt=0

@@ -370,7 +370,7 @@ PROFILOMETER: dict[str, Label] = {
 
 def _wear_labels(path: str, what: str) -> dict[str, Label]:
     """A wear estimate's volume and specific wear rate, with their uncertainties."""
-    k = "mm^3/(N*m)"
+    k: UnitSymbol = "mm^3/(N*m)"
     return {
         f"{path}.volume": Label(what, "V", "", "mm^3"),
         f"{path}.volume_uncertainty": Label(

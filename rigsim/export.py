@@ -29,7 +29,7 @@ from numpy.typing import NDArray
 from rigsim.batches import SimulatedRun
 from rigsim.errors import SettingsError
 from rigsim.stands.tribometer import TribometerTruth
-from schemas.stands import PinOnDiscConfig, ReciprocatingConfig, StandKind, with_overrides
+from schemas.stands import PinOnDiscConfig, ReciprocatingConfig, StandKind
 
 FloatArray = NDArray[np.float64]
 
@@ -114,10 +114,8 @@ def number(value: float, decimal: str) -> str:
 
 def _preamble(name: str, kind: StandKind, sim: SimulatedRun[TribometerTruth]) -> list[str]:
     body = sim.run_create
-    config = with_overrides(
-        (PinOnDiscConfig if kind is StandKind.PIN_ON_DISC else ReciprocatingConfig)(),
-        body.configuration,
-    )
+    model = PinOnDiscConfig if kind is StandKind.PIN_ON_DISC else ReciprocatingConfig
+    config = model.model_validate(body.configuration)
     t = sim.truth
     if name == "utf16-tab":
         return [f"Test: {body.title}", "Instrument: rigsim TRB-sim"]
@@ -134,7 +132,7 @@ def _preamble(name: str, kind: StandKind, sim: SimulatedRun[TribometerTruth]) ->
             f"Stroke length:\t{number(config.stroke_length * 1e3, ',')} mm",
             f"Frequency:\t{number(config.frequency, ',')} Hz",
         ]
-    else:
+    elif isinstance(config, PinOnDiscConfig):
         lines += [
             f"Radius:\t{number(config.track_radius * 1e3, ',')} mm",
             f"Linear speed:\t{number(config.plan.speed * 1e2, ',')} cm/s",

@@ -68,7 +68,7 @@ def running_in(means: ArrayLike) -> RunningIn:
     noise = float(np.median(np.abs(second - np.median(second)))) * _MAD_TO_SIGMA
     noise = max(noise, NOISE_FLOOR * max(float(np.abs(y).mean()), 1e-12))
     penalty = 2.0 * noise**2 * math.log(n)
-    found = ruptures.Pelt(model="l2", min_size=2, jump=1).fit(y.reshape(-1, 1))
+    found = ruptures.Pelt(model="l2", min_size=1, jump=1).fit(y.reshape(-1, 1))
     ends = [int(e) for e in found.predict(pen=penalty)]  # segment ends, the last is n
     starts = [0, *ends[:-1]]
     steady_from = starts[-1]

@@ -82,6 +82,7 @@ TEXT: dict[str, str] = {
     "runs_csv": N_("Runs and their results, CSV"),
     "mean_curve": N_("mean"),
     "plot.friction": N_("f against the sliding distance L (time scaled by the run's L)"),
+    "plot.tribometer": N_("μ against the sliding distance L"),
     "plot.mtos_f": N_("f_э against the load N"),
     "plot.stribeck": N_("f_э against S_1 (Hersey-Stribeck)"),
     "plot.pressure": N_("Π_э against φ (z = 0)"),
@@ -245,6 +246,13 @@ def _plots(
     v = values
     if detail.stand is StandKind.SMTS2:
         draw("plot.friction", axis(m, "L", "m"), axis(m, "f"), curves(lambda r: _friction(r, v[r])))
+    elif detail.stand in (StandKind.PIN_ON_DISC, StandKind.RECIPROCATING):
+        draw(
+            "plot.tribometer",
+            axis(m, "L", "m"),
+            axis(m, "μ"),
+            curves(lambda r: _series(r, v[r], "friction")),
+        )
     elif detail.stand is StandKind.MTOS:
         draw(
             "plot.mtos_f",
@@ -298,6 +306,14 @@ def _friction(run_id: str, values: Mapping[str, Any] | None) -> Curve | None:
         return None
     distance = (x - x[0]) / (x[-1] - x[0]) * float(values["sliding_distance"])
     return Curve(run_id, distance, y)
+
+
+def _series(run_id: str, values: Mapping[str, Any] | None, name: str) -> Curve | None:
+    """A plot series of the results as it is (the tribometers' μ against L)."""
+    found = None if values is None else values.get(name)
+    if not found or len(found.get("x") or []) < 2:
+        return None
+    return Curve(run_id, np.asarray(found["x"], float), np.asarray(found["y"], float))
 
 
 def _rows(

@@ -307,7 +307,8 @@ class Reporter:
         if self.since is None:
             return None
         spent = _duration(self._clock() - self.since)
-        text = f"the server answers again, after {self.tries} failed tries in {spent}"
+        tries = f"{self.tries} failed tr{'y' if self.tries == 1 else 'ies'}"
+        text = f"the server answers again, after {tries} in {spent}"
         self.since, self.tries, self._kind = None, 0, None
         return text
 

@@ -61,13 +61,19 @@ def post(http: httpx.Client, sim: SimulatedRun[Any]) -> str:
     return run_id
 
 
-def wait_for_files(folder: Path, count: int, timeout: float = 600.0) -> None:
-    """Until the background renders of a finished run have written ``count`` files."""
+def wait_for_background(reports: Path, quiet: float = 5.0, timeout: float = 600.0) -> None:
+    """Until the finished runs' background renders have ended (those the pool had room for):
+    no report file written for ``quiet`` seconds."""
     deadline = time.monotonic() + timeout
-    while len(list(folder.glob("*-*.*"))) < count:
+    seen: list[str] = []
+    still = time.monotonic()
+    while time.monotonic() - still < quiet:
         if time.monotonic() > deadline:
-            raise RuntimeError(f"{folder}: the background renders did not end in {timeout} s")
-        time.sleep(0.2)
+            raise RuntimeError(f"the background renders did not end in {timeout} s")
+        now = sorted(str(p) for p in reports.rglob("*.*"))
+        if now != seen:
+            seen, still = now, time.monotonic()
+        time.sleep(0.5)
 
 
 def timed_get(http: httpx.Client, url: str, **kwargs: Any) -> tuple[float, httpx.Response]:
@@ -78,7 +84,6 @@ def timed_get(http: httpx.Client, url: str, **kwargs: Any) -> tuple[float, httpx
 
 def first_and_repeat(http: httpx.Client, data: Path, run_id: str) -> dict[str, Any]:
     folder = data / "reports" / "run" / run_id
-    wait_for_files(folder, 4)
     for kept in folder.glob("en-*.*"):
         kept.unlink()
     url = f"{API}/runs/{run_id}/report.pdf"
@@ -204,6 +209,7 @@ def main(argv: list[str] | None = None) -> int:
             data = work / "data-reports"
             with httpx.Client(base_url=url, headers=AUTH, timeout=600) as http:
                 runs = {kind.value: post(http, simulate(kind, seed=7)) for kind in StandKind}
+                wait_for_background(data / "reports")
                 out["stands"] = {
                     kind: first_and_repeat(http, data, run_id) for kind, run_id in runs.items()
                 }

@@ -138,18 +138,39 @@ def keep_posting(url: str, kind: StandKind, stop: threading.Event, seed: int) ->
             seed += 1
 
 
-def keep_downloading(url: str, reports: list[str], stop: threading.Event, out: list[float]) -> None:
+def keep_downloading(
+    url: str, reports: list[str], stop: threading.Event, out: list[float], refused: list[int]
+) -> None:
     with httpx.Client(base_url=url, headers=AUTH, timeout=120) as http:
         i = 0
         while not stop.is_set():
             took, answer = timed_get(http, reports[i % len(reports)])
+            if answer.status_code == 503:
+                refused.append(1)
+                continue
             answer.raise_for_status()
             out.append(took)
             i += 1
 
 
+def render_all(url: str, reports: list[str]) -> None:
+    """Every report downloaded once (rendered where the background did not)."""
+    with httpx.Client(base_url=url, headers=AUTH, timeout=600) as http:
+        for report in reports:
+            while (answer := http.get(report)).status_code == 503:
+                time.sleep(1.0)
+            answer.raise_for_status()
+
+
 def concurrent(url: str, runs: dict[str, str], log: Path, seconds: float) -> dict[str, Any]:
     kinds = list(StandKind)[:POSTING_STANDS]
+    reports = [
+        f"{url}{API}/runs/{run_id}/report.pdf?lang={lang}"
+        for run_id in runs.values()
+        for lang in ("en", "ru")
+    ]
+    render_all(url, reports)
+    refused: list[int] = []
     stop = threading.Event()
     quiet: list[float] = []
     posters = [
@@ -164,15 +185,11 @@ def concurrent(url: str, runs: dict[str, str], log: Path, seconds: float) -> dic
     quiet_n = len(quiet)
     downloads: list[float] = []
     lines_before = len(log.read_text(errors="replace").splitlines())
-    reports = [
-        f"{url}{API}/runs/{run_id}/report.pdf?lang={lang}"
-        for run_id in runs.values()
-        for lang in ("en", "ru")
-    ]
     downloading = threading.Event()
     clients = [
         threading.Thread(
-            target=keep_downloading, args=(url, reports[i:] + reports[:i], downloading, downloads)
+            target=keep_downloading,
+            args=(url, reports[i:] + reports[:i], downloading, downloads, refused),
         )
         for i in range(DOWNLOADERS)
     ]
@@ -191,6 +208,7 @@ def concurrent(url: str, runs: dict[str, str], log: Path, seconds: float) -> dic
         "downloaders": DOWNLOADERS,
         "posting_stands": POSTING_STANDS,
         "downloads": percentiles(downloads),
+        "downloads_refused_503": len(refused),
         "stands_while_downloading": percentiles(busy_stands),
         "stands_while_posting_only": percentiles(quiet[:quiet_n]),
         "log_lines": lines,

@@ -243,6 +243,16 @@ def main(argv: Sequence[str] | None = None) -> int:
         help="HSDS holding the cluster's run arrays, materialised from the journal "
         "(RIG_HSDS_ENDPOINT; RIG_HSDS_USERNAME, RIG_HSDS_PASSWORD, RIG_HSDS_BUCKET)",
     )
+    serve.add_argument(
+        "--license",
+        help="the licence stated in the .eln archives this server exports: an SPDX id "
+        "(CC-BY-4.0) or an address (RIG_LICENSE); none stated by default",
+    )
+    serve.add_argument(
+        "--import-max-bytes",
+        type=int,
+        help="largest .eln archive POST /runs/import takes (RIG_IMPORT_MAX_BYTES)",
+    )
     serve.add_argument("--log-level", default="info")
     check = sub.add_parser("check", help="list the damaged runs of a data directory")
     check.add_argument("--data-dir", type=Path, required=True, help="the data directory")
@@ -276,6 +286,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         "report_queue": args.report_queue,
         "report_key_share": args.report_key_share,
         "hsds_endpoint": args.hsds_endpoint,
+        "license": args.license,
+        "import_max_bytes": args.import_max_bytes,
     }
     settings = Settings(**{k: v for k, v in given.items() if v is not None})
     logging.basicConfig(

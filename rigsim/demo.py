@@ -140,6 +140,9 @@ def run_demo(
             try:
                 sim = simulate(kind, seed=stand_seed)
                 with LabClient(url, key, seed=stand_seed) as client:
+                    client.report = lambda text: console.print(
+                        f"  {label}: {text}", markup=False, soft_wrap=True
+                    )
                     outcomes[label] = client.run(sim, speed=speed)
             except (RigsimError, ServerError) as exc:
                 outcomes[label] = f"failed: {exc}"

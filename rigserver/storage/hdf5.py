@@ -51,7 +51,7 @@ import shutil
 import sqlite3
 import threading
 from collections import OrderedDict
-from collections.abc import Iterator, Mapping, Sequence
+from collections.abc import Iterable, Iterator, Mapping, Sequence
 from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -82,6 +82,7 @@ from rigserver.storage._time import now
 from rigserver.storage.base import Columns, NewBatch
 from rigserver.storage.errors import (
     RunDamaged,
+    RunNotFound,
     RunNotOpen,
     SequenceConflict,
     StorageError,
@@ -526,6 +527,56 @@ class HDF5Store:
             with failures_as(f"reading the results of run {run_id}"):
                 text = self._journal.results(run_id)
         return None if text is None else dict(json.loads(text))
+
+    def import_run(
+        self,
+        run: Run,
+        key: str | None,
+        results: Mapping[str, Any] | None,
+        batches: Iterable[tuple[int, StoredBatch, Mapping[str, NDArray[np.float64]]]],
+    ) -> bool:
+        """Store a run made elsewhere whole (:meth:`RunStore.import_run`): its final file
+        is written first, outside the store's lock (a temp file renamed when complete),
+        then its catalogue entry; the run is seen only once both are there. The batches'
+        receipts are not kept: an imported run has ended and takes no retries."""
+        checked = None if results is None else check_results(results, run.key_results)
+        path = self._path(run.id)
+        with self._lock:
+            self._check_open()
+            if run.id in self._live or path.exists() or self._catalogued(run.id):
+                return False
+        with failures_as(f"writing the file of imported run {run.id}"):
+            write_file(
+                path,
+                run,
+                ((s.group, dict(columns), s.rows) for _, s, columns in batches),
+                checked,
+                final=True,
+            )
+        try:
+            with self._lock:
+                self._check_open()
+                with failures_as(f"importing run {run.id}"):
+                    self._journal.insert_run(
+                        run,
+                        file_final=True,
+                        results=None if checked is None else checked.text,
+                        key=key,
+                    )
+        except BaseException:
+            path.unlink(missing_ok=True)
+            raise
+        return True
+
+    def _catalogued(self, run_id: str) -> bool:
+        with failures_as(f"looking up run {run_id}"):
+            try:
+                self._journal.entry(run_id)
+            except RunNotFound:
+                return False
+            except RunDamaged:
+                pass
+        return True
 
     def readings_version(self, run_id: str) -> int:
         """The run's batch count (:meth:`RunStore.readings_version`)."""

@@ -12,7 +12,7 @@ import os
 import shutil
 import tempfile
 import threading
-from collections.abc import Iterator, Mapping, Sequence
+from collections.abc import Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -223,6 +223,30 @@ class MemoryStore:
             ended = run.model_copy(deep=True)
         self.appends.ended(run_id)
         return ended
+
+    def import_run(
+        self,
+        run: Run,
+        key: str | None,
+        results: Mapping[str, Any] | None,
+        batches: Iterable[tuple[int, StoredBatch, Mapping[str, NDArray[np.float64]]]],
+    ) -> bool:
+        """Store a run made elsewhere whole (:meth:`RunStore.import_run`): gathered first,
+        then put in the store at once."""
+        checked = None if results is None else check_results(results, run.key_results)
+        imported = _Run(run.model_copy(deep=True), results=checked)
+        for seq, stored, columns in batches:
+            imported.batches[seq] = stored
+            group = imported.columns.setdefault(stored.group, {})
+            for name, values in columns.items():
+                group.setdefault(name, []).append(np.array(values, dtype=np.float64))
+        with self._lock:
+            if run.id in self._runs:
+                return False
+            self._runs[run.id] = imported
+            if key is not None:
+                self._keys[key] = run.id
+        return True
 
     def readings_version(self, run_id: str) -> int:
         with self._lock:

@@ -139,7 +139,9 @@ def _add(services: Services, series_id: str, body: SeriesMemberAdd) -> Series:
                 f"run {run.id} is a {run.stand.value} run",
             )
         break
-    return services.series.add(series.id, run.id, body.level)
+    # the checks above saw the series before this add: the store checks both again in the
+    # transaction that adds the run (SeriesFull, OtherStand: 409), for adds at once
+    return services.series.add(series.id, run.id, body.level, stand=run.stand.value)
 
 
 @router.post(

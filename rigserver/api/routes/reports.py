@@ -13,7 +13,7 @@ from fastapi.responses import FileResponse, HTMLResponse, Response
 from starlette.background import BackgroundTask
 
 from rigserver.api.deps import ReadAccess, Services, ServicesDep
-from rigserver.api.report_answers import caller_key, file_answer, rendered, run_job
+from rigserver.api.report_answers import caller_key, file_answer, kept, rendered, run_job
 from rigserver.api.report_files import ReportFile
 from rigserver.api.report_jobs import RunReportJob
 from rigserver.api.routes.runs import load_run
@@ -58,6 +58,12 @@ async def _report(
         )
         await rendered(future, target)
     return run, file_answer(request, target, headers)
+
+
+def report_bytes(services: Services, run: Run, lang: Lang, key: str) -> dict[str, bytes]:
+    """The run's report in ``lang``, ``html`` and ``pdf``: kept, or rendered on the pool."""
+    target = services.report_files.run_report(run, lang, "pdf")
+    return kept(services, target, lambda: _job(services, run, target), key)
 
 
 _RENDERED = (

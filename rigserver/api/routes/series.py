@@ -19,7 +19,7 @@ from rigserver.api.deps import (
     require_scope,
 )
 from rigserver.api.problems import ApiProblem
-from rigserver.api.report_answers import caller_key, file_answer, rendered, targets
+from rigserver.api.report_answers import caller_key, file_answer, kept, rendered, targets
 from rigserver.api.report_files import ReportFile
 from rigserver.api.report_jobs import SeriesReportJob
 from rigserver.api.routes.runs import load_run
@@ -232,6 +232,12 @@ def _job(services: Services, series_id: str, target: ReportFile) -> tuple[Series
         readings={run_id: StoredReadings(services, run) for run_id, run in open_runs.items()},
     )
     return job, bool(open_runs)
+
+
+def report_bytes(services: Services, series_id: str, lang: Lang, key: str) -> dict[str, bytes]:
+    """The series report in ``lang``, ``html`` and ``pdf``: kept, or rendered on the pool."""
+    target = _prepare(services, series_id, lang, "pdf")
+    return kept(services, target, lambda: _job(services, series_id, target), key)
 
 
 async def _report(

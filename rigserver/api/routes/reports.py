@@ -51,7 +51,7 @@ async def _report(
     headers = language_headers(lang)
     if fmt == "pdf":
         headers["Content-Disposition"] = f'attachment; filename="{run.id}-report-{lang}.pdf"'
-    if not target.path.exists():
+    if not target.path.exists() and not target.matches(request.headers.get("if-none-match")):
         job, in_process = await run_in_threadpool(_job, services, run, target)
         future = services.reports.render(
             str(target.path), caller_key(request, services), job, in_process=in_process

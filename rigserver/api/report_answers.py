@@ -16,7 +16,7 @@ from rigserver.api.problems import ApiProblem
 from rigserver.api.report_files import ReportFile
 from rigserver.api.report_jobs import Job, RunReportJob
 from rigserver.api.run_results import StoredReadings
-from rigserver.reports.i18n import LANGS, Lang
+from rigserver.reports.i18n import LANGS
 from schemas.runs import Run, RunState
 
 
@@ -42,7 +42,7 @@ def run_job(
 ) -> tuple[RunReportJob, bool]:
     """The job of ``target``, the report of ``run``, and whether it renders in this process
     (an open run, whose readings only the store has)."""
-    lang: Lang = target.path.name.split("-", 1)[0]  # type: ignore[assignment]
+    lang = target.lang
     files = {fmt: t.path for fmt, t in targets(target).items()}
     stand = services.stand_of(run)
     if run.state is RunState.OPEN:

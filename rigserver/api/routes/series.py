@@ -222,7 +222,7 @@ def _job(services: Services, series_id: str, target: ReportFile) -> tuple[Series
     job = SeriesReportJob(
         detail,
         values={m.run.id: m.values for m in members},
-        lang=target.path.name.split("-", 1)[0],  # type: ignore[arg-type]
+        lang=target.lang,
         targets=files,
         run_files={
             m.run.id: services.store.run_file(m.run.id)

@@ -1,7 +1,8 @@
 """rigsim: simulated tribology stands that post readings to a real rigserver over HTTP.
 
-- :mod:`rigsim.stands`: the lab's four stands and the two tribometers, ``simulate(settings, seed) -> SimulatedRun``
-  (the run to open, its batches in stand order, and the truth).
+- :mod:`rigsim.stands`: the lab's four stands and the two tribometers,
+  ``simulate(settings, seed) -> SimulatedRun`` (the run to open, its batches in stand
+  order, and the truth).
 - :mod:`rigsim.instruments`: offsets, drift, noise, quantisation and faults.
 - :mod:`rigsim.bearing_model`, :mod:`rigsim.thermal`: the physics behind the bearing stands.
 - :mod:`rigsim.client`: the simulated lab PC (pacing, sequence numbers), posting through

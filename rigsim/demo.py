@@ -4,8 +4,9 @@ Starts ``rigserver serve`` as a subprocess (its own process: rigsim reaches the 
 over HTTP) on a data directory, with public reads and a demo key generated into
 ``<data dir>/demo-keys.json`` (reused on the next start), waits until it answers, runs the
 simulated stands (the lab's four, the two tribometers) against it in threads at an
-accelerated pace, prints where to look, and keeps the server running until Ctrl-C or SIGTERM (either stops the server too). On a
-port where something already listens it says so and exits with status 1.
+accelerated pace, prints where to look, and keeps the server running until Ctrl-C or
+SIGTERM (either stops the server too). On a port where something already listens it says so
+and exits with status 1.
 """
 
 from __future__ import annotations

@@ -11,9 +11,7 @@ from __future__ import annotations
 
 import json
 import re
-import signal
 import tomllib
-from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
@@ -28,19 +26,6 @@ DOCS = Path(__file__).resolve().parents[2] / "docs" / "tribometers.md"
 LABEL = {"pin_on_disc": "pin-on-disc", "reciprocating": "reciprocating"}
 #: Laps (cycles) of the exported tests: a short record, its running-in a block multiple.
 LAPS = 200
-
-
-@pytest.fixture
-def importers() -> Iterator[list[AgentProcess]]:
-    """The ``rigclient import`` processes a test starts, killed at its end if still there."""
-    started: list[AgentProcess] = []
-    yield started
-    for agent in started:
-        agent.signal(signal.SIGKILL)
-        if agent.proc.poll() is None:
-            agent.proc.wait(10)
-        if agent.proc.stdout is not None:
-            agent.proc.stdout.close()
 
 
 def documented_map(stand: str, dialect: str) -> str:
@@ -99,9 +84,9 @@ CASES = [
 
 @pytest.mark.parametrize(("stand", "dialect"), CASES)
 def test_without_noise_the_import_gives_the_truth(
-    server: Server, importers: list[AgentProcess], tmp_path: Path, stand: str, dialect: str
+    server: Server, agents: list[AgentProcess], tmp_path: Path, stand: str, dialect: str
 ) -> None:
-    v, t = imported(server, importers, tmp_path, stand, dialect, "off")
+    v, t = imported(server, agents, tmp_path, stand, dialect, "off")
     assert v["stand"] == stand
     for name in ("friction_steady", "friction_mean", "friction_static", "running_in_distance"):
         assert v[name] == pytest.approx(t[name], rel=1e-12), name
@@ -114,10 +99,10 @@ def test_without_noise_the_import_gives_the_truth(
 
 @pytest.mark.parametrize("stand", ["pin_on_disc", "reciprocating"])
 def test_with_noise_the_import_stays_within_the_bounds(
-    server: Server, importers: list[AgentProcess], tmp_path: Path, stand: str
+    server: Server, agents: list[AgentProcess], tmp_path: Path, stand: str
 ) -> None:
     # tab-comma: the load is the preamble's setting, every row's constant
-    v, t = imported(server, importers, tmp_path, stand, "tab-comma", "on")
+    v, t = imported(server, agents, tmp_path, stand, "tab-comma", "on")
     # the steady mean of n ≥ 40 laps of 64 (80) readings: AR(1) of 2 % (ρ = 0.9) and the
     # force's noise give σ ≤ 0.55·√(19·0.02²)/√2560 = 9.6e-4 (test_tribometer_truth's
     # bound), plus the running-in's excess where the steady part starts early, below

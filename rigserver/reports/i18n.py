@@ -215,6 +215,7 @@ MESSAGES: dict[str, str] = {
         "Stand configuration of this run: calibration, geometry, materials"
     ),
     "caption.measurements": N_("Single measurements"),
+    "table.continued": N_("{caption} (continued)"),
     "col.parameter": N_("Parameter"),
     "col.description": N_("Description"),
     "col.quantity": N_("Quantity"),

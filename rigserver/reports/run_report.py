@@ -11,10 +11,11 @@ from markupsafe import escape
 from pydantic import BaseModel
 
 from rigserver.analysis import Readings
+from rigserver.reports import layout
 from rigserver.reports.context import Context, LabReport
 from rigserver.reports.document import Items, Paragraph, Report, Section, Table, Text
 from rigserver.reports.formatting import fmt, html_symbol, number_locale, value_text
-from rigserver.reports.i18n import Lang, Messages
+from rigserver.reports.i18n import MESSAGES, Lang, Messages, translations
 from rigserver.reports.labs import mtos, profilometer, slide_bearing, smts2
 from rigserver.reports.render import render
 from schemas.labels import PARTICULARS
@@ -100,8 +101,10 @@ def _build(
 
 
 def render_report(report: Report) -> str:
-    """The report as a standalone HTML page (A4 print styles, inline SVG plots)."""
-    return render("report.html", report=report)
+    """The report as a standalone HTML page (A4 print styles, inline SVG plots); tables wider
+    than the page's column are printed in parts (:func:`rigserver.reports.layout.fit`)."""
+    fitted = layout.fit(report, translations(report.lang).gettext(MESSAGES["table.continued"]))
+    return render("report.html", report=fitted)
 
 
 def particulars_text(t: Messages, mapping: Mapping[str, Any]) -> str:

@@ -45,6 +45,7 @@ TEXT: dict[str, str] = {
     "open_runs": N_("{n} of the runs are still open: their figures may change."),
     "sec.runs": N_("Runs"),
     "sec.statistics": N_("Statistics of the results"),
+    "sec.spread": N_("Spread of the runs against their instruments"),
     "sec.comparison": N_("Comparison of the levels"),
     "sec.plots": N_("Overlay plots"),
     "run": N_("Run"),

@@ -476,6 +476,43 @@ PARTICULARS: dict[str, Label] = {
 """The usual keys of a run's test plan and specimen (free fields: a key not named here is
 shown as it is, as user data), each value in the unit of its key."""
 
+_MM, _UM, _MPA = Label("", unit="mm"), Label("", unit="um"), Label("", unit="MPa")
+CONFIGURATION: dict[str, Label] = {
+    "disc_radius": _MM,
+    "disc_width": _MM,
+    "pin_diameter": _MM,
+    "youngs_modulus": Label("", unit="GPa"),
+    "hardness": _MPA,
+    "yield_strength": _MPA,
+    "tensile_strength": _MPA,
+    "contour_pressure": _MPA,
+    "tau0": _MPA,
+    "accuracy.balance_resolution": Label("", unit="mg"),
+    "accuracy.length": _MM,
+    "clearance": _UM,
+    "accuracy.clearance": _UM,
+    "bearing_radius": _MM,
+    "width": _MM,
+    "diameter": _MM,
+    "displacement_per_division": _UM,
+    "lever_moment_arm": _MM,
+    "friction_arm": _MM,
+    "accuracy.arms": _MM,
+    "journal_roughness": _UM,
+    "bush_roughness": _UM,
+    "misalignment": _UM,
+    "deflection": _UM,
+    "shape_error": _UM,
+    "journal_rq": _UM,
+    "bush_rq": _UM,
+    "stylus_radius": _UM,
+    "step": _UM,
+}
+"""The display unit of a stand's configuration fields, by field name (``accuracy.<name>``
+for the instruments' accuracies), as the results print them: mm for the geometry, µm for
+clearances and roughness, MPa for strengths and pressures, GPa for moduli, mg for the
+balance; a field not named here is printed in its declared unit."""
+
 WORDS: tuple[str, ...] = (
     N_("fluid"),
     N_("mixed"),

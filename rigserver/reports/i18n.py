@@ -127,6 +127,7 @@ UNIT_LABELS: dict[str, str] = {
     "rad/s": C_("unit", "rad/s"),
     "Pa": C_("unit", "Pa"),
     "MPa": C_("unit", "MPa"),
+    "GPa": C_("unit", "GPa"),
     "at": C_("unit", "at"),
     "atm": C_("unit", "atm"),
     "Pa*s": C_("unit", "Pa·s"),

@@ -18,7 +18,7 @@ from rigserver.reports.formatting import fmt, html_symbol, number_locale, value_
 from rigserver.reports.i18n import MESSAGES, Lang, Messages, translations
 from rigserver.reports.labs import mtos, profilometer, slide_bearing, smts2
 from rigserver.reports.render import render
-from schemas.labels import PARTICULARS
+from schemas.labels import CONFIGURATION, PARTICULARS
 from schemas.messages import N_
 from schemas.results import MtosResults, ProfilometerResults, SlideBearingResults, Smts2Results
 from schemas.runs import Run, RunState
@@ -165,30 +165,36 @@ def _configuration(t: Messages, run: Run) -> Table:
 
 def configuration_rows(t: Messages, run: Run) -> list[tuple[Text, str, str]]:
     """The configuration snapshot of the run: each field's description (with the manual's
-    symbol) in ``t``'s language, its value and its unit."""
+    symbol) in ``t``'s language, its value and its unit, in the display unit of
+    :data:`schemas.labels.CONFIGURATION` (mm, µm, MPa, GPa, mg) as the results print them."""
     rows: list[tuple[Text, str, str]] = []
 
-    def walk(model: type[BaseModel], data: Mapping[str, Any], owner: str) -> None:
+    def walk(model: type[BaseModel], data: Mapping[str, Any], owner: str, path: str) -> None:
         for name, info in model.model_fields.items():
             value = data.get(name)
             inner = info.annotation
             if isinstance(inner, type) and issubclass(inner, BaseModel):
                 label = PARTICULARS.get(name)
-                walk(inner, value or {}, t.gettext(label.text) + ": " if label else "")
+                words = t.gettext(label.text) + ": " if label else ""
+                walk(inner, value or {}, words, f"{name}.")
                 continue
             extra = info.json_schema_extra
             unit = extra.get("unit") if isinstance(extra, dict) else None
             words = owner + t.gettext(info.description or _FIELD_WORDS.get(name, name))
+            display = CONFIGURATION.get(path + name) or CONFIGURATION.get(name)
             if name == "gauge_unit" and isinstance(value, str):
                 shown = t.unit(value)
-            elif isinstance(value, str):
-                shown = t.gettext(value)
+            elif isinstance(value, str | bool):
+                shown = t.gettext(value) if isinstance(value, str) else t("yes" if value else "no")
+            elif display is not None and unit is not None and isinstance(value, int | float):
+                shown = fmt(display.shown(float(value), str(unit)), display.digits)
+                unit = display.unit
             else:
                 shown = value_text(value)
             unit_text = t.unit(str(unit)) if unit is not None and unit != "1" else ""
             rows.append((html_symbol(words), shown, unit_text))
 
-    walk(CONFIG_MODELS[run.stand], run.configuration, "")
+    walk(CONFIG_MODELS[run.stand], run.configuration, "", "")
     return rows
 
 

@@ -303,7 +303,10 @@ def test_input_data_print_the_configuration_with_units() -> None:
     html = report(StandKind.SLIDE_BEARING)
     config = table(html, "Stand configuration of this run")
     rows = {r[0]: r[1:] for r in config.rows}
-    assert rows["h0, radial clearance (3.17)"] == [fmt(s.run.configuration["clearance"]), "m"]
+    # in the display unit of the results (µm for clearances, schemas.labels.CONFIGURATION)
+    clearance_um = s.run.configuration["clearance"] * 1e6
+    assert rows["h0, radial clearance (3.17)"] == [fmt(clearance_um), "µm"]
+    assert [v[1] for k, v in rows.items() if k.startswith("B, bearing width")] == ["mm"]
     assert rows["α of μ = A·exp(α·t) (3.21)"] == [
         fmt(s.run.configuration["viscosity"]["alpha"]),
         "1/°C",

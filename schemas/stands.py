@@ -174,7 +174,7 @@ class MtosConfig(_Config):
     signed_sensors: bool = Field(
         default=False,
         description="true when X, Y read more as the journal lifts off the zero contact: "
-        "(4.11) then takes the sign, not |X_уст - X|, which folds positions near the bush "
+        "(4.11) then takes the sign, not |X_set - X|, which folds positions near the bush "
         "(experiments 2-3)",
     )
 
@@ -306,8 +306,8 @@ SLIDE_BEARING_GROUPS = (
         aligned=False,
         channels=(
             _c("load_zone_end", "deg", "φ_k, limb angle at the end of the load zone (3.20)"),
-            _c("x_zero", "div", "X_уст, displacement gauge zero (3.16)"),
-            _c("y_zero", "div", "Y_уст, displacement gauge zero (3.16)"),
+            _c("x_zero", "div", "X_set, displacement gauge zero (3.16)"),
+            _c("y_zero", "div", "Y_set, displacement gauge zero (3.16)"),
             _c("loader_scale", "mm", "loader scale reading (16.2 N/mm)", Limit(low=0, high=1000)),
         ),
     ),
@@ -356,8 +356,8 @@ MTOS_GROUPS = (
         long_name=N_("zero readings of the displacement sensors"),
         aligned=False,
         channels=(
-            _c("x_zero", "um", "X_уст, sensor zero (4.11)"),
-            _c("y_zero", "um", "Y_уст, sensor zero (4.11)"),
+            _c("x_zero", "um", "X_set, sensor zero (4.11)"),
+            _c("y_zero", "um", "Y_set, sensor zero (4.11)"),
         ),
     ),
 )

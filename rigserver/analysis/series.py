@@ -61,7 +61,7 @@ class Headline:
 HEADLINES: dict[StandKind, tuple[Headline, ...]] = {
     StandKind.SMTS2: (
         Headline("friction_steady", "f", "friction_steady_uncertainty"),
-        Headline("experimental.intensity", "I_h", "experimental.intensity_uncertainty"),
+        Headline("experimental.intensity", "I_{h,exp}", "experimental.intensity_uncertainty"),
         Headline(
             "experimental.specific_wear_rate", "k", "experimental.specific_wear_rate_uncertainty"
         ),
@@ -69,15 +69,15 @@ HEADLINES: dict[StandKind, tuple[Headline, ...]] = {
         Headline("experimental.mass_loss", "Δm"),
     ),
     StandKind.SLIDE_BEARING: (
-        Headline("chi_mean", "χ_ср", "chi_mean_uncertainty"),
+        Headline("chi_mean", "χ_mean", "chi_mean_uncertainty"),
         Headline("pressure_max", "p_max"),
         Headline("phi_max", "φ_{p max}"),
         Headline("attitude_angle", "ψ"),
     ),
     StandKind.MTOS: (
-        Headline("friction_fluid", "f_э"),
+        Headline("friction_fluid", "f̄_e"),
         Headline("h_min_smallest", "h_min"),
-        Headline("steps[].friction_measured", "f_э", "steps[].friction_measured_uncertainty"),
+        Headline("steps[].friction_measured", "f_e", "steps[].friction_measured_uncertainty"),
         Headline("steps[].chi", "χ", "steps[].chi_uncertainty"),
         Headline("steps[].film_parameter", "Λ"),
     ),
@@ -276,7 +276,7 @@ def label_of(stand: StandKind, key: str) -> Label | None:
 
 
 def _symbol(key: str, headline: Headline) -> str:
-    """``f_э`` of the load step ``steps[2]`` -> ``f_{э,3}`` (steps counted from 1)."""
+    """``f_e`` of the load step ``steps[2]`` -> ``f_{e,3}`` (steps counted from 1)."""
     if _EACH not in headline.path:
         return headline.symbol
     step = int(key.partition("[")[2].partition("]")[0]) + 1

@@ -21,7 +21,7 @@ from typing import Any
 from babel.numbers import get_decimal_symbol
 from markupsafe import Markup, escape
 
-from schemas.labels import Label
+from schemas.labels import Label, plain_symbol
 
 DASH = "—"
 _SUPERSCRIPT = str.maketrans("0123456789-+", "⁰¹²³⁴⁵⁶⁷⁸⁹⁻⁺")
@@ -115,6 +115,13 @@ def html_symbol(symbol: str) -> Markup:
         pos = match.end()
     out.append(str(escape(symbol[pos:])))
     return Markup("".join(out))
+
+
+def plain_text(text: str) -> str:
+    """Text for a place that cannot hold markup (a ``<select>`` option, a canvas axis): the
+    scripts in Unicode where it has them (``e_x`` -> ``eₓ``), else run on (``M_тр`` ->
+    ``Mтр``), never the raw ``_`` or ``^``."""
+    return re.sub(r"[_^{}]", "", plain_symbol(text))
 
 
 def tex(text: str) -> str:

@@ -83,9 +83,9 @@ TEXT: dict[str, str] = {
     "runs_csv": N_("Runs and their results, CSV"),
     "mean_curve": N_("mean"),
     "plot.friction": N_("f against the sliding distance L (time scaled by the run's L)"),
-    "plot.mtos_f": N_("f_э against the load N"),
-    "plot.stribeck": N_("f_э against S_1 (Hersey-Stribeck)"),
-    "plot.pressure": N_("Π_э against φ (z = 0)"),
+    "plot.mtos_f": N_("f_e against the load N"),
+    "plot.stribeck": N_("f_e against S_1 (Hersey-Stribeck)"),
+    "plot.pressure": N_("Π_e against φ (z = 0)"),
     "plot.bearing": N_("Bearing curves t_p(ε)"),
     "plot.profile": N_("Profiles y(x)"),
     "state.open": N_("open"),
@@ -203,6 +203,7 @@ def _statistics_row(
 
     return {
         "stats": stats,
+        "symbol": m.symbol(stats.symbol),
         "name": results_view.name(m, label),
         "unit": results_view.unit(m, label),
         "show": show,
@@ -248,14 +249,14 @@ def _plots(
         draw(
             "plot.mtos_f",
             axis(m, "N", "N"),
-            axis(m, "f_э"),
+            axis(m, "f_e"),
             curves(lambda r: _rows(r, v[r], "steps", "load", "friction_measured")),
             paired=True,
         )
         draw(
             "plot.stribeck",
             axis(m, "S_1"),
-            axis(m, "f_э"),
+            axis(m, "f_e"),
             curves(
                 lambda r: _rows(r, v[r], "steps", "bearing_characteristic", "friction_measured")
             ),
@@ -265,7 +266,7 @@ def _plots(
         draw(
             "plot.pressure",
             axis(m, "φ", "deg"),
-            axis(m, "Π_э"),
+            axis(m, "Π_e"),
             curves(lambda r: _rows(r, v[r], "table", "phi_model", "pi_measured")),
             markers=True,
         )

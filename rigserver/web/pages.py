@@ -17,7 +17,14 @@ from jinja2 import Environment, PackageLoader, select_autoescape
 from markupsafe import Markup
 
 from rigserver.reports import results_view
-from rigserver.reports.formatting import decimal_sign, fmt, html_symbol, number_locale, shown
+from rigserver.reports.formatting import (
+    decimal_sign,
+    fmt,
+    html_symbol,
+    number_locale,
+    plain_text,
+    shown,
+)
 from rigserver.reports.i18n import LANGS, Lang, Messages
 from rigserver.reports.run_report import RESULT_MODELS, configuration_rows, particulars_text
 from schemas import labelled
@@ -51,6 +58,7 @@ def environment(lang: Lang) -> Environment:
     env.install_gettext_translations(Messages(lang).translations, newstyle=True)  # type: ignore[attr-defined]
     env.filters["fmt"] = fmt
     env.filters["sym"] = html_symbol
+    env.filters["plain"] = plain_text
     return env
 
 
@@ -82,7 +90,7 @@ def key_results(t: Messages, run: Run) -> Markup:
         label = labels[path]
         text = shown(label, value, units.get(path, label.unit))
         unit = results_view.unit(t, label)
-        name = html_symbol(label.symbol or t.gettext(label.text))
+        name = html_symbol(t.symbol(label.symbol) or t.gettext(label.text))
         parts.append(Markup("{} = {}").format(name, f"{text} {unit}" if unit else text))
     return Markup("; ").join(parts)
 
@@ -96,7 +104,7 @@ def results_html(*, run: Run, payload: Mapping[str, Any], lang: Lang) -> str:
         return {
             "path": e.path,
             "name": html_symbol(results_view.name(t, e.label)),
-            "symbol": html_symbol(e.label.symbol),
+            "symbol": html_symbol(t.symbol(e.label.symbol)),
             "value": results_view.value(t, e.label, e.value, e.stored),
             "unit": results_view.unit(t, e.label),
         }
@@ -113,7 +121,7 @@ def results_html(*, run: Run, payload: Mapping[str, Any], lang: Lang) -> str:
                 "header": [
                     {
                         "name": results_view.name(t, c.label),
-                        "symbol": html_symbol(c.symbol or t.gettext(c.label.text)),
+                        "symbol": html_symbol(t.symbol(c.symbol) or t.gettext(c.label.text)),
                         "unit": results_view.unit(t, c.label),
                     }
                     for c in found.columns
@@ -196,7 +204,7 @@ def run_page(
         "x": x,
         "y": y,
         "channels": [
-            {"name": c.name, "unit": t.unit(c.unit), "label": t.gettext(c.long_name)}
+            {"name": c.name, "unit": t.unit(c.unit), "label": plain_text(t.gettext(c.long_name))}
             for c in record.channels
         ],
         "live_url": f"{base}/live?group={record.name}",

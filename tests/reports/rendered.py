@@ -10,12 +10,15 @@ from __future__ import annotations
 import shutil
 import subprocess
 import unicodedata
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from datetime import UTC, datetime
 from functools import lru_cache
 from typing import Any
 
+from matplotlib.figure import Figure
+
 from rigserver.analysis.series import Member, series_statistics
+from rigserver.reports import plots
 from rigserver.reports.i18n import Lang
 from rigserver.reports.run_report import build_report, render_report
 from rigserver.reports.series_report import render_series_report, series_context
@@ -50,6 +53,7 @@ class Rendered:
     pdf: bytes
     pages: int
     outside: list[Box]
+    figures: list[Figure] = field(default_factory=list)
 
     @property
     def text(self) -> str:
@@ -88,12 +92,12 @@ def _outside(document: Any) -> list[Box]:
     return found
 
 
-def laid_out(name: str, html: str) -> Rendered:
+def laid_out(name: str, html: str, figures: list[Figure]) -> Rendered:
     from weasyprint import HTML
 
     document = HTML(string=html).render()
     pdf: bytes = document.write_pdf()
-    return Rendered(name, html, pdf, len(document.pages), _outside(document))
+    return Rendered(name, html, pdf, len(document.pages), _outside(document), figures)
 
 
 @lru_cache(maxsize=64)
@@ -129,8 +133,10 @@ def run_html(kind: StandKind, lang: Lang) -> str:
 
 @lru_cache
 def run_report(kind: StandKind, lang: Lang) -> Rendered:
-    """A stand's run report, laid out."""
-    return laid_out(f"{kind.value} report ({lang})", run_html(kind, lang))
+    """A stand's run report, laid out, with the figures it drew."""
+    with plots.recording() as drawn:
+        html = run_html(kind, lang)
+    return laid_out(f"{kind.value} report ({lang})", html, drawn)
 
 
 def series_runs(kind: StandKind) -> list[Simulated]:
@@ -162,6 +168,7 @@ def series_context_of(kind: StandKind, lang: Lang) -> dict[str, Any]:
 
 @lru_cache
 def series_report(kind: StandKind, lang: Lang) -> Rendered:
-    """A stand's series report (three simulated runs), laid out."""
-    html = render_series_report(series_context_of(kind, lang), made=MADE)
-    return laid_out(f"{kind.value} series report ({lang})", html)
+    """A stand's series report (three simulated runs), laid out, with the figures it drew."""
+    with plots.recording() as drawn:
+        html = render_series_report(series_context_of(kind, lang), made=MADE)
+    return laid_out(f"{kind.value} series report ({lang})", html, drawn)

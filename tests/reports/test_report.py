@@ -136,14 +136,14 @@ def test_smts2_wear_tables_and_validity() -> None:
         fmt(float(f"{v.experimental.mass_loss * 1e6:.4g}")),  # kg -> mg
         "mg",
     ]
-    assert row_of(html, caption, "wear intensity (2.13)")[1] == fmt(v.experimental.intensity)
+    assert row_of(html, caption, "experimental wear intensity (2.13)")[1] == fmt(v.experimental.intensity)
     theory = "Theoretical linear wear intensity"
     assert row_of(html, theory, "contour pressure (2.3)") == [
         "pc",
         fmt(float(f"{v.theoretical.contour_pressure / 1e6:.4g}")),  # Pa -> MPa
         "MPa",
     ]
-    assert row_of(html, theory, "wear intensity (2.1)")[1] == fmt(v.theoretical.intensity)
+    assert row_of(html, theory, "theoretical wear intensity (2.1)")[1] == fmt(v.theoretical.intensity)
     validity = "Validity of the fatigue-wear theory (2.1)"
     assert row_of(html, validity, "cycles to failure per asperity")[1] == fmt(
         v.validity.cycles_to_failure

@@ -41,9 +41,9 @@ def build(ctx: Context, v: MtosResults) -> LabReport:
             t("m.film"),
             v,
             [
-                ("h_crit", "h_min^кр", "m.h_crit"),
+                ("h_crit", "h_{min,cr}", "m.h_crit"),
                 ("h_min_smallest", "h_min", "m.h_min_smallest"),
-                ("friction_fluid", "f_э", "m.friction_fluid"),
+                ("friction_fluid", "f̄_e", "m.friction_fluid"),
                 ("half_width", "a", "m.half_width"),
             ],
             labels=MTOS,
@@ -60,7 +60,10 @@ def build(ctx: Context, v: MtosResults) -> LabReport:
         for row in blocks.uncertainties(
             t,
             s,
-            [("chi", "χ", "m.chi"), ("friction_measured", "f_э", "m.f_measured")],
+            [
+                ("chi", f"χ_{{{i + 1}}}", "m.chi"),
+                ("friction_measured", f"f_{{e,{i + 1}}}", "m.f_measured"),
+            ],
             label=t("u.step", i=i + 1, load=fmt(s.load)),
             labels=MTOS,
             prefix="steps[].",
@@ -136,9 +139,9 @@ def _processed_tables(
             ("chi", "χ"),
             ("angle", angle),
             ("spring_force", "F"),
-            ("friction_moment", "M_тр"),
-            ("friction_force", "F_тр"),
-            ("friction_measured", "f_э"),
+            ("friction_moment", "M_fr"),
+            ("friction_force", "F_fr"),
+            ("friction_measured", "f_e"),
         ],
         model=MtosStep,
         labels=labels,
@@ -173,7 +176,7 @@ def _processed_tables(
     note: Text = ""
     if regime != "fluid":
         fluid = {s.load: s.friction_measured for s in _of(every, "fluid")}
-        head.append(html_symbol("f_э/f_э1"))
+        head.append(html_symbol(t.symbol("f_e/f_e1")))
         data.append(
             [s.friction_measured / fluid[s.load] if s.load in fluid else None for s in steps]
         )
@@ -188,7 +191,7 @@ def _processed_tables(
         steps,
         [
             ("load", "N"),
-            ("friction_measured", "f_э"),
+            ("friction_measured", "f_e"),
             ("friction_theory", "f_T"),
             ("friction_error", "Δf"),
             ("friction_finite", f"f, {finite}"),

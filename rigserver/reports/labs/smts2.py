@@ -12,7 +12,7 @@ from rigserver.core import wear
 from rigserver.reports import blocks
 from rigserver.reports.context import Context, LabReport
 from rigserver.reports.document import Block, Figure, Section, Table, Text
-from rigserver.reports.formatting import fmt, html_symbol
+from rigserver.reports.formatting import fmt, html_symbol, tex
 from rigserver.reports.i18n import Messages
 from rigserver.reports.plots import axes, decorate, to_svg
 from schemas.labels import SMTS2
@@ -38,8 +38,8 @@ def build(ctx: Context, v: Smts2Results) -> LabReport:
                 t("w.record"),
                 v,
                 [
-                    ("rows", "n", "w.rows"),
-                    ("duration", "t", "w.duration"),
+                    ("rows", "", "w.rows"),
+                    ("duration", "τ", "w.duration"),
                     ("revolutions", "M_rev", "w.revolutions"),
                     ("sliding_distance", "L", "w.sliding"),
                     ("mean_load", "N", "w.load"),
@@ -62,8 +62,7 @@ def build(ctx: Context, v: Smts2Results) -> LabReport:
                     ("mass_loss", "Δm", "w.mass_loss"),
                     ("volume", "V", "w.volume"),
                     ("wear_depth", "h", "w.depth"),
-                    ("sliding_distance", "L", "w.sliding"),
-                    ("intensity", "I_h", "w.intensity_exp"),
+                    ("intensity", "I_{h,exp}", "w.intensity_exp"),
                     ("specific_wear_rate", "k", "w.k"),
                 ],
                 labels=SMTS2,
@@ -78,8 +77,8 @@ def build(ctx: Context, v: Smts2Results) -> LabReport:
                 v.disc_wear,
                 [
                     ("track_area", "A", "w.track_area"),
-                    ("volume", "V", "w.disc_volume"),
-                    ("specific_wear_rate", "k", "w.k"),
+                    ("volume", "V_2", "w.disc_volume"),
+                    ("specific_wear_rate", "k_2", "w.k_disc"),
                 ],
                 labels=SMTS2,
                 prefix="disc_wear.",
@@ -102,7 +101,7 @@ def build(ctx: Context, v: Smts2Results) -> LabReport:
                 ("beta", "β", "w.beta"),
                 ("k_nu", "k_ν", "w.k_nu"),
                 ("k_f", "k_f", "w.k_f"),
-                ("intensity", "I_h", "w.intensity_theor"),
+                ("intensity", "I_{h,th}", "w.intensity_theor"),
             ],
             labels=SMTS2,
             prefix="theoretical.",
@@ -116,13 +115,15 @@ def build(ctx: Context, v: Smts2Results) -> LabReport:
     if v.adequacy is not None and v.experimental and v.theoretical:
         processed.append(_adequacy(t, v))
     if v.experimental is not None or v.theoretical is not None:
-        processed.append(Figure(t("w.fig_wear"), _wear_svg(t, v)))
+        svg, band = _wear_svg(t, v)
+        caption = t("w.fig_wear_band" if band else "w.fig_wear")
+        processed.append(Figure(html_symbol(caption), svg))
     spread = blocks.uncertainties(t, v, [("friction_steady", "f", "w.f")], labels=SMTS2)
     if v.experimental is not None:
         spread += blocks.uncertainties(
             t,
             v.experimental,
-            [("intensity", "I_h", "w.intensity_exp"), ("specific_wear_rate", "k", "w.k")],
+            [("intensity", "I_{h,exp}", "w.intensity_exp"), ("specific_wear_rate", "k", "w.k")],
             labels=SMTS2,
             prefix="experimental.",
         )
@@ -185,8 +186,18 @@ def _adequacy(t: Messages, v: Smts2Results) -> Table:
     a = v.adequacy
     one = t.unit("1")
     rows: list[list[Text]] = [
-        [t("w.intensity_exp"), html_symbol(t("sym.i_exp")), fmt(v.experimental.intensity), one],
-        [t("w.intensity_theor"), html_symbol(t("sym.i_theor")), fmt(v.theoretical.intensity), one],
+        [
+            t("w.intensity_exp"),
+            html_symbol(t.symbol("I_{h,exp}")),
+            fmt(v.experimental.intensity),
+            one,
+        ],
+        [
+            t("w.intensity_theor"),
+            html_symbol(t.symbol("I_{h,th}")),
+            fmt(v.theoretical.intensity),
+            one,
+        ],
         [t("w.error"), html_symbol("ΔI_h"), fmt(a.relative_error_percent), t.unit("%")],
         [t("w.lower"), "", fmt(a.lower), one],
         [t("w.upper"), "", fmt(a.upper), one],
@@ -245,20 +256,29 @@ def _friction_svg(ctx: Context, v: Smts2Results, config: Smts2Config) -> str:
     return to_svg(fig)
 
 
-def _wear_svg(t: Messages, v: Smts2Results) -> str:
-    """I_h,exp and I_h,theor on a log axis with the band 0.4·I_theor … 2.6·I_theor (2.15)."""
+def _wear_svg(t: Messages, v: Smts2Results) -> tuple[str, bool]:
+    """I_h,exp (2.13) and I_h,th (2.1) on a log axis, each named under its point, with the
+    band 0.4·I_h,th … 2.6·I_h,th (2.15) where the theory is judged; and whether the band is
+    drawn (the caption says what is there)."""
     fig, (ax,) = axes(height=2.8)
     ax.set_yscale("log")
-    if v.adequacy is not None:
+    band = v.adequacy is not None and (v.validity is None or v.validity.within_range)
+    if band and v.adequacy is not None:
         ax.axhspan(v.adequacy.lower, v.adequacy.upper, color="C2", alpha=0.25, label=t("w.band"))
+    names: list[str] = []
     if v.experimental is not None:
-        ax.plot([0], [v.experimental.intensity], "o", color="C0", markersize=8, label=t("w.exp"))
+        ax.plot([len(names)], [v.experimental.intensity], "o", color="C0", markersize=8)
+        names.append(f"{t('w.exp')}\n{tex(t.symbol('I_{h,exp}'))} (2.13)")
     if v.theoretical is not None:
-        ax.plot([1], [v.theoretical.intensity], "s", color="C3", markersize=8, label=t("w.theor"))
-    ax.set_xticks([0, 1], [t("w.exp"), t("w.theor")])
-    ax.set_xlim(-0.6, 1.6)
-    decorate(ax, xlabel="", ylabel=blocks.axis(t, "I_h"))
-    return to_svg(fig)
+        ax.plot([len(names)], [v.theoretical.intensity], "s", color="C3", markersize=8)
+        theory = f"{t('w.theor')}\n{tex(t.symbol('I_{h,th}'))}"
+        if v.validity is not None and not v.validity.within_range:
+            theory += f"\n{t('w.out_of_range')}"
+        names.append(theory)
+    ax.set_xticks(range(len(names)), names)
+    ax.set_xlim(-0.6, len(names) - 0.4)
+    decorate(ax, xlabel=t("w.source"), ylabel=blocks.axis(t, "I_h"))
+    return to_svg(fig), band
 
 
 def _conclusions(t: Messages, v: Smts2Results) -> list[Text]:

@@ -391,6 +391,27 @@ PROFILOMETER: dict[str, Label] = {
 }
 
 
+THEORY_VERDICT: dict[StandKind, str] = {StandKind.SMTS2: "validity.within_range"}
+"""The result that says whether a stand's theory is within its range for the run (1 yes, 0
+no in the key results): every theoretical value shown (runs list, run page, console, report)
+carries this verdict beside it."""
+
+
+def theory_outside(kind: StandKind, values: Mapping[str, object]) -> bool:
+    """Whether the stand's theory is outside its range for a run: ``values`` holds the key
+    results (``{"validity.within_range": 0.0}``) or the results payload's values."""
+    path = THEORY_VERDICT.get(kind)
+    if path is None:
+        return False
+    found: object = values.get(path)
+    if found is None:  # the payload's values: walk the path
+        node: object = values
+        for part in path.split("."):
+            node = node.get(part) if isinstance(node, Mapping) else None
+        found = node
+    return found is not None and not bool(found)
+
+
 def row_labels(labels: Mapping[str, Label], prefix: str) -> dict[str, Label]:
     """The labels of the rows of a per-row table by field name: ``row_labels(MTOS,
     "steps[].")["chi"]``."""

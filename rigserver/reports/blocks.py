@@ -2,13 +2,21 @@
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping, Sequence
 
 from markupsafe import Markup
 from pydantic import BaseModel
 
 from rigserver.reports.document import Table, Text
-from rigserver.reports.formatting import fmt, html_symbol, shown, tex, with_uncertainty
+from rigserver.reports.formatting import (
+    decimal_sign,
+    fmt,
+    html_symbol,
+    shown,
+    tex,
+    with_uncertainty,
+)
 from rigserver.reports.i18n import Messages
 from schemas.channels import ChannelGroup
 from schemas.labels import Label
@@ -133,10 +141,27 @@ def result_table(
     )
 
 
-def measurements(t: Messages, group: ChannelGroup, values: Mapping[str, float]) -> Table:
-    """The single measurements posted (masses, zero readings) with their declared units."""
+def measurements(
+    t: Messages,
+    group: ChannelGroup,
+    values: Mapping[str, float],
+    resolutions: Mapping[str, float] | None = None,
+) -> Table:
+    """The single measurements posted (masses, zero readings) with their declared units;
+    a channel with a ``resolutions`` entry (its instrument's step, in the channel's unit: the
+    balance's 0.1 mg) is printed with the digits that instrument gives (12.2004 g)."""
+    steps = resolutions or {}
+
+    def printed(name: str) -> str:
+        value = values.get(name)
+        step = steps.get(name)
+        if value is None or not step or step <= 0 or not math.isfinite(value):
+            return fmt(value)
+        places = max(0, -math.floor(math.log10(step) + 1e-9))
+        return f"{value:.{places}f}".replace(".", decimal_sign())
+
     rows: list[list[Text]] = [
-        [html_symbol(t.gettext(c.long_name)), fmt(values.get(c.name)), t.unit(c.unit)]
+        [html_symbol(t.gettext(c.long_name)), printed(c.name), t.unit(c.unit)]
         for c in group.channels
     ]
     return Table(

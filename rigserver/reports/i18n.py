@@ -235,6 +235,7 @@ MESSAGES: dict[str, str] = {
     ),
     "caption.measurements": N_("Single measurements"),
     "table.continued": N_("{caption} (continued)"),
+    "theory_outside": N_("theory outside its range"),
     "col.parameter": N_("Parameter"),
     "col.description": N_("Description"),
     "col.quantity": N_("Quantity"),
@@ -352,8 +353,13 @@ MESSAGES: dict[str, str] = {
     "w.band": N_("0.4·I_{{h,th}} … 2.6·I_{{h,th}} (2.15)"),
     "w.exp": N_("experiment"),
     "w.theor": N_("theory (2.1)"),
-    "w.c_friction": N_(
-        "Steady friction coefficient f = {f} ± {std} (from t = {t} s, load {load} N)."
+    "w.c_friction_u": N_(
+        "Steady friction coefficient f = {f} (from t = {t} s, load {load} N), as in the "
+        "uncertainty table."
+    ),
+    "w.theory_note": N_(
+        "The fatigue-wear theory (2.1) is outside its range for this test (see the validity "
+        "table): these values are not judged against the experiment."
     ),
     "w.c_adequate": N_(
         "I_{{h,exp}} = {exp} lies within 0.4·I_{{h,th}} … 2.6·I_{{h,th}} = {lower} … "

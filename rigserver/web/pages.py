@@ -28,7 +28,7 @@ from rigserver.reports.formatting import (
 from rigserver.reports.i18n import LANGS, Lang, Messages
 from rigserver.reports.run_report import RESULT_MODELS, configuration_rows, particulars_text
 from schemas import labelled
-from schemas.labels import RESULTS
+from schemas.labels import RESULTS, THEORY_VERDICT, Part, theory_outside
 from schemas.quantity import unit_paths
 from schemas.runs import Run, RunPage, RunState
 from schemas.stands import Stand, StandKind
@@ -82,16 +82,24 @@ def render_page(template: str, lang: Lang, **context: Any) -> str:
 
 
 def key_results(t: Messages, run: Run) -> Markup:
-    """``f = 0.3985; I_h,exp = 3.833·10⁻⁸`` in the display units of the stand's results."""
+    """``f = 0.3985; I_h,exp = 3.833·10⁻⁸`` in the display units of the stand's results; a
+    theoretical value outside its theory's range says so beside it (never a bare headline)."""
     units = unit_paths(RESULT_MODELS[run.stand])
     labels = RESULTS[run.stand]
+    outside = theory_outside(run.stand, run.key_results)
+    verdict = THEORY_VERDICT.get(run.stand)
     parts = []
     for path, value in run.key_results.items():
+        if path == verdict:
+            continue
         label = labels[path]
         text = shown(label, value, units.get(path, label.unit))
         unit = results_view.unit(t, label)
         name = html_symbol(t.symbol(label.symbol) or t.gettext(label.text))
-        parts.append(Markup("{} = {}").format(name, f"{text} {unit}" if unit else text))
+        part = Markup("{} = {}").format(name, f"{text} {unit}" if unit else text)
+        if outside and label.part is Part.THEORY:
+            part += Markup(' <em class="outside">({})</em>').format(t("theory_outside"))
+        parts.append(part)
     return Markup("; ").join(parts)
 
 

@@ -136,14 +136,18 @@ def test_smts2_wear_tables_and_validity() -> None:
         fmt(float(f"{v.experimental.mass_loss * 1e6:.4g}")),  # kg -> mg
         "mg",
     ]
-    assert row_of(html, caption, "experimental wear intensity (2.13)")[1] == fmt(v.experimental.intensity)
+    assert row_of(html, caption, "experimental wear intensity (2.13)")[1] == fmt(
+        v.experimental.intensity
+    )
     theory = "Theoretical linear wear intensity"
     assert row_of(html, theory, "contour pressure (2.3)") == [
         "pc",
         fmt(float(f"{v.theoretical.contour_pressure / 1e6:.4g}")),  # Pa -> MPa
         "MPa",
     ]
-    assert row_of(html, theory, "theoretical wear intensity (2.1)")[1] == fmt(v.theoretical.intensity)
+    assert row_of(html, theory, "theoretical wear intensity (2.1)")[1] == fmt(
+        v.theoretical.intensity
+    )
     validity = "Validity of the fatigue-wear theory (2.1)"
     assert row_of(html, validity, "cycles to failure per asperity")[1] == fmt(
         v.validity.cycles_to_failure
@@ -157,7 +161,7 @@ def test_smts2_wear_tables_and_validity() -> None:
     assert row_of(html, "Friction record", "friction coefficient, steady part (2.8)")[1] == fmt(
         v.friction_steady
     )
-    assert f"f = {fmt(v.friction_steady)} ± {fmt(v.friction_steady_std)}" in html
+    assert f"f = {with_uncertainty(v.friction_steady, v.friction_steady_expanded)}" in html
 
 
 def test_smts2_measurements_as_posted() -> None:
@@ -165,7 +169,8 @@ def test_smts2_measurements_as_posted() -> None:
     posted = s.sim.columns("measurements")
     html = report(StandKind.SMTS2)
     row = row_of(html, "Single measurements", "m1, pin mass before the test (2.9)")
-    assert row == [fmt(float(posted["pin_mass_before"][-1])), "g"]
+    # with the digits the balance gives: 0.1 mg = 10⁻⁴ g (Smts2Config.accuracy)
+    assert row == [f"{float(posted['pin_mass_before'][-1]):.4f}", "g"]
     plots = svgs(html)
     assert len(plots) == 2 and all("<path" in p for p in plots)  # f(L), wear intensity
 

@@ -10,7 +10,7 @@ from rigserver.reports import blocks
 from rigserver.reports.context import Context, LabReport
 from rigserver.reports.document import Block, Figure, Section, Table, Text
 from rigserver.reports.downsample import min_max
-from rigserver.reports.formatting import DASH, fmt, html_symbol, shown
+from rigserver.reports.formatting import DASH, fmt, html_symbol, shown, with_uncertainty
 from rigserver.reports.i18n import Messages
 from rigserver.reports.plots import axes, decorate, to_svg
 from schemas.labels import PROFILOMETER
@@ -204,7 +204,9 @@ def _conclusions(t: Messages, v: ProfilometerResults) -> list[Text]:
             html_symbol(
                 t(
                     "p.c_ra",
-                    ra=shown(PROFILOMETER["ra"], v.ra, "m"),
+                    ra=with_uncertainty(v.ra * 1e6, v.ra_expanded * 1e6)
+                    if v.ra_expanded
+                    else shown(PROFILOMETER["ra"], v.ra, "m"),
                     ra_delta=shown(PROFILOMETER["ra_from_complex"], v.ra_from_complex, "m"),
                     diff=_percent(v.ra, v.ra_from_complex),
                 )

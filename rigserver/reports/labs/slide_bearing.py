@@ -10,7 +10,7 @@ from markupsafe import Markup
 from rigserver.reports import blocks
 from rigserver.reports.context import Context, LabReport
 from rigserver.reports.document import Block, Figure, Section, Table, Text
-from rigserver.reports.formatting import fmt, html_symbol, shown
+from rigserver.reports.formatting import fmt, html_symbol, shown, with_uncertainty
 from rigserver.reports.i18n import Messages
 from rigserver.reports.plots import axes, decorate, to_svg
 from schemas.labels import SLIDE_BEARING, row_labels
@@ -209,7 +209,9 @@ def _conclusions(t: Messages, v: SlideBearingResults) -> list[Text]:
             html_symbol(
                 t(
                     "b.c_chi",
-                    chi=shown(SLIDE_BEARING["chi_mean"], v.chi_mean, "1"),
+                    chi=with_uncertainty(v.chi_mean, v.chi_mean_expanded)
+                    if v.chi_mean_expanded
+                    else shown(SLIDE_BEARING["chi_mean"], v.chi_mean, "1"),
                     p=shown(SLIDE_BEARING["pressure_max"], v.pressure_max, "Pa"),
                     unit=t.unit(SLIDE_BEARING["pressure_max"].unit),
                     phi=fmt(v.phi_max),

@@ -12,7 +12,7 @@ from rigserver.core import wear
 from rigserver.reports import blocks
 from rigserver.reports.context import Context, LabReport
 from rigserver.reports.document import Block, Figure, Section, Table, Text
-from rigserver.reports.formatting import fmt, html_symbol, tex
+from rigserver.reports.formatting import fmt, html_symbol, tex, with_uncertainty
 from rigserver.reports.i18n import Messages
 from rigserver.reports.plots import axes, decorate, to_svg
 from schemas.labels import SMTS2
@@ -28,9 +28,13 @@ DRAWN_BLOCKS = 600
 def build(ctx: Context, v: Smts2Results) -> LabReport:
     t = ctx.t
     config = Smts2Config.model_validate(ctx.run.configuration)
-    measured: list[Block] = [
-        blocks.measurements(t, ctx.group(MEASUREMENTS), ctx.readings.measurements())
-    ]
+    group = ctx.group(MEASUREMENTS)
+    balance = {  # the masses with the digits the balance gives (its resolution, declared)
+        c.name: config.accuracy.balance_resolution / UNITS[c.unit].factor
+        for c in group.channels
+        if UNITS[c.unit].si == "kg"
+    }
+    measured: list[Block] = [blocks.measurements(t, group, ctx.readings.measurements(), balance)]
     if v.rows:
         measured.append(
             blocks.quantities(
@@ -107,7 +111,9 @@ def build(ctx: Context, v: Smts2Results) -> LabReport:
             prefix="theoretical.",
         )
         contact: list[Text] = [t("w.contact"), "", t("contact." + v.theoretical.contact), ""]
-        processed.append(dataclasses.replace(theory, rows=[contact, *theory.rows]))
+        outside = v.validity is not None and not v.validity.within_range
+        note = t("w.theory_note") if outside else ""
+        processed.append(dataclasses.replace(theory, rows=[contact, *theory.rows], note=note))
     if v.validity is not None:
         processed.append(_validity(t, v))
     if v.sensitivity:
@@ -287,9 +293,8 @@ def _conclusions(t: Messages, v: Smts2Results) -> list[Text]:
         found.append(
             html_symbol(
                 t(
-                    "w.c_friction",
-                    f=fmt(v.friction_steady),
-                    std=fmt(v.friction_steady_std),
+                    "w.c_friction_u",
+                    f=with_uncertainty(v.friction_steady, v.friction_steady_expanded),
                     t=fmt(v.steady_from_time),
                     load=fmt(v.mean_load),
                 )

@@ -569,6 +569,13 @@ WORDS: tuple[str, ...] = (
     N_("no"),
     N_("wear"),
     N_("ABRIS-PM7"),
+    N_("finite"),
 )
 """The words results, test plans and configurations hold as values (regimes, contact
 modes, methods, the instrument)."""
+
+VALUE_WORDS: dict[str, str] = {
+    "lsq": N_("least squares in log-log"),
+    "manual": N_("three pairs of levels (1.16)-(1.19)"),
+}
+"""Code words a result holds as its value, as a page prints them (in every language)."""

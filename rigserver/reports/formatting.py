@@ -105,7 +105,9 @@ def value_text(value: Any) -> str:
 
 
 def html_symbol(symbol: str) -> Markup:
-    """``"e_x"`` -> ``e<sub>x</sub>``, ``"S_1^{-1}"`` -> ``S<sub>1</sub><sup>-1</sup>``."""
+    """``"e_x"`` -> ``e<sub>x</sub>``, ``"S_1^{-1}"`` -> ``S<sub>1</sub><sup>-1</sup>``;
+    ``<=`` and ``>=`` as ``≤`` and ``≥``."""
+    symbol = symbol.replace("<=", "≤").replace(">=", "≥")
     out: list[str] = []
     pos = 0
     for match in _SCRIPT.finditer(symbol):

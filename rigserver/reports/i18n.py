@@ -235,6 +235,38 @@ MESSAGES: dict[str, str] = {
     ),
     "caption.measurements": N_("Single measurements"),
     "table.continued": N_("{caption} (continued)"),
+    "sec.abbreviations": N_("Abbreviations and corrections to the printed formulas"),
+    "abbr.gum": N_(
+        "GUM: the Guide to the expression of uncertainty in measurement (JCGM 100:2008): "
+        "u is the standard uncertainty, U = 2u the expanded one (k = 2, about 95 %)."
+    ),
+    "abbr.g99": N_(
+        "ASTM G99: the standard test method for wear testing with a pin-on-disc apparatus; its "
+        "specific wear rate is k = V/(F·L)."
+    ),
+    "abbr.e1": N_(
+        "E1 (2.2): C = 0.118/(1 + t/2), not 0.118·(1 + t/2) as printed: the general C of (2.1) "
+        "at ν = 2."
+    ),
+    "abbr.e2": N_(
+        "E2 (2.6): Δ = 5.4·10⁻²·Ra² (Ra in µm), the inverse of (1.10); the print drops the square."
+    ),
+    "abbr.e3": N_(
+        "E3 (3.5, 3.24, 4.8, 4.20): a = B/(2R) = B/D, not B/(4R): only this half-width gives "
+        "the short-bearing load of (3.12)."
+    ),
+    "abbr.e4": N_(
+        "E4 (4.19): the temperature rise is Δt_i = t_i - t_1; the print has t_1 - t_i, "
+        "negative for oil that warms."
+    ),
+    "abbr.e5": N_(
+        "E5 (1.1): R = √(π/2)/ρ_2, ρ_2 the rms curvature of the profile; the print puts the "
+        "whole product under the root, which is not a length."
+    ),
+    "abbr.e9": N_(
+        "E9 (4.21): the manual calls both μω/p̄ and p̄/(μω) S_1; the report uses "
+        "S_1 = μ_t·ω/p̄ as (4.21) does."
+    ),
     "theory_outside": N_("theory outside its range"),
     "col.parameter": N_("Parameter"),
     "col.description": N_("Description"),

@@ -3,7 +3,8 @@ conclusions; rendered to HTML by ``templates/report.html`` and to PDF from the s
 
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping
+import re
+from collections.abc import Callable, Mapping, Sequence
 from datetime import datetime
 from typing import Any
 
@@ -88,6 +89,9 @@ def _build(
     for key, items in (("sec.pending", model.pending), ("sec.notes", model.notes)):  # type: ignore[attr-defined]
         if items:  # the analysis' words, printed as they are (x_zero is not x subscript zero)
             sections.append(Section(t(key), [Items([escape(t.gettext(item)) for item in items])]))
+    explained = abbreviations(t, sections)
+    if explained:
+        sections.append(Section(t("sec.abbreviations"), [Items(explained)]))
     return Report(
         lang=t.lang,
         title=f"{t('lab_work', n=stand.lab_work)}. {t('title.' + kind)}",
@@ -98,6 +102,33 @@ def _build(
         sections=sections,
         footer=t("footer", run=run.id, time=f"{made:%Y-%m-%d %H:%M}"),
     )
+
+
+ABBREVIATIONS: dict[str, str] = {
+    "GUM": "abbr.gum",
+    "ASTM G99": "abbr.g99",
+    **{f"E{n}": f"abbr.e{n}" for n in (1, 2, 3, 4, 5, 9)},
+}
+"""The abbreviations and the corrections to the manual's printed formulas (docs/models.md)
+a report may cite, each explained once in its appendix."""
+_CITED = re.compile(r"GUM|ASTM G99|(?<=\()E[1-9]\b|(?<=, )E[1-9]\b")
+
+
+def abbreviations(t: Messages, sections: Sequence[Section]) -> list[Text]:
+    """The explanations of the abbreviations and corrections (E1-E9) the sections cite, in
+    the order of :data:`ABBREVIATIONS`."""
+    texts: list[str] = []
+    for section in sections:
+        for block in section.blocks:
+            if isinstance(block, Table):
+                texts += [str(block.caption), str(block.note), *map(str, block.header)]
+                texts += [str(cell) for row in block.rows for cell in row]
+            elif isinstance(block, Items):
+                texts += [str(item) for item in block.items]
+            else:
+                texts.append(str(getattr(block, "caption", "") or getattr(block, "text", "")))
+    cited = set(_CITED.findall(" ".join(texts)))
+    return [html_symbol(t(key)) for code, key in ABBREVIATIONS.items() if code in cited]
 
 
 def render_report(report: Report) -> str:

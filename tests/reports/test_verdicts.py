@@ -67,3 +67,11 @@ def test_the_conclusions_quote_the_uncertainty_table() -> None:
     assert html.count(quoted) >= 2  # the uncertainty table and the conclusions
     if not v.validity.within_range:  # type: ignore[union-attr]
         assert "outside its range for this test (see the validity table)" in html
+
+
+def test_abbreviations_and_corrections_are_explained_once() -> None:
+    for lang in ("en", "ru"):
+        html = run_report(KIND, lang).html  # type: ignore[arg-type]
+        appendix = html.split("<h2>")[-1]
+        assert "GUM" in appendix and "ASTM G99" in appendix and "E2 (2.6)" in appendix
+        assert appendix.count("E2 (2.6)") == 1

@@ -64,6 +64,12 @@ TEXT: dict[str, str] = {
     "grubbs": N_("Grubbs (E178)"),
     "outlier": N_("outlier: {run}"),
     "no_outlier": N_("none"),
+    "beyond": N_("|Δ| = {d} > U = {u} of the runs"),
+    "explained": N_(
+        "G flags {run}, but its |Δ| = {d} ≤ U = {u} the runs' own uncertainties explain: no outlier"
+    ),
+    "identical": N_("Identical data"),
+    "identical_runs": N_("the runs {runs} have identical results, to the last digit: copied data?"),
     "test": N_("Test"),
     "welch": N_("Welch's t"),
     "anova": N_("one-way ANOVA, F"),

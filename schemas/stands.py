@@ -158,14 +158,14 @@ class MtosConfig(_Config):
     omega: float = quantity(157.0, "rad/s", "ω, journal angular speed (placeholder)", gt=0)
     viscosity: ViscosityLaw = ViscosityLaw()
     journal_roughness: float = quantity(
-        1.6e-6, "m", "h_journal, mean asperity height of the journal (seed 001)", ge=0
+        1.6e-6, "m", "h_journal, mean asperity height of the journal, a term of h_min,cr", ge=0
     )
     bush_roughness: float = quantity(
-        3.2e-6, "m", "h_bush, mean asperity height of the bush (seed 001)", ge=0
+        3.2e-6, "m", "h_bush, mean asperity height of the bush, a term of h_min,cr", ge=0
     )
-    misalignment: float = quantity(0.0, "m", "h from misalignment (seed 001)", ge=0)
-    deflection: float = quantity(0.0, "m", "h from shaft deflection (seed 001)", ge=0)
-    shape_error: float = quantity(0.0, "m", "h from form errors (seed 001)", ge=0)
+    misalignment: float = quantity(0.0, "m", "h from misalignment, a term of h_min,cr", ge=0)
+    deflection: float = quantity(0.0, "m", "h from shaft deflection, a term of h_min,cr", ge=0)
+    shape_error: float = quantity(0.0, "m", "h from form errors, a term of h_min,cr", ge=0)
     # Rq ≈ Rz/4.35 by (1.2) (Rmax ≈ 5ρ ≈ 1.15 Rz) from the mean heights above; a profilometer
     # run named in the run's specimen (journal_profile_run, bush_profile_run) overrides them.
     journal_rq: float = quantity(0.37e-6, "m", "Rq of the journal, for the film parameter Λ", gt=0)

@@ -341,6 +341,7 @@ MESSAGES: dict[str, str] = {
     "w.load": N_("mean load, steady part"),
     "w.f": N_("friction coefficient, steady part (2.8)"),
     "w.f_std": N_("its standard deviation"),
+    "w.moment": N_("friction moment, steady part, M_fr = f·N·r_2 (2.8)"),
     "w.steady_from": N_("steady part from"),
     "w.experimental": N_("Experimental linear wear intensity (2.9)-(2.13)"),
     "w.mass_loss": N_("mass loss of the pin (2.9)"),

@@ -7,6 +7,8 @@ from collections.abc import Sequence
 import numpy as np
 from markupsafe import Markup
 from matplotlib.axes import Axes
+from numpy.typing import NDArray
+from scipy.interpolate import make_interp_spline
 
 from rigserver.reports import blocks
 from rigserver.reports.context import Context, LabReport
@@ -263,16 +265,14 @@ def _trajectory_svg(t: Messages, v: MtosResults, config: MtosConfig) -> str:
     circle = np.linspace(0.0, 2.0 * np.pi, 361)
     ax.plot(h0 * np.cos(circle), h0 * np.sin(circle), ":", color="0.4", label=t("m.clearance"))
     ax.plot([0.0, h0 * along[0]], [0.0, h0 * along[1]], "--", color="0.6", linewidth=0.8)
-    for regime in REGIMES:
-        steps = _of(v.steps, regime)
+    for number, regime in enumerate(REGIMES):
+        steps = sorted(_of(v.steps, regime), key=lambda s: s.load)
         if steps:
+            x = np.array([s.e_x * scale for s in steps])
+            y = np.array([s.e_y * scale for s in steps])
+            ax.plot(x, y, MARKERS[regime], color=f"C{number}", markersize=5)
             ax.plot(
-                [s.e_x * scale for s in steps],
-                [s.e_y * scale for s in steps],
-                MARKERS[regime] + "-",
-                linewidth=0.8,
-                markersize=5,
-                label=t("regime." + regime),
+                *_smooth(x, y), "-", color=f"C{number}", linewidth=0.8, label=t("regime." + regime)
             )
             for s in steps if regime == "fluid" else ():
                 ax.annotate(
@@ -290,6 +290,20 @@ def _trajectory_svg(t: Messages, v: MtosResults, config: MtosConfig) -> str:
         legend_outside=True,
     )
     return to_svg(fig)
+
+
+def _smooth(x: NDArray[np.float64], y: NDArray[np.float64]) -> tuple[NDArray[np.float64], ...]:
+    """The measured points in load order joined by a smooth curve, as the manual asks of the
+    trajectory: a parametric spline (cubic, or of the points' count less one) through every
+    point, parametrised by the chord length; the points themselves where fewer than three."""
+    if x.size < 3:
+        return x, y
+    chord = np.concatenate([[0.0], np.cumsum(np.hypot(np.diff(x), np.diff(y)))])
+    if not np.all(np.diff(chord) > 0):
+        return x, y
+    spline = make_interp_spline(chord, np.column_stack([x, y]), k=min(3, x.size - 1))
+    drawn = spline(np.linspace(0.0, chord[-1], 200))
+    return drawn[:, 0], drawn[:, 1]
 
 
 def _friction_svg(t: Messages, v: MtosResults) -> str:

@@ -36,24 +36,35 @@ def build(ctx: Context, v: Smts2Results) -> LabReport:
     }
     measured: list[Block] = [blocks.measurements(t, group, ctx.readings.measurements(), balance)]
     if v.rows:
-        measured.append(
-            blocks.quantities(
-                t,
-                t("w.record"),
-                v,
-                [
-                    ("rows", "", "w.rows"),
-                    ("duration", "τ", "w.duration"),
-                    ("revolutions", "M_rev", "w.revolutions"),
-                    ("sliding_distance", "L", "w.sliding"),
-                    ("mean_load", "N", "w.load"),
-                    ("friction_steady", "f", "w.f"),
-                    ("friction_steady_std", "σ_f", "w.f_std"),
-                    ("steady_from_time", "t_s", "w.steady_from"),
-                ],
-                labels=SMTS2,
-            )
+        record = blocks.quantities(
+            t,
+            t("w.record"),
+            v,
+            [
+                ("rows", "", "w.rows"),
+                ("duration", "τ", "w.duration"),
+                ("revolutions", "M_rev", "w.revolutions"),
+                ("sliding_distance", "L", "w.sliding"),
+                ("mean_load", "N", "w.load"),
+                ("friction_steady", "f", "w.f"),
+                ("friction_steady_std", "σ_f", "w.f_std"),
+                ("steady_from_time", "t_s", "w.steady_from"),
+            ],
+            labels=SMTS2,
         )
+        # the friction moment beside f: M_fr = f·N·r2, the inverse of (2.8)
+        moment = None
+        if v.friction_steady is not None and v.mean_load is not None:
+            moment = v.friction_steady * v.mean_load * config.disc_radius
+        row: list[Text] = [
+            html_symbol(t("w.moment")),
+            html_symbol(t.symbol("M_fr")),
+            fmt(moment),
+            t.unit("N*m"),
+        ]
+        at = next(i for i, r in enumerate(record.rows) if str(r[1]) == "f") + 1
+        rows = [*record.rows[:at], row, *record.rows[at:]]
+        measured.append(dataclasses.replace(record, rows=rows))
         measured.append(Figure(t("w.fig_friction"), _friction_svg(ctx, v, config)))
     processed: list[Block] = []
     if v.experimental is not None:

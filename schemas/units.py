@@ -33,7 +33,6 @@ UnitSymbol = Literal[
     "rad/s",
     "Pa",
     "MPa",
-    "GPa",
     "at",
     "atm",
     "Pa*s",
@@ -57,6 +56,9 @@ UnitSymbol = Literal[
     "div",
     "code",
     "%",
+    "Hz",
+    "m/s",
+    "GPa",
 ]
 
 
@@ -96,7 +98,6 @@ UNITS: dict[str, Unit] = {
         Unit("rad/s", "rad/s", 1.0, "radian per second"),
         Unit("Pa", "Pa", 1.0, "pascal"),
         Unit("MPa", "Pa", 1e6, "megapascal"),
-        Unit("GPa", "Pa", 1e9, "gigapascal"),
         Unit("at", "Pa", 98_066.5, "technical atmosphere (kgf/cm²), the usual gauge unit"),
         Unit("atm", "Pa", 101_325.0, "standard atmosphere"),
         Unit("Pa*s", "Pa*s", 1.0, "pascal second"),
@@ -120,6 +121,9 @@ UNITS: dict[str, Unit] = {
         Unit("div", "div", 1.0, "scale divisions of an instrument (calibrated per stand)"),
         Unit("code", "code", 1.0, "an integer code from a declared list"),
         Unit("%", "1", 1e-2, "percent"),
+        Unit("Hz", "Hz", 1.0, "hertz (strokes of a reciprocating tribometer)"),
+        Unit("m/s", "m/s", 1.0, "metre per second (sliding speed)"),
+        Unit("GPa", "Pa", 1e9, "gigapascal"),
     )
 }
 

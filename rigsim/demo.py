@@ -30,6 +30,7 @@ from rich.console import Console
 from rigsim.client import LabClient, RunOutcome
 from rigsim.errors import PortInUse, RigsimError, ServerError, ServerUnavailable
 from rigsim.stands import simulate
+from schemas.labels import RESULTS, THEORY_VERDICT, Part, theory_outside
 from schemas.stands import StandKind
 
 KEYS_FILE = "demo-keys.json"
@@ -169,7 +170,7 @@ def run_demo(
                 console.print(
                     f"  {label:14s} {url}/runs/{outcome.run.id}"
                     f"  (report: {url}/api/v1/runs/{outcome.run.id}/report.pdf)\n"
-                    f"  {'':14s} {_headline(outcome.run.key_results, units)}",
+                    f"  {'':14s} {_headline(outcome.run.key_results, units, outcome.run.stand)}",
                     soft_wrap=True,
                 )
         repeats = [
@@ -213,9 +214,23 @@ def _pace(speed: float | None) -> str:
     return "full speed" if speed is None else f"{speed:g} times the stands' pace"
 
 
-def _headline(key_results: dict[str, Any], units: dict[str, str]) -> str:
+def _headline(key_results: dict[str, Any], units: dict[str, str], stand: StandKind) -> str:
+    """The key results in SI; a theoretical value outside its theory's range is marked so
+    (schemas.labels.THEORY_VERDICT), never a bare headline."""
+
     def unit(path: str) -> str:
         u = units.get(path, "1")
         return "" if u == "1" else f" {u}"
 
-    return ", ".join(f"{k} = {v:.4g}{unit(k)}" for k, v in key_results.items())
+    outside = theory_outside(stand, key_results)
+    verdict = THEORY_VERDICT.get(stand)
+    parts = []
+    for k, v in key_results.items():
+        if k == verdict:
+            continue
+        part = f"{k} = {v:.4g}{unit(k)}"
+        label = RESULTS[stand].get(k)
+        if outside and label is not None and label.part is Part.THEORY:
+            part += " (theory outside its range)"
+        parts.append(part)
+    return ", ".join(parts)

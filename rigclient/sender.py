@@ -324,5 +324,13 @@ def _finish(
             return Failed(run.local_id, run.name, "the finish", _refusal(exc))
     if isinstance(answer, TryLater):
         return Failed(run.local_id, run.name, "the finish", answer)
+    try:  # the API's run, finished: a proxy's welcome page is not a finish
+        finished = Run.model_validate(answer.json()).state is RunState.FINISHED
+    except ValueError:
+        finished = False
+    if not finished:
+        url = api.url_of(f"/runs/{server_id}/finish")
+        why = TryLater(f"POST {url}: {not_the_api(answer, 'the finished run')}")
+        return Failed(run.local_id, run.name, "the finish", why)
     spool.finished(run.local_id)
     return Sent(run.local_id)

@@ -23,7 +23,7 @@ from rigserver.analysis.series import label_of
 from rigserver.reports import results_view
 from rigserver.reports.blocks import axis
 from rigserver.reports.downsample import min_max
-from rigserver.reports.formatting import fmt, number_locale, shown
+from rigserver.reports.formatting import fmt, number_locale, shown, spreadsheet_text
 from rigserver.reports.i18n import Lang, Messages
 from rigserver.reports.render import render
 from rigserver.reports.series_plots import Curve, overlay
@@ -45,6 +45,7 @@ TEXT: dict[str, str] = {
     "open_runs": N_("{n} of the runs are still open: their figures may change."),
     "sec.runs": N_("Runs"),
     "sec.statistics": N_("Statistics of the results"),
+    "sec.spread": N_("Spread of the runs against their instruments"),
     "sec.comparison": N_("Comparison of the levels"),
     "sec.plots": N_("Overlay plots"),
     "run": N_("Run"),
@@ -63,6 +64,12 @@ TEXT: dict[str, str] = {
     "grubbs": N_("Grubbs (E178)"),
     "outlier": N_("outlier: {run}"),
     "no_outlier": N_("none"),
+    "beyond": N_("|Δ| = {d} > U = {u} of the runs"),
+    "explained": N_(
+        "G flags {run}, but its |Δ| = {d} ≤ U = {u} the runs' own uncertainties explain: no outlier"
+    ),
+    "identical": N_("Identical data"),
+    "identical_runs": N_("the runs {runs} have identical results, to the last digit: copied data?"),
     "test": N_("Test"),
     "welch": N_("Welch's t"),
     "anova": N_("one-way ANOVA, F"),
@@ -83,9 +90,9 @@ TEXT: dict[str, str] = {
     "mean_curve": N_("mean"),
     "plot.friction": N_("f against the sliding distance L (time scaled by the run's L)"),
     "plot.tribometer": N_("μ against the sliding distance L"),
-    "plot.mtos_f": N_("f_э against the load N"),
-    "plot.stribeck": N_("f_э against S_1 (Hersey-Stribeck)"),
-    "plot.pressure": N_("Π_э against φ (z = 0)"),
+    "plot.mtos_f": N_("f_e against the load N"),
+    "plot.stribeck": N_("f_e against S_1 (Hersey-Stribeck)"),
+    "plot.pressure": N_("Π_e against φ (z = 0)"),
     "plot.bearing": N_("Bearing curves t_p(ε)"),
     "plot.profile": N_("Profiles y(x)"),
     "state.open": N_("open"),
@@ -112,7 +119,8 @@ def text(lang: Lang) -> Callable[..., str]:
 def series_csv(detail: SeriesDetail) -> str:
     """One row per run: id, level, state, operator, start, then every headline result
     (``key [unit]``, in its display unit: mm³, mg, µm) at full precision; empty where a run
-    lacks it."""
+    lacks it. A text cell that a spreadsheet would take for a formula (``=HYPERLINK(...)``
+    for a level) starts with ``'`` (:func:`~rigserver.reports.formatting.spreadsheet_text`)."""
     out = io.StringIO()
     writer = csv.writer(out)
     shown_in: dict[str, tuple[str, float]] = {}
@@ -136,7 +144,8 @@ def series_csv(detail: SeriesDetail) -> str:
             for key, (_, factor) in shown_in.items()
         ]
         when = row.created.isoformat()
-        writer.writerow([row.run_id, row.level or "", row.state.value, row.operator, when, *values])
+        texts = [row.run_id, row.level or "", row.state.value, row.operator, when]
+        writer.writerow([*(spreadsheet_text(cell) for cell in texts), *values])
     return out.getvalue()
 
 
@@ -203,6 +212,7 @@ def _statistics_row(
 
     return {
         "stats": stats,
+        "symbol": m.symbol(stats.symbol),
         "name": results_view.name(m, label),
         "unit": results_view.unit(m, label),
         "show": show,
@@ -255,14 +265,14 @@ def _plots(
         draw(
             "plot.mtos_f",
             axis(m, "N", "N"),
-            axis(m, "f_э"),
+            axis(m, "f_e"),
             curves(lambda r: _rows(r, v[r], "steps", "load", "friction_measured")),
             paired=True,
         )
         draw(
             "plot.stribeck",
             axis(m, "S_1"),
-            axis(m, "f_э"),
+            axis(m, "f_e"),
             curves(
                 lambda r: _rows(r, v[r], "steps", "bearing_characteristic", "friction_measured")
             ),
@@ -272,7 +282,7 @@ def _plots(
         draw(
             "plot.pressure",
             axis(m, "φ", "deg"),
-            axis(m, "Π_э"),
+            axis(m, "Π_e"),
             curves(lambda r: _rows(r, v[r], "table", "phi_model", "pi_measured")),
             markers=True,
         )

@@ -19,7 +19,17 @@ from rigserver.api.openapi import add_components
 from rigserver.api.page_policy import PagePolicy
 from rigserver.api.problems import ApiProblem
 from rigserver.api.rate_limit import RateLimit
-from rigserver.api.routes import api_docs, live, models, pages, readings, reports, results, runs
+from rigserver.api.routes import (
+    api_docs,
+    eln,
+    live,
+    models,
+    pages,
+    readings,
+    reports,
+    results,
+    runs,
+)
 from rigserver.api.routes import series as series_routes
 from rigserver.api.routes import stands as stand_routes
 from rigserver.api.routes.pages import LOGIN_BODY_BYTES
@@ -39,11 +49,14 @@ API_ROUTERS = (
     results.router,
     models.router,
     reports.router,
+    eln.router,
     live.router,
     series_routes.router,
 )
 
 
+#: The route that takes a whole run's archive (rigserver.api.routes.eln).
+IMPORT_PATH = f"{API_PREFIX}/runs/import"
 #: The bodies of routes without a key, bytes: the login and logout forms.
 FORM_BODY_BYTES = {"/login": LOGIN_BODY_BYTES, "/logout": LOGIN_BODY_BYTES}
 #: The largest body of any other request without a key (a calculator's input, when reads
@@ -53,16 +66,22 @@ ANONYMOUS_BODY_BYTES = 64 << 10
 
 def body_limit(services: Services, scope: Scope) -> int:
     """The largest body the request may send: its route's own (the login form), else
-    ``max_body_bytes`` with a key and :data:`ANONYMOUS_BODY_BYTES` without one (a key
-    this server does not know is none: :mod:`rigserver.api.gate` answers it 401)."""
-    own = FORM_BODY_BYTES.get(scope["path"])
+    without a key :data:`ANONYMOUS_BODY_BYTES` (a key this server does not know is none:
+    :mod:`rigserver.api.gate` answers it 401), with one ``max_body_bytes`` (an archive's
+    import: ``import_max_bytes``)."""
+    path = scope["path"]
+    own = FORM_BODY_BYTES.get(path)
     if own is not None:
         return own
     try:
         caller = caller_in(scope, services)
     except ApiProblem:
         caller = None
-    return services.settings.max_body_bytes if caller is not None else ANONYMOUS_BODY_BYTES
+    if caller is None:
+        return ANONYMOUS_BODY_BYTES
+    if path == IMPORT_PATH:
+        return services.settings.import_max_bytes
+    return services.settings.max_body_bytes
 
 
 def create_app(
@@ -81,6 +100,7 @@ def create_app(
     async def lifespan(app: FastAPI) -> AsyncIterator[None]:
         yield
         app.state.services.results.close()
+        app.state.services.reports.close()
         store.close()
         series_store.close()
 

@@ -44,11 +44,12 @@ class BodyLimit:
         self.watch = _Watch(timeout)
 
     def _too_large(self, limit: int) -> Problem:
-        advice = "send smaller batches" if limit == self.max_bytes else "this request takes no more"
         return Problem(
             title="Request body too large",
             status=413,
-            detail=f"the body exceeds {limit} bytes; {advice}",
+            detail=f"the body exceeds {limit} bytes; send smaller batches"
+            if limit == self.max_bytes
+            else f"the body exceeds {limit} bytes, the largest this server takes here",
         )
 
     def _too_slow(self, seen: int) -> Problem:

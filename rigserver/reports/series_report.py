@@ -45,6 +45,7 @@ TEXT: dict[str, str] = {
     "open_runs": N_("{n} of the runs are still open: their figures may change."),
     "sec.runs": N_("Runs"),
     "sec.statistics": N_("Statistics of the results"),
+    "sec.spread": N_("Spread of the runs against their instruments"),
     "sec.comparison": N_("Comparison of the levels"),
     "sec.plots": N_("Overlay plots"),
     "run": N_("Run"),
@@ -63,6 +64,12 @@ TEXT: dict[str, str] = {
     "grubbs": N_("Grubbs (E178)"),
     "outlier": N_("outlier: {run}"),
     "no_outlier": N_("none"),
+    "beyond": N_("|Δ| = {d} > U = {u} of the runs"),
+    "explained": N_(
+        "G flags {run}, but its |Δ| = {d} ≤ U = {u} the runs' own uncertainties explain: no outlier"
+    ),
+    "identical": N_("Identical data"),
+    "identical_runs": N_("the runs {runs} have identical results, to the last digit: copied data?"),
     "test": N_("Test"),
     "welch": N_("Welch's t"),
     "anova": N_("one-way ANOVA, F"),
@@ -82,9 +89,10 @@ TEXT: dict[str, str] = {
     "runs_csv": N_("Runs and their results, CSV"),
     "mean_curve": N_("mean"),
     "plot.friction": N_("f against the sliding distance L (time scaled by the run's L)"),
-    "plot.mtos_f": N_("f_э against the load N"),
-    "plot.stribeck": N_("f_э against S_1 (Hersey-Stribeck)"),
-    "plot.pressure": N_("Π_э against φ (z = 0)"),
+    "plot.tribometer": N_("μ against the sliding distance L"),
+    "plot.mtos_f": N_("f_e against the load N"),
+    "plot.stribeck": N_("f_e against S_1 (Hersey-Stribeck)"),
+    "plot.pressure": N_("Π_e against φ (z = 0)"),
     "plot.bearing": N_("Bearing curves t_p(ε)"),
     "plot.profile": N_("Profiles y(x)"),
     "state.open": N_("open"),
@@ -204,6 +212,7 @@ def _statistics_row(
 
     return {
         "stats": stats,
+        "symbol": m.symbol(stats.symbol),
         "name": results_view.name(m, label),
         "unit": results_view.unit(m, label),
         "show": show,
@@ -245,18 +254,25 @@ def _plots(
     v = values
     if detail.stand is StandKind.SMTS2:
         draw("plot.friction", axis(m, "L", "m"), axis(m, "f"), curves(lambda r: _friction(r, v[r])))
+    elif detail.stand in (StandKind.PIN_ON_DISC, StandKind.RECIPROCATING):
+        draw(
+            "plot.tribometer",
+            axis(m, "L", "m"),
+            axis(m, "μ"),
+            curves(lambda r: _series(r, v[r], "friction")),
+        )
     elif detail.stand is StandKind.MTOS:
         draw(
             "plot.mtos_f",
             axis(m, "N", "N"),
-            axis(m, "f_э"),
+            axis(m, "f_e"),
             curves(lambda r: _rows(r, v[r], "steps", "load", "friction_measured")),
             paired=True,
         )
         draw(
             "plot.stribeck",
             axis(m, "S_1"),
-            axis(m, "f_э"),
+            axis(m, "f_e"),
             curves(
                 lambda r: _rows(r, v[r], "steps", "bearing_characteristic", "friction_measured")
             ),
@@ -266,7 +282,7 @@ def _plots(
         draw(
             "plot.pressure",
             axis(m, "φ", "deg"),
-            axis(m, "Π_э"),
+            axis(m, "Π_e"),
             curves(lambda r: _rows(r, v[r], "table", "phi_model", "pi_measured")),
             markers=True,
         )
@@ -298,6 +314,14 @@ def _friction(run_id: str, values: Mapping[str, Any] | None) -> Curve | None:
         return None
     distance = (x - x[0]) / (x[-1] - x[0]) * float(values["sliding_distance"])
     return Curve(run_id, distance, y)
+
+
+def _series(run_id: str, values: Mapping[str, Any] | None, name: str) -> Curve | None:
+    """A plot series of the results as it is (the tribometers' μ against L)."""
+    found = None if values is None else values.get(name)
+    if not found or len(found.get("x") or []) < 2:
+        return None
+    return Curve(run_id, np.asarray(found["x"], float), np.asarray(found["y"], float))
 
 
 def _rows(

@@ -166,8 +166,12 @@ _PROBLEM_SCHEMAS: dict[str, Any] = component_schemas(Problem)
 
 
 def _allowed_methods(request: Request) -> list[str]:
-    """The methods some route of the request's path takes."""
+    """The methods some route of the request's path takes; a path that a route names
+    literally (``/runs/import``) is that route's alone, not also a value of another's
+    parameter (``/runs/{run_id}``)."""
     routes = request.app.router.routes
+    literal = [r for r in routes if getattr(r, "path_format", None) == request.url.path]
+    routes = literal or routes
     return [
         method
         for method in ("GET", "HEAD", "POST", "PUT", "PATCH", "DELETE")

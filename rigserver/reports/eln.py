@@ -411,17 +411,7 @@ def add_run(crate: Crate, part: RunPart, *, series: str | None = None) -> str:
         files.append(
             crate.file(folder + name, pieces, encoding=encoding, description=_describe(name, stand))
         )
-    for name, content in part.reports.items():
-        lang = name.rsplit(".", 1)[0].rsplit("-", 1)[-1]
-        files.append(
-            crate.file(
-                folder + name,
-                [content],
-                encoding=REPORT_TYPES[name.rsplit(".", 1)[-1]],
-                description=f"The run's report ({lang})",
-                inLanguage=lang,
-            )
-        )
+    files += _add_reports(crate, folder, part.reports, "The run's report")
     based_on = []
     for other_id, (other, path) in part.references.items():
         based_on.append(
@@ -435,6 +425,24 @@ def add_run(crate: Crate, part: RunPart, *, series: str | None = None) -> str:
             )
         )
     return _describe_run(crate, part, folder, files, based_on, series)
+
+
+def _add_reports(crate: Crate, folder: str, reports: Mapping[str, bytes], what: str) -> list[str]:
+    """The reports (``report-<lang>.<pdf|html>``) as files of ``folder``."""
+    found = []
+    for name, content in reports.items():
+        stem, suffix = name.rsplit(".", 1)
+        lang = stem.rsplit("-", 1)[-1]
+        found.append(
+            crate.file(
+                folder + name,
+                [content],
+                encoding=REPORT_TYPES[suffix],
+                description=f"{what} ({lang})",
+                inLanguage=lang,
+            )
+        )
+    return found
 
 
 def _describe(name: str, stand: Stand) -> str:
@@ -754,17 +762,7 @@ def _add_series(crate: Crate, series: SeriesPart, folder: str, runs: list[str]) 
             description="The per-run table: one row per run, one column per headline result",
         ),
     ]
-    for name, content in series.reports.items():
-        lang = name.rsplit(".", 1)[0].rsplit("-", 1)[-1]
-        files.append(
-            crate.file(
-                folder + name,
-                [content],
-                encoding=REPORT_TYPES[name.rsplit(".", 1)[-1]],
-                description=f"The series report ({lang})",
-                inLanguage=lang,
-            )
-        )
+    files += _add_reports(crate, folder, series.reports, "The series report")
     statistics = []
     for stats in detail.statistics:
         if stats.overall is None:

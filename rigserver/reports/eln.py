@@ -48,6 +48,7 @@ from schemas.quantity import units_of
 from schemas.runs import Run, RunState
 from schemas.series import SeriesDetail
 from schemas.stands import Stand
+from schemas.units import UNITS
 
 ELN_MEDIA_TYPE = "application/vnd.eln+zip"
 RO_CRATE = "https://w3id.org/ro/crate/1.1"
@@ -593,19 +594,22 @@ def _add_specimens(crate: Crate, run: Run) -> list[str]:
 
 
 def _add_plan(crate: Crate, run: Run) -> list[str]:
+    """The test plan's entries; a key ending in a unit (``load_N``, ``speed_rpm``,
+    ``base_length_mm``) gives its value that unit."""
     found = []
     for key, value in run.test_plan.items():
-        leaf = key
         text: Any = value if isinstance(value, str | int | float | bool) else json.dumps(value)
+        unit = key.rsplit("_", 1)[-1] if "_" in key else None
+        numeric = isinstance(value, int | float) and not isinstance(value, bool)
         found.append(
             crate.add(
                 _value_node(
                     f"#run-{run.id}/plan/{_slug(key)}",
                     name=key,
                     value=text,
-                    unit=None,
+                    unit=unit if numeric and unit in UNITS else None,
                     property_id=f"test_plan.{key}",
-                    identifier=term(TERMS[leaf]) if leaf in TERMS else None,
+                    identifier=term(TERMS[key]) if key in TERMS else None,
                     description="test plan",
                 )
             )

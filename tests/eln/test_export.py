@@ -150,7 +150,9 @@ def test_results_carry_units_and_uncertainties(lab: Lab) -> None:
     assert distance["unitText"] == "m" and distance["unitCode"] == "MTR"
     assert distance["identifier"] == term("SlidingDistance")
     assert "results.friction_steady_uncertainty" not in measured  # beside its result only
-    assert measured["test_plan.load_N"]["identifier"] == term("NormalForce")
+    load = measured["test_plan.load_N"]
+    assert load["identifier"] == term("NormalForce")
+    assert (load["value"], load["unitText"], load["unitCode"]) == (300.0, "N", "NEW")
 
 
 def test_the_licence_is_the_servers_setting(lab: Lab) -> None:

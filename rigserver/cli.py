@@ -16,8 +16,7 @@ import json
 import logging
 import sqlite3
 import sys
-import threading
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from pathlib import Path
 from types import FrameType
 
@@ -87,12 +86,12 @@ class _Server(uvicorn.Server):
     """uvicorn's server that also tells the app when it is asked to stop (SIGTERM,
     Ctrl-C), so that live streams end at once instead of holding the shutdown."""
 
-    def __init__(self, config: uvicorn.Config, stopping: threading.Event) -> None:
+    def __init__(self, config: uvicorn.Config, stop: Callable[[], None]) -> None:
         super().__init__(config)
-        self._stopping = stopping
+        self._stop = stop
 
     def handle_exit(self, sig: int, frame: FrameType | None) -> None:
-        self._stopping.set()
+        self._stop()
         super().handle_exit(sig, frame)
 
 
@@ -291,7 +290,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         timeout_graceful_shutdown=SHUTDOWN_GRACE,
     )
     try:
-        _Server(config, app.state.services.stopping).run()
+        _Server(config, app.state.services.stop).run()
     except KeyboardInterrupt:  # uvicorn stopped on Ctrl-C, then raised it again
         return 130
     return 0

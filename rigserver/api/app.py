@@ -67,6 +67,7 @@ def create_app(
     async def lifespan(app: FastAPI) -> AsyncIterator[None]:
         yield
         app.state.services.results.close()
+        app.state.services.reports.close()
         store.close()
         series_store.close()
 

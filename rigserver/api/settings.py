@@ -76,6 +76,29 @@ class Settings(BaseSettings):
         description="runs whose results are computed at once; a request that would start "
         "one more is answered 503",
     )
+    report_workers: int = Field(
+        default=1,
+        gt=0,
+        description="processes rendering reports (beside the service's own, which ingest "
+        "and answer reads)",
+    )
+    report_queue: int = Field(
+        default=4,
+        gt=0,
+        description="report renders admitted at once (running or waiting); more are answered 503",
+    )
+    report_key_share: float = Field(
+        default=0.5,
+        gt=0.0,
+        le=1.0,
+        description="share of the report renders one API key (or one address without a "
+        "key) may hold; more of its renders are answered 503",
+    )
+    report_processes: bool = Field(
+        default=True,
+        description="render the reports of ended runs in processes of their own (off: in "
+        "threads of the service)",
+    )
     synchronous: str = Field(
         default="normal",
         pattern="^(normal|full)$",

@@ -90,6 +90,7 @@ from rigserver.storage.errors import (
 )
 from rigserver.storage.journal import CatalogueEntry, Journal, Synchronous
 from rigserver.storage.runfile import RunFile, fsync_path, read_summary, write_file
+from rigserver.storage.waiters import AppendWaiters
 from schemas.readings import BatchReceipt
 from schemas.runs import Run, RunPage, RunQuery, RunState
 
@@ -139,6 +140,8 @@ class HDF5Store:
         #: ended runs whose finalized file is being fsynced (outside the lock)
         self._finishing: set[str] = set()
         self._closed = False
+        #: the live streams waiting for a run's next batch (woken after each commit)
+        self.appends = AppendWaiters()
         with failures_as(f"opening the data directory {self.data_dir}"):
             for d in (self.data_dir, self._runs, self._snapshots):
                 d.mkdir(parents=True, exist_ok=True)
@@ -257,6 +260,7 @@ class HDF5Store:
                 self._journal.end_run(ended)
             del self._live[run_id]
             self._files.pop(run_id, None)
+            self.appends.ended(run_id)
             try:
                 with failures_as(doing):
                     try:
@@ -346,7 +350,19 @@ class HDF5Store:
                 ]
             for st in staged:
                 outcomes[st.index] = self._write_staged(st)
+            grown = {run_id: self._live[run_id].run.batches for run_id in saved}
+        for run_id, count in grown.items():
+            self.appends.woken(run_id, count)
         return [o for o in outcomes if o is not None]
+
+    def wake_waiters(self) -> None:
+        """Wake every live stream waiting (the server is stopping)."""
+        self.appends.wake_all()
+
+    async def wait_for_appends(self, run_id: str, batches: int, timeout: float) -> bool:
+        """Until a batch of the run beyond ``batches`` is committed or the run ends (told
+        in this process, :mod:`rigserver.storage.waiters`); False after ``timeout`` s."""
+        return await self.appends.wait(run_id, batches, timeout)
 
     def _stage(
         self,

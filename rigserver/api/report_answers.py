@@ -4,17 +4,18 @@ their ``ETag`` (``If-None-Match`` answered 304)."""
 from __future__ import annotations
 
 import asyncio
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from concurrent.futures import Future
 from functools import partial
 
 from fastapi import Request, Response
+from fastapi.concurrency import run_in_threadpool
 from fastapi.responses import FileResponse
 
 from rigserver.api.deps import Services, caller_of
 from rigserver.api.problems import ApiProblem
 from rigserver.api.report_files import ReportFile
-from rigserver.api.report_jobs import RunReportJob
+from rigserver.api.report_jobs import Job, RunReportJob
 from rigserver.api.run_results import StoredReadings
 from rigserver.reports.i18n import LANGS, Lang
 from schemas.runs import Run, RunState
@@ -63,6 +64,23 @@ def file_answer(request: Request, target: ReportFile, headers: Mapping[str, str]
     if target.matches(request.headers.get("if-none-match")):
         return Response(status_code=304, headers=common)
     return FileResponse(target.path, media_type=target.media_type, headers=common)
+
+
+async def ensure_rendered(
+    request: Request,
+    services: Services,
+    target: ReportFile,
+    job: Callable[[], tuple[Job, bool]],
+) -> None:
+    """Render ``target`` (with what ``job`` gives, in a thread) unless this version of the
+    report has its file already."""
+    if target.path.exists():
+        return
+    made, in_process = await run_in_threadpool(job)
+    future = services.reports.render(
+        str(target.path), caller_key(request, services), made, in_process=in_process
+    )
+    await rendered(future, target)
 
 
 async def rendered(future: Future[None], target: ReportFile) -> None:

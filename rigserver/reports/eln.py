@@ -130,6 +130,7 @@ TERMS: dict[str, str] = {
 #: counter-body it runs against).
 ROLES: dict[str, str] = {
     "pin": "Body",
+    "ball": "Body",
     "disc": "CounterBody",
     "journal": "CounterBody",
     "bush": "Body",

@@ -296,5 +296,7 @@ def test_the_import_path_allows_post_alone(lab: Lab) -> None:
     # /runs/import is a resource of its own, not a run id of /runs/{run_id}
     answer = lab.target.request("OPTIONS", "/api/v1/runs/import", headers=auth(READER))
     assert answer.status_code == 405 and answer.headers["allow"] == "POST"
-    other = lab.target.request("OPTIONS", "/api/v1/runs/20261122T114026Z-00000000")
+    other = lab.target.request(
+        "OPTIONS", "/api/v1/runs/20261122T114026Z-00000000", headers=auth(READER)
+    )
     assert "GET" in other.headers["allow"]

@@ -10,8 +10,9 @@ import os
 import shutil
 import tempfile
 from collections.abc import Callable, Iterator, Mapping
+from contextlib import ExitStack
 from datetime import UTC, datetime
-from functools import lru_cache
+from functools import lru_cache, partial
 from pathlib import Path
 from typing import IO, Any
 
@@ -23,6 +24,7 @@ from pydantic import ValidationError
 from starlette.background import BackgroundTask
 
 from rigserver.analysis import Readings, analyse
+from rigserver.analysis.series import Member
 from rigserver.api.deps import (
     ReadAccess,
     Services,
@@ -33,9 +35,13 @@ from rigserver.api.deps import (
     services_of,
 )
 from rigserver.api.problems import ApiProblem, violations
-from rigserver.api.routes.reports import _report_html
+from rigserver.api.report_answers import ensure_rendered, run_job, targets
+from rigserver.api.report_files import ReportFile
+from rigserver.api.report_jobs import FileReadings, Job
 from rigserver.api.routes.runs import load_run
-from rigserver.api.routes.series import _detail, _report
+from rigserver.api.routes.series import _detail
+from rigserver.api.routes.series import _job as _series_job
+from rigserver.api.routes.series import _prepare as _series_file
 from rigserver.api.run_results import StoredReadings, results_payload
 from rigserver.reports.eln import (
     ELN_MEDIA_TYPE,
@@ -48,13 +54,13 @@ from rigserver.reports.eln import (
 )
 from rigserver.reports.eln_read import ArchivedRun, ArchiveRefused, read_run_archive
 from rigserver.reports.i18n import LANGS, Lang
-from rigserver.reports.pdf import html_to_pdf
 from rigserver.reports.series_report import series_csv
-from rigserver.storage.archived import IMPORT_ROWS, FileReadings, file_batches, summary
+from rigserver.storage.archived import IMPORT_ROWS, file_batches, summary
 from rigserver.storage.errors import RunNotFound, StorageError
 from rigserver.storage.runfile import write_file
 from schemas.channels import check_columns
 from schemas.runs import ImportedFrom, Run, RunState, new_run_id
+from schemas.series import SeriesDetail
 from schemas.stands import CONFIG_MODELS, MEASUREMENTS, Stand, StandKind, default_stands
 
 router = APIRouter(tags=["eln"])
@@ -70,14 +76,31 @@ def _publisher(request: Request) -> Publisher:
     return Publisher(str(request.base_url))
 
 
-def _reports(render: Callable[[Lang], str]) -> dict[str, bytes]:
-    """The report in both languages, as a web page and as a PDF."""
+async def _reports(
+    request: Request,
+    services: Services,
+    prepare: Callable[[Lang], ReportFile],
+    job: Callable[[ReportFile], tuple[Job, bool]],
+) -> dict[str, bytes]:
+    """A report in both languages, as a web page and as a PDF: the files the report routes
+    serve, rendered once per version (``prepare`` names the file of a language, ``job``
+    renders it)."""
     found: dict[str, bytes] = {}
     for lang in LANGS:
-        html = render(lang)
-        found[f"report-{lang}.html"] = html.encode()
-        found[f"report-{lang}.pdf"] = html_to_pdf(html)
+        target = await run_in_threadpool(prepare, lang)
+        await ensure_rendered(request, services, target, partial(job, target))
+        for fmt, made in targets(target).items():
+            found[f"report-{lang}.{fmt}"] = await run_in_threadpool(made.path.read_bytes)
     return found
+
+
+async def _run_reports(request: Request, services: Services, run: Run) -> dict[str, bytes]:
+    def job(target: ReportFile) -> tuple[Job, bool]:
+        return run_job(services, run, results_payload(services, run)["values"], target)
+
+    return await _reports(
+        request, services, lambda lang: services.report_files.run_report(run, lang, "pdf"), job
+    )
 
 
 def _references(services: Services, run: Run) -> dict[str, tuple[Run, Path]]:
@@ -94,14 +117,14 @@ def _references(services: Services, run: Run) -> dict[str, tuple[Run, Path]]:
     return found
 
 
-def _run_part(services: Services, run: Run) -> RunPart:
+def _run_part(services: Services, run: Run, reports: Mapping[str, bytes]) -> RunPart:
     return RunPart(
         run=run,
         stand=services.stand_of(run),
         readings=StoredReadings(services, run),
         payload=results_payload(services, run),
         run_file=services.store.run_file(run.id),
-        reports=_reports(lambda lang: _report_html(services, run.id, lang)[1]),
+        reports=reports,
         references=_references(services, run),
     )
 
@@ -118,37 +141,37 @@ def _written(write: Callable[[IO[bytes]], None], prefix: str) -> str:
     return path
 
 
-def _export_run(services: Services, run_id: str, publisher: Publisher) -> tuple[str, str]:
-    run = load_run(services, run_id)
-    part = _run_part(services, run)
+def _export_run(
+    services: Services, run: Run, reports: Mapping[str, bytes], publisher: Publisher
+) -> str:
+    part = _run_part(services, run, reports)
     licence = licence_of(services.settings.license)
     made = datetime.now(UTC)
-    path = _written(
+    return _written(
         lambda target: write_run_archive(
             target, part, made=made, publisher=publisher, licence=licence
         ),
         "rig-eln-",
     )
-    return run.id, path
 
 
-def _export_series(services: Services, series_id: str, publisher: Publisher) -> tuple[str, str]:
-    detail, members = _detail(services, series_id)
-    series = SeriesPart(
-        detail=detail,
-        runs_csv=series_csv(detail),
-        reports=_reports(lambda lang: _report(services, series_id, lang)[1]),
-    )
+def _export_series(
+    services: Services,
+    detail: SeriesDetail,
+    members: list[Member],
+    reports: Mapping[str, Mapping[str, bytes]],
+    publisher: Publisher,
+) -> str:
+    series = SeriesPart(detail=detail, runs_csv=series_csv(detail), reports=reports[detail.id])
     licence = licence_of(services.settings.license)
     made = datetime.now(UTC)
-    runs = (_run_part(services, m.run) for m in members)
-    path = _written(
+    runs = (_run_part(services, m.run, reports[m.run.id]) for m in members)
+    return _written(
         lambda target: write_series_archive(
             target, series, runs, made=made, publisher=publisher, licence=licence
         ),
         "rig-eln-",
     )
-    return detail.id, path
 
 
 def _archive_response(name: str, path: str) -> FileResponse:
@@ -176,8 +199,10 @@ _ELN_ANSWER: dict[int | str, dict[str, Any]] = {200: {"content": {ELN_MEDIA_TYPE
     dependencies=[ReadAccess],
 )
 async def export_run(run_id: str, request: Request, services: ServicesDep) -> FileResponse:
-    name, path = await run_in_threadpool(_export_run, services, run_id, _publisher(request))
-    return _archive_response(name, path)
+    run = await run_in_threadpool(load_run, services, run_id)
+    reports = await _run_reports(request, services, run)
+    path = await run_in_threadpool(_export_run, services, run, reports, _publisher(request))
+    return _archive_response(run.id, path)
 
 
 @router.get(
@@ -188,8 +213,21 @@ async def export_run(run_id: str, request: Request, services: ServicesDep) -> Fi
     dependencies=[ReadAccess],
 )
 async def export_series(series_id: str, request: Request, services: ServicesDep) -> FileResponse:
-    name, path = await run_in_threadpool(_export_series, services, series_id, _publisher(request))
-    return _archive_response(name, path)
+    detail, members = await run_in_threadpool(_detail, services, series_id)
+    reports = {
+        detail.id: await _reports(
+            request,
+            services,
+            partial(_series_file, services, series_id, fmt="pdf"),
+            partial(_series_job, services, series_id),
+        )
+    }
+    for member in members:
+        reports[member.run.id] = await _run_reports(request, services, member.run)
+    path = await run_in_threadpool(
+        _export_series, services, detail, members, reports, _publisher(request)
+    )
+    return _archive_response(detail.id, path)
 
 
 # --- import ------------------------------------------------------------------------------
@@ -273,32 +311,34 @@ def _import(services: Services, found: ArchivedRun, original: Run) -> Run:
         errors = violations(exc.errors(), "run.json.configuration.")
         raise ApiProblem(422, "Archive refused", errors[0].message, errors) from None
     stand = services.stands[original.stand].for_run(original.configuration)
-    references: dict[str, tuple[Run, Readings]] = {}
-    for other_id, path in found.references.items():
-        try:
-            references[other_id] = (summary(path).run, FileReadings(path))
-        except StorageError as exc:
-            raise _refused(ArchiveRefused(f"references/{other_id}.h5", str(exc))) from None
     batches = sum(math.ceil(rows / IMPORT_ROWS) for rows in original.rows.values())
     origin = ImportedFrom(run_id=original.id, server=found.server, exported=found.exported)
-    for _ in range(ID_TRIES):
-        run = original.model_copy(
-            update={
-                "id": new_run_id(original.created),
-                "batches": batches,
-                "key_results": {},
-                "imported_from": origin,
-                "damage": None,
-            }
-        )
-        payload: Mapping[str, Any] | None = None
-        if run.state is RunState.FINISHED:
-            computed = analyse(run, FileReadings(found.run_file), references.get)
-            payload = computed.payload
-            run = run.model_copy(update={"key_results": computed.key_results})
-        rows = _checked(file_batches(found.run_file, run), stand)
-        if services.store.import_run(run, None, payload, rows):
-            return services.store.get_run(run.id)
+    with ExitStack() as stack:
+        references: dict[str, tuple[Run, Readings]] = {}
+        for other_id, path in found.references.items():
+            try:
+                references[other_id] = (summary(path).run, FileReadings(path, stack))
+            except StorageError as exc:
+                raise _refused(ArchiveRefused(f"references/{other_id}.h5", str(exc))) from None
+        readings = FileReadings(found.run_file, stack)
+        for _ in range(ID_TRIES):
+            run = original.model_copy(
+                update={
+                    "id": new_run_id(original.created),
+                    "batches": batches,
+                    "key_results": {},
+                    "imported_from": origin,
+                    "damage": None,
+                }
+            )
+            payload: Mapping[str, Any] | None = None
+            if run.state is RunState.FINISHED:
+                computed = analyse(run, readings, references.get)
+                payload = computed.payload
+                run = run.model_copy(update={"key_results": computed.key_results})
+            rows = _checked(file_batches(found.run_file, run), stand)
+            if services.store.import_run(run, None, payload, rows):
+                return services.store.get_run(run.id)
     raise ApiProblem(503, "No free run id", "try the import again", headers={"Retry-After": "1"})
 
 
@@ -326,12 +366,12 @@ def example_archive() -> bytes:
         batches=2,
         rows={"profile": len(x), "measurements": 1},
     )
-    with tempfile.TemporaryDirectory(prefix="rig-example-") as directory:
+    with tempfile.TemporaryDirectory(prefix="rig-example-") as directory, ExitStack() as stack:
         path = Path(directory) / "run.h5"
         write_file(
             path, run, [("profile", trace, len(x)), (MEASUREMENTS, weighed, 1)], None, final=True
         )
-        readings = FileReadings(path)
+        readings = FileReadings(path, stack)
         part = RunPart(
             run=run,
             stand=stand,

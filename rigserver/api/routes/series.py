@@ -3,6 +3,7 @@ the series report and the per-run table as CSV."""
 
 from __future__ import annotations
 
+from functools import partial
 from typing import Annotated, Any
 
 from fastapi import APIRouter, Query, Request, status
@@ -19,7 +20,7 @@ from rigserver.api.deps import (
     require_scope,
 )
 from rigserver.api.problems import ApiProblem
-from rigserver.api.report_answers import caller_key, file_answer, rendered, targets
+from rigserver.api.report_answers import ensure_rendered, file_answer, targets
 from rigserver.api.report_files import ReportFile
 from rigserver.api.report_jobs import SeriesReportJob
 from rigserver.api.routes.runs import load_run
@@ -241,12 +242,7 @@ async def _report(
     headers = language_headers(lang)
     if fmt == "pdf":
         headers["Content-Disposition"] = f'attachment; filename="{series_id}-report-{lang}.pdf"'
-    if not target.path.exists():
-        job, in_process = await run_in_threadpool(_job, services, series_id, target)
-        future = services.reports.render(
-            str(target.path), caller_key(request, services), job, in_process=in_process
-        )
-        await rendered(future, target)
+    await ensure_rendered(request, services, target, partial(_job, services, series_id, target))
     return file_answer(request, target, headers)
 
 

@@ -9,7 +9,6 @@ from concurrent.futures import Future
 from functools import partial
 
 from fastapi import Request, Response
-from fastapi.concurrency import run_in_threadpool
 from fastapi.responses import FileResponse
 
 from rigserver.api.deps import Services, caller_of
@@ -17,7 +16,7 @@ from rigserver.api.problems import ApiProblem
 from rigserver.api.report_files import ReportFile
 from rigserver.api.report_jobs import Job, RunReportJob
 from rigserver.api.run_results import StoredReadings
-from rigserver.reports.i18n import LANGS, Lang
+from rigserver.reports.i18n import LANGS
 from schemas.runs import Run, RunState
 
 
@@ -43,7 +42,7 @@ def run_job(
 ) -> tuple[RunReportJob, bool]:
     """The job of ``target``, the report of ``run``, and whether it renders in this process
     (an open run, whose readings only the store has)."""
-    lang: Lang = target.path.name.split("-", 1)[0]  # type: ignore[assignment]
+    lang = target.lang
     files = {fmt: t.path for fmt, t in targets(target).items()}
     stand = services.stand_of(run)
     if run.state is RunState.OPEN:
@@ -58,29 +57,25 @@ def run_job(
     ), False
 
 
+def kept(
+    services: Services, target: ReportFile, job: Callable[[], tuple[Job, bool]], key: str
+) -> dict[str, bytes]:
+    """The report of ``target`` as page and PDF bytes, rendered on the pool first if this
+    version has none (blocks the calling thread: for an export that packs reports)."""
+    if not target.path.exists():
+        made, in_process = job()
+        services.reports.render(str(target.path), key, made, in_process=in_process).result()
+        for t in targets(target).values():
+            t.prune()
+    return {fmt: t.path.read_bytes() for fmt, t in targets(target).items()}
+
+
 def file_answer(request: Request, target: ReportFile, headers: Mapping[str, str]) -> Response:
     """The report's file, or 304 when the client holds this version."""
     common = {"ETag": target.etag, "Cache-Control": "no-cache", **headers}
     if target.matches(request.headers.get("if-none-match")):
         return Response(status_code=304, headers=common)
     return FileResponse(target.path, media_type=target.media_type, headers=common)
-
-
-async def ensure_rendered(
-    request: Request,
-    services: Services,
-    target: ReportFile,
-    job: Callable[[], tuple[Job, bool]],
-) -> None:
-    """Render ``target`` (with what ``job`` gives, in a thread) unless this version of the
-    report has its file already."""
-    if target.path.exists():
-        return
-    made, in_process = await run_in_threadpool(job)
-    future = services.reports.render(
-        str(target.path), caller_key(request, services), made, in_process=in_process
-    )
-    await rendered(future, target)
 
 
 async def rendered(future: Future[None], target: ReportFile) -> None:

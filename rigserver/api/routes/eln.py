@@ -12,7 +12,7 @@ import tempfile
 from collections.abc import Callable, Iterator, Mapping
 from contextlib import ExitStack
 from datetime import UTC, datetime
-from functools import lru_cache, partial
+from functools import lru_cache
 from pathlib import Path
 from typing import IO, Any
 
@@ -24,7 +24,6 @@ from pydantic import ValidationError
 from starlette.background import BackgroundTask
 
 from rigserver.analysis import Readings, analyse
-from rigserver.analysis.series import Member
 from rigserver.api.deps import (
     ReadAccess,
     Services,
@@ -35,13 +34,11 @@ from rigserver.api.deps import (
     services_of,
 )
 from rigserver.api.problems import ApiProblem, violations
-from rigserver.api.report_answers import ensure_rendered, run_job, targets
-from rigserver.api.report_files import ReportFile
-from rigserver.api.report_jobs import FileReadings, Job
+from rigserver.api.report_jobs import FileReadings
+from rigserver.api.routes import reports as run_reports
+from rigserver.api.routes import series as series_routes
 from rigserver.api.routes.runs import load_run
 from rigserver.api.routes.series import _detail
-from rigserver.api.routes.series import _job as _series_job
-from rigserver.api.routes.series import _prepare as _series_file
 from rigserver.api.run_results import StoredReadings, results_payload
 from rigserver.reports.eln import (
     ELN_MEDIA_TYPE,
@@ -60,7 +57,6 @@ from rigserver.storage.errors import RunNotFound, StorageError
 from rigserver.storage.runfile import write_file
 from schemas.channels import check_columns
 from schemas.runs import ImportedFrom, Run, RunState, new_run_id
-from schemas.series import SeriesDetail
 from schemas.stands import CONFIG_MODELS, MEASUREMENTS, Stand, StandKind, default_stands
 
 router = APIRouter(tags=["eln"])
@@ -76,31 +72,19 @@ def _publisher(request: Request) -> Publisher:
     return Publisher(str(request.base_url))
 
 
-async def _reports(
-    request: Request,
-    services: Services,
-    prepare: Callable[[Lang], ReportFile],
-    job: Callable[[ReportFile], tuple[Job, bool]],
-) -> dict[str, bytes]:
-    """A report in both languages, as a web page and as a PDF: the files the report routes
-    serve, rendered once per version (``prepare`` names the file of a language, ``job``
-    renders it)."""
+#: Whose share of the report pool an export's renders take
+_EXPORT = "(.eln export)"
+
+
+def _reports(render: Callable[[Lang], dict[str, bytes]]) -> dict[str, bytes]:
+    """The report in both languages, as a web page and as a PDF (the kept files, rendered
+    on the report pool when missing: rigserver.api.report_pool)."""
     found: dict[str, bytes] = {}
     for lang in LANGS:
-        target = await run_in_threadpool(prepare, lang)
-        await ensure_rendered(request, services, target, partial(job, target))
-        for fmt, made in targets(target).items():
-            found[f"report-{lang}.{fmt}"] = await run_in_threadpool(made.path.read_bytes)
+        files = render(lang)
+        found[f"report-{lang}.html"] = files["html"]
+        found[f"report-{lang}.pdf"] = files["pdf"]
     return found
-
-
-async def _run_reports(request: Request, services: Services, run: Run) -> dict[str, bytes]:
-    def job(target: ReportFile) -> tuple[Job, bool]:
-        return run_job(services, run, results_payload(services, run)["values"], target)
-
-    return await _reports(
-        request, services, lambda lang: services.report_files.run_report(run, lang, "pdf"), job
-    )
 
 
 def _references(services: Services, run: Run) -> dict[str, tuple[Run, Path]]:
@@ -117,14 +101,14 @@ def _references(services: Services, run: Run) -> dict[str, tuple[Run, Path]]:
     return found
 
 
-def _run_part(services: Services, run: Run, reports: Mapping[str, bytes]) -> RunPart:
+def _run_part(services: Services, run: Run) -> RunPart:
     return RunPart(
         run=run,
         stand=services.stand_of(run),
         readings=StoredReadings(services, run),
         payload=results_payload(services, run),
         run_file=services.store.run_file(run.id),
-        reports=reports,
+        reports=_reports(lambda lang: run_reports.report_bytes(services, run, lang, _EXPORT)),
         references=_references(services, run),
     )
 
@@ -141,37 +125,39 @@ def _written(write: Callable[[IO[bytes]], None], prefix: str) -> str:
     return path
 
 
-def _export_run(
-    services: Services, run: Run, reports: Mapping[str, bytes], publisher: Publisher
-) -> str:
-    part = _run_part(services, run, reports)
+def _export_run(services: Services, run_id: str, publisher: Publisher) -> tuple[str, str]:
+    run = load_run(services, run_id)
+    part = _run_part(services, run)
     licence = licence_of(services.settings.license)
     made = datetime.now(UTC)
-    return _written(
+    path = _written(
         lambda target: write_run_archive(
             target, part, made=made, publisher=publisher, licence=licence
         ),
         "rig-eln-",
     )
+    return run.id, path
 
 
-def _export_series(
-    services: Services,
-    detail: SeriesDetail,
-    members: list[Member],
-    reports: Mapping[str, Mapping[str, bytes]],
-    publisher: Publisher,
-) -> str:
-    series = SeriesPart(detail=detail, runs_csv=series_csv(detail), reports=reports[detail.id])
+def _export_series(services: Services, series_id: str, publisher: Publisher) -> tuple[str, str]:
+    detail, members = _detail(services, series_id)
+    series = SeriesPart(
+        detail=detail,
+        runs_csv=series_csv(detail),
+        reports=_reports(
+            lambda lang: series_routes.report_bytes(services, series_id, lang, _EXPORT)
+        ),
+    )
     licence = licence_of(services.settings.license)
     made = datetime.now(UTC)
-    runs = (_run_part(services, m.run, reports[m.run.id]) for m in members)
-    return _written(
+    runs = (_run_part(services, m.run) for m in members)
+    path = _written(
         lambda target: write_series_archive(
             target, series, runs, made=made, publisher=publisher, licence=licence
         ),
         "rig-eln-",
     )
+    return detail.id, path
 
 
 def _archive_response(name: str, path: str) -> FileResponse:
@@ -199,10 +185,8 @@ _ELN_ANSWER: dict[int | str, dict[str, Any]] = {200: {"content": {ELN_MEDIA_TYPE
     dependencies=[ReadAccess],
 )
 async def export_run(run_id: str, request: Request, services: ServicesDep) -> FileResponse:
-    run = await run_in_threadpool(load_run, services, run_id)
-    reports = await _run_reports(request, services, run)
-    path = await run_in_threadpool(_export_run, services, run, reports, _publisher(request))
-    return _archive_response(run.id, path)
+    name, path = await run_in_threadpool(_export_run, services, run_id, _publisher(request))
+    return _archive_response(name, path)
 
 
 @router.get(
@@ -213,21 +197,8 @@ async def export_run(run_id: str, request: Request, services: ServicesDep) -> Fi
     dependencies=[ReadAccess],
 )
 async def export_series(series_id: str, request: Request, services: ServicesDep) -> FileResponse:
-    detail, members = await run_in_threadpool(_detail, services, series_id)
-    reports = {
-        detail.id: await _reports(
-            request,
-            services,
-            partial(_series_file, services, series_id, fmt="pdf"),
-            partial(_series_job, services, series_id),
-        )
-    }
-    for member in members:
-        reports[member.run.id] = await _run_reports(request, services, member.run)
-    path = await run_in_threadpool(
-        _export_series, services, detail, members, reports, _publisher(request)
-    )
-    return _archive_response(detail.id, path)
+    name, path = await run_in_threadpool(_export_series, services, series_id, _publisher(request))
+    return _archive_response(name, path)
 
 
 # --- import ------------------------------------------------------------------------------

@@ -492,7 +492,8 @@ def _describe_run(
         "author": ref(operator),
         "dateCreated": _iso(run.created),
         "creativeWorkStatus": run.state.value,
-        "keywords": f"tribology, {stand.title}, lab work {stand.lab_work}",
+        "keywords": f"tribology, {stand.title}"
+        + ("" if stand.lab_work is None else f", lab work {stand.lab_work}"),
         "hasPart": [ref(f) for f in files],
         "variableMeasured": [ref(v) for v in plan + results],
         "about": [ref(s) for s in specimens],
@@ -556,7 +557,9 @@ def _add_stand(crate: Crate, run: Run, stand: Stand) -> str:
             "additionalType": kind("Device"),
             "name": stand.title,
             "identifier": stand.kind.value,
-            "description": f"Test stand of lab work {stand.lab_work}",
+            "description": "A commercial tribometer"
+            if stand.lab_work is None
+            else f"Test stand of lab work {stand.lab_work}",
             "additionalProperty": [ref(limit) for limit in limits],
         }
     )

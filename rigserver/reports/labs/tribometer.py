@@ -12,7 +12,7 @@ from rigserver.reports.document import Block, Figure, Section, Text
 from rigserver.reports.formatting import fmt, html_symbol
 from rigserver.reports.i18n import Messages
 from rigserver.reports.plots import axes, decorate, to_svg
-from schemas.labels import RESULTS, TABLES
+from schemas.labels import RESULTS, TABLES, WEAR_SUBSCRIPTS
 from schemas.results import PinOnDiscResults, ReciprocatingResults, WearEstimate
 from schemas.stands import MEASUREMENTS
 
@@ -99,7 +99,11 @@ def build(ctx: Context, v: Results) -> LabReport:
             blocks.quantities(t, t(key), estimate, fields, labels=labels, prefix=f"{name}.")
         )
         spread += blocks.uncertainties(
-            t, estimate, [("specific_wear_rate", "k", key)], labels=labels, prefix=f"{name}."
+            t,
+            estimate,
+            [("specific_wear_rate", f"k_{{{WEAR_SUBSCRIPTS[name]}}}", key)],
+            labels=labels,
+            prefix=f"{name}.",
         )
     if v.rows:
         processed.append(blocks.uncertainty_table(t, spread))
@@ -113,13 +117,18 @@ def build(ctx: Context, v: Results) -> LabReport:
 
 
 def _wear_fields(name: str) -> list[tuple[str, str, str]]:
+    sub = WEAR_SUBSCRIPTS[name]
     first = {
-        "disc_track": [("traces", "n", "t.traces"), ("track_area", "A", "w.track_area")],
+        "disc_track": [("traces", "n_p", "t.traces"), ("track_area", "A", "w.track_area")],
         "disc_mass": [("mass_loss", "Δm", "t.mass_loss"), ("density", "ρ", "t.density")],
         "pin_scar": [("scar_diameter", "d", "t.scar"), ("height_loss", "Δh", "t.height_loss")],
         "pin_mass": [("mass_loss", "Δm", "t.mass_loss"), ("density", "ρ", "t.density")],
     }[name]
-    return [*first, ("volume", "V", "t.volume"), ("specific_wear_rate", "k", "t.k")]
+    return [
+        *first,
+        ("volume", f"V_{{{sub}}}", "t.volume"),
+        ("specific_wear_rate", f"k_{{{sub}}}", "t.k"),
+    ]
 
 
 def _friction_svg(t: Messages, v: Results) -> str:

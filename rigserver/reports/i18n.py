@@ -525,10 +525,13 @@ MESSAGES: dict[str, str] = {
         "Friction coefficient against the sliding distance: block means with their min-max "
         "band; the running-in (found by PELT) shaded"
     ),
-    "t.fig_map": N_("Friction coefficient over the laps and the angular position on the disc"),
+    "t.fig_map": N_(
+        "Friction coefficient over the angular position on the disc, by laps (the lap map of "
+        "the results)"
+    ),
     "t.fig_loops": N_("Friction loops: μ against the position along the stroke"),
     "t.running_in_band": N_("running-in"),
-    "t.lap_axis": N_("lap"),
+    "t.laps_range": N_("laps {first} to {last}"),
     "t.loop": N_("cycle {cycle}"),
     "t.hertz": N_("Initial contact of the ball on the flat (Hertz)"),
     "t.modulus": N_("contact modulus"),

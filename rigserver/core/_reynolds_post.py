@@ -76,31 +76,30 @@ def _supply_outflow(
     if not fixed.any():  # no supply: nothing flows out of one
         return 0.0
     dphi, dz = grid.d_phi, grid.d_z
-    h = film[:, None]
-    zw = np.full(grid.n_z + 1, dz)
+    n, nz = grid.n_phi, grid.n_z
+    zw = np.full(nz + 1, dz)
     zw[[0, -1]] = dz / 2.0
     total = 0.0
     for sign in (1, -1):
-        nb = np.roll(fixed, -sign, axis=0)
-        # derivative of Π along the direction ``sign`` out of the node
-        grad = _one_sided(p, np.roll(p, -sign, axis=0), np.roll(p, -2 * sign, axis=0), dphi)
+        # Supply nodes whose neighbour in the direction ``sign`` is film, and the derivative
+        # of Π along that direction out of the node.
+        i, j = np.nonzero(fixed & ~np.roll(fixed, -sign, axis=0))
+        grad = _one_sided(p[i, j], p[(i + sign) % n, j], p[(i + 2 * sign) % n, j], dphi)
+        h = film[i]
         flux = sign * omega * h / 2.0 - h**3 * grad / (12.0 * mu_bar)
-        out = fixed & ~nb
-        total += float(np.sum(np.maximum(flux, 0.0) * out * zw))
-    nz = grid.n_z
-    h3 = np.broadcast_to(h**3, p.shape)
+        total += float(np.sum(np.maximum(flux, 0.0) * zw[j]))
     for sign in (1, -1):
         # Towards increasing (sign = 1) or decreasing z; the edges are film boundary nodes.
         q = p if sign == 1 else p[:, ::-1]
         f = fixed if sign == 1 else fixed[:, ::-1]
-        src = f[:, : nz - 1] & ~f[:, 1:nz]
-        grad = _one_sided(q[:, : nz - 1], q[:, 1:nz], q[:, 2 : nz + 1], dz)
-        flux = -h3[:, : nz - 1] * grad / (12.0 * mu_bar)
-        total += float(np.sum(np.maximum(flux[src], 0.0))) * dphi
+        i, j = np.nonzero(f[:, : nz - 1] & ~f[:, 1:nz])
+        grad = _one_sided(q[i, j], q[i, j + 1], q[i, j + 2], dz)
+        flux = -(film[i] ** 3) * grad / (12.0 * mu_bar)
+        total += float(np.sum(np.maximum(flux, 0.0))) * dphi
         # A supply reaching the last interior row spills straight over the edge.
-        last = f[:, nz - 1]
-        edge_flux = h3[:, nz - 1] * q[:, nz - 1] / (12.0 * mu_bar * dz)
-        total += float(np.sum(np.maximum(edge_flux[last], 0.0))) * dphi
+        (last,) = np.nonzero(f[:, nz - 1])
+        edge_flux = film[last] ** 3 * q[last, nz - 1] / (12.0 * mu_bar * dz)
+        total += float(np.sum(np.maximum(edge_flux, 0.0))) * dphi
     return total
 
 

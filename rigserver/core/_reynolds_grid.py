@@ -105,6 +105,24 @@ def _trig(n_phi: int) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray, F
     return out
 
 
+@lru_cache(maxsize=32)
+def _cell_trig(n_phi: int) -> tuple[FloatArray, FloatArray]:
+    """sin and cos of the east face less those of the west face of each cell (read-only)."""
+    _, _, _, ce, se = _trig(n_phi)
+    out = (_west_difference(se), _west_difference(ce))
+    for arr in out:
+        arr.setflags(write=False)
+    return out
+
+
+def _west_difference(values: FloatArray) -> FloatArray:
+    """v_i - v_(i-1) along φ (periodic)."""
+    out = np.empty_like(values)
+    np.subtract(values[1:], values[:-1], out=out[1:])
+    out[0] = values[0] - values[-1]
+    return out
+
+
 def film_thickness(grid: Grid, chi_x: float, chi_y: float) -> tuple[FloatArray, FloatArray]:
     """H = 1 - χ_x cos φ - χ_y sin φ (3.2) at the nodes and at the east faces.
 
@@ -166,13 +184,13 @@ def stencil(
     The right side of (3.1)-(3.4) in Cartesian form, without the singularity of χ' and δ'
     at χ = 0:  M = 6μ̄·[Ω ∂H/∂φ + 2 ∂H/∂τ],  ∂H/∂τ = -vel_x cos φ - vel_y sin φ.
     """
-    _, _, _, ce, se = _trig(grid.n_phi)
     h, h_east = film_thickness(grid, chi_x, chi_y)
+    d_sin, d_cos = _cell_trig(grid.n_phi)
     # ∫ over the cell of ∂H/∂τ dφ, exactly: -vel_x·[sin φ] + vel_y·[cos φ] from west to east.
-    sq = -vel_x * (se - np.roll(se, 1)) + vel_y * (ce - np.roll(ce, 1))
+    squeeze = (12.0 * mu_bar * grid.d_z) * (vel_y * d_cos - vel_x * d_sin)
     couette = 6.0 * mu_bar * grid.d_z * omega * h_east
-    squeeze = 12.0 * mu_bar * grid.d_z * sq
-    source = couette - np.roll(couette, 1) + squeeze
+    source = _west_difference(couette)
+    source += squeeze
     w = grid.row_weight
     m = grid.n_rows
     east = np.outer(h_east**3 * (grid.d_z / grid.d_phi), w)
@@ -182,7 +200,11 @@ def stencil(
     # First row: the edge z = -a (full block), the half cell (no south face), or the
     # flux-free mirror face (odd n_z).
     south[:, 0] = 0.0 if grid.mirror else north[:, 0]
-    diag = east + np.roll(east, 1, axis=0) + north + south
+    diag = east.copy()  # east, west, north and south faces
+    diag[1:] += east[:-1]
+    diag[0] += east[-1]
+    diag += north
+    diag += south
     rhs = -np.outer(source, w)
     return Stencil(
         east=east,

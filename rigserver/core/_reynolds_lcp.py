@@ -50,7 +50,7 @@ def _column_order(blocked: NDArray[np.bool_]) -> NDArray[np.intp]:
     n = blocked.size
     cuts = np.flatnonzero(blocked)
     if cuts.size:
-        return np.roll(np.arange(n), -int(cuts[0]) - 1)
+        return (np.arange(n) + int(cuts[0]) + 1) % n
     order = np.empty(n, dtype=np.intp)
     order[0::2] = np.arange((n + 1) // 2)
     order[1::2] = np.arange(n - 1, (n + 1) // 2 - 1, -1)

@@ -101,7 +101,7 @@ def build(ctx: Context, v: Results) -> LabReport:
         spread += blocks.uncertainties(
             t,
             estimate,
-            [("specific_wear_rate", f"k_{{{WEAR_SUBSCRIPTS[name]}}}", key)],
+            [("specific_wear_rate", f"k_{{{WEAR_SUBSCRIPTS[name]}}}", f"t.k.{name}")],
             labels=labels,
             prefix=f"{name}.",
         )
@@ -126,8 +126,8 @@ def _wear_fields(name: str) -> list[tuple[str, str, str]]:
     }[name]
     return [
         *first,
-        ("volume", f"V_{{{sub}}}", "t.volume"),
-        ("specific_wear_rate", f"k_{{{sub}}}", "t.k"),
+        ("volume", f"V_{{{sub}}}", f"t.v.{name}"),
+        ("specific_wear_rate", f"k_{{{sub}}}", f"t.k.{name}"),
     ]
 
 

@@ -412,6 +412,17 @@ def theory_outside(kind: StandKind, values: Mapping[str, object]) -> bool:
     return found is not None and not bool(found)
 
 
+WEAR_RATE_SYMBOLS: dict[str, str] = {
+    "disc_track": "k_{d,tr}",
+    "disc_mass": "k_{d,m}",
+    "pin_scar": "k_{p,sc}",
+    "pin_mass": "k_{p,m}",
+}
+"""The specific wear rate of each of a tribometer's wear estimates where they stand side by
+side (the uncertainty table, a series): one symbol per estimate (disc by its track or its
+mass, ball or pin by its scar or its mass)."""
+
+
 def _wear_labels(path: str, what: str) -> dict[str, Label]:
     """A wear estimate's volume and specific wear rate, with their uncertainties."""
     k: UnitSymbol = "mm^3/(N*m)"
@@ -431,7 +442,7 @@ def _wear_labels(path: str, what: str) -> dict[str, Label]:
 
 
 TRIBOMETER: dict[str, Label] = {
-    "rows": Label(N_("rows analysed"), "n", digits=9),
+    "rows": Label(N_("rows analysed"), digits=9),
     "duration": Label(N_("duration of the record"), "t", unit="s"),
     "sliding_distance": Label(N_("sliding distance"), "L", unit="m"),
     "laps": Label(N_("laps (cycles) run"), "n_L", digits=6),

@@ -17,7 +17,7 @@ from typing import Any
 from pydantic import BaseModel
 
 from rigserver.core import statistics
-from schemas.labels import RESULTS, Label, round_to
+from schemas.labels import RESULTS, WEAR_RATE_SYMBOLS, Label, round_to
 from schemas.quantity import description_paths, unit_paths
 from schemas.results import (
     MtosResults,
@@ -71,8 +71,8 @@ _TRIBOMETER = (
     Headline("friction_static", "μ_s"),
     Headline("running_in_distance", "L_r"),
     *(
-        Headline(f"{wear}.specific_wear_rate", "k", f"{wear}.specific_wear_rate_uncertainty")
-        for wear in ("disc_track", "disc_mass", "pin_scar", "pin_mass")
+        Headline(f"{wear}.specific_wear_rate", symbol, f"{wear}.specific_wear_rate_uncertainty")
+        for wear, symbol in WEAR_RATE_SYMBOLS.items()
     ),
 )
 

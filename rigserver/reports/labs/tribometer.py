@@ -13,7 +13,7 @@ from rigserver.reports.document import Block, Figure, Section, Text
 from rigserver.reports.formatting import fmt, html_symbol
 from rigserver.reports.i18n import Messages
 from rigserver.reports.plots import axes, decorate, to_svg
-from schemas.labels import RESULTS, TABLES
+from schemas.labels import RESULTS, TABLES, WEAR_RATE_SYMBOLS
 from schemas.results import PinOnDiscResults, ReciprocatingResults, WearEstimate
 from schemas.stands import MEASUREMENTS
 
@@ -36,7 +36,7 @@ def build(ctx: Context, v: Results) -> LabReport:
     ]
     if v.rows:
         fields = [
-            ("rows", "n", "w.rows"),
+            ("rows", "", "w.rows"),
             ("duration", "t", "w.duration"),
             ("sliding_distance", "L", "t.distance"),
             ("laps", "n_L", "t.laps"),
@@ -102,7 +102,7 @@ def build(ctx: Context, v: Results) -> LabReport:
         spread += blocks.uncertainties(
             t,
             estimate,
-            [("specific_wear_rate", "k", "t.k")],
+            [("specific_wear_rate", WEAR_RATE_SYMBOLS[name], "t.k")],
             f" ({t(key)})",
             labels=labels,
             prefix=f"{name}.",
@@ -184,7 +184,7 @@ def _loops_svg(t: Messages, v: ReciprocatingResults) -> str:
             linewidth=0.9,
             label=t("t.loop", cycle=loop.cycle + 1),
         )
-    decorate(ax, xlabel=blocks.axis(t, "x", "mm"), ylabel=blocks.axis(t, "μ"))
+    decorate(ax, xlabel=blocks.axis(t, "x_s", "mm"), ylabel=blocks.axis(t, "μ"))
     return to_svg(fig)
 
 

@@ -19,6 +19,8 @@ PLOTS = {
     StandKind.MTOS: 2,
     StandKind.SLIDE_BEARING: 1,
     StandKind.PROFILOMETER: 2,
+    StandKind.PIN_ON_DISC: 1,
+    StandKind.RECIPROCATING: 1,
 }
 
 

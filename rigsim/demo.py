@@ -1,11 +1,12 @@
-"""``rigsim demo``: the service with the embedded storage and all four stands posting to it.
+"""``rigsim demo``: the service with the embedded storage and every stand posting to it.
 
 Starts ``rigserver serve`` as a subprocess (its own process: rigsim reaches the server only
 over HTTP) on a data directory, with public reads and a demo key generated into
 ``<data dir>/demo-keys.json`` (reused on the next start), waits until it answers, runs the
-four simulated stands against it in threads at an accelerated pace, prints where to look,
-and keeps the server running until Ctrl-C or SIGTERM (either stops the server too). On a
-port where something already listens it says so and exits with status 1.
+simulated stands (the lab's four, the two tribometers) against it in threads at an
+accelerated pace, prints where to look, and keeps the server running until Ctrl-C or
+SIGTERM (either stops the server too). On a port where something already listens it says so
+and exits with status 1.
 """
 
 from __future__ import annotations
@@ -123,7 +124,7 @@ def run_demo(
     seed: int,
     console: Console,
 ) -> int:
-    """Serve, post the four stands concurrently, then serve until Ctrl-C (or SIGTERM)."""
+    """Serve, post every stand concurrently, then serve until Ctrl-C (or SIGTERM)."""
     check_port_free(host, port)
     keys_file, key = demo_key(data_dir)
     url = f"http://{host}:{port}"
@@ -156,7 +157,8 @@ def run_demo(
         for thread in threads:
             thread.start()
         console.print(
-            f"posting the four simulated stands (the SMTs-2 three times) at {_pace(speed)} ..."
+            "posting the four simulated stands (the SMTs-2 three times) and the two "
+            f"tribometers at {_pace(speed)} ..."
         )
         for thread in threads:
             thread.join()

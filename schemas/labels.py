@@ -462,15 +462,13 @@ TRIBOMETER: dict[str, Label] = {
     ),
     "temperature_mean": Label(N_("mean temperature"), "T", unit="degC", digits=3),
     "wear_depth_change": Label(N_("wear depth by the displacement sensor"), "h", unit="um"),
-    "hertz.modulus": Label(N_("contact modulus"), "E*", "Hertz", "GPa", part=_THEORY),
-    "hertz.contact_radius": Label(
-        N_("radius of the contact circle"), "a", "Hertz", "um", part=_THEORY
-    ),
+    "hertz.modulus": Label(N_("contact modulus"), "E*", "", "GPa", part=_THEORY),
+    "hertz.contact_radius": Label(N_("radius of the contact circle"), "a", "", "um", part=_THEORY),
     "hertz.max_pressure": Label(
-        N_("initial maximum contact pressure"), "p_0", "Hertz", "MPa", part=_THEORY
+        N_("initial maximum contact pressure"), "p_0", "", "MPa", part=_THEORY
     ),
     "hertz.mean_pressure": Label(
-        N_("initial mean contact pressure"), "p_m", "Hertz", "MPa", part=_THEORY
+        N_("initial mean contact pressure"), "p_m", "", "MPa", part=_THEORY
     ),
     "nominal_pressure": Label(
         N_("nominal pressure of the flat pin"), "p", unit="MPa", part=_THEORY

@@ -510,6 +510,7 @@ MESSAGES: dict[str, str] = {
     "w.cycles": N_("cycles to failure per asperity"),
     "w.kf_plastic": N_("k_f^n of the plastic branch"),
     "w.sensitivity": N_("Sensitivity of I_h (2.1) to t and σ0/σ_B"),
+    "t.record": N_("Friction record of the tribometer"),
     "t.distance": N_("sliding distance"),
     "t.laps": N_("laps (cycles) run"),
     "t.load": N_("mean normal load"),

@@ -54,7 +54,7 @@ def build(ctx: Context, v: Results) -> LabReport:
                 ("friction_forward", "μ_f", "t.forward"),
                 ("friction_backward", "μ_b", "t.backward"),
             ]
-        measured.append(blocks.quantities(t, t("w.record"), v, fields, labels=labels))
+        measured.append(blocks.quantities(t, t("t.record"), v, fields, labels=labels))
         measured.append(Figure(t("t.fig_friction"), _friction_svg(t, v)))
         if isinstance(v, PinOnDiscResults) and v.friction_map is not None:
             measured.append(Figure(t("t.fig_map"), _map_svg(t, v)))
@@ -102,8 +102,7 @@ def build(ctx: Context, v: Results) -> LabReport:
         spread += blocks.uncertainties(
             t,
             estimate,
-            [("specific_wear_rate", WEAR_RATE_SYMBOLS[name], "t.k")],
-            f" ({t(key)})",
+            [("specific_wear_rate", WEAR_RATE_SYMBOLS[name], key)],
             labels=labels,
             prefix=f"{name}.",
         )
@@ -168,8 +167,11 @@ def _map_svg(t: Messages, v: PinOnDiscResults) -> str:
         norm=norm,
         shading="flat",
     )
-    fig.colorbar(mesh, ax=ax, label=blocks.axis(t, "μ"))
+    bar = fig.colorbar(mesh, ax=ax, label=blocks.axis(t, "μ"))
+    if bar.solids is not None:
+        bar.solids.set_rasterized(False)  # vectors, as every plot of the reports
     decorate(ax, xlabel=blocks.axis(t, "θ", "deg"), ylabel=t("t.lap_axis"))
+    ax.grid(False)  # the cells are the picture
     return to_svg(fig)
 
 

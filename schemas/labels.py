@@ -441,7 +441,7 @@ def _wear_labels(path: str, what: str, rate: str) -> dict[str, Label]:
 
 
 TRIBOMETER: dict[str, Label] = {
-    "rows": Label(N_("rows analysed"), "n", digits=9),
+    "rows": Label(N_("rows analysed"), digits=9),
     "duration": Label(N_("duration of the record"), "t", unit="s"),
     "sliding_distance": Label(N_("sliding distance"), "L", unit="m"),
     "laps": Label(N_("laps (cycles) run"), "n_L", digits=6),

@@ -35,7 +35,7 @@ def build(ctx: Context, v: Results) -> LabReport:
     ]
     if v.rows:
         fields = [
-            ("rows", "n", "w.rows"),
+            ("rows", "", "w.rows"),
             ("duration", "t", "w.duration"),
             ("sliding_distance", "L", "t.distance"),
             ("laps", "n_L", "t.laps"),
@@ -190,7 +190,7 @@ def _loops_svg(t: Messages, v: ReciprocatingResults) -> str:
             linewidth=0.9,
             label=t("t.loop", cycle=loop.cycle + 1),
         )
-    decorate(ax, xlabel=blocks.axis(t, "X", "mm"), ylabel=blocks.axis(t, "μ"))
+    decorate(ax, xlabel=blocks.axis(t, "x_s", "mm"), ylabel=blocks.axis(t, "μ"))
     return to_svg(fig)
 
 

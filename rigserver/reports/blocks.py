@@ -55,9 +55,6 @@ AXES: dict[str, str] = {
     "Π": N_("dimensionless pressure"),
     "Π_e": N_("measured dimensionless pressure"),
     "z = Z/R": N_("axial coordinate"),
-    "μ": N_("friction coefficient"),
-    "θ": N_("angular position on the disc"),
-    "X": N_("position along the stroke"),
 }
 """The quantity each plotted symbol stands for, named on the axis beside the symbol."""
 

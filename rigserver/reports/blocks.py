@@ -37,6 +37,9 @@ AXES: dict[str, str] = {
     "L": N_("sliding distance"),
     "f": N_("friction coefficient"),
     "f_e": N_("measured friction coefficient"),
+    "μ": N_("friction coefficient"),
+    "x_s": N_("position along the stroke"),
+    "θ": N_("angle on the disc"),
     "I_h": N_("wear intensity"),
     "N": N_("load"),
     "S_1": N_("bearing characteristic"),
@@ -52,9 +55,6 @@ AXES: dict[str, str] = {
     "Π": N_("dimensionless pressure"),
     "Π_e": N_("measured dimensionless pressure"),
     "z = Z/R": N_("axial coordinate"),
-    "μ": N_("friction coefficient"),
-    "θ": N_("angular position on the disc"),
-    "X": N_("position along the stroke"),
 }
 """The quantity each plotted symbol stands for, named on the axis beside the symbol."""
 

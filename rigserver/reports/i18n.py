@@ -547,8 +547,14 @@ MESSAGES: dict[str, str] = {
     "t.density": N_("density"),
     "t.scar": N_("wear scar diameter"),
     "t.height_loss": N_("height loss of the pin"),
-    "t.volume": N_("worn volume"),
-    "t.k": N_("specific wear rate k = V/(F·L)"),
+    "t.v.disc_track": N_("worn volume of the disc, from the track"),
+    "t.v.disc_mass": N_("worn volume of the disc, from its mass loss"),
+    "t.v.pin_scar": N_("worn volume of the ball or pin, from its scar"),
+    "t.v.pin_mass": N_("worn volume of the ball or pin, from its mass loss"),
+    "t.k.disc_track": N_("specific wear rate of the disc, from the track"),
+    "t.k.disc_mass": N_("specific wear rate of the disc, from its mass loss"),
+    "t.k.pin_scar": N_("specific wear rate of the ball or pin, from its scar"),
+    "t.k.pin_mass": N_("specific wear rate of the ball or pin, from its mass loss"),
     "t.c_friction": N_(
         "The friction coefficient starts at μ_s = {static}, runs in over L_r = {distance} m "
         "and is μ = {mu} (s = {std}) after it; over the whole record μ̄ = {mean}."

@@ -35,7 +35,7 @@ def build(ctx: Context, v: Results) -> LabReport:
     ]
     if v.rows:
         fields = [
-            ("rows", "n", "w.rows"),
+            ("rows", "", "w.rows"),
             ("duration", "t", "w.duration"),
             ("sliding_distance", "L", "t.distance"),
             ("laps", "n_L", "t.laps"),
@@ -101,7 +101,7 @@ def build(ctx: Context, v: Results) -> LabReport:
         spread += blocks.uncertainties(
             t,
             estimate,
-            [("specific_wear_rate", f"k_{{{WEAR_SUBSCRIPTS[name]}}}", key)],
+            [("specific_wear_rate", f"k_{{{WEAR_SUBSCRIPTS[name]}}}", f"t.k.{name}")],
             labels=labels,
             prefix=f"{name}.",
         )
@@ -126,8 +126,8 @@ def _wear_fields(name: str) -> list[tuple[str, str, str]]:
     }[name]
     return [
         *first,
-        ("volume", f"V_{{{sub}}}", "t.volume"),
-        ("specific_wear_rate", f"k_{{{sub}}}", "t.k"),
+        ("volume", f"V_{{{sub}}}", f"t.v.{name}"),
+        ("specific_wear_rate", f"k_{{{sub}}}", f"t.k.{name}"),
     ]
 
 
@@ -190,7 +190,7 @@ def _loops_svg(t: Messages, v: ReciprocatingResults) -> str:
             linewidth=0.9,
             label=t("t.loop", cycle=loop.cycle + 1),
         )
-    decorate(ax, xlabel=blocks.axis(t, "X", "mm"), ylabel=blocks.axis(t, "μ"))
+    decorate(ax, xlabel=blocks.axis(t, "x_s", "mm"), ylabel=blocks.axis(t, "μ"))
     return to_svg(fig)
 
 

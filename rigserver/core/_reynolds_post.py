@@ -149,19 +149,20 @@ def integrate(
     theta = np.concatenate([theta[:, :1], theta, theta[:, -1:]], axis=1)
     zw = np.full(grid.n_z + 1, dz)
     zw[[0, -1]] = dz / 2.0
-    h = film[:, None]
-    couette = mu_bar * omega / h
-    dp = np.empty_like(p)  # central difference in φ, periodic
-    dp[1:-1] = p[2:] - p[:-2]
-    dp[0] = p[1] - p[-1]
-    dp[-1] = p[0] - p[-2]
-    dp /= 2.0 * dphi
-    poiseuille = 0.5 * h * dp
-    weights = dphi * zw[None, :]
-    journal = float(np.sum((theta * couette + poiseuille) * weights))
-    bush = float(np.sum((theta * couette - poiseuille) * weights))
-    full_film = float(np.sum((couette + poiseuille) * weights))
-    ruptured_part = float(np.sum(np.where(ruptured, theta * couette, 0.0) * weights))
+    # The shear stresses' parts integrated over z first: μ̄Ω/H and H depend on φ only, and
+    # ∫∂Π/∂φ dz is the central difference (periodic) of ∫Π dz.
+    couette = (mu_bar * omega * dphi) / film
+    column = p @ zw
+    dp = np.empty_like(column)
+    dp[1:-1] = column[2:] - column[:-2]
+    dp[0] = column[1] - column[-1]
+    dp[-1] = column[0] - column[-2]
+    poiseuille = 0.25 * float(np.dot(film, dp))  # Σ (H/2)·dp/(2Δφ)·Δφ
+    shear = float(np.dot(couette, theta @ zw))
+    journal = shear + poiseuille
+    bush = shear - poiseuille
+    full_film = float(np.sum(couette)) * float(np.sum(zw)) + poiseuille
+    ruptured_part = float(np.dot(couette, np.where(ruptured, theta, 0.0) @ zw))
 
     outflow_edges = (4.0 * p[:, -2] - p[:, -3]) + (4.0 * p[:, 1] - p[:, 2])
     side = float(np.sum(film**3 * outflow_edges)) * dphi / (24.0 * mu_bar * dz)

@@ -284,9 +284,24 @@ class Agent:
             return None
         return Header(lines.index(texts[0]), delimiter or sniff(texts[0].text))
 
+    def opening(self) -> dict[str, Any]:
+        """The run's opening as :meth:`run` spools it for a finished file (its head is read,
+        then put back)."""
+        try:
+            self._read_head(threading.Event(), follow=False)
+            return with_preamble(self.metadata, self.preamble)
+        finally:
+            self.follower.close()
+            self.follower = Follower(self.path)
+            self._head, self._mark, self._delimiter, self.preamble = _Head([]), (0, 0), None, []
+
     def _read_head(self, stop: threading.Event, follow: bool) -> tuple[Table, list[Line]] | None:
         while not stop.is_set():
-            if self._open():
+            opened = self._open()
+            if not opened and not follow:
+                why = "an empty file" if self.path.is_file() else "no such file"
+                raise InputError(why, file=str(self.path))
+            if opened:
                 assert self._head is not None
                 self._head.lines += self.follower.lines(final=not follow)
                 found = self._header(final=not follow)

@@ -238,20 +238,21 @@ class Agent:
         one is found; :class:`InputError` past :data:`HEAD` bytes without one."""
         assert self._head is not None
         lines = self._head.lines
-        long = next((ln for ln in lines if ln.overlong), None)
-        in_head = [ln for ln in lines if ln.start < HEAD and ln is not long]
-        found = find_header(
-            [ln.text for ln in in_head], self.settings, final=final or long is not None
-        )
+        long = next((k for k, ln in enumerate(lines) if ln.overlong), len(lines))
+        in_head = [ln for ln in lines[:long] if ln.start < HEAD]
+        found = find_header([ln.text for ln in in_head], self.settings, final=final)
         if found is None and not final:
             found = self._lone_header(in_head)
         if found is None:
-            if long is not None or self.follower.size_read > HEAD:
-                what = f"line {long.number} is over {MAX_LINE >> 10} KiB" if long else ""
+            if long < len(lines):
                 raise InputError(
-                    f"no header and data row in its first {HEAD >> 10} KiB"
-                    + (f" ({what})" if what else ""),
+                    f"line {lines[long].number} is over {MAX_LINE >> 10} KiB before a header "
+                    "and a row were found: a header is bounded",
                     file=str(self.path),
+                )
+            if self.follower.size_read > HEAD:
+                raise InputError(
+                    f"no header and data row in its first {HEAD >> 10} KiB", file=str(self.path)
                 )
             return None
         header = in_head[found.index]
@@ -316,8 +317,13 @@ class Agent:
         """Spool the file until ``stop`` is set or, ``follow`` false, to its end; then queue
         the run's finish. None if stopped before the file had a header."""
         found = self.client.source(self.key)
-        head = self._read_head(stop, follow)
+        try:
+            head = self._read_head(stop, follow)
+        except BaseException:
+            self.follower.close()
+            raise
         if head is None:
+            self.follower.close()
             return None
         table, pending = head
         if found is not None:

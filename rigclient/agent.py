@@ -238,16 +238,16 @@ class Agent:
         one is found; :class:`InputError` past :data:`HEAD` bytes without one."""
         assert self._head is not None
         lines = self._head.lines
-        long = next((k for k, ln in enumerate(lines) if ln.overlong), len(lines))
-        in_head = [ln for ln in lines[:long] if ln.start < HEAD]
+        long = next((ln for ln in lines if ln.overlong), None)
+        in_head = [ln for ln in lines if ln.start < HEAD and not ln.overlong]
         found = find_header([ln.text for ln in in_head], self.settings, final=final)
         if found is None and not final:
             found = self._lone_header(in_head)
         if found is None:
-            if long < len(lines):
+            if long is not None and final:
                 raise InputError(
-                    f"line {lines[long].number} is over {MAX_LINE >> 10} KiB before a header "
-                    "and a row were found: a header is bounded",
+                    f"line {long.number} is over {MAX_LINE >> 10} KiB, and no header with a "
+                    "row under it was found: a header is bounded",
                     file=str(self.path),
                 )
             if self.follower.size_read > HEAD:
@@ -257,10 +257,10 @@ class Agent:
             return None
         header = in_head[found.index]
         self._delimiter = found.delimiter
-        rest = lines[lines.index(header) + 1 :]
+        rest = [ln for ln in lines[lines.index(header) + 1 :]]
         width = next((len(cells(ln.text, found.delimiter)) for ln in rest if ln.text.strip()), 0)
         table = self._table(header.text, header.number, width or None)
-        self.preamble = [ln.text for ln in lines[: lines.index(header)]]
+        self.preamble = [ln.text for ln in lines[: lines.index(header)] if not ln.overlong]
         self._head = None
         self._mark = (header.end, header.number)
         return table, rest

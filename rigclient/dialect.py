@@ -4,11 +4,12 @@ Detected from the file's first lines where that is unambiguous; the map's ``[fil
 any of it (:class:`FileSettings`):
 
 - the encoding: a byte-order mark says UTF-8 or UTF-16 (LE or BE); without one the file is
-  UTF-8 if its first bytes are, else cp1251 (the Russian Windows code page);
+  UTF-16 if a quarter of its first bytes are NULs (LE if they are at odd offsets), UTF-8 if
+  its first bytes are, else cp1251 (the Russian Windows code page);
 - line ends: LF, CRLF or a CR alone (:mod:`rigclient.follow`);
-- the header: the last line that is not blank before the first data row (a line whose cells
-  are all numbers, as many as the header's); the lines before it are the preamble (a
-  vendor's metadata, kept as the run's notes);
+- the header: the nearest line before the first data row (a line whose cells are all
+  numbers) that has as many cells and no number among them; the lines before it are the
+  preamble (a vendor's metadata, kept as the run's notes);
 - the delimiter: the one of tab, semicolon, comma and runs of spaces that splits the header
   and the first data row into the same number (two or more) of cells, tried in that order;
 - the decimal mark: a point, or a comma (``12,5``) in a cell that has no point; set to one
@@ -34,6 +35,7 @@ from rigclient.errors import InputError
 DELIMITERS = {"tab": "\t", "semicolon": ";", "comma": ",", "spaces": " ", "\t": "\t", ";": ";"}
 DELIMITERS[","] = ","
 DETECTED = ("\t", ";", ",", " ")
+LOOK_BACK = 64  # lines before the first row in which its header is looked for
 ENCODINGS = ("utf-8", "cp1251", "utf-16-le", "utf-16-be")
 _BOMS = (
     (codecs.BOM_UTF8, "utf-8"),
@@ -73,6 +75,9 @@ def encoding_of(head: bytes, given: str | None = None) -> Encoding:
         return Encoding(codec, skip)
     if bom is not None:
         return Encoding(bom[1], bom[0])
+    if head.count(0) * 4 >= len(head) > 0:  # UTF-16 without a mark: NULs of ASCII letters
+        odd = head[1::2].count(0)
+        return Encoding("utf-16-le" if odd >= head[::2].count(0) else "utf-16-be")
     try:
         codecs.getincrementaldecoder("utf-8")().decode(head, final=False)
     except UnicodeDecodeError:
@@ -175,7 +180,7 @@ def find_header(
 ) -> Header | None:
     """The header among ``lines`` (the file's from its line ``first``), or None while no
     data row follows one (a file being written; ``final``: the file is whole, and then the
-    last line that is not blank is the header)."""
+    last line of names, with no number among its cells, is the header)."""
     given = None if settings.delimiter is None else delimiter_of(settings.delimiter)
     if settings.header is not None:
         index = settings.header - first
@@ -187,23 +192,28 @@ def find_header(
         if following is None and not final:
             return None
         return Header(index, _split_alike(lines[index], following, settings.decimal))
-    previous: int | None = None
     for k, text in enumerate(lines):
         if not text.strip():
             continue
-        if previous is not None:
-            header = lines[previous]
-            for delimiter in (given,) if given is not None else DETECTED:
-                if _row_of(header, text, delimiter, settings.decimal):
-                    return Header(previous, delimiter)
-        previous = k
-    if final and previous is not None:
-        return Header(previous, given or _split_alike(lines[previous], None, settings.decimal))
+        for delimiter in (given,) if given is not None else DETECTED:
+            if not is_data(text, delimiter, settings.decimal):
+                continue
+            for j in range(k - 1, max(k - 1 - LOOK_BACK, -1), -1):  # past poison lines
+                if lines[j].strip() and _row_of(lines[j], text, delimiter, settings.decimal):
+                    return Header(j, delimiter)
+    if not final:
+        return None
+    for k in range(len(lines) - 1, -1, -1):  # no row: the last line of names is the header
+        delimiter = given or _split_alike(lines[k], None, settings.decimal)
+        names = [c for c in header_cells(lines[k], delimiter) if c.strip()]
+        if names and not any(is_number(c) for c in names):
+            return Header(k, delimiter)
     return None
 
 
 def _row_of(header: str, row: str, delimiter: str, decimal: str | None) -> bool:
-    """Whether ``row`` is a data row under ``header``, split by ``delimiter``."""
+    """Whether ``row`` is a data row under ``header``, split by ``delimiter``: as many
+    cells, two or more, and no number among the header's."""
     if not is_data(row, delimiter, decimal):
         return False
     width = len(cells(row, delimiter))

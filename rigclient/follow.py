@@ -117,28 +117,33 @@ class Follower:
 
     def lines(self, *, final: bool = False, limit: int | None = None) -> list[Line]:
         """The complete lines written since the last call (``final``: the partial last line
-        too, for a file that is finished; ``limit``: at most this many lines)."""
+        too, once the end of a file that is finished is reached; ``limit``: at most this
+        many lines). Reads on while an overlong line has no end yet."""
         assert self._file is not None
-        if len(self._buffer) < CHUNK:
-            self._buffer += self._file.read(CHUNK)
         out: list[Line] = []
-        start = 0
-        while limit is None or len(out) < limit:
-            found = self._end_of_line(start, final)
-            if found is None:
+        while True:
+            data = self._file.read(CHUNK) if len(self._buffer) < CHUNK else b""
+            at_end = len(self._buffer) < CHUNK and len(data) < CHUNK
+            self._buffer += data
+            start = 0
+            while limit is None or len(out) < limit:
+                found = self._end_of_line(start, final and at_end)
+                if found is None:
+                    break
+                end, after = found
+                out.append(self._line(self._buffer[start:end], self._buffer[start:after]))
+                start = after
+            self._buffer = self._buffer[start:]
+            if len(self._buffer) > MAX_LINE:  # no line end within the bound: drop what follows
+                keep = MAX_LINE - MAX_LINE % self.unit
+                drop = len(self._buffer) - keep
+                drop -= drop % self.unit  # whole code units, so the next line end is found
+                self._skipped += drop
+                self._buffer = self._buffer[:keep] + self._buffer[keep + drop :]
+            if out or at_end:
                 break
-            end, after = found
-            out.append(self._line(self._buffer[start:end], self._buffer[start:after]))
-            start = after
-        self._buffer = self._buffer[start:]
-        if len(self._buffer) > MAX_LINE:  # no line end within the bound: drop what follows
-            keep = MAX_LINE - MAX_LINE % self.unit
-            drop = len(self._buffer) - keep
-            drop -= drop % self.unit  # whole code units, so the next line end is found
-            self._skipped += drop
-            self._buffer = self._buffer[:keep] + self._buffer[keep + drop :]
         more = limit is None or len(out) < limit
-        if final and more and (self._buffer.strip(b"\x00 \t") or self._skipped):
+        if final and at_end and more and (self._buffer.strip(b"\x00 \t") or self._skipped):
             out.append(self._line(self._buffer, self._buffer))
             self._buffer = b""
         return out

@@ -134,20 +134,26 @@ def header_cells(text: str, delimiter: str, width: int | None = None) -> list[st
 def number(cell: str, decimal: str | None = None) -> float:
     """A cell as a number (see the module's docstring); ``ValueError`` says why not."""
     text = cell.strip()
-    if not text:
-        raise ValueError("an empty cell")
-    if decimal != "." and "," in text:
-        if decimal is None and "." in text:
+    if "," in text and decimal != ".":
+        if "." in text:
             raise ValueError(f"{text!r} has both a decimal point and a comma")
-        text = text.replace(",", ".", 1) if text.count(",") == 1 else text
+        text = text.replace(",", ".")
     elif decimal == "," and "." in text:
         raise ValueError(f"{text!r} has a point where the file's decimal mark is a comma")
-    if not _NUMBER.fullmatch(text):
-        raise ValueError(f"{cell.strip()!r} is not a number")
-    value = float(text)
-    if not math.isfinite(value):
-        raise ValueError(f"{cell.strip()!r} is beyond the range of a number (±1.8e308)")
-    return value
+    if not text:
+        raise ValueError("an empty cell")
+    # float() also takes "nan", "inf", "3_05" and other scripts' digits: not ours
+    if text.isascii() and "_" not in text:
+        try:
+            value = float(text)
+        except ValueError:
+            pass
+        else:
+            if math.isfinite(value):
+                return value
+            if _NUMBER.fullmatch(text):
+                raise ValueError(f"{cell.strip()!r} is beyond the range of a number (±1.8e308)")
+    raise ValueError(f"{cell.strip()!r} is not a number")
 
 
 def is_number(cell: str, decimal: str | None = None) -> bool:

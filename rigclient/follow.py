@@ -19,6 +19,7 @@ was) is read again from its start.
 from __future__ import annotations
 
 import os
+import re
 from dataclasses import dataclass
 from pathlib import Path
 from typing import BinaryIO, Literal
@@ -61,12 +62,15 @@ class Follower:
         self._tail = b""  # the last bytes of the last line given: the file's fingerprint
 
     @property
-    def unit(self) -> int:
-        """Bytes per code unit of the encoding (2 in UTF-16)."""
-        return 2 if self.encoding.replace("_", "-").lower().startswith("utf-16") else 1
+    def encoding(self) -> str:
+        return self._encoding
 
-    def _code(self, char: str) -> bytes:
-        return char.encode(self.encoding)[-self.unit :]
+    @encoding.setter
+    def encoding(self, name: str) -> None:
+        self._encoding = name
+        self.unit = 2 if name.replace("_", "-").lower().startswith("utf-16") else 1
+        self._lf, self._cr = (c.encode(name)[-self.unit :] for c in "\n\r")
+        self._ends = re.compile(re.escape(self._lf) + b"|" + re.escape(self._cr))
 
     @property
     def is_open(self) -> bool:
@@ -151,19 +155,17 @@ class Follower:
     def _end_of_line(self, start: int, final: bool) -> tuple[int, int] | None:
         """The end of the line from ``start`` in the buffer and the offset after its line
         end, or None if it has no end yet."""
-        u, buf = self.unit, self._buffer
-        lf, cr = self._code("\n"), self._code("\r")
+        u, buf, lf = self.unit, self._buffer, self._lf
         at = start
         while True:
-            n, r = buf.find(lf, at), buf.find(cr, at)
-            hits = [k for k in (n, r) if k >= 0]
-            if not hits:
+            hit = self._ends.search(buf, at)
+            if hit is None:
                 return None
-            k = min(hits)
+            k = hit.start()
             if (k - start) % u:  # not on a code unit boundary (UTF-16): a byte of a character
                 at = k + 1
                 continue
-            if k == n:
+            if hit.group() == lf:
                 return k, k + u
             if buf[k + u : k + 2 * u] == lf:
                 return k, k + 2 * u

@@ -65,6 +65,12 @@ class Table:
     group: ChannelGroup
     names: frozenset[str] = frozenset()  # the header's names (name_key), to know it again
     last: dict[str, float] = field(default_factory=dict)  # ordered channels' last values
+    _checks: dict[str, Channel] = field(default_factory=dict)
+    _rules: list[_Rule] = field(default_factory=list)
+
+    def __post_init__(self) -> None:
+        self._checks = {c.name: c for c in self.group.channels}
+        self._rules = [_rule(self._checks[f.channel]) for f in self.fields]
 
     @property
     def channels(self) -> tuple[str, ...]:
@@ -183,49 +189,47 @@ class Table:
                 column=self.fields[-1].header if len(found) <= self.fields[-1].index else "",
             )
         values = []
-        for f in self.fields:
+        for f, (low, high, nominal, tolerance, integer, order) in zip(
+            self.fields, self._rules, strict=True
+        ):
             try:
                 value = number(found[f.index], self.decimal) * f.factor
             except ValueError as exc:
                 raise InputError(str(exc), file=self.file, line=line, column=f.header) from None
-            self._check(f.channel, value, line, f.header)
+            if (
+                not (low <= value <= high and math.isfinite(value))  # a factor's overflow
+                or (nominal and not any(abs(value - v) <= tolerance * abs(v) for v in nominal))
+                or (integer and value != round(value))
+            ):
+                channel = self._checks[f.channel]
+                raise InputError(
+                    f"{value:g} {channel.unit} is outside the limit of {f.channel}: "
+                    f"{channel.limit.describe(channel.unit)}",
+                    file=self.file,
+                    line=line,
+                    column=f.header,
+                )
+            if order is not Order.ANY:
+                self._in_order(f, order, value, line)
             values.append(value)
-        for f, value in zip(self.fields, values, strict=True):
-            if self._channel(f.channel).order is not Order.ANY:
+        for f, rule, value in zip(self.fields, self._rules, values, strict=True):
+            if rule[-1] is not Order.ANY:
                 self.last[f.channel] = value
         return values
 
-    def _channel(self, name: str) -> Channel:
-        return next(c for c in self.group.channels if c.name == name)
-
-    def _check(self, name: str, value: float, line: int, column: str) -> None:
-        channel = self._channel(name)
-        unit = channel.unit
-        if not math.isfinite(value):
-            raise InputError(
-                f"{value} {unit} after conversion is beyond a number's range",
-                file=self.file,
-                line=line,
-                column=column,
-            )
-        if channel.limit.violations(np.array([value])).any():
-            raise InputError(
-                f"{value:g} {unit} is outside the limit of {name}: {channel.limit.describe(unit)}",
-                file=self.file,
-                line=line,
-                column=column,
-            )
-        last = self.last.get(name)
+    def _in_order(self, f: Field, order: Order, value: float, line: int) -> None:
+        last = self.last.get(f.channel)
         if last is not None and (
-            (channel.order is Order.INCREASING and value <= last)
-            or (channel.order is Order.NON_DECREASING and value < last)
+            (order is Order.INCREASING and value <= last)
+            or (order is Order.NON_DECREASING and value < last)
         ):
+            unit = self._checks[f.channel].unit
             raise InputError(
-                f"{name} = {value:g} {unit} after {last:g}: it must be "
-                f"{channel.order.value.replace('_', '-')}",
+                f"{f.channel} = {value:g} {unit} after {last:g}: it must be "
+                f"{order.value.replace('_', '-')}",
                 file=self.file,
                 line=line,
-                column=column,
+                column=f.header,
             )
 
     def is_header(self, text: str) -> bool:
@@ -249,6 +253,18 @@ class Table:
         for name, value in self.constants.items():
             out[name] = np.full(len(rows), value)
         return out
+
+
+#: A channel's limit and order as plain numbers: low, high, nominal, tolerance, integer,
+#: order (the check of one value without numpy).
+_Rule = tuple[float, float, tuple[float, ...], float, bool, Order]
+
+
+def _rule(channel: Channel) -> _Rule:
+    limit = channel.limit
+    low = -math.inf if limit.low is None else limit.low
+    high = math.inf if limit.high is None else limit.high
+    return (low, high, limit.nominal or (), limit.tolerance, limit.integer, channel.order)
 
 
 def _word(cell: str) -> bool:

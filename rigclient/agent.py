@@ -337,7 +337,11 @@ class Agent:
                 cursor=self.follower.cursor(self.key, *self._mark),
                 idempotency_key=self.idempotency_key,
             )
-        self.on_run(run)
+        try:
+            self.on_run(run)  # may stop the agent (a key refused): the run stays spooled
+        except BaseException:
+            self.follower.close()
+            raise
         outcome = Outcome(run)
         idle_since = time.monotonic()
         try:

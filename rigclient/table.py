@@ -151,7 +151,16 @@ class Table:
                 line=line,
             )
         missing = [c for c in units if c not in seen and c not in constants]
-        if group.aligned and missing:
+        if group.required:  # a tribometer: time and μ, or time, F_t and F_N
+            lacks = group.missing([*seen, *constants])
+            if lacks is not None:
+                raise InputError(
+                    f"{lacks} (the header has {', '.join(c.strip() for c in found)}); name them "
+                    "in the map's [columns], or give them in its [constants]",
+                    file=file,
+                    line=line,
+                )
+        elif group.aligned and missing:
             raise InputError(
                 f"no column for {', '.join(missing)} of {group.name!r} (the header has "
                 f"{', '.join(c.strip() for c in found)}); name them in the map's [columns], "

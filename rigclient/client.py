@@ -159,7 +159,13 @@ def check_columns(
     lengths = {k: v.size for k, v in arrays.items()}
     if any(v.ndim != 1 for v in arrays.values()):
         raise InputError(f"group {group!r}: every column must be 1-D")
-    if decl.aligned:
+    if decl.aligned and decl.required:  # a tribometer: one of its sets of channels
+        lacks = decl.missing(columns.keys())
+        if lacks is not None:
+            raise InputError(lacks)
+        if len(set(lengths.values())) > 1:
+            raise InputError(f"group {group!r}: columns of different lengths {lengths}")
+    elif decl.aligned:
         missing = sorted(names - set(columns))
         if missing:
             raise InputError(f"group {group!r} needs every channel; missing: {', '.join(missing)}")

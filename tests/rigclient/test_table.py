@@ -15,7 +15,7 @@ from rigclient.errors import InputError
 from rigclient.mapping import load_map, unit_factor
 from rigclient.table import Table, split_header
 from schemas.channels import ChannelGroup
-from schemas.stands import StandKind, default_stands
+from schemas.stands import StandKind, default_stands, with_overrides
 
 
 def _friction() -> ChannelGroup:
@@ -135,11 +135,17 @@ def test_columns_keep_the_rows_in_order() -> None:
 
 
 def test_the_readmes_maps_read_a_file_of_their_stand(tmp_path: Path) -> None:
-    """Each map in the README's "Connect a real stand" section is a valid map: a header of
-    its columns (and the channels it leaves to the header) reads, its constants convert."""
-    readme = (Path(__file__).parents[2] / "README.md").read_text(encoding="utf-8")
-    blocks = re.findall(r"```toml\n(.*?)```", readme, flags=re.S)
-    assert len(blocks) == 4
+    """Each map in the README's "Connect a real stand" section and in docs/tribometers.md
+    is a valid map: a header of its columns (and the channels it leaves to the header or
+    gives as constants) reads, its constants and configuration convert."""
+    root = Path(__file__).parents[2]
+    blocks = []
+    for page, count in (("README.md", 4), ("docs/tribometers.md", 6)):
+        text = (root / page).read_text(encoding="utf-8")
+        found = re.findall(r"```toml\n(.*?)```", text, flags=re.S)
+        found = [b for b in found if "group = " in b or page == "README.md"]  # whole maps
+        assert len(found) == count, page
+        blocks += found
     seen = set()
     for k, block in enumerate(blocks):
         path = tmp_path / f"map{k}.toml"
@@ -148,11 +154,13 @@ def test_the_readmes_maps_read_a_file_of_their_stand(tmp_path: Path) -> None:
         stand = default_stands()[StandKind(mapping.stand or "profilometer")]
         group = stand.group(mapping.group or "profile")
         assert group is not None
-        mapped = {c.channel for c in mapping.columns.values()}
-        header = [*mapping.columns, *(c.name for c in group.channels if c.name not in mapped)]
+        given = {c.channel for c in mapping.columns.values()} | set(mapping.constants)
+        header = [*mapping.columns, *(c.name for c in group.channels if c.name not in given)]
         table = Table.from_header(";".join(header), file=str(path), group=group, mapping=mapping)
-        assert sorted(table.channels) == sorted(c.name for c in group.channels)
+        assert sorted([*table.channels, *table.constants]) == sorted(c.name for c in group.channels)
         constants(stand, mapping)
+        meta = run_metadata(path, stand.kind.value, mapping, operator="Kim")
+        with_overrides(stand.configuration, meta.get("configuration", {}))
         seen.add(stand.kind)
     assert seen == set(StandKind)
 

@@ -266,11 +266,11 @@ class Agent:
         return table, rest
 
     def _lone_header(self, lines: list[Line]) -> Header | None:
-        """A file being written that holds one line, which names the channels: its header
-        (a row has yet to come, but the run opens now)."""
+        """A file being written whose first line names the channels: its header (a row
+        has yet to come, but the run opens now)."""
         given = self.settings.header
-        texts = [ln for ln in lines if ln.text.strip()]
-        if len(texts) != 1 or (given is not None and texts[0].number != given):
+        texts = [ln for ln in lines if ln.text.strip()][:1]
+        if not texts or (given is not None and texts[0].number != given):
             return None
         delimiter = delimiter_of(self.settings.delimiter) if self.settings.delimiter else None
         try:

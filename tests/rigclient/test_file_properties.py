@@ -6,15 +6,24 @@ from __future__ import annotations
 
 import codecs
 import tempfile
+import threading
+from contextlib import nullcontext
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
+from unittest.mock import patch
 
+import httpx
 import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
+from hypothesis.stateful import RuleBasedStateMachine, rule
 
-from tests.rigclient.importing import import_file
+from rigclient import Client, RetryPolicy, RunHandle
+from rigclient.agent import Agent, Batching
+from rigclient.spool import Spool
+from tests.rigclient.fake import FakeServer
+from tests.rigclient.importing import import_file, stored
 
 CHANNELS = ("time", "load", "speed", "friction_moment", "revolutions")
 UNITS = {
@@ -148,3 +157,129 @@ def test_every_good_row_once_in_order_and_every_bad_line_recorded(
     assert [(r.line, r.column) for r in got.rejects] == [(n, c) for n, c, _ in expected.rejects]
     for reject, (_, _, why) in zip(got.rejects, expected.rejects, strict=True):
         assert why in reject.message and reject.file == str(path)
+
+
+class Crash(Exception):
+    """The agent's process ends before the run's finish (a kill after the last batch)."""
+
+
+class TailedFile(RuleBasedStateMachine):
+    """A file that the stand's software writes while the agent follows it and is killed and
+    started again: rows, poison lines and new headers in any order. At the end every good
+    row is stored once, in order, by the header above it, and every bad line is kept as a
+    reject with its line and reason (the header in effect is found again after a restart)."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.tmp = tempfile.TemporaryDirectory()
+        self.path = Path(self.tmp.name) / "run.csv"
+        self.spool = Path(self.tmp.name) / "spool"
+        self.server = FakeServer()
+        self.dialect = Dialect(";", ",", "\n", "utf-8", False)
+        self.lines: list[str] = []
+        self.expected = Expected([], [])
+        self.k = 0
+        self.heads: dict[str, str] = {}
+        self.order: tuple[str, ...] = CHANNELS
+        self.kilo = False
+        self._header(CHANNELS, False)
+        self.local_id = ""
+
+    def _write(self, text: str) -> None:
+        self.lines.append(text)
+        with self.path.open("a", encoding="utf-8") as f:
+            f.write(text + "\n")
+
+    def _header(self, order: tuple[str, ...], kilo: bool) -> None:
+        self.order, self.kilo = order, kilo
+        self.heads = {c: f"{c} [{'kN' if c == 'load' and kilo else UNITS[c]}]" for c in order}
+        self._write(";".join(self.heads[c] for c in order))
+
+    def _cells(self) -> dict[str, str]:
+        values = good(self.k)
+        return {
+            c: self.dialect.number(values[c] / (1000.0 if c == "load" and self.kilo else 1))
+            for c in self.order
+        }
+
+    @rule(n=st.integers(1, 6))
+    def rows(self, n: int) -> None:
+        for _ in range(n):
+            self.expected.rows.append(good(self.k))
+            self._write(";".join(self._cells()[c] for c in self.order))
+            self.k += 1
+
+    @rule(what=st.sampled_from(sorted(POISON)))
+    def poison(self, what: str) -> None:
+        channel, text, why = POISON[what]
+        cells = self._cells()
+        cells[channel] = text if not (what == "over the load's limit" and self.kilo) else "9,999"
+        self.expected.rejects.append((len(self.lines) + 1, self.heads[channel], why))
+        self._write(";".join(cells[c] for c in self.order))
+
+    @rule(order=st.permutations(CHANNELS), kilo=st.booleans())
+    def new_header(self, order: list[str], kilo: bool) -> None:
+        self._header(tuple(order), kilo)
+
+    def _agent(self, *, crash: bool) -> None:
+        """An agent that reads what is written and stops: killed before the finish
+        (``crash``), or finishing the run."""
+        with Client(
+            "http://rig.test",
+            "key",
+            spool=self.spool,
+            transport=httpx.MockTransport(self.server),
+            retry=RetryPolicy(base_delay=0.01, max_delay=0.05),
+        ) as client:
+            stop = threading.Event()  # set once the run is open: read what is there, stop
+            agent = Agent(
+                client,
+                self.path,
+                stand="smts2",
+                group="friction",
+                mapping=None,
+                metadata={"stand": "smts2", "operator": "Ivanova", "title": "tailed"},
+                batching=Batching(rows=3, seconds=60.0, poll=0.01),
+                say=lambda text: None,
+                on_run=lambda run: stop.set(),
+            )
+            with patch.object(RunHandle, "finish", _crash) if crash else nullcontext():
+                try:
+                    outcome = agent.run(stop)
+                except Crash:
+                    outcome = None
+            if outcome is not None:
+                self.local_id = outcome.run.local_id
+            assert client.wait(20.0)
+
+    @rule()
+    def killed(self) -> None:
+        self._agent(crash=True)
+
+    def teardown(self) -> None:
+        try:
+            self._agent(crash=False)
+            got = stored(self.server)
+            for channel in CHANNELS:
+                assert got.get(channel, []) == pytest.approx(
+                    [r[channel] for r in self.expected.rows]
+                ), channel
+            with Spool(self.spool) as spool:
+                rejects = spool.rejects(self.local_id)
+            assert [(r.line, r.column) for r in rejects] == [
+                (n, c) for n, c, _ in self.expected.rejects
+            ]
+            for reject, (_, _, why) in zip(rejects, self.expected.rejects, strict=True):
+                assert why in reject.message
+        finally:
+            self.tmp.cleanup()
+
+
+def _crash(self: RunHandle) -> None:
+    raise Crash
+
+
+TestTailedFile = pytest.mark.slow(TailedFile.TestCase)
+TailedFile.TestCase.settings = settings(
+    max_examples=10, stateful_step_count=6, deadline=None, suppress_health_check=list(HealthCheck)
+)

@@ -35,8 +35,9 @@ from pydantic import ValidationError
 
 from rigclient.errors import InputError
 from rigclient.http import Api, RetryPolicy
+from rigclient.lock import SpoolLock
 from rigclient.sender import Sender
-from rigclient.spool import Cursor, Reject, RunRecord, Spool, SpoolLimits, SpoolLock
+from rigclient.spool import Cursor, Reject, RunRecord, Spool, SpoolLimits
 from schemas.runs import RunCreate
 from schemas.stands import Stand, default_stands
 from schemas.wire import Scalar
@@ -159,16 +160,10 @@ def check_columns(
     lengths = {k: v.size for k, v in arrays.items()}
     if any(v.ndim != 1 for v in arrays.values()):
         raise InputError(f"group {group!r}: every column must be 1-D")
-    if decl.aligned and decl.required:  # a tribometer: one of its sets of channels
+    if decl.aligned:
         lacks = decl.missing(columns.keys())
         if lacks is not None:
             raise InputError(lacks)
-        if len(set(lengths.values())) > 1:
-            raise InputError(f"group {group!r}: columns of different lengths {lengths}")
-    elif decl.aligned:
-        missing = sorted(names - set(columns))
-        if missing:
-            raise InputError(f"group {group!r} needs every channel; missing: {', '.join(missing)}")
         if len(set(lengths.values())) > 1:
             raise InputError(f"group {group!r}: columns of different lengths {lengths}")
     return arrays

@@ -51,7 +51,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 from pydantic import ValidationError
 
-from rigclient.errors import ServerRefused, ServerUnavailable
+from rigclient.errors import ServerRefused, ServerUnavailable, problem_text
 from schemas.problems import PROBLEM_MEDIA_TYPE, Problem
 from schemas.readings import NPZ_MEDIA_TYPE, BatchReceipt
 from schemas.runs import Run, RunCreate, RunState
@@ -157,11 +157,13 @@ def _body(response: httpx.Response, size: int = 120) -> str:
     return f"{media or 'an answer'} {text!r}"
 
 
-def not_the_api(response: httpx.Response) -> str:
-    """Why an answer is not the API's, for a message: its status and what the body is."""
+def not_the_api(response: httpx.Response, expected: str = "") -> str:
+    """Why an answer is not the API's, for a message: its status and what the body is
+    (``expected``: what it should have been, e.g. "a receipt")."""
+    instead = f", not {expected}" if expected else ""
     return (
-        f"{response.status_code} {response.reason_phrase}: {_body(response)}, not the API's "
-        "answer (a proxy between this PC and the server, or the wrong URL?)"
+        f"{response.status_code} {response.reason_phrase}: {_body(response)}{instead}, not the "
+        "API's answer (a proxy between this PC and the server, or the wrong URL?)"
     )
 
 
@@ -240,11 +242,7 @@ def transport_failure(exc: httpx.RequestError, url: str, timeout: httpx.Timeout)
 
 def answer_failure(response: httpx.Response, problem: Problem | None) -> str:
     """An error answer in plain words: the API's problem, or what the answer was."""
-    if problem is None:
-        return not_the_api(response)
-    fields = "; ".join(e.message for e in problem.errors[:3] if e.message)
-    text = f"{problem.status} {problem.title}: {problem.detail}"
-    return f"{text} ({fields})" if fields and fields not in text else text
+    return not_the_api(response) if problem is None else problem_text(problem)
 
 
 def _duration(seconds: float) -> str:
@@ -305,7 +303,8 @@ class Reporter:
         if self.since is None:
             return None
         spent = _duration(self._clock() - self.since)
-        text = f"the server answers again, after {self.tries} failed tries in {spent}"
+        tries = f"{self.tries} failed tr{'y' if self.tries == 1 else 'ies'}"
+        text = f"the server answers again, after {tries} in {spent}"
         self.since, self.tries, self._kind = None, 0, None
         return text
 

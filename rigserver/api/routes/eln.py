@@ -10,6 +10,7 @@ import os
 import shutil
 import tempfile
 from collections.abc import Callable, Iterator, Mapping
+from contextlib import ExitStack
 from datetime import UTC, datetime
 from functools import lru_cache
 from pathlib import Path
@@ -33,9 +34,11 @@ from rigserver.api.deps import (
     services_of,
 )
 from rigserver.api.problems import ApiProblem, violations
-from rigserver.api.routes.reports import _report_html
+from rigserver.api.report_jobs import FileReadings
+from rigserver.api.routes import reports as run_reports
+from rigserver.api.routes import series as series_routes
 from rigserver.api.routes.runs import load_run
-from rigserver.api.routes.series import _detail, _report
+from rigserver.api.routes.series import _detail
 from rigserver.api.run_results import StoredReadings, results_payload
 from rigserver.reports.eln import (
     ELN_MEDIA_TYPE,
@@ -48,9 +51,8 @@ from rigserver.reports.eln import (
 )
 from rigserver.reports.eln_read import ArchivedRun, ArchiveRefused, read_run_archive
 from rigserver.reports.i18n import LANGS, Lang
-from rigserver.reports.pdf import html_to_pdf
 from rigserver.reports.series_report import series_csv
-from rigserver.storage.archived import IMPORT_ROWS, FileReadings, file_batches, summary
+from rigserver.storage.archived import IMPORT_ROWS, file_batches, summary
 from rigserver.storage.errors import RunNotFound, StorageError
 from rigserver.storage.runfile import write_file
 from schemas.channels import check_columns
@@ -70,13 +72,18 @@ def _publisher(request: Request) -> Publisher:
     return Publisher(str(request.base_url))
 
 
-def _reports(render: Callable[[Lang], str]) -> dict[str, bytes]:
-    """The report in both languages, as a web page and as a PDF."""
+#: Whose share of the report pool an export's renders take
+_EXPORT = "(.eln export)"
+
+
+def _reports(render: Callable[[Lang], dict[str, bytes]]) -> dict[str, bytes]:
+    """The report in both languages, as a web page and as a PDF (the kept files, rendered
+    on the report pool when missing: rigserver.api.report_pool)."""
     found: dict[str, bytes] = {}
     for lang in LANGS:
-        html = render(lang)
-        found[f"report-{lang}.html"] = html.encode()
-        found[f"report-{lang}.pdf"] = html_to_pdf(html)
+        files = render(lang)
+        found[f"report-{lang}.html"] = files["html"]
+        found[f"report-{lang}.pdf"] = files["pdf"]
     return found
 
 
@@ -101,7 +108,7 @@ def _run_part(services: Services, run: Run) -> RunPart:
         readings=StoredReadings(services, run),
         payload=results_payload(services, run),
         run_file=services.store.run_file(run.id),
-        reports=_reports(lambda lang: _report_html(services, run.id, lang)[1]),
+        reports=_reports(lambda lang: run_reports.report_bytes(services, run, lang, _EXPORT)),
         references=_references(services, run),
     )
 
@@ -137,7 +144,9 @@ def _export_series(services: Services, series_id: str, publisher: Publisher) -> 
     series = SeriesPart(
         detail=detail,
         runs_csv=series_csv(detail),
-        reports=_reports(lambda lang: _report(services, series_id, lang)[1]),
+        reports=_reports(
+            lambda lang: series_routes.report_bytes(services, series_id, lang, _EXPORT)
+        ),
     )
     licence = licence_of(services.settings.license)
     made = datetime.now(UTC)
@@ -273,32 +282,34 @@ def _import(services: Services, found: ArchivedRun, original: Run) -> Run:
         errors = violations(exc.errors(), "run.json.configuration.")
         raise ApiProblem(422, "Archive refused", errors[0].message, errors) from None
     stand = services.stands[original.stand].for_run(original.configuration)
-    references: dict[str, tuple[Run, Readings]] = {}
-    for other_id, path in found.references.items():
-        try:
-            references[other_id] = (summary(path).run, FileReadings(path))
-        except StorageError as exc:
-            raise _refused(ArchiveRefused(f"references/{other_id}.h5", str(exc))) from None
     batches = sum(math.ceil(rows / IMPORT_ROWS) for rows in original.rows.values())
     origin = ImportedFrom(run_id=original.id, server=found.server, exported=found.exported)
-    for _ in range(ID_TRIES):
-        run = original.model_copy(
-            update={
-                "id": new_run_id(original.created),
-                "batches": batches,
-                "key_results": {},
-                "imported_from": origin,
-                "damage": None,
-            }
-        )
-        payload: Mapping[str, Any] | None = None
-        if run.state is RunState.FINISHED:
-            computed = analyse(run, FileReadings(found.run_file), references.get)
-            payload = computed.payload
-            run = run.model_copy(update={"key_results": computed.key_results})
-        rows = _checked(file_batches(found.run_file, run), stand)
-        if services.store.import_run(run, None, payload, rows):
-            return services.store.get_run(run.id)
+    with ExitStack() as stack:
+        references: dict[str, tuple[Run, Readings]] = {}
+        for other_id, path in found.references.items():
+            try:
+                references[other_id] = (summary(path).run, FileReadings(path, stack))
+            except StorageError as exc:
+                raise _refused(ArchiveRefused(f"references/{other_id}.h5", str(exc))) from None
+        readings = FileReadings(found.run_file, stack)
+        for _ in range(ID_TRIES):
+            run = original.model_copy(
+                update={
+                    "id": new_run_id(original.created),
+                    "batches": batches,
+                    "key_results": {},
+                    "imported_from": origin,
+                    "damage": None,
+                }
+            )
+            payload: Mapping[str, Any] | None = None
+            if run.state is RunState.FINISHED:
+                computed = analyse(run, readings, references.get)
+                payload = computed.payload
+                run = run.model_copy(update={"key_results": computed.key_results})
+            rows = _checked(file_batches(found.run_file, run), stand)
+            if services.store.import_run(run, None, payload, rows):
+                return services.store.get_run(run.id)
     raise ApiProblem(503, "No free run id", "try the import again", headers={"Retry-After": "1"})
 
 
@@ -326,12 +337,12 @@ def example_archive() -> bytes:
         batches=2,
         rows={"profile": len(x), "measurements": 1},
     )
-    with tempfile.TemporaryDirectory(prefix="rig-example-") as directory:
+    with tempfile.TemporaryDirectory(prefix="rig-example-") as directory, ExitStack() as stack:
         path = Path(directory) / "run.h5"
         write_file(
             path, run, [("profile", trace, len(x)), (MEASUREMENTS, weighed, 1)], None, final=True
         )
-        readings = FileReadings(path)
+        readings = FileReadings(path, stack)
         part = RunPart(
             run=run,
             stand=stand,

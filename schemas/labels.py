@@ -99,6 +99,29 @@ ISO_ENDS = {
     "corrected": N_("kept, corrected by renormalised weights (ISO 16610-28)"),
 }
 
+#: The ISO analysis' remarks (rigserver.core.iso_roughness.REMARKS) as notes of the results.
+ISO_REMARKS = {
+    "resampled": N_(
+        "ISO roughness: the trace is not uniformly sampled; it was interpolated onto its "
+        "median step"
+    ),
+    "no_rsm": N_("ISO roughness: λc not chosen by the RSm table, the profile has no RSm"),
+    "capped": N_(
+        "ISO roughness: the table's λc is longer than the trace; the longest λc it holds is used"
+    ),
+    "unsettled": N_(
+        "ISO roughness: the choice of λc by the table does not settle; the last one is kept"
+    ),
+    "short": N_(
+        "ISO roughness: the trace is shorter than 2λc, so its ends are kept (corrected by "
+        "renormalised weights, ISO 16610-28) instead of discarded"
+    ),
+    "few_sections": N_(
+        "ISO roughness: fewer sections of λc than the standard's five (a trace of 6λc gives five)"
+    ),
+    "coarse_step": N_("ISO roughness: the sampling step is longer than λs/5 (ISO 3274)"),
+}
+
 
 def _iso(prefix: str) -> dict[str, Label]:
     """The labels of an ISO 21920-2 roughness result (:class:`schemas.results.IsoRoughnessResult`)

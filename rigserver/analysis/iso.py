@@ -12,7 +12,7 @@ from numpy.typing import ArrayLike
 
 from rigserver.core.errors import ModelInputError
 from rigserver.core.iso_roughness import IsoProfile, iso_profile
-from schemas.labels import ISO_ENDS, ISO_LAMBDA_C_SOURCE
+from schemas.labels import ISO_ENDS, ISO_LAMBDA_C_SOURCE, ISO_REMARKS
 from schemas.results import IsoRoughnessResult
 
 
@@ -32,7 +32,7 @@ def iso_result(
         notes.append(f"ISO roughness not computed: {exc}")
         return None
     q = found.parameters
-    notes.extend(f"ISO roughness: {note}" for note in found.notes)
+    notes.extend(ISO_REMARKS[code] for code in found.remarks)
     result = IsoRoughnessResult(
         lambda_c=found.lambda_c,
         lambda_s=found.lambda_s,

@@ -64,6 +64,14 @@ MIN_POINTS = 16
 
 Ends = Literal["discarded", "corrected"]
 
+#: The codes of :attr:`IsoProfile.remarks`, what departs from the standard's defaults:
+#: ``resampled`` (a trace not uniformly sampled, interpolated onto its median step),
+#: ``no_rsm`` (no RSm to choose λc by), ``capped`` (the table's λc is longer than the trace:
+#: the longest that fits is used), ``unsettled`` (the choice by the table does not settle),
+#: ``short`` (shorter than 2λc: the corrected ends are kept), ``few_sections`` (fewer than
+#: five sections), ``coarse_step`` (a sampling step longer than λs/5, ISO 3274).
+REMARKS = ("resampled", "no_rsm", "capped", "unsettled", "short", "few_sections", "coarse_step")
+
 
 # --- field parameters of the ordinates -----------------------------------------------------
 
@@ -551,8 +559,8 @@ class IsoProfile:
     parameters : IsoParameters
     resampled : bool
         The trace was not uniformly sampled and was interpolated onto a uniform grid.
-    notes : tuple of str
-        What departs from the standard's defaults, in words.
+    remarks : tuple of str
+        What departs from the standard's defaults, as the codes of :data:`REMARKS`.
     """
 
     x: NDArray[np.float64]
@@ -571,7 +579,7 @@ class IsoProfile:
     evaluation_length: float
     parameters: IsoParameters
     resampled: bool = False
-    notes: tuple[str, ...] = field(default_factory=tuple)
+    remarks: tuple[str, ...] = field(default_factory=tuple)
 
     @property
     def step(self) -> float:
@@ -658,7 +666,7 @@ def iso_profile(
     The sections are centred on the trace.
     """
     x, z = _trace(x_m, z_m)
-    notes: list[str] = []
+    remarks: list[str] = []
     resampled = False
     step = uniform_step(x)
     if step is None:
@@ -667,9 +675,7 @@ def iso_profile(
         z = np.interp(grid, x, z)
         x = grid
         resampled = True
-        notes.append(
-            f"the trace is not uniformly sampled: interpolated linearly onto a step of {step:.4g} m"
-        )
+        remarks.append("resampled")
     length = float(x[-1] - x[0])
     fitting = [c for c in CUTOFFS if c <= length * (1.0 + 1e-9)]
     if lambda_c is not None:
@@ -685,7 +691,6 @@ def iso_profile(
             )
         lc = FIRST_CUTOFF if FIRST_CUTOFF in fitting else fitting[-1]
         basis_used = basis
-
     if lambda_s is not None and not (math.isfinite(lambda_s) and lambda_s >= 0):
         raise ModelInputError(f"lambda_s must be >= 0 m (0: no λs filter), got {lambda_s}")
 
@@ -695,7 +700,7 @@ def iso_profile(
         return lambda_s_for(lambda_c=cutoff)
 
     tried: list[float] = []
-    round_notes: list[str] = []  # of the last round only
+    choice: list[str] = []  # remarks of the last round of the choice only
     while True:
         ls = lambda_s_of(lc)
         fp, start, stop, ends, sections, params = _evaluate(x, z, lc, ls)
@@ -703,42 +708,27 @@ def iso_profile(
             break
         value = {"ra": params.ra, "rz": params.rz, "rsm": params.rsm}[basis]
         if value is None:
-            round_notes.append(f"λc not chosen by the {basis} table: the profile has no RSm")
+            choice = ["no_rsm"]
             break
         wanted = cutoff_for(value=value, basis=basis)
+        choice = []
         if wanted > length * (1.0 + 1e-9):
-            round_notes.append(
-                f"the table gives λc = {wanted * 1e3:g} mm, longer than the trace: "
-                f"{fitting[-1] * 1e3:g} mm used"
-            )
+            choice = ["capped"]
             wanted = fitting[-1]
         if wanted == lc:
             break
         tried.append(lc)
         if wanted in tried or len(tried) >= MAX_ROUNDS:
-            round_notes.append(
-                f"the choice of λc does not settle ({', '.join(f'{c * 1e3:g}' for c in tried)} "
-                f"mm): {lc * 1e3:g} mm kept"
-            )
+            choice.append("unsettled")
             break
-        round_notes.clear()
         lc = wanted
-    notes += round_notes
+    remarks += choice
     if ends == "corrected":
-        notes.append(
-            f"the trace ({length * 1e3:.4g} mm) is shorter than 2λc: its ends are kept, "
-            "corrected by renormalised weights (ISO 16610-28), not discarded"
-        )
+        remarks.append("short")
     if sections < DEFAULT_SECTIONS:
-        notes.append(
-            f"{sections} section(s) of λc instead of the standard's {DEFAULT_SECTIONS}: "
-            f"a trace of {(DEFAULT_SECTIONS + 1) * lc * 1e3:g} mm gives five"
-        )
+        remarks.append("few_sections")
     if ls > 0 and fp.step > ls / STEPS_PER_LAMBDA_S * (1.0 + 1e-6):
-        notes.append(
-            f"the sampling step ({fp.step * 1e6:.3g} µm) is longer than λs/5 "
-            f"({ls / STEPS_PER_LAMBDA_S * 1e6:.3g} µm, ISO 3274)"
-        )
+        remarks.append("coarse_step")
     return IsoProfile(
         x=x,
         primary=fp.primary,
@@ -756,5 +746,5 @@ def iso_profile(
         evaluation_length=float((stop - start) * fp.step),
         parameters=params,
         resampled=resampled,
-        notes=tuple(notes),
+        remarks=tuple(remarks),
     )

@@ -157,7 +157,7 @@ def test_a_sine_well_inside_the_pass_band() -> None:
     assert q.rz == pytest.approx(2 * amp, rel=1e-3)
     assert q.rp == pytest.approx(amp, rel=1e-3) and q.rv == pytest.approx(amp, rel=1e-3)
     assert q.rt == pytest.approx(2 * amp, rel=1e-3)
-    assert p.notes == ()
+    assert p.remarks == ()
 
 
 def test_a_triangle_wave() -> None:
@@ -277,7 +277,7 @@ def test_a_trace_shorter_than_two_cutoffs_keeps_its_corrected_ends() -> None:
     # the corrected ends pass a little less of the sine (the one-sided kernel does not
     # average it to 0): within 1 % here, where discarding them would leave nothing
     assert p.parameters.ra == pytest.approx(2 * A / math.pi, rel=1e-2)
-    assert any("shorter than 2λc" in n for n in p.notes)
+    assert p.remarks == ("short", "few_sections")
 
 
 def test_a_given_cutoff_is_used() -> None:
@@ -307,3 +307,9 @@ def test_a_trace_shorter_than_the_smallest_cutoff_is_refused() -> None:
     x = trace(0.05e-3)
     with pytest.raises(ModelInputError, match="shorter than the smallest"):
         iso.iso_profile(x, A * np.sin(2 * np.pi * x / 10e-6))
+
+
+def test_every_remark_has_words_in_the_results() -> None:
+    from schemas.labels import ISO_REMARKS
+
+    assert set(iso.REMARKS) == set(ISO_REMARKS)

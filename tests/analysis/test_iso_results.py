@@ -56,9 +56,9 @@ def test_the_iso_parameters_sit_beside_the_manuals() -> None:
 
 
 def test_the_configured_filter_is_used() -> None:
-    v = _profilometer(lambda_c=0.25e-3, lambda_s=0.0)
+    v = _profilometer(lambda_c=0.25e-3, lambda_s=8e-6)
     assert v.iso is not None
-    assert (v.iso.lambda_c, v.iso.lambda_s) == (0.25e-3, 0.0)
+    assert (v.iso.lambda_c, v.iso.lambda_s) == (0.25e-3, 8e-6)
     assert v.iso.lambda_c_source == ISO_LAMBDA_C_SOURCE["given"]
 
 

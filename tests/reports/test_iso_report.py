@@ -32,7 +32,7 @@ def test_the_iso_section_prints_the_results(lang: Lang) -> None:
     assert len(params.rows) == len(type(v.iso).model_fields)
     assert [row[2] for row in params.rows[:2]] == [lc, fmt(2.5)] or lang == "ru"
     figure = svgs(html)[-1]  # the profile, both mean lines, the roughness profile
-    assert figure.count("<g id=\"line2d_") > 4
+    assert figure.count('<g id="line2d_') > 4
 
 
 def test_the_report_says_how_the_filter_was_set() -> None:

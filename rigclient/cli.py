@@ -36,9 +36,9 @@ from rich.table import Table as RichTable
 
 from rigclient.agent import Agent, Batching, Outcome, constants, run_metadata, stand_of
 from rigclient.client import Client, RunHandle
-from rigclient.errors import RigclientError
+from rigclient.errors import RigclientError, ServerError
 from rigclient.mapping import StandMap, load_map
-from rigclient.profile import GROUP, read_profile
+from rigclient.profile import GROUP, read_profile, roughness_lines
 from rigclient.spool import RunRecord, Spool, SpoolLimits
 
 DEFAULT_SPOOL = Path.home() / ".rigclient" / "spool"
@@ -275,10 +275,23 @@ def _profile(args: argparse.Namespace) -> int:
             part = slice(start, start + args.rows)
             run.post(GROUP, {"x": trace.x[part], "y": trace.y[part]})
         run.finish()
-        client.wait(args.drain)
+        delivered = client.wait(args.drain)
         print(run.server_id or run.local_id, flush=True)
         _say(f"{args.file}: {trace.x.size} points, x from {trace.x[0]:g} to {trace.x[-1]:g} mm")
+        if delivered and run.server_id is not None:
+            _say_roughness(client, run.server_id)
         return _finish_up(client, run, 0.0)
+
+
+def _say_roughness(client: Client, run_id: str) -> None:
+    """The roughness the server computed: the manual's and the ISO 21920-2 one."""
+    try:
+        payload = client.results(run_id)
+    except ServerError as exc:
+        _say(f"run {run_id}: its results could not be read ({exc})")
+        return
+    for line in roughness_lines(payload):
+        _say(line)
 
 
 def _status(args: argparse.Namespace) -> int:

@@ -41,3 +41,33 @@ def test_the_report_says_how_the_filter_was_set() -> None:
         "by Ra, table of ISO 21920-3"
     )
     assert "ISO roughness: the trace is shorter than 2λc" in html
+
+
+def test_the_smts2_report_prints_the_roughness_across_the_track() -> None:
+    from rigserver.analysis import analyse
+    from rigserver.reports.run_report import build_report, render_report
+    from tests.reports.simulated import MADE
+
+    wear, track = simulated(StandKind.SMTS2), simulated(StandKind.PROFILOMETER)
+    run = wear.run.model_copy(update={"specimen": {**wear.run.specimen, "disc_profile_run": "P"}})
+    values = analyse(run, wear.readings, {"P": (track.run, track.readings)}.get).values
+    html = render_report(
+        build_report(
+            run=run,
+            stand=wear.stand,
+            values=values.model_dump(mode="json"),
+            readings=wear.readings,
+            lang="ru",
+            made=MADE,
+        )
+    )
+    found = table(html, "Шероховатость поперёк дорожки")
+    track_values = track.result.values
+    assert isinstance(track_values, ProfilometerResults) and track_values.iso is not None
+    with number_locale("ru"):
+        assert row_of(
+            html,
+            "Шероховатость поперёк дорожки",
+            "граничная длина волны λc фильтра шероховатости (ISO 16610-21)",
+        )[1] == fmt(track_values.iso.lambda_c * 1e3)
+    assert len(found.rows) == len(type(track_values.iso).model_fields)

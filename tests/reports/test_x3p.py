@@ -103,3 +103,15 @@ def test_the_run_page_links_the_x3p_of_a_profile_only(
     page = client.get(f"/runs/{ids['profile']}", headers=auth(READER)).text
     assert f'href="{API}/runs/{ids["profile"]}/profile.x3p"' in page
     assert "profile.x3p" not in client.get(f"/runs/{ids['smts2']}", headers=auth(READER)).text
+
+
+def test_the_run_page_and_the_csv_show_the_iso_results(
+    served: tuple[TestClient, dict[str, str]],
+) -> None:
+    client, ids = served
+    page = client.get(f"/runs/{ids['profile']}/results?lang=ru", headers=auth(READER)).text
+    for path in ("ra", "iso.ra", "iso.rk", "iso.lambda_c", "iso.lambda_s", "iso.ends"):
+        assert f'data-path="{path}"' in page, path
+    text = client.get(f"{API}/runs/{ids['profile']}/results.csv", headers=auth(READER)).text
+    assert "cut-off λc of the roughness filter" in text
+    assert "arithmetic mean height of the roughness profile" in text

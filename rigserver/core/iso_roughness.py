@@ -581,10 +581,6 @@ class IsoProfile:
     resampled: bool = False
     remarks: tuple[str, ...] = field(default_factory=tuple)
 
-    @property
-    def step(self) -> float:
-        return float(self.x[1] - self.x[0])
-
 
 def _trace(x_m: ArrayLike, z_m: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     x = finite("x", x_m)

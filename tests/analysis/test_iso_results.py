@@ -13,7 +13,7 @@ from rigserver.core.profile_filter import transmission
 from schemas.labels import ISO_ENDS, ISO_LAMBDA_C_SOURCE
 from schemas.results import ProfilometerResults, Smts2Results
 from schemas.stands import StandKind
-from tests.analysis.conftest import FakeReadings, make_run
+from tests.analysis.conftest import FakeReadings, friction_record, make_run
 
 A_UM, WAVE_MM = 1.0, 0.08  # roughness: 1 µm at 80 µm
 W_UM, WAVINESS_MM = 3.0, 4.0  # waviness: 3 µm at 4 mm
@@ -77,14 +77,7 @@ def test_the_wear_track_profile_has_its_iso_roughness() -> None:
     y = 0.5 * np.sin(2 * np.pi * x / 0.05) - groove
     track = FakeReadings({"profile": {"x": list(x), "y": list(y)}}, {})
     profile_run = make_run(StandKind.PROFILOMETER)
-    n = 100
-    record = {
-        "time": [float(i) for i in range(n)],
-        "load": [300.0] * n,
-        "speed": [980.0] * n,
-        "friction_moment": [2.7] * n,
-        "revolutions": [float(i // 10) for i in range(n)],
-    }
+    record = friction_record()
     run = make_run(StandKind.SMTS2).model_copy(update={"specimen": {"disc_profile_run": "P-1"}})
     v = analyse(run, FakeReadings({"friction": record}, {}), {"P-1": (profile_run, track)}.get)
     values = v.values

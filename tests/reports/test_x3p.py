@@ -4,40 +4,20 @@ other software opens, read back here with x3pio (issue 23)."""
 from __future__ import annotations
 
 import io
-from collections.abc import Iterator
-from pathlib import Path
 
 import numpy as np
 import pytest
 import x3pio
 from fastapi.testclient import TestClient
 
-from rigserver.api.app import create_app
-from rigserver.api.auth import ApiKey
-from rigserver.api.settings import Settings
 from rigserver.reports.x3p import NoProfile, profile_group, profile_x3p
-from rigserver.storage import MemoryStore
-from schemas.stands import StandKind, configure_stands, default_stands
+from schemas.stands import StandKind, default_stands
 from tests.analysis.conftest import FakeReadings, make_run
-from tests.api.conftest import KEYS, READER, WRITER, auth
-from tests.reports.simulated import post, simulated
+from tests.api.conftest import READER, auth
+from tests.reports.simulated import simulated
 
 API = "/api/v1"
 PROFILE = default_stands()[StandKind.PROFILOMETER].group("profile")
-
-
-@pytest.fixture(scope="module")
-def served(tmp_path_factory: pytest.TempPathFactory) -> Iterator[tuple[TestClient, dict[str, str]]]:
-    settings = Settings(data_dir=Path(tmp_path_factory.mktemp("data")))
-    app = create_app(
-        settings, MemoryStore(), [ApiKey.model_validate(k) for k in KEYS], configure_stands()
-    )
-    with TestClient(app, raise_server_exceptions=False) as client:
-        ids = {
-            "profile": post(client, simulated(StandKind.PROFILOMETER).sim, WRITER),
-            "smts2": post(client, simulated(StandKind.SMTS2).sim, WRITER),
-        }
-        yield client, ids
 
 
 def test_the_profile_reads_back_as_posted(served: tuple[TestClient, dict[str, str]]) -> None:

@@ -8,10 +8,12 @@ configuration (None: the ISO 21920-3 tables choose them).
 
 from __future__ import annotations
 
+import dataclasses
+
 from numpy.typing import ArrayLike
 
 from rigserver.core.errors import ModelInputError
-from rigserver.core.iso_roughness import IsoProfile, iso_profile
+from rigserver.core.iso_roughness import iso_profile
 from schemas.labels import ISO_ENDS, ISO_LAMBDA_C_SOURCE, ISO_REMARKS
 from schemas.results import IsoRoughnessResult
 
@@ -23,7 +25,7 @@ def iso_result(
     lambda_c: float | None,
     lambda_s: float | None,
     notes: list[str],
-) -> tuple[IsoRoughnessResult, IsoProfile] | None:
+) -> IsoRoughnessResult | None:
     """The ISO analysis of a trace (m) as a result, or None with the reason in ``notes``;
     the analysis' own remarks (a short trace, a resampled one) are added to ``notes``."""
     try:
@@ -31,29 +33,13 @@ def iso_result(
     except ModelInputError as exc:
         notes.append(f"ISO roughness not computed: {exc}")
         return None
-    q = found.parameters
     notes.extend(ISO_REMARKS[code] for code in found.remarks)
-    result = IsoRoughnessResult(
+    return IsoRoughnessResult(
         lambda_c=found.lambda_c,
         lambda_s=found.lambda_s,
         lambda_c_source=ISO_LAMBDA_C_SOURCE[found.lambda_c_basis],
         ends=ISO_ENDS[found.ends],
         sections=found.sections,
         evaluation_length=found.evaluation_length,
-        ra=q.ra,
-        rq=q.rq,
-        rsk=q.rsk,
-        rku=q.rku,
-        rp=q.rp,
-        rv=q.rv,
-        rz=q.rz,
-        rt=q.rt,
-        rsm=q.rsm,
-        rdq=q.rdq,
-        rk=q.rk,
-        rpk=q.rpk,
-        rvk=q.rvk,
-        mr1=q.mr1,
-        mr2=q.mr2,
+        **dataclasses.asdict(found.parameters),
     )
-    return result, found

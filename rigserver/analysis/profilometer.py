@@ -29,10 +29,9 @@ def analyse(run: Run, readings: Readings) -> ProfilometerResults:
         return result
     x = trace["x"] * _M_PER_MM
     y = trace["y"] * _M_PER_UM
-    iso = iso_result(
+    result.iso = iso_result(
         x, y, lambda_c=c.lambda_c or None, lambda_s=c.lambda_s or None, notes=result.notes
     )
-    result.iso = None if iso is None else iso[0]
     try:
         params = roughness.profile_parameters(x=x, y=y)
     except ModelInputError as exc:

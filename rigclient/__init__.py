@@ -1,10 +1,11 @@
 """rigclient: the lab PC's side of rig. A client library with a durable spool, and an agent.
 
 - :class:`Client`: ``open_run`` -> :class:`RunHandle`; ``post`` returns once the batch is
-  durable in the local spool; a sender thread delivers it (retries, backoff, Retry-After).
+  durable in the local spool; a sender thread delivers it (retries, backoff, Retry-After);
+  one client per spool (an OS lock).
 - :mod:`rigclient.spool`: the spool (SQLite in WAL mode).
 - :mod:`rigclient.http`: the server's API, one request at a time or retried.
-- :mod:`rigclient.cli`: ``rigclient tail | import | profile | status | send``.
+- :mod:`rigclient.cli`: ``rigclient tail | import | profile | status | send | retry | drop``.
 
 Needs httpx, numpy, pydantic (the wire schemas), rich, x3pio and sdfio; none of the
 server's packages.
@@ -17,6 +18,8 @@ from rigclient.errors import (
     ServerError,
     ServerRefused,
     ServerUnavailable,
+    SpoolBusy,
+    SpoolDamaged,
     SpoolError,
     SpoolFull,
     UnknownRun,
@@ -38,6 +41,8 @@ __all__ = [
     "ServerError",
     "ServerRefused",
     "ServerUnavailable",
+    "SpoolBusy",
+    "SpoolDamaged",
     "SpoolError",
     "SpoolFull",
     "SpoolLimits",

@@ -186,7 +186,11 @@ class Agent:
                 constants=constants(self.stand, self.mapping),
                 cursor=self.follower.cursor(self.key, 0, 0),
             )
-        self.on_run(run)
+        try:
+            self.on_run(run)  # may stop the agent (a key refused): the run stays spooled
+        except BaseException:
+            self.follower.close()
+            raise
         outcome = Outcome(run)
         idle_since = time.monotonic()
         try:

@@ -5,8 +5,13 @@
     rigclient tail FILE --stand smts2 --group friction --map smts2.toml --url URL --key KEY
     rigclient import FILE --stand mtos --group steps --map mtos.toml --url URL --key KEY
     rigclient profile trace.x3p --url URL --key KEY
-    rigclient status --spool DIR
+    rigclient status --spool DIR                # what waits, and what retry/drop would do
     rigclient send --url URL --key KEY          # deliver what the spool still holds
+    rigclient retry RUN                         # queue a refused or damaged run again
+    rigclient drop RUN [--damaged]              # drop what is pending of a run
+
+Exit status: 0 when everything the command was given is on the server; 1 otherwise (an
+error, a refusal, or rows that still wait in the spool: the message says which).
 """
 
 from __future__ import annotations
@@ -20,6 +25,7 @@ import threading
 import time
 from collections.abc import Iterator, Sequence
 from contextlib import contextmanager
+from datetime import datetime
 from pathlib import Path
 from types import FrameType
 from typing import Any
@@ -39,7 +45,7 @@ from rigclient.client import Client, RunHandle
 from rigclient.errors import RigclientError, ServerError
 from rigclient.mapping import StandMap, load_map
 from rigclient.profile import GROUP, read_profile, roughness_lines
-from rigclient.spool import RunRecord, Spool, SpoolLimits
+from rigclient.spool import RunRecord, Spool, SpoolLimits, SpoolLock, amount, held_by
 
 DEFAULT_SPOOL = Path.home() / ".rigclient" / "spool"
 
@@ -54,7 +60,12 @@ def _common(parser: argparse.ArgumentParser, *, server: bool = True) -> None:
     if not server:
         return
     parser.add_argument("--url", default=os.environ.get("RIG_URL", "http://127.0.0.1:8000"))
-    parser.add_argument("--key", default=os.environ.get("RIG_KEY"), help="or set RIG_KEY")
+    parser.add_argument(
+        "--key",
+        default=os.environ.get("RIG_KEY"),
+        help="API key, or set RIG_KEY; it applies to everything the spool holds (a new key "
+        "delivers what a refused one left), and is never kept in the spool",
+    )
     parser.add_argument(
         "--spool-max-mb", type=float, default=2048.0, help="bound of the undelivered batches"
     )
@@ -116,6 +127,17 @@ def _parser() -> argparse.ArgumentParser:
     _common(status, server=False)
     send = sub.add_parser("send", help="deliver what the spool holds, then stop")
     _common(send)
+    retry = sub.add_parser(
+        "retry", help="queue a run again that the server refused or the spool found damaged"
+    )
+    retry.add_argument("run", help="the run's id (the server's, or the local one)")
+    _common(retry, server=False)
+    drop = sub.add_parser("drop", help="drop what is pending of a run (its batches, its finish)")
+    drop.add_argument("run", help="the run's id (the server's, or the local one)")
+    drop.add_argument(
+        "--damaged", action="store_true", help="only its damaged batches; the rest goes on"
+    )
+    _common(drop, server=False)
     return parser
 
 
@@ -123,7 +145,7 @@ def _client(args: argparse.Namespace) -> Client:
     limits = SpoolLimits(
         max_bytes=int(args.spool_max_mb * 1e6), max_age=args.spool_max_age_hours * 3600.0
     )
-    return Client(args.url, args.key, spool=args.spool, limits=limits)
+    return Client(args.url, args.key, spool=args.spool, limits=limits, say=_say)
 
 
 @contextmanager
@@ -150,22 +172,47 @@ def _say(message: str) -> None:
     print(message, file=sys.stderr, flush=True)
 
 
-def _announce(run: RunHandle, wait: float) -> None:
-    """The run id on the first line of output: the server's, or the local one while the
-    server is out of reach."""
-    deadline = time.monotonic() + wait
+def _announce(client: Client, run: RunHandle, wait: float) -> None:
+    """The run id on the first line of output: the server's, or the local one as soon as a
+    try fails (the sender has said why, with the URL) or ``wait`` s pass. A refused opening
+    (422), damage, or a key the server refuses stop the agent here; the run stays in the
+    spool with its cursor, so the same command with the right key goes on with it."""
+    started, deadline = time.time(), time.monotonic() + wait
+
+    def failed_now(r: RunRecord) -> bool:  # a failure of this process, not an earlier one
+        return r.failed_at is not None and r.failed_at >= started
+
     record = run.status()
-    while record.server_id is None and record.refused is None and time.monotonic() < deadline:
+    while (
+        record.server_id is None
+        and not record.stopped
+        and not failed_now(record)
+        and time.monotonic() < deadline
+    ):
         time.sleep(0.05)
         record = run.status()
     if record.refused is not None:
         raise RigclientError(
             f"the server refused the run's {record.refused_what}: {record.refused.get('status')} "
-            f"{record.refused.get('detail')} (kept in the spool {run.local_id}; see `status`)"
+            f"{record.refused.get('detail')} (kept in the spool as {run.local_id}; see `status`)"
         )
-    print(run.server_id or run.local_id, flush=True)
-    if run.server_id is None:
-        _say(f"run {run.local_id}: the server has not answered yet; the readings are spooled")
+    if record.damaged is not None:
+        raise RigclientError(f"{record.damaged} (kept in the spool; see `status`)")
+    if record.server_id is None and failed_now(record) and record.last_status in (401, 403):
+        raise RigclientError(
+            f"the server refused the key: {record.last_error}. The run {run.local_id} and its "
+            "readings stay in the spool: start the same command again with the right --key "
+            "(or RIG_KEY), it goes on with this run"
+        )
+    print(record.server_id or run.local_id, flush=True)
+    if record.server_id is None:
+        why = (
+            "see above" if failed_now(record) else f"no answer within {wait:g} s from {client.url}"
+        )
+        _say(
+            f"run {run.local_id}: not opened on the server yet ({why}); the readings are "
+            "spooled and sent once it answers"
+        )
 
 
 def _file_args(args: argparse.Namespace) -> tuple[StandMap | None, str, str]:
@@ -178,19 +225,33 @@ def _file_args(args: argparse.Namespace) -> tuple[StandMap | None, str, str]:
 
 
 def _finish_up(client: Client, run: RunHandle, drain: float) -> int:
-    delivered = client.wait(drain)
+    """Wait up to ``drain`` s for the run's delivery; 0 if the server has it all, else 1
+    with what waits in the spool and why."""
+    deadline = time.monotonic() + drain
     record = run.status()
+    while not record.done and not record.stopped and time.monotonic() < deadline:
+        time.sleep(0.05)
+        record = run.status()
+    kept = amount(record.pending, record.rows_pending)
     if record.refused is not None:
         _say(
-            f"run {record.server_id or record.local_id}: the server refused {record.refused_what}: "
-            f"{record.refused.get('detail')} ({record.pending} batches kept in the spool)"
+            f"run {record.name}: the server refused its {record.refused_what}: "
+            f"{record.refused.get('status')} {record.refused.get('detail')}; {kept} kept in "
+            "the spool: `rigclient status` says what `rigclient retry` or `drop` would do"
         )
         return 1
-    if not delivered:
+    if record.damaged is not None:
+        _say(f"run {record.name}: {record.damaged}; {kept} kept in the spool (`rigclient status`)")
+        return 1
+    if not record.done:
+        what = kept + (" and the finish" if record.finish_queued else "")
+        why = f" (last try: {record.last_error})" if record.last_error else ""
         _say(
-            f"run {record.server_id or record.local_id}: {record.pending} batches wait in the "
-            "spool; `rigclient send` or the next start delivers them"
+            f"run {record.name}: not delivered yet: {what} wait in the spool{why}; "
+            "`rigclient send` (with the right --url and --key) or the next start of the agent "
+            "delivers them"
         )
+        return 1
     return 0
 
 
@@ -213,7 +274,7 @@ def _tail(args: argparse.Namespace, *, follow: bool) -> int:
             metadata=metadata,
             batching=batching,
             say=_say,
-            on_run=lambda run: _announce(run, args.id_wait),
+            on_run=lambda run: _announce(client, run, args.id_wait),
             kind="tail" if follow else "import",
         )
         outcome = agent.run(stop) if follow else _import(client, agent, args.drain, stop)
@@ -224,11 +285,12 @@ def _tail(args: argparse.Namespace, *, follow: bool) -> int:
             f"{args.file}: {outcome.rows} rows in {outcome.batches} batches spooled, "
             f"{outcome.rejected} lines refused"
         )
-        return _finish_up(client, outcome.run, args.drain)
+        return _finish_up(client, outcome.run, args.drain if follow else 0.0)
 
 
 def _import(client: Client, agent: Agent, drain: float, stop: threading.Event) -> Outcome | None:
-    """The whole file through ``agent``, then its delivery, with progress bars."""
+    """The whole file through ``agent``, then its delivery, with progress bars. A file
+    imported before whose run is not delivered yet is delivered, not imported again."""
     size = agent.path.stat().st_size if agent.path.exists() else 0
     with Progress(
         TextColumn("{task.description}"),
@@ -237,23 +299,37 @@ def _import(client: Client, agent: Agent, drain: float, stop: threading.Event) -
         TimeElapsedColumn(),
         console=Console(stderr=True),
     ) as bar:
-        task = bar.add_task(f"spooling {agent.path.name} (bytes)", total=size)
-        agent.say = lambda text: bar.console.print(
-            text, markup=False, highlight=False, soft_wrap=True
-        )
-        agent.progress = lambda done: bar.update(task, completed=done)
-        outcome = agent.run(stop, follow=False)
+
+        def say(text: str) -> None:
+            bar.console.print(text, markup=False, highlight=False, soft_wrap=True)
+
+        agent.say = client.say = say
+        earlier = client.undelivered(agent.key)
+        if earlier is not None:
+            say(
+                f"{agent.path}: imported before as run {earlier.local_id}, not delivered yet: "
+                f"delivering that run, not the file again (`rigclient drop {earlier.local_id}` "
+                "first to import it anew)"
+            )
+            agent.on_run(earlier)
+            outcome: Outcome | None = Outcome(earlier)
+        else:
+            task = bar.add_task(f"spooling {agent.path.name} (bytes)", total=size)
+            agent.progress = lambda done: bar.update(task, completed=done)
+            outcome = agent.run(stop, follow=False)
         if outcome is not None:
             _deliver(client, outcome.run, bar, drain)
+        client.say = _say
     return outcome
 
 
 def _deliver(client: Client, run: RunHandle, bar: Progress, drain: float) -> None:
-    """A second bar: batches acknowledged by the server, until all are or ``drain`` s."""
+    """A second bar: batches acknowledged by the server, until all are, the run stops (a
+    refusal, damage), or ``drain`` s."""
     record = run.status()
     task = bar.add_task("delivering (batches)", total=record.batches)
     deadline = time.monotonic() + drain
-    while not record.done and record.refused is None and time.monotonic() < deadline:
+    while not record.done and not record.stopped and time.monotonic() < deadline:
         bar.update(task, completed=record.acknowledged)
         time.sleep(0.1)
         record = run.status()
@@ -275,12 +351,12 @@ def _profile(args: argparse.Namespace) -> int:
             part = slice(start, start + args.rows)
             run.post(GROUP, {"x": trace.x[part], "y": trace.y[part]})
         run.finish()
-        delivered = client.wait(args.drain)
+        code = _finish_up(client, run, args.drain)
         print(run.server_id or run.local_id, flush=True)
         _say(f"{args.file}: {trace.x.size} points, x from {trace.x[0]:g} to {trace.x[-1]:g} mm")
-        if delivered and run.server_id is not None:
+        if code == 0 and run.server_id is not None:  # delivered and finished: results ready
             _say_roughness(client, run.server_id)
-        return _finish_up(client, run, 0.0)
+        return code
 
 
 def _say_roughness(client: Client, run_id: str) -> None:
@@ -298,35 +374,106 @@ def _status(args: argparse.Namespace) -> int:
     with Spool(args.spool, create=False) as spool:
         runs = spool.runs()
         rejects = {r.local_id: spool.rejects(r.local_id) for r in runs if r.rejects}
+        damaged = {r.local_id: spool.damaged_batches(r.local_id) for r in runs if r.damaged}
+    holder = held_by(args.spool)
     if args.json:
-        print(json.dumps([_record_json(r, rejects.get(r.local_id, [])) for r in runs], indent=2))
+        out = [
+            _record_json(r, rejects.get(r.local_id, []), damaged.get(r.local_id, []), holder)
+            for r in runs
+        ]
+        print(json.dumps(out, indent=2))
         return 0
     table = RichTable(title=f"spool {args.spool}")
     for column in ("run", "stand", "title", "state", "batches", "acknowledged", "pending"):
         table.add_column(column)
-    table.add_column("refused / rejected lines", overflow="fold")
+    table.add_column("refused / failing / rejected lines", overflow="fold")
     for r in runs:
-        why = ""
+        why = []
         if r.refused is not None:
-            why = f"{r.refused_what}: {r.refused.get('status')} {r.refused.get('detail')}"
+            why.append(f"{r.refused_what}: {r.refused.get('status')} {r.refused.get('detail')}")
+        if r.damaged is not None:
+            why.append(f"damaged: {r.damaged}")
+        if r.last_error is not None and not r.done:
+            why.append(f"{r.tries} tries failed, last: {r.last_error}")
         if r.rejects:
-            first = rejects[r.local_id][0]
-            why += f"{'; ' if why else ''}{r.rejects} lines, first: {first.message}"
+            why.append(f"{r.rejects} lines, first: {rejects[r.local_id][0].message}")
         table.add_row(
-            r.server_id or r.local_id,
+            r.name,
             r.stand,
             r.title,
             r.state,
             str(r.batches),
             str(r.acknowledged),
-            str(r.pending),
-            why,
+            f"{r.pending} ({r.rows_pending} rows)",
+            "; ".join(why),
         )
     Console(width=None if sys.stdout.isatty() else 200).print(table)
+    waiting = [r for r in runs if not r.done]
+    if holder:
+        print(f"in use by {holder}: it delivers what waits")
+    elif waiting:
+        print("no agent runs on this spool: `rigclient send` delivers what waits")
+    else:
+        print("nothing waits in this spool")
+    for r in runs:
+        for line in _actions(r, holder):
+            print(line)
     return 0
 
 
-def _record_json(r: RunRecord, rejects: list[Any]) -> dict[str, Any]:
+def _actions(r: RunRecord, holder: str | None) -> list[str]:
+    """What the operator sees about a run that is not delivered, and what ``rigclient
+    retry`` and ``drop`` would do to it."""
+    if r.done:
+        return []
+    finish = " and its finish" if r.finish_queued else ""
+    kept = amount(r.pending, r.rows_pending) + finish
+    head = f"run {r.name}" + (f" ({r.local_id})" if r.server_id else "")
+    then = "the agent on this spool sends them" if holder else "`rigclient send` sends them"
+    if r.refused is not None:
+        head += (
+            f": refused at its {r.refused_what}: {r.refused.get('status')} "
+            f"{r.refused.get('title', '')}: {r.refused.get('detail')}"
+        )
+        lines = [head, f"  rigclient retry {r.name}   would queue its {kept} again; {then}"]
+    elif r.damaged is not None:
+        lines = [
+            f"{head}: damaged: {r.damaged}",
+            f"  rigclient retry {r.name}   would check its damaged batches again and queue "
+            f"those intact ({kept} in all)",
+            f"  rigclient drop {r.name} --damaged   would drop only the damaged batches; the "
+            "rest goes on without their rows",
+        ]
+    elif r.last_error is not None:
+        since = (
+            datetime.fromtimestamp(r.failing_since).strftime("%Y-%m-%d %H:%M:%S")
+            if r.failing_since
+            else "?"
+        )
+        lines = [f"{head}: {kept} wait, failing since {since} ({r.tries} tries): {r.last_error}"]
+        if r.last_status in (401, 403):
+            lines.append(
+                "  the key is refused: start the agent (or `rigclient send`) with the right "
+                "--key or RIG_KEY; it applies to everything waiting"
+            )
+        lines.append(
+            f"  rigclient retry {r.name}   would forget its {r.tries} failed tries (it is "
+            "tried again anyway)"
+        )
+    else:
+        lines = [f"{head}: {kept} wait; {then}"]
+    if r.server_id:
+        batches = f"{r.acknowledged} batch{'' if r.acknowledged == 1 else 'es'}"
+        keeps = f"the server keeps the {batches} it has"
+    else:
+        keeps = "the server never had the run"
+    lines.append(f"  rigclient drop {r.name}    would drop its {kept}; {keeps}")
+    return lines
+
+
+def _record_json(
+    r: RunRecord, rejects: list[Any], damaged: list[tuple[int, int, str]], holder: str | None
+) -> dict[str, Any]:
     return {
         "local_id": r.local_id,
         "server_id": r.server_id,
@@ -336,8 +483,19 @@ def _record_json(r: RunRecord, rejects: list[Any]) -> dict[str, Any]:
         "batches": r.batches,
         "acknowledged": r.acknowledged,
         "pending": r.pending,
+        "rows_pending": r.rows_pending,
+        "finish_queued": r.finish_queued,
         "refused": r.refused,
         "refused_what": r.refused_what,
+        "damaged": r.damaged,
+        "damaged_batches": [{"seq": q, "rows": n, "why": w} for q, n, w in damaged],
+        "dropped": r.dropped,
+        "last_error": r.last_error,
+        "last_status": r.last_status,
+        "failing_since": r.failing_since,
+        "tries": r.tries,
+        "agent": holder,
+        "actions": [line.strip() for line in _actions(r, holder)[1:]],
         "rejects": [
             {"file": j.file, "line": j.line, "column": j.column, "message": j.message}
             for j in rejects
@@ -349,11 +507,71 @@ def _send(args: argparse.Namespace) -> int:
     with _client(args) as client:
         delivered = client.wait(args.drain)
         status = client.status()
+    left = [r for r in status.runs if not r.done]
+    if delivered:
+        _say("everything delivered")
+        return 0
     _say(
-        f"{'everything delivered' if delivered else 'not everything delivered'}: "
-        f"{status.pending} batches pending, {len(status.refused)} runs refused"
+        f"not everything delivered: {status.pending} batches "
+        f"({sum(r.rows_pending for r in left)} rows) of {len(left)} runs wait in the spool, "
+        f"{len(status.stopped)} of them stopped (refused or damaged): `rigclient status`"
     )
-    return 0 if delivered else 1
+    return 1
+
+
+def _retry(args: argparse.Namespace) -> int:
+    with Spool(args.spool, create=False) as spool:
+        local_id = spool.find(args.run)
+        (before,) = spool.runs(local_id)
+        if before.done:
+            _say(f"run {before.name} is {before.state}: nothing of it waits")
+            return 0
+        done = spool.retry(local_id)
+        (record,) = spool.runs(local_id)
+    finish = " and its finish" if record.finish_queued else ""
+    _say(
+        f"run {record.name}: {amount(done.batches, done.rows)}{finish} queued again; "
+        f"it was {done.was}"
+    )
+    if done.still_damaged:
+        seqs = ", ".join(str(q) for q in done.still_damaged)
+        _say(
+            f"run {record.name}: batch {seqs} still damaged: never sent, the run waits there; "
+            f"`rigclient drop {record.name} --damaged` drops them and the rest goes on"
+        )
+        return 1
+    holder = held_by(args.spool)
+    _say(
+        f"the agent on this spool ({holder}) sends them now"
+        if holder
+        else "`rigclient send` (or the next start of an agent on this spool) sends them"
+    )
+    return 0
+
+
+def _drop(args: argparse.Namespace) -> int:
+    with SpoolLock(args.spool), Spool(args.spool, create=False) as spool:
+        local_id = spool.find(args.run)
+        (before,) = spool.runs(local_id)
+        if before.dropped is not None:
+            _say(f"run {before.name} was dropped before: nothing of it waits")
+            return 0
+        gone = spool.drop(local_id, damaged_only=args.damaged)
+        (record,) = spool.runs(local_id)
+    rows = amount(gone.batches, gone.rows)
+    if args.damaged:
+        _say(f"run {record.name}: dropped its {rows} damaged; the rest goes on without them")
+        return 0
+    finish = " and its finish" if gone.finish else ""
+    if record.server_id is None:
+        where = "the server never had the run"
+    else:
+        batches = f"{record.acknowledged} batch{'' if record.acknowledged == 1 else 'es'}"
+        where = f"the server keeps the {batches} it has of it"
+        if not record.finished:
+            where += " (the run stays open there: finish or abort it on the server)"
+    _say(f"run {record.name}: dropped {rows}{finish}; {where}")
+    return 0
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -365,6 +583,10 @@ def main(argv: Sequence[str] | None = None) -> int:
             return _profile(args)
         if args.command == "status":
             return _status(args)
+        if args.command == "retry":
+            return _retry(args)
+        if args.command == "drop":
+            return _drop(args)
         return _send(args)
     except RigclientError as exc:
         _say(f"rigclient: {exc}")

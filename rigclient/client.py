@@ -12,6 +12,11 @@
 returns when the batch is committed to the spool (SQLite WAL, fsync'd): never after the
 network. A full disk, or a spool past its size or age bound, raises :class:`SpoolFull`
 before anything is acknowledged.
+
+A client holds its spool's lock for its life: a second client (another agent, in this
+process or another) on the same spool raises :class:`SpoolBusy` naming the holder. The key
+is the client's, never the spool's: a client started with a new key delivers everything
+pending with it.
 """
 
 from __future__ import annotations
@@ -31,7 +36,7 @@ from pydantic import ValidationError
 from rigclient.errors import InputError
 from rigclient.http import Api, RetryPolicy
 from rigclient.sender import Sender
-from rigclient.spool import Cursor, Reject, RunRecord, Spool, SpoolLimits
+from rigclient.spool import Cursor, Reject, RunRecord, Spool, SpoolLimits, SpoolLock
 from schemas.runs import RunCreate
 from schemas.stands import Stand, default_stands
 from schemas.wire import Scalar
@@ -67,7 +72,13 @@ class ClientStatus:
 
     @property
     def refused(self) -> list[RunRecord]:
-        return [r for r in self.runs if r.refused is not None]
+        """Runs stopped by the server's 422 (not dropped)."""
+        return [r for r in self.runs if r.refused is not None and r.dropped is None]
+
+    @property
+    def stopped(self) -> list[RunRecord]:
+        """Runs whose delivery stopped until the operator acts: refused, or damaged."""
+        return [r for r in self.runs if r.stopped]
 
 
 class RunHandle:
@@ -173,10 +184,18 @@ class Client:
         Size and age bounds of the spool.
     binary : bool
         Send batches as npz archives (default) or JSON columns.
-    transport, retry, seed
+    transport, retry, seed, timeout, deadline
         As :class:`rigclient.http.Api` (tests pass an :class:`httpx.MockTransport`).
     start : bool
-        Start the sender (False: only spool, e.g. ``rigclient status``).
+        Start the sender (False: only spool).
+    say : callable, optional
+        Told, in a line, what fails while delivering (with the URL), what the server
+        refused, what is damaged in the spool, and when the server answers again.
+
+    Raises
+    ------
+    SpoolBusy
+        Another client holds the spool (its pid and command are named).
     """
 
     def __init__(
@@ -191,14 +210,44 @@ class Client:
         retry: RetryPolicy | None = None,
         seed: int | None = None,
         start: bool = True,
+        say: Callable[[str], None] | None = None,
+        timeout: float = 30.0,
+        deadline: float = 60.0,
     ) -> None:
         self.directory = Path(spool)
-        self._spool = Spool(self.directory, limits)
+        self._owner = SpoolLock(self.directory)
+        self._owner.acquire()
+        try:
+            self._spool = Spool(self.directory, limits)
+        except BaseException:
+            self._owner.release()
+            raise
         self._lock = threading.Lock()
-        self._api = Api(url, key, transport=transport, retry=retry, seed=seed)
-        self._sender = Sender(self.directory, self._api, binary=binary)
+        self._api = Api(
+            url,
+            key,
+            transport=transport,
+            retry=retry,
+            seed=seed,
+            timeout=timeout,
+            deadline=deadline,
+        )
+        self._sender = Sender(self.directory, self._api, binary=binary, say=say)
         if start:
             self._sender.start()
+
+    @property
+    def url(self) -> str:
+        return self._api.url
+
+    @property
+    def say(self) -> Callable[[str], None]:
+        """Where the sender's messages go (settable: e.g. above a progress bar)."""
+        return self._sender.say
+
+    @say.setter
+    def say(self, value: Callable[[str], None]) -> None:
+        self._sender.say = value
 
     def __enter__(self) -> Client:
         return self
@@ -207,10 +256,12 @@ class Client:
         self.close()
 
     def close(self) -> None:
-        """Stop the sender (what it has not delivered stays in the spool)."""
+        """Stop the sender (what it has not delivered stays in the spool); release the
+        spool."""
         self._sender.stop(timeout=30.0)
         self._api.close()
         self._spool.close()
+        self._owner.release()
 
     def _locked(self, action: Callable[[Spool], T]) -> T:
         with self._lock:
@@ -270,6 +321,12 @@ class Client:
             return None
         return self.run(local_id), cursor
 
+    def undelivered(self, key: str) -> RunHandle | None:
+        """A run spooled before from the source ``key`` (e.g. a file imported) whose finish
+        is queued and not delivered yet, or None."""
+        local_id = self._locked(lambda s: s.undelivered(key))
+        return None if local_id is None else self.run(local_id)
+
     def status(self) -> ClientStatus:
         state = self._sender.state
         return ClientStatus(
@@ -285,14 +342,14 @@ class Client:
 
     def wait(self, timeout: float | None = None) -> bool:
         """Wait until the server has everything the spool holds; False at ``timeout`` (s) or
-        as soon as all that is left was refused."""
+        as soon as all that is left is stopped (refused by the server, or damaged)."""
         deadline = None if timeout is None else time.monotonic() + timeout
         while True:
             runs = self._locked(lambda s: s.runs())
             left = [r for r in runs if not r.done]
             if not left:
                 return True
-            if all(r.refused is not None for r in left):
+            if all(r.stopped for r in left):
                 return False
             if deadline is not None and time.monotonic() >= deadline:
                 return False

@@ -5,15 +5,20 @@
     Exception
      └── RigclientError              anything rigclient reports
           ├── ServerError            the server did not take what the lab PC sent
-          │    ├── ServerRefused     an answer that a retry would not change (4xx other than
-          │    │                     408/429, 500): the problem's title, detail and fields
+          │    ├── ServerRefused     the API's own problem document with a 4xx status other
+          │    │                     than 408/425/429: the request itself is wrong (its title,
+          │    │                     detail, fields, and the method and URL asked)
           │    └── ServerUnavailable the server stayed unreachable or overloaded past the
           │                          retry budget (the last cause is chained)
           ├── SpoolError             the local spool could not keep a batch (nothing of it
           │    │                     was acknowledged to the caller)
           │    ├── SpoolFull         the disk is full, or the spool reached its size or age
           │    │                     bound (names the setting and its value)
-          │    └── UnknownRun        no run with this local id in the spool
+          │    ├── SpoolBusy         another process holds the spool (names its pid, command
+          │    │                     and the spool)
+          │    ├── SpoolDamaged      what the spool holds no longer matches the checksum
+          │    │                     written with it (names the run, the batch, the file)
+          │    └── UnknownRun        no run with this local or server id in the spool
           └── InputError (also ValueError)
                                      a file, a map or a column the agent cannot read; names
                                      the file, the line and the column
@@ -36,13 +41,22 @@ class ServerError(RigclientError):
 
 
 class ServerRefused(ServerError):
-    """The server answered with a problem that retrying the same request will not change."""
+    """The API answered that the request itself is wrong (its problem document, 4xx).
 
-    def __init__(self, problem: Problem) -> None:
+    Whether that stops anything is the caller's choice: the spool's sender refuses a batch
+    only on a 422 and tries every other answer again (:mod:`rigclient.sender`).
+    """
+
+    def __init__(self, problem: Problem, *, method: str = "", url: str = "") -> None:
         fields = "; ".join(e.message for e in problem.errors[:3] if e.message)
         text = f"{problem.status} {problem.title}: {problem.detail}"
-        super().__init__(f"{text} ({fields})" if fields and fields not in text else text)
+        if fields and fields not in text:
+            text += f" ({fields})"
+        if url:
+            text += f" [{method} {url}]"
+        super().__init__(text)
         self.problem = problem
+        self.method, self.url = method, url
 
 
 class ServerUnavailable(ServerError):
@@ -57,8 +71,19 @@ class SpoolFull(SpoolError):
     """No room for a batch: the disk is full or a bound of the spool is reached."""
 
 
+class SpoolBusy(SpoolError):
+    """Another process holds the spool's lock: one agent per spool."""
+
+
+class SpoolDamaged(SpoolError):
+    """The spool's file was damaged: a batch or an opening no longer matches its checksum."""
+
+
 class UnknownRun(SpoolError, KeyError):
-    """A local run id the spool does not hold."""
+    """A run id (local or the server's) the spool does not hold."""
+
+    def __str__(self) -> str:  # KeyError would quote the message
+        return str(self.args[0]) if self.args else ""
 
 
 class InputError(RigclientError, ValueError):

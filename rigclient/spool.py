@@ -5,11 +5,15 @@ One SQLite database in WAL mode (``spool.sqlite`` in the spool directory) with
 that :meth:`Spool.append` returned for survives a kill -9 of the agent and a power cut.
 Tables:
 
-``runs``      one per opened run: the opening body, its Idempotency-Key, the server's id once
-              the opening is delivered, the next seq, batches acknowledged, whether the finish
-              is queued and delivered, and the server's problem if it refused something.
-``batches``   the batches not yet acknowledged, as npz bytes, by ``(run, seq)``; deleted in
-              the transaction that counts their acknowledgement.
+``runs``      one per opened run: the opening body (and its checksum), its Idempotency-Key,
+              the server's id once the opening is delivered, the next seq, batches
+              acknowledged, whether the finish is queued and delivered, the server's problem
+              if it refused something (a 422), the damage found in the spool, when the
+              operator dropped it, and the last failed try (what, since when, how often).
+``batches``   the batches not yet acknowledged, as npz bytes, by ``(run, seq)``, each with a
+              checksum of its run, seq, group, rows and bytes written with it and checked
+              before it is sent; deleted in the transaction that counts their
+              acknowledgement.
 ``sources``   the file an agent follows for a run: path, device, inode, byte position after
               the last row spooled and its line number, written in the batch's transaction.
 ``rejects``   lines of a file that could not be read (file, line, column, why), kept with the
@@ -18,15 +22,28 @@ Tables:
 Every writing method is one transaction. sqlite3 errors are translated: a full disk (or a
 file size limit) is :class:`SpoolFull`, other failures :class:`SpoolError`; in both cases
 nothing of the call was committed.
+
+A spool of an older rigclient (``PRAGMA user_version`` 0) is brought up to date when it is
+opened: the new columns are added (its batches have no checksum: their npz archive's own
+CRC-32s are checked instead), and a refusal other than a 422 that the older rigclient
+recorded is lifted, so the run is tried again.
+
+One process at a time delivers a spool: :class:`SpoolLock` is an OS lock on ``spool.lock``
+held by a :class:`rigclient.Client` for its life (the OS drops it when the process ends,
+however it ends); ``spool.owner`` says who holds it.
 """
 
 from __future__ import annotations
 
+import contextlib
 import errno
+import hashlib
 import io
 import json
+import os
 import secrets
 import sqlite3
+import sys
 import time
 import uuid
 from collections.abc import Iterator, Mapping
@@ -39,10 +56,15 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from rigclient.errors import SpoolError, SpoolFull, UnknownRun
+from rigclient.errors import SpoolBusy, SpoolDamaged, SpoolError, SpoolFull, UnknownRun
 from rigclient.http import npz_bytes
 
 FILENAME = "spool.sqlite"
+LOCKNAME = "spool.lock"
+OWNERNAME = "spool.owner"
+#: The spool's layout (``PRAGMA user_version``): 0 the first rigclient's, 1 with checksums,
+#: drops and the last failed try.
+SCHEMA_VERSION = 1
 #: SQLite's answers to a write that found no room (ENOSPC; EFBIG past a file size limit).
 _NO_ROOM = ("SQLITE_FULL", "SQLITE_IOERR_WRITE")
 
@@ -59,7 +81,16 @@ CREATE TABLE IF NOT EXISTS runs (
     finished INTEGER NOT NULL DEFAULT 0,
     refused TEXT,
     refused_what TEXT,
-    created REAL NOT NULL
+    created REAL NOT NULL,
+    source TEXT,
+    body_checksum TEXT,
+    damaged TEXT,
+    dropped REAL,
+    last_error TEXT,
+    last_status INTEGER,
+    failing_since REAL,
+    failed_at REAL,
+    tries INTEGER NOT NULL DEFAULT 0
 );
 CREATE TABLE IF NOT EXISTS batches (
     local_id TEXT NOT NULL,
@@ -68,6 +99,8 @@ CREATE TABLE IF NOT EXISTS batches (
     rows INTEGER NOT NULL,
     payload BLOB NOT NULL,
     created REAL NOT NULL,
+    checksum TEXT,
+    damaged TEXT,
     PRIMARY KEY (local_id, seq)
 );
 CREATE TABLE IF NOT EXISTS sources (
@@ -88,6 +121,21 @@ CREATE TABLE IF NOT EXISTS rejects (
     created REAL NOT NULL
 );
 """
+#: Columns added since version 0, for the migration of an older spool.
+_ADDED = {
+    "runs": (
+        ("source", "TEXT"),
+        ("body_checksum", "TEXT"),
+        ("damaged", "TEXT"),
+        ("dropped", "REAL"),
+        ("last_error", "TEXT"),
+        ("last_status", "INTEGER"),
+        ("failing_since", "REAL"),
+        ("failed_at", "REAL"),
+        ("tries", "INTEGER NOT NULL DEFAULT 0"),
+    ),
+    "batches": (("checksum", "TEXT"), ("damaged", "TEXT")),
+}
 
 
 @dataclass(frozen=True, slots=True)
@@ -148,15 +196,52 @@ class Reject:
     message: str
 
 
+def batch_checksum(local_id: str, seq: int, group: str, rows: int, payload: bytes) -> str:
+    """The checksum written with a batch: BLAKE2b of its run, seq, group, rows and bytes
+    (a flipped bit in any of them, or a batch moved to another seq, no longer matches)."""
+    digest = hashlib.blake2b(digest_size=16, person=b"rigclient-batch")
+    for part in (local_id.encode(), str(seq).encode(), group.encode(), str(rows).encode()):
+        digest.update(len(part).to_bytes(4, "big"))
+        digest.update(part)
+    digest.update(payload)
+    return "b2:" + digest.hexdigest()
+
+
+def text_checksum(text: str) -> str:
+    """The checksum written with a run's opening body."""
+    return "b2:" + hashlib.blake2b(text.encode(), digest_size=16).hexdigest()
+
+
 @dataclass(frozen=True, slots=True)
 class Pending:
-    """A batch to deliver: the run's local and server ids, seq, group, npz payload."""
+    """A batch to deliver: the run's local and server ids, seq, group, npz payload, rows
+    and the checksum written with it (None in a spool of an older rigclient)."""
 
     local_id: str
     server_id: str
     seq: int
     group: str
     payload: bytes
+    rows: int = 0
+    checksum: str | None = None
+
+    def damage(self) -> str | None:
+        """Why the batch cannot be sent as spooled, or None when it is intact: its bytes
+        against its checksum; a batch without one (an older spool) by reading its npz
+        archive back, which checks the archive's own CRC-32s."""
+        if self.checksum is not None:
+            found = batch_checksum(self.local_id, self.seq, self.group, self.rows, self.payload)
+            if found != self.checksum:
+                return (
+                    "its bytes no longer match the checksum written with it (the spool's file "
+                    "was damaged on the disk)"
+                )
+            return None
+        try:
+            columns_of(self.payload)
+        except Exception as exc:  # a damaged archive fails in many ways (zip, zlib, npy)
+            return f"its npz archive does not read back ({type(exc).__name__}: {exc})"
+        return None
 
 
 @dataclass(frozen=True, slots=True)
@@ -176,23 +261,75 @@ class RunRecord:
     refused_what: str | None
     rejects: int
     created: float
+    rows_pending: int = 0
+    damaged: str | None = None
+    dropped: float | None = None
+    last_error: str | None = None
+    last_status: int | None = None
+    failing_since: float | None = None
+    tries: int = 0
+    source: str | None = None
+    failed_at: float | None = None
 
     @property
     def state(self) -> str:
-        """``refused``, ``delivered`` (finished on the server), ``finishing``, ``open``."""
+        """``dropped`` (by the operator), ``refused`` (the server's 422), ``damaged`` (in the
+        spool), ``delivered`` (finished on the server), ``finishing``, ``open``."""
+        if self.dropped is not None:
+            return "dropped"
         if self.refused is not None:
             return "refused"
+        if self.damaged is not None:
+            return "damaged"
         if self.finished:
             return "delivered"
         return "finishing" if self.finish_queued else "open"
 
     @property
+    def stopped(self) -> bool:
+        """Its delivery stopped until the operator acts (``rigclient retry`` or ``drop``):
+        refused by the server, or damaged in the spool."""
+        return self.dropped is None and (self.refused is not None or self.damaged is not None)
+
+    @property
     def done(self) -> bool:
-        """Nothing left to deliver: finished on the server, or opened, acknowledged and not
-        asked to finish yet."""
+        """Nothing left to deliver: finished on the server, dropped, or opened, acknowledged
+        and not asked to finish yet."""
+        if self.dropped is not None:
+            return True
         if self.finish_queued:
             return self.finished
         return self.server_id is not None and self.pending == 0
+
+    @property
+    def name(self) -> str:
+        """The run as the operator knows it: the server's id, else the local one."""
+        return self.server_id or self.local_id
+
+
+@dataclass(frozen=True, slots=True)
+class Requeued:
+    """What ``rigclient retry`` did to a run: batches and rows queued again, what had
+    stopped it, and the batches still damaged."""
+
+    batches: int
+    rows: int
+    was: str
+    still_damaged: tuple[int, ...] = ()
+
+
+@dataclass(frozen=True, slots=True)
+class Dropped:
+    """What ``rigclient drop`` took out of the spool: batches, rows, and the queued finish."""
+
+    batches: int
+    rows: int
+    finish: bool
+
+
+def amount(batches: int, rows: int) -> str:
+    """Batches and their rows for a message: ``3 batches (9 rows)``, ``1 batch (1 row)``."""
+    return f"{batches} batch{'' if batches == 1 else 'es'} ({rows} row{'' if rows == 1 else 's'})"
 
 
 def columns_of(payload: bytes) -> dict[str, np.ndarray[Any, np.dtype[np.float64]]]:
@@ -207,8 +344,9 @@ def new_local_id() -> str:
 
 
 class Spool:
-    """The spool in ``directory`` (made if missing). One connection: calls from several
-    threads take a lock (:class:`rigclient.Client` holds one); the sender has its own."""
+    """The spool in ``directory`` (made if missing; brought up to date if an older rigclient
+    wrote it). One connection: calls from several threads take a lock
+    (:class:`rigclient.Client` holds one); the sender has its own."""
 
     def __init__(
         self, directory: str | Path, limits: SpoolLimits | None = None, *, create: bool = True
@@ -228,6 +366,7 @@ class Spool:
             self._db.executescript(_SCHEMA)
         except (OSError, sqlite3.Error) as exc:
             raise _translate(exc, f"open the spool {self.path}") from exc
+        self._migrate()
 
     def close(self) -> None:
         self._db.close()
@@ -237,6 +376,40 @@ class Spool:
 
     def __exit__(self, *exc: object) -> None:
         self.close()
+
+    def _migrate(self) -> None:
+        """Bring a spool of an older rigclient up to date (see the module's notes)."""
+        if self._db.execute("PRAGMA user_version").fetchone()[0] >= SCHEMA_VERSION:
+            return
+        with self._write(f"bring the spool {self.path} up to date") as db:
+            if db.execute("PRAGMA user_version").fetchone()[0] >= SCHEMA_VERSION:
+                return  # another process did it meanwhile
+            for table, columns in _ADDED.items():
+                have = {row[1] for row in db.execute(f"PRAGMA table_info({table})")}
+                for name, declared in columns:
+                    if name not in have:
+                        db.execute(f"ALTER TABLE {table} ADD COLUMN {name} {declared}")
+            for local_id, refused, what in db.execute(
+                "SELECT local_id, refused, refused_what FROM runs WHERE refused IS NOT NULL"
+            ).fetchall():
+                try:
+                    problem = json.loads(refused)
+                    status = int(problem.get("status"))
+                except (TypeError, ValueError, AttributeError):
+                    problem, status = {}, 0
+                if status == 422:
+                    continue
+                note = (
+                    f"an older rigclient stopped the run at its {what} on: {status} "
+                    f"{problem.get('title', '')}: {str(problem.get('detail', ''))[:200]}; tried "
+                    "again (only the API's 422 stops a run now)"
+                )
+                db.execute(
+                    "UPDATE runs SET refused = NULL, refused_what = NULL, last_error = ?, "
+                    "last_status = ? WHERE local_id = ?",
+                    (note, status or None, local_id),
+                )
+            db.execute(f"PRAGMA user_version = {SCHEMA_VERSION}")
 
     @contextmanager
     def _write(self, what: str) -> Iterator[sqlite3.Connection]:
@@ -269,11 +442,20 @@ class Spool:
         columns) and the source it follows, in one transaction; its local id."""
         local_id = new_local_id()
         now = time.time()
+        text = json.dumps(dict(body))
         with self._write("open a run in the spool") as db:
             db.execute(
-                "INSERT INTO runs (local_id, stand, body, idempotency_key, created) "
-                "VALUES (?, ?, ?, ?, ?)",
-                (local_id, stand, json.dumps(dict(body)), str(uuid.uuid4()), now),
+                "INSERT INTO runs (local_id, stand, body, idempotency_key, created, source, "
+                "body_checksum) VALUES (?, ?, ?, ?, ?, ?, ?)",
+                (
+                    local_id,
+                    stand,
+                    text,
+                    str(uuid.uuid4()),
+                    now,
+                    None if cursor is None else cursor.key,
+                    text_checksum(text),
+                ),
             )
             for group, columns in (constants or {}).items():
                 self._insert(db, local_id, group, columns, now)
@@ -335,19 +517,106 @@ class Spool:
             db.execute("UPDATE runs SET finished = 1 WHERE local_id = ?", (local_id,))
 
     def refused(self, local_id: str, what: str, problem: Mapping[str, Any]) -> None:
-        """The server refused ``what`` of the run: its delivery stops, the batch stays."""
+        """The server refused ``what`` of the run (its 422): its delivery stops, the batch
+        stays."""
         with self._write(f"record a refusal of run {local_id}") as db:
             db.execute(
-                "UPDATE runs SET refused = ?, refused_what = ? WHERE local_id = ?",
+                "UPDATE runs SET refused = ?, refused_what = ?, last_error = NULL, "
+                "last_status = NULL, failing_since = NULL, tries = 0 WHERE local_id = ?",
                 (json.dumps(dict(problem)), what, local_id),
             )
 
+    def damaged(self, local_id: str, seq: int | None, reason: str) -> None:
+        """A batch (``seq``; None: the opening) was found damaged in the spool: kept, never
+        sent; the run's delivery stops there."""
+        with self._write(f"record damage in run {local_id}") as db:
+            if seq is not None:
+                db.execute(
+                    "UPDATE batches SET damaged = ? WHERE local_id = ? AND seq = ?",
+                    (reason, local_id, seq),
+                )
+            db.execute("UPDATE runs SET damaged = ? WHERE local_id = ?", (reason, local_id))
+
+    def failed(self, local_id: str, reason: str, status: int | None) -> None:
+        """A try for the run failed and will be made again: what, since when, how often
+        (``rigclient status`` shows it)."""
+        now = time.time()
+        with self._write(f"record a failed try of run {local_id}") as db:
+            db.execute(
+                "UPDATE runs SET last_error = ?, last_status = ?, tries = tries + 1, "
+                "failing_since = COALESCE(failing_since, ?), failed_at = ? WHERE local_id = ?",
+                (reason, status, now, now, local_id),
+            )
+
+    def recovered(self, local_id: str) -> None:
+        """A try for the run succeeded after failures: forget them."""
+        with self._write(f"record a delivery of run {local_id}") as db:
+            db.execute(
+                "UPDATE runs SET last_error = NULL, last_status = NULL, failing_since = NULL, "
+                "failed_at = NULL, tries = 0 WHERE local_id = ? AND "
+                "(last_error IS NOT NULL OR tries > 0)",
+                (local_id,),
+            )
+
+    def retry(self, local_id: str) -> Requeued:
+        """Queue a run again that a refusal or damage stopped (``rigclient retry``): the
+        refusal is lifted, the damaged batches checked again (those intact now are queued,
+        the others stay damaged), the failed tries forgotten."""
+        (record,) = self.runs(local_id)
+        if record.dropped is not None:
+            raise SpoolError(f"run {record.name} was dropped: nothing of it is left to send")
+        with self._write(f"queue run {local_id} again") as db:
+            still: list[int] = []
+            for batch in self._batches(db, local_id, damaged=True):
+                if batch.damage() is None:
+                    db.execute(
+                        "UPDATE batches SET damaged = NULL WHERE local_id = ? AND seq = ?",
+                        (local_id, batch.seq),
+                    )
+                else:
+                    still.append(batch.seq)
+            body_ok = self._body_damage(db, local_id) is None
+            db.execute(
+                "UPDATE runs SET refused = NULL, refused_what = NULL, damaged = ?, "
+                "last_error = NULL, last_status = NULL, failing_since = NULL, tries = 0 "
+                "WHERE local_id = ?",
+                (None if not still and body_ok else record.damaged, local_id),
+            )
+        return Requeued(record.pending, record.rows_pending, _stopped_by(record), tuple(still))
+
+    def drop(self, local_id: str, *, damaged_only: bool = False) -> Dropped:
+        """Take what is pending of a run out of the spool (``rigclient drop``): its batches
+        and its queued finish; the run is kept as ``dropped``, and the file it followed is
+        forgotten (a new agent on it opens a new run). ``damaged_only``: only the damaged
+        batches, and the run goes on without them."""
+        (record,) = self.runs(local_id)
+        with self._write(f"drop what is pending of run {local_id}") as db:
+            where = "local_id = ?" + (" AND damaged IS NOT NULL" if damaged_only else "")
+            batches, rows = db.execute(
+                f"SELECT COUNT(*), COALESCE(SUM(rows), 0) FROM batches WHERE {where}",
+                (local_id,),
+            ).fetchone()
+            db.execute(f"DELETE FROM batches WHERE {where}", (local_id,))
+            if damaged_only:
+                if self._body_damage(db, local_id) is None:
+                    db.execute("UPDATE runs SET damaged = NULL WHERE local_id = ?", (local_id,))
+                return Dropped(int(batches), int(rows), False)
+            db.execute(
+                "UPDATE runs SET dropped = ?, last_error = NULL, failing_since = NULL "
+                "WHERE local_id = ?",
+                (time.time(), local_id),
+            )
+            db.execute("DELETE FROM sources WHERE local_id = ?", (local_id,))
+        return Dropped(int(batches), int(rows), record.finish_queued and not record.finished)
+
     def _require_open(self, db: sqlite3.Connection, local_id: str) -> None:
         row = db.execute(
-            "SELECT finish_queued FROM runs WHERE local_id = ?", (local_id,)
+            "SELECT finish_queued, dropped FROM runs WHERE local_id = ?", (local_id,)
         ).fetchone()
         if row is None:
             raise UnknownRun(f"no run {local_id} in the spool {self.path}")
+        if row[1] is not None:
+            raise SpoolError(f"run {local_id} was dropped (`rigclient drop`): it takes no more")
         if row[0]:
             raise SpoolError(f"run {local_id} is finished: it takes no more batches")
 
@@ -378,14 +647,23 @@ class Spool:
         now: float,
     ) -> int:
         payload = npz_bytes(columns)
-        rows = max((np.size(v) for v in columns.values()), default=0)
+        rows = int(max((np.size(v) for v in columns.values()), default=0))
         (seq,) = db.execute(
             "UPDATE runs SET next_seq = next_seq + 1 WHERE local_id = ? RETURNING next_seq - 1",
             (local_id,),
         ).fetchone()
         db.execute(
-            "INSERT INTO batches VALUES (?, ?, ?, ?, ?, ?)",
-            (local_id, seq, group, rows, payload, now),
+            "INSERT INTO batches (local_id, seq, grp, rows, payload, created, checksum) "
+            "VALUES (?, ?, ?, ?, ?, ?, ?)",
+            (
+                local_id,
+                seq,
+                group,
+                rows,
+                payload,
+                now,
+                batch_checksum(local_id, int(seq), group, rows, payload),
+            ),
         )
         return int(seq)
 
@@ -408,58 +686,136 @@ class Spool:
         row = self._db.execute("SELECT local_id FROM sources WHERE key = ?", (key,)).fetchone()
         return None if row is None else str(row[0])
 
+    def undelivered(self, key: str) -> str | None:
+        """A run spooled from the source ``key`` whose finish is queued and not delivered
+        (nor dropped): the local id of the newest, or None."""
+        row = self._db.execute(
+            "SELECT local_id FROM runs WHERE source = ? AND finish_queued = 1 AND finished = 0 "
+            "AND dropped IS NULL ORDER BY created DESC LIMIT 1",
+            (key,),
+        ).fetchone()
+        return None if row is None else str(row[0])
+
     def opening(self, local_id: str) -> tuple[dict[str, Any], str]:
-        """The body and Idempotency-Key of the run's opening."""
+        """The body and Idempotency-Key of the run's opening; :class:`SpoolDamaged` if the
+        body no longer matches its checksum."""
+        damage = self._body_damage(self._db, local_id)
+        if damage is not None:
+            raise SpoolDamaged(damage)
         row = self._db.execute(
             "SELECT body, idempotency_key FROM runs WHERE local_id = ?", (local_id,)
         ).fetchone()
+        return json.loads(row[0]), str(row[1])
+
+    def _body_damage(self, db: sqlite3.Connection, local_id: str) -> str | None:
+        row = db.execute(
+            "SELECT body, body_checksum FROM runs WHERE local_id = ?", (local_id,)
+        ).fetchone()
         if row is None:
             raise UnknownRun(f"no run {local_id} in the spool {self.path}")
-        return json.loads(row[0]), str(row[1])
+        body, checksum = row
+        if checksum is not None and (not isinstance(body, str) or text_checksum(body) != checksum):
+            return (
+                f"the opening of run {local_id} in {self.path} no longer matches the checksum "
+                "written with it (the spool's file was damaged on the disk)"
+            )
+        return None
 
     def next_batch(self, local_id: str, seq: int = 0) -> Pending | None:
         """The run's first batch not acknowledged from ``seq`` on."""
-        row = self._db.execute(
-            "SELECT b.local_id, r.server_id, b.seq, b.grp, b.payload FROM batches b "
-            "JOIN runs r USING (local_id) WHERE b.local_id = ? AND b.seq >= ? "
-            "ORDER BY b.seq LIMIT 1",
-            (local_id, seq),
-        ).fetchone()
+        try:
+            row = self._db.execute(
+                "SELECT b.local_id, r.server_id, b.seq, b.grp, b.payload, b.rows, b.checksum "
+                "FROM batches b JOIN runs r USING (local_id) WHERE b.local_id = ? AND "
+                "b.seq >= ? ORDER BY b.seq LIMIT 1",
+                (local_id, seq),
+            ).fetchone()
+        except sqlite3.DatabaseError as exc:
+            raise SpoolError(
+                f"could not read the next batch of run {local_id} from {self.path}: {exc} "
+                "(the spool's file may be damaged)"
+            ) from exc
         return None if row is None else Pending(*row)
 
+    def _batches(
+        self, db: sqlite3.Connection, local_id: str, *, damaged: bool = False
+    ) -> list[Pending]:
+        rows = db.execute(
+            "SELECT b.local_id, r.server_id, b.seq, b.grp, b.payload, b.rows, b.checksum "
+            "FROM batches b JOIN runs r USING (local_id) WHERE b.local_id = ?"
+            + (" AND b.damaged IS NOT NULL" if damaged else "")
+            + " ORDER BY b.seq",
+            (local_id,),
+        ).fetchall()
+        return [Pending(*row) for row in rows]
+
+    def damaged_batches(self, local_id: str) -> list[tuple[int, int, str]]:
+        """The run's damaged batches: seq, rows, why."""
+        rows = self._db.execute(
+            "SELECT seq, rows, damaged FROM batches WHERE local_id = ? AND damaged IS NOT NULL "
+            "ORDER BY seq",
+            (local_id,),
+        )
+        return [(int(a), int(b), str(c)) for a, b, c in rows]
+
+    def find(self, name: str) -> str:
+        """The local id of the run ``name`` (its local id or the server's)."""
+        row = self._db.execute(
+            "SELECT local_id FROM runs WHERE local_id = ? OR server_id = ? "
+            "ORDER BY created DESC LIMIT 1",
+            (name, name),
+        ).fetchone()
+        if row is None:
+            raise UnknownRun(f"no run {name} in the spool {self.path} (`rigclient status`)")
+        return str(row[0])
+
     def runs(self, local_id: str | None = None, *, active: bool = False) -> list[RunRecord]:
-        """Every run (or one; or those ``active``: neither refused nor finished), oldest
-        first."""
+        """Every run (or one; or those ``active``: neither refused, damaged, dropped nor
+        finished), oldest first."""
         query = (
             "SELECT r.local_id, r.stand, r.body, r.server_id, r.next_seq, r.acknowledged, "
             "(SELECT COUNT(*) FROM batches b WHERE b.local_id = r.local_id), "
             "r.finish_queued, r.finished, r.refused, r.refused_what, "
-            "(SELECT COUNT(*) FROM rejects j WHERE j.local_id = r.local_id), r.created "
-            "FROM runs r"
+            "(SELECT COUNT(*) FROM rejects j WHERE j.local_id = r.local_id), r.created, "
+            "(SELECT COALESCE(SUM(b.rows), 0) FROM batches b WHERE b.local_id = r.local_id), "
+            "r.damaged, r.dropped, r.last_error, r.last_status, r.failing_since, r.tries, "
+            "r.source, r.failed_at FROM runs r"
         )
         args: tuple[str, ...] = ()
         if local_id is not None:
             query += " WHERE r.local_id = ?"
             args = (local_id,)
         elif active:
-            query += " WHERE r.refused IS NULL AND r.finished = 0"
+            query += (
+                " WHERE r.refused IS NULL AND r.damaged IS NULL AND r.dropped IS NULL "
+                "AND r.finished = 0"
+            )
         out = []
         for row in self._db.execute(query + " ORDER BY r.created, r.local_id", args):
             out.append(
                 RunRecord(
                     local_id=row[0],
                     stand=row[1],
-                    title=str(json.loads(row[2]).get("title", "")),
+                    title=_title(row[2]),
                     server_id=row[3],
                     batches=row[4],
                     acknowledged=row[5],
                     pending=row[6],
                     finish_queued=bool(row[7]),
                     finished=bool(row[8]),
-                    refused=None if row[9] is None else json.loads(row[9]),
+                    refused=None if row[9] is None else _problem(row[9]),
                     refused_what=row[10],
                     rejects=row[11],
                     created=row[12],
+                    rows_pending=row[13],
+                    damaged=row[14],
+                    dropped=row[15],
+                    last_error=row[16],
+                    last_status=row[17],
+                    failing_since=row[18],
+                    tries=row[19],
+                    source=row[20],
+                    failed_at=row[21],
                 )
             )
         if local_id is not None and not out:
@@ -472,6 +828,138 @@ class Spool:
             (local_id,),
         )
         return [Reject(*row) for row in rows]
+
+
+def _title(body: str) -> str:
+    """The title of a run's opening body (a damaged body has none)."""
+    try:
+        return str(json.loads(body).get("title", ""))
+    except (TypeError, ValueError, AttributeError):
+        return "(the opening is damaged)"
+
+
+def _problem(text: str) -> dict[str, Any]:
+    try:
+        found = json.loads(text)
+    except ValueError:
+        found = None
+    return found if isinstance(found, dict) else {"status": None, "detail": str(text)[:200]}
+
+
+def _stopped_by(record: RunRecord) -> str:
+    """What stopped a run, for the operator."""
+    if record.refused is not None:
+        return (
+            f"refused at its {record.refused_what}: {record.refused.get('status')} "
+            f"{record.refused.get('title', '')}: {record.refused.get('detail')}"
+        )
+    if record.damaged is not None:
+        return f"damaged in the spool: {record.damaged}"
+    if record.last_error is not None:
+        return f"waiting after {record.tries} failed tries: {record.last_error}"
+    return "not stopped"
+
+
+class SpoolLock:
+    """The lock of the spool in ``directory``: one process delivers it at a time.
+
+    An OS lock (``flock`` on POSIX, ``msvcrt.locking`` on Windows) on ``spool.lock``, held
+    until :meth:`release` or the end of the process, however it ends (a kill -9 or a power
+    cut leave no stale lock). ``spool.owner`` says who holds it: pid, command, since when.
+    """
+
+    def __init__(self, directory: str | Path) -> None:
+        self.directory = Path(directory)
+        self.path = self.directory / LOCKNAME
+        self._fd: int | None = None
+
+    def acquire(self, wait: float = 2.0) -> None:
+        """Take the lock, waiting up to ``wait`` s; :class:`SpoolBusy` naming its holder."""
+        try:
+            self.directory.mkdir(parents=True, exist_ok=True)
+            fd = os.open(self.path, os.O_RDWR | os.O_CREAT, 0o644)
+        except OSError as exc:
+            raise _translate(exc, f"open the lock of the spool {self.directory}") from exc
+        deadline = time.monotonic() + wait
+        while not _try_lock(fd):
+            if time.monotonic() >= deadline:
+                os.close(fd)
+                raise SpoolBusy(
+                    f"the spool {self.directory} is in use by {owner(self.directory)}; one "
+                    "agent per spool: stop that one first, or give this one its own --spool"
+                )
+            time.sleep(0.05)
+        self._fd = fd
+        since = datetime.now().astimezone().isoformat(timespec="seconds")
+        prog = Path(sys.argv[0]).name if sys.argv and sys.argv[0] else "python"
+        if prog in ("cli.py", "__main__.py", "-c"):  # python -m rigclient.cli
+            prog = "rigclient"
+        command = " ".join([prog, *sys.argv[1:]])
+        info = {"pid": os.getpid(), "command": command, "since": since}
+        with contextlib.suppress(OSError):  # who holds it is a courtesy; the lock is the fd
+            (self.directory / OWNERNAME).write_text(json.dumps(info), encoding="utf-8")
+
+    def release(self) -> None:
+        if self._fd is not None:
+            with contextlib.suppress(OSError):
+                (self.directory / OWNERNAME).unlink()
+            os.close(self._fd)  # closing the descriptor drops the OS lock
+            self._fd = None
+
+    def __enter__(self) -> SpoolLock:
+        self.acquire()
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.release()
+
+
+def held_by(directory: str | Path) -> str | None:
+    """Who holds the spool's lock now (pid, command, since when), or None if nobody does."""
+    path = Path(directory) / LOCKNAME
+    try:
+        fd = os.open(path, os.O_RDWR)
+    except OSError:
+        return None
+    try:
+        if _try_lock(fd):
+            return None
+        return owner(directory)
+    finally:
+        os.close(fd)  # drops the lock if this look took it
+
+
+def owner(directory: str | Path) -> str:
+    """What ``spool.owner`` says about the process holding the lock."""
+    try:
+        info = json.loads((Path(directory) / OWNERNAME).read_text(encoding="utf-8"))
+        return f"pid {info['pid']} ({info['command']}, since {info['since']})"
+    except (OSError, ValueError, KeyError, TypeError):
+        return "another process (it has not said which yet)"
+
+
+if sys.platform == "win32":
+    import msvcrt
+
+    def _try_lock(fd: int) -> bool:
+        os.lseek(fd, 0, os.SEEK_SET)
+        try:
+            msvcrt.locking(fd, msvcrt.LK_NBLCK, 1)
+        except OSError:
+            return False
+        return True
+
+else:
+    import fcntl
+
+    def _try_lock(fd: int) -> bool:
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except OSError as exc:
+            if exc.errno in (errno.EAGAIN, errno.EACCES, errno.EWOULDBLOCK):
+                return False
+            raise
+        return True
 
 
 def _translate(exc: BaseException, what: str) -> SpoolError:

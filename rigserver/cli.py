@@ -16,8 +16,7 @@ import json
 import logging
 import sqlite3
 import sys
-import threading
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from pathlib import Path
 from types import FrameType
 
@@ -87,12 +86,12 @@ class _Server(uvicorn.Server):
     """uvicorn's server that also tells the app when it is asked to stop (SIGTERM,
     Ctrl-C), so that live streams end at once instead of holding the shutdown."""
 
-    def __init__(self, config: uvicorn.Config, stopping: threading.Event) -> None:
+    def __init__(self, config: uvicorn.Config, stop: Callable[[], None]) -> None:
         super().__init__(config)
-        self._stopping = stopping
+        self._stop = stop
 
     def handle_exit(self, sig: int, frame: FrameType | None) -> None:
-        self._stopping.set()
+        self._stop()
         super().handle_exit(sig, frame)
 
 
@@ -229,6 +228,16 @@ def main(argv: Sequence[str] | None = None) -> int:
         help="HSDS holding the cluster's run arrays, materialised from the journal "
         "(RIG_HSDS_ENDPOINT; RIG_HSDS_USERNAME, RIG_HSDS_PASSWORD, RIG_HSDS_BUCKET)",
     )
+    serve.add_argument(
+        "--license",
+        help="the licence stated in the .eln archives this server exports: an SPDX id "
+        "(CC-BY-4.0) or an address (RIG_LICENSE); none stated by default",
+    )
+    serve.add_argument(
+        "--import-max-bytes",
+        type=int,
+        help="largest .eln archive POST /runs/import takes (RIG_IMPORT_MAX_BYTES)",
+    )
     serve.add_argument("--log-level", default="info")
     check = sub.add_parser("check", help="list the damaged runs of a data directory")
     check.add_argument("--data-dir", type=Path, required=True, help="the data directory")
@@ -259,6 +268,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         "database_url": args.database_url,
         "results_workers": args.results_workers,
         "hsds_endpoint": args.hsds_endpoint,
+        "license": args.license,
+        "import_max_bytes": args.import_max_bytes,
     }
     settings = Settings(**{k: v for k, v in given.items() if v is not None})
     logging.basicConfig(
@@ -279,7 +290,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         timeout_graceful_shutdown=SHUTDOWN_GRACE,
     )
     try:
-        _Server(config, app.state.services.stopping).run()
+        _Server(config, app.state.services.stop).run()
     except KeyboardInterrupt:  # uvicorn stopped on Ctrl-C, then raised it again
         return 130
     return 0

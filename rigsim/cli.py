@@ -5,6 +5,7 @@
     rigsim run --stand mtos --url http://127.0.0.1:8000 --key KEY --seed 7 --speed 100x
     rigsim run --stand slide_bearing --noise off --truth --json
     rigsim demo --port 8000 --data-dir data
+    rigsim export --stand pin_on_disc --dialect tab-comma --out test.txt --truth-json truth.json
 """
 
 from __future__ import annotations
@@ -87,9 +88,10 @@ def settings_for(
     """The stand's default settings with the bearing model (MTOS, slide bearing), the
     SMTs-2 mode, the faults and the noise chosen on the command line.
 
-    Without noise every instrument is ideal (no noise, drift, offset or quantisation) and the
-    SMTs-2 friction does not fluctuate: the readings are the truth, so the analysis must
-    return it to round-off or to its own discretisation error."""
+    Without noise every instrument is ideal (no noise, drift, offset or quantisation) and
+    the friction of the SMTs-2 and the tribometers does not fluctuate: the readings are the
+    truth, so the analysis must return it to round-off or to its own discretisation
+    error."""
     if kind is StandKind.SMTS2:
         settings: Any = Smts2Settings.for_mode(mode or "wear")  # type: ignore[arg-type]
     else:
@@ -99,7 +101,7 @@ def settings_for(
     if not noise:
         ideal = {f.name: Instrument() for f in fields(settings.instruments)}
         settings = replace(settings, instruments=replace(settings.instruments, **ideal))
-        if isinstance(settings, Smts2Settings):
+        if hasattr(settings, "friction_fluctuation"):
             settings = replace(settings, friction_fluctuation=0.0)
     return replace(settings, faults=tuple(faults)) if faults else settings
 
@@ -138,6 +140,8 @@ def _run(args: argparse.Namespace, console: Console) -> int:
     if args.json:  # stdout carries the one JSON object; the progress goes to stderr
         console = Console(stderr=True)
     with LabClient(args.url, key, seed=args.seed) as client, progress_bar(console) as bar:
+        # what fails while the client tries again, above the bar (never a silent, frozen bar)
+        client.report = lambda text: bar.console.print(text, markup=False, soft_wrap=True)
         task = bar.add_task(f"{kind.value} (seed {args.seed})", total=len(sim.batches))
         outcome = client.run(
             sim,
@@ -157,6 +161,38 @@ def _run(args: argparse.Namespace, console: Console) -> int:
     )
     console.print(f"{args.url.rstrip('/')}/api/v1/runs/{outcome.run.id}/results")
     print_results(console, outcome.results, sim.truth if args.truth else None)
+    return 0
+
+
+def _export(args: argparse.Namespace, console: Console) -> int:
+    """A simulated tribometer's record written as a vendor's program writes it, and the
+    simulator's truth beside it (``--truth-json``)."""
+    from rigsim.export import export_text
+
+    kind = StandKind(args.stand)
+    settings = settings_for(kind, noise=args.noise == "on")
+    if args.laps is not None:
+        settings = replace(
+            settings,
+            laps=args.laps,
+            running_in_laps=max(1, min(settings.running_in_laps, args.laps // 4)),
+        )
+    sim = SIMULATORS[kind].simulate(settings, args.seed)
+    args.out.write_bytes(export_text(kind, sim, args.dialect))
+    if args.truth_json is not None:
+        document = {
+            "stand": kind.value,
+            "dialect": args.dialect,
+            "seed": args.seed,
+            "noise": args.noise,
+            "configuration": sim.run_create.configuration,
+            "truth": as_json(sim.truth),
+        }
+        args.truth_json.write_text(json.dumps(document, indent=1) + "\n", encoding="utf-8")
+    console.print(
+        f"{args.out}: {sim.rows('friction')} rows of a simulated {kind.value} test, "
+        f"dialect {args.dialect}"
+    )
     return 0
 
 
@@ -198,11 +234,29 @@ def main(argv: Sequence[str] | None = None) -> int:
     demo.add_argument("--data-dir", type=Path, default=Path("data"))
     demo.add_argument("--speed", type=parse_speed, default=60.0, help="default 60x")
     demo.add_argument("--seed", type=int, default=0)
+    export = sub.add_parser(
+        "export", help="write a simulated tribometer's test as a vendor's program exports it"
+    )
+    export.add_argument(
+        "--stand",
+        required=True,
+        choices=[k.value for k in (StandKind.PIN_ON_DISC, StandKind.RECIPROCATING)],
+    )
+    export.add_argument("--dialect", required=True, choices=["tab-comma", "csv-units", "utf16-tab"])
+    export.add_argument("--out", required=True, type=Path, help="the file to write")
+    export.add_argument("--seed", type=int, default=0)
+    export.add_argument("--noise", choices=("on", "off"), default="on")
+    export.add_argument("--laps", type=int, help="laps (cycles) of the test (default 1000)")
+    export.add_argument(
+        "--truth-json", type=Path, help="write the simulator's truth (SI) to this JSON file"
+    )
     args = parser.parse_args(argv)
     console = Console()
     try:
         if args.command == "run":
             return _run(args, console)
+        if args.command == "export":
+            return _export(args, console)
         from rigsim.demo import run_demo
 
         return run_demo(

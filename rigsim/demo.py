@@ -75,6 +75,7 @@ def start_server(host: str, port: int, data_dir: Path, keys_file: Path) -> subpr
     both), once it answers on ``/api/v1/stands``; stopped again if it does not."""
     cmd = [sys.executable, "-m", "rigserver.cli", "serve", "--host", host, "--port", str(port)]
     cmd += ["--data-dir", str(data_dir), "--keys-file", str(keys_file), "--public-reads"]
+    cmd += ["--log-level", "warning"]  # the console shows the demo's lines and the problems
     proc = subprocess.Popen(cmd, env={**os.environ, "PYTHONUNBUFFERED": "1"})
     try:
         deadline = time.monotonic() + STARTUP_TIMEOUT
@@ -139,6 +140,9 @@ def run_demo(
             try:
                 sim = simulate(kind, seed=stand_seed)
                 with LabClient(url, key, seed=stand_seed) as client:
+                    client.report = lambda text: console.print(
+                        f"  {label}: {text}", markup=False, soft_wrap=True
+                    )
                     outcomes[label] = client.run(sim, speed=speed)
             except (RigsimError, ServerError) as exc:
                 outcomes[label] = f"failed: {exc}"

@@ -17,7 +17,10 @@ def _defaults_as_example(schema: dict[str, Any], model: type[BaseModel]) -> None
 
 class _Input(BaseModel):
     model_config = ConfigDict(
-        extra="forbid", allow_inf_nan=False, json_schema_extra=_defaults_as_example
+        extra="forbid",
+        allow_inf_nan=False,
+        strict=True,  # a flag or a text is no number
+        json_schema_extra=_defaults_as_example,
     )
 
 

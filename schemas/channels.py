@@ -8,7 +8,7 @@ carry any subset, and the latest value of each channel counts.
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Collection, Mapping, Sequence
 from enum import StrEnum
 from functools import cached_property
 from math import inf, isfinite, nan
@@ -140,6 +140,12 @@ class ChannelGroup(BaseModel):
     axis: str | None = Field(
         default=None, description="the channel they are plotted against (NXdata @axes)"
     )
+    required: tuple[tuple[str, ...], ...] = Field(
+        default=(),
+        description="an aligned group whose channels need not all come: a batch carries "
+        "every channel of at least one of these sets, the others may be left out (stored as "
+        "NaN); empty: every channel in every batch",
+    )
 
     @model_validator(mode="after")
     def _plot_names_channels(self) -> ChannelGroup:
@@ -149,10 +155,28 @@ class ChannelGroup(BaseModel):
                 raise ValueError(f"group {self.name!r} plots {name!r}, not one of its channels")
         if self.axis in self.signals:
             raise ValueError(f"group {self.name!r} plots {self.axis!r} against itself")
+        for needed in self.required:
+            if not needed or not set(needed) <= names:
+                raise ValueError(f"group {self.name!r} requires {needed!r}: not its channels")
         return self
 
     def channel(self, name: str) -> Channel | None:
         return next((c for c in self.channels if c.name == name), None)
+
+    def missing(self, names: Collection[str]) -> str | None:
+        """Why an aligned batch carrying the channels ``names`` lacks what it needs, or
+        None when it has it (every channel, or one of the :attr:`required` sets)."""
+        if not self.aligned:
+            return None
+        if not self.required:
+            absent = [c.name for c in self.channels if c.name not in names]
+            if not absent:
+                return None
+            return f"channel {absent[0]!r} is missing; group {self.name!r} needs all its channels"
+        if any(set(needed) <= set(names) for needed in self.required):
+            return None
+        options = " or ".join(_and(needed) for needed in self.required)
+        return f"group {self.name!r} needs {options} in every batch"
 
     @cached_property
     def quick_check(self) -> _QuickCheck:
@@ -231,7 +255,7 @@ def _violations(
                     message=f"{group.name!r} has no channel {name!r}",
                 )
             )
-    if group.aligned:
+    if group.aligned and not group.required:
         missing = [c.name for c in group.channels if c.name not in columns]
         problems.extend(
             Violation(
@@ -240,6 +264,8 @@ def _violations(
             )
             for m in missing
         )
+    elif columns and (lacks := group.missing(columns.keys())) is not None:
+        problems.append(Violation(field="columns", message=lacks))
     if not columns:
         problems.append(Violation(field="columns", message="the batch carries no channel"))
     lengths = {name: len(col) for name, col in columns.items() if name in known}
@@ -283,6 +309,7 @@ class _QuickCheck:
 
     def __init__(self, group: ChannelGroup) -> None:
         self.aligned = group.aligned
+        self.group = group
         self.names = frozenset(c.name for c in group.channels)
         #: name -> (low, high, ((nominal, tolerance), ...), integer, order)
         self.rules = {
@@ -302,7 +329,7 @@ class _QuickCheck:
         last: Mapping[str, float],
     ) -> bool:
         names = columns.keys()
-        if not names or (names != self.names if self.aligned else not names <= self.names):
+        if not names or not names <= self.names or self.group.missing(names) is not None:
             return False
         lengths = {len(v) for v in columns.values()}
         if 0 in lengths or (self.aligned and len(lengths) > 1):
@@ -400,3 +427,8 @@ def _in_order(order: Order, values: NDArray[np.float64], previous: float | None)
             previous is not None and values[0] <= previous
         )
     return bool((later >= earlier).all()) and not (previous is not None and values[0] < previous)
+
+
+def _and(names: Sequence[str]) -> str:
+    """``a``, ``a and b``, ``a, b and c``."""
+    return names[0] if len(names) == 1 else f"{', '.join(names[:-1])} and {names[-1]}"

@@ -25,7 +25,9 @@ from schemas.problems import Problem
 from schemas.readings import BatchReceipt, ReadingBatch
 from schemas.results import (
     MtosResults,
+    PinOnDiscResults,
     ProfilometerResults,
+    ReciprocatingResults,
     SlideBearingResults,
     Smts2Results,
 )
@@ -46,6 +48,8 @@ MODELS: dict[str, type[BaseModel]] = {
     "results_slide_bearing": SlideBearingResults,
     "results_mtos": MtosResults,
     "results_profilometer": ProfilometerResults,
+    "results_pin_on_disc": PinOnDiscResults,
+    "results_reciprocating": ReciprocatingResults,
     "model_wear_theory_input": WearTheoryInput,
     "model_bearing_friction_input": BearingFrictionInput,
     "model_bearing_friction_result": BearingFrictionResult,

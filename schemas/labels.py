@@ -440,6 +440,90 @@ PROFILOMETER: dict[str, Label] = {
 }
 
 
+def _wear_labels(path: str, what: str) -> dict[str, Label]:
+    """A wear estimate's volume and specific wear rate, with their uncertainties."""
+    k: UnitSymbol = "mm^3/(N*m)"
+    return {
+        f"{path}.volume": Label(what, "V", "", "mm^3"),
+        f"{path}.volume_uncertainty": Label(
+            N_("standard uncertainty of the volume"), "u(V)", "GUM", "mm^3"
+        ),
+        f"{path}.specific_wear_rate": Label(N_("specific wear rate, V/(F·L)"), "k", "", k),
+        f"{path}.specific_wear_rate_uncertainty": Label(
+            N_("standard uncertainty of the specific wear rate"), "u(k)", "GUM", k
+        ),
+        f"{path}.specific_wear_rate_expanded": Label(
+            N_("expanded uncertainty of the specific wear rate (k = 2)"), "U(k)", "GUM", k
+        ),
+    }
+
+
+TRIBOMETER: dict[str, Label] = {
+    "rows": Label(N_("rows analysed"), "n", digits=9),
+    "duration": Label(N_("duration of the record"), "t", unit="s"),
+    "sliding_distance": Label(N_("sliding distance"), "L", unit="m"),
+    "laps": Label(N_("laps (cycles) run"), "n_L", digits=6),
+    "mean_load": Label(N_("mean normal load"), "F", unit="N"),
+    "friction_mean": Label(N_("friction coefficient, whole record"), "μ̄"),
+    "friction_static": Label(N_("static (peak) friction coefficient at the start"), "μ_s"),
+    "running_in_distance": Label(N_("running-in distance (change points, PELT)"), "L_r", unit="m"),
+    "running_in_laps": Label(N_("laps (cycles) of the running-in"), "n_r", digits=6),
+    "change_points": Label(N_("changes in the mean found"), "", digits=3),
+    "friction_steady": Label(N_("friction coefficient, steady part"), "μ"),
+    "friction_steady_std": Label(N_("standard deviation of the friction coefficient"), "σ_μ"),
+    "friction_steady_uncertainty": Label(
+        N_("standard uncertainty of the friction coefficient"), "u(μ)", "GUM"
+    ),
+    "friction_steady_expanded": Label(
+        N_("expanded uncertainty of the friction coefficient (k = 2)"), "U(μ)", "GUM"
+    ),
+    "temperature_mean": Label(N_("mean temperature"), "T", unit="degC", digits=3),
+    "wear_depth_change": Label(N_("wear depth by the displacement sensor"), "h", unit="um"),
+    "hertz.modulus": Label(N_("contact modulus"), "E*", "Hertz", "GPa", part=_THEORY),
+    "hertz.contact_radius": Label(
+        N_("radius of the contact circle"), "a", "Hertz", "um", part=_THEORY
+    ),
+    "hertz.max_pressure": Label(
+        N_("initial maximum contact pressure"), "p_0", "Hertz", "MPa", part=_THEORY
+    ),
+    "hertz.mean_pressure": Label(
+        N_("initial mean contact pressure"), "p_m", "Hertz", "MPa", part=_THEORY
+    ),
+    "nominal_pressure": Label(
+        N_("nominal pressure of the flat pin"), "p", unit="MPa", part=_THEORY
+    ),
+    "disc_track.traces": Label(N_("profiles across the track"), "n", digits=3),
+    "disc_track.track_area": Label(N_("cross-section area of the wear track"), "A", "", "mm^2"),
+    "disc_track.track_area_std": Label(
+        N_("standard deviation of the track's area"), "s(A)", "", "mm^2"
+    ),
+    **_wear_labels("disc_track", N_("worn volume of the disc, from the track")),
+    "disc_mass.mass_loss": Label(N_("mass loss of the disc"), "Δm", unit="mg"),
+    "disc_mass.density": Label(N_("density of the disc"), "ρ", unit="kg/m^3"),
+    **_wear_labels("disc_mass", N_("worn volume of the disc, from its mass loss")),
+    "pin_scar.scar_diameter": Label(N_("wear scar diameter of the ball"), "d", unit="um"),
+    "pin_scar.height_loss": Label(N_("height loss of the pin"), "Δh", unit="um"),
+    **_wear_labels("pin_scar", N_("worn volume of the ball or pin, from its scar")),
+    "pin_mass.mass_loss": Label(N_("mass loss of the ball or pin"), "Δm", unit="mg"),
+    "pin_mass.density": Label(N_("density of the ball or pin"), "ρ", unit="kg/m^3"),
+    **_wear_labels("pin_mass", N_("worn volume of the ball or pin, from its mass loss")),
+}
+
+PIN_ON_DISC: dict[str, Label] = {
+    **TRIBOMETER,
+    "lap_amplitude": Label(N_("once-per-lap amplitude of the friction coefficient"), "Δμ_1"),
+}
+
+RECIPROCATING: dict[str, Label] = {
+    **TRIBOMETER,
+    "friction_forward": Label(N_("friction coefficient, forward strokes"), "μ_f"),
+    "friction_backward": Label(N_("friction coefficient, backward strokes"), "μ_b"),
+    "strokes[].cycle": Label(N_("cycle"), "n", digits=6),
+    "strokes[].forward": Label(N_("forward strokes"), "μ_f"),
+    "strokes[].backward": Label(N_("backward strokes"), "μ_b"),
+}
+
+
 def row_labels(labels: Mapping[str, Label], prefix: str) -> dict[str, Label]:
     """The labels of the rows of a per-row table by field name: ``row_labels(MTOS,
     "steps[].")["chi"]``."""
@@ -451,6 +535,8 @@ RESULTS: dict[StandKind, Mapping[str, Label]] = {
     StandKind.SLIDE_BEARING: SLIDE_BEARING,
     StandKind.MTOS: MTOS,
     StandKind.PROFILOMETER: PROFILOMETER,
+    StandKind.PIN_ON_DISC: PIN_ON_DISC,
+    StandKind.RECIPROCATING: RECIPROCATING,
 }
 """Every stand's results as people read them, in the order of the report."""
 
@@ -498,11 +584,19 @@ TABLES: dict[StandKind, tuple[RowTable, ...]] = {
             ("fit_manual.nu_partial", "fit_manual.b_partial"),
         ),
     ),
+    StandKind.PIN_ON_DISC: (),
+    StandKind.RECIPROCATING: (
+        RowTable(
+            "strokes",
+            N_("Forward and backward strokes, by blocks of cycles"),
+            _columns(RECIPROCATING, "strokes[]."),
+        ),
+    ),
 }
 """The per-row tables of each stand's results."""
 
 #: Results that are plot series or the analysis' own words, not quantities.
-NOT_QUANTITIES = frozenset({"stand", "friction", "pending", "notes"})
+NOT_QUANTITIES = frozenset({"stand", "friction", "pending", "notes", "friction_map", "loops"})
 
 _SUB = str.maketrans("0123456789aehijklmnoprstuvx+-", "₀₁₂₃₄₅₆₇₈₉ₐₑₕᵢⱼₖₗₘₙₒₚᵣₛₜᵤᵥₓ₊₋")
 _SUP = str.maketrans("0123456789+-n", "⁰¹²³⁴⁵⁶⁷⁸⁹⁺⁻ⁿ")
@@ -544,6 +638,9 @@ PARTICULARS: dict[str, Label] = {
     "bush": Label(N_("bush")),
     "bearing": Label(N_("bearing")),
     "surface": Label(N_("surface")),
+    "ball": Label(N_("ball")),
+    "laps": Label(N_("laps")),
+    "plan": Label(N_("test plan")),
 }
 """The usual keys of a run's test plan and specimen (free fields: a key not named here is
 shown as it is, as user data), each value in the unit of its key."""
@@ -560,6 +657,9 @@ WORDS: tuple[str, ...] = (
     N_("no"),
     N_("wear"),
     N_("ABRIS-PM7"),
+    N_("ball"),
+    N_("flat_pin"),
+    N_("none"),
     *ISO_LAMBDA_C_SOURCE.values(),
     *ISO_ENDS.values(),
 )

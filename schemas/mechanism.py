@@ -7,12 +7,13 @@ from typing import Literal
 from pydantic import BaseModel, ConfigDict, Field
 
 from schemas.quantity import quantity
+from schemas.wire import Number
 
 
 class ArmParameters(BaseModel):
     """Overrides of the arm's parameters; a field left out keeps the model library's default."""
 
-    model_config = ConfigDict(extra="forbid", allow_inf_nan=False)
+    model_config = ConfigDict(extra="forbid", allow_inf_nan=False, strict=True)
 
     m1: float | None = quantity(None, "kg", "shoulder mass", gt=0)
     m2: float | None = quantity(None, "kg", "forearm mass", gt=0)
@@ -34,10 +35,15 @@ class ArmParameters(BaseModel):
 class Move(BaseModel):
     """A synchronous point-to-point move of the three joints, at rest before and after."""
 
-    model_config = ConfigDict(extra="forbid", allow_inf_nan=False)
+    model_config = ConfigDict(extra="forbid", allow_inf_nan=False, strict=True)
 
-    q_start: tuple[float, float, float] = quantity((0.3, 0.6, 0.0), "rad", "joint angles at start")
-    q_end: tuple[float, float, float] = quantity((0.8, 1.0, 0.5), "rad", "joint angles at end")
+    # a JSON array (not strict), of numbers (strict)
+    q_start: tuple[Number, Number, Number] = quantity(
+        (0.3, 0.6, 0.0), "rad", "joint angles at start", strict=False
+    )
+    q_end: tuple[Number, Number, Number] = quantity(
+        (0.8, 1.0, 0.5), "rad", "joint angles at end", strict=False
+    )
     duration: float = quantity(1.5, "s", "time of the move", gt=0, le=10)
     profile: Literal["trapezoidal", "quintic"] = "trapezoidal"
 
@@ -46,6 +52,7 @@ class DynamicErrorsRequest(BaseModel):
     model_config = ConfigDict(
         extra="forbid",
         allow_inf_nan=False,
+        strict=True,  # a flag or a text is no number
         json_schema_extra={"examples": [{"move": {"duration": 1.5}, "samples": 200}]},
     )
 

@@ -72,6 +72,14 @@ class RunCreate(BaseModel):
     notes: Annotated[Text, StringConstraints(max_length=5000)] = ""
 
 
+class ImportedFrom(BaseModel):
+    """Where an imported run comes from: its id on the server that exported it."""
+
+    run_id: RunId = Field(description="the run's id on the server it was exported from")
+    server: Text = Field(description="the address of that server, as its archive names it")
+    exported: Text = Field(default="", description="when the archive was made (ISO 8601)")
+
+
 class Run(BaseModel):
     """A run as stored: metadata, the configuration snapshot, state and progress."""
 
@@ -90,6 +98,11 @@ class Run(BaseModel):
     rows: dict[str, int] = Field(default_factory=dict, description="rows stored per channel group")
     key_results: dict[str, float] = Field(
         default_factory=dict, description="a few headline results for the runs list"
+    )
+    imported_from: ImportedFrom | None = Field(
+        default=None,
+        description="for a run imported from an .eln archive (POST /runs/import): the "
+        "original run and server; null for a run recorded here",
     )
     damage: str | None = Field(
         default=None,

@@ -1,4 +1,6 @@
-"""The four stand kinds: configuration (with the manual's values as defaults) and channels.
+"""The stand kinds: the lab's four stands, configured with the manual's values as defaults,
+and two commercial tribometers (pin- or ball-on-disc, reciprocating); configuration and
+channels.
 
 Every number of a configuration carries its unit. Defaults are the lab manual's where it
 gives one; where it does not (the MTOS spring calibration and lever arms, the displacement
@@ -18,7 +20,7 @@ from schemas.channels import Channel, ChannelGroup, Limit, Order, configured_gro
 from schemas.messages import N_
 from schemas.quantity import quantity
 from schemas.units import UnitSymbol
-from schemas.wire import Text
+from schemas.wire import Number, Text
 
 
 class StandKind(StrEnum):
@@ -26,10 +28,13 @@ class StandKind(StrEnum):
     SLIDE_BEARING = "slide_bearing"
     MTOS = "mtos"
     PROFILOMETER = "profilometer"
+    PIN_ON_DISC = "pin_on_disc"
+    RECIPROCATING = "reciprocating"
 
 
 class _Config(BaseModel):
-    model_config = ConfigDict(frozen=True, extra="forbid", allow_inf_nan=False)
+    # strict: a flag or a text is no number (``true`` for a spring rate is refused, not 1.0)
+    model_config = ConfigDict(frozen=True, extra="forbid", allow_inf_nan=False, strict=True)
 
 
 # --- SMTs-2 friction and wear machine, lab work 2 -------------------------------------
@@ -118,8 +123,11 @@ class SlideBearingConfig(_Config):
     omega0: float = quantity(329.0, "rad/s", "ω0, journal angular speed (3.18)", gt=0)
     viscosity: ViscosityLaw = ViscosityLaw()
     gauge_unit: Literal["at", "atm"] = "at"
-    manometer_z: tuple[float, float, float, float, float] = quantity(
-        (-0.394, -0.197, 0.0, 0.197, 0.394), "1", "z = Z/R of manometers 1..5 (table 3.2)"
+    manometer_z: tuple[Number, Number, Number, Number, Number] = quantity(
+        (-0.394, -0.197, 0.0, 0.197, 0.394),
+        "1",
+        "z = Z/R of manometers 1..5 (table 3.2)",
+        strict=False,  # a JSON array; its items are strict
     )
     loader_rate: float = quantity(16.2, "N/mm", "load per mm of the loader scale", gt=0)
     displacement_per_division: float = quantity(
@@ -202,7 +210,87 @@ class ProfilometerConfig(_Config):
     )
 
 
-StandConfig = Smts2Config | SlideBearingConfig | MtosConfig | ProfilometerConfig
+# --- commercial tribometers: pin- or ball-on-disc (ASTM G99, ISO 20808), reciprocating
+# (ASTM G133) ------------------------------------------------------------------------------
+
+
+class SpecimenMaterial(_Config):
+    """A specimen's material; defaults: bearing steel 100Cr6 (AISI 52100), hardened."""
+
+    name: Text = "100Cr6"
+    youngs_modulus: float = quantity(2.10e11, "Pa", "E, Young's modulus", gt=0)
+    poisson: float = quantity(0.30, "1", "ν, Poisson's ratio", ge=0, lt=0.5)
+    hardness: float = quantity(7.5e9, "Pa", "H, Vickers hardness", gt=0)
+    density: float = quantity(7810.0, "kg/m^3", "ρ, density", gt=0)
+
+
+def _alumina() -> SpecimenMaterial:
+    """An alumina (Al2O3) ball, the usual counter-body of ISO 20808."""
+    return SpecimenMaterial(
+        name="Al2O3", youngs_modulus=3.7e11, poisson=0.22, hardness=1.5e10, density=3950.0
+    )
+
+
+class PlannedTest(_Config):
+    """The test as planned: load, speed, distance and the environment."""
+
+    load: float = quantity(5.0, "N", "F, normal load", gt=0)
+    speed: float = quantity(0.1, "m/s", "v, sliding speed (mean, reciprocating)", gt=0)
+    distance: float = quantity(100.0, "m", "L, sliding distance planned", gt=0)
+    lubricant: Text = Field(default="none", description=N_("lubricant"))
+    temperature: float = quantity(23.0, "degC", "ambient temperature", gt=-273.15)
+    humidity: float = quantity(50.0, "%", "relative humidity", ge=0, le=100)
+
+
+class TribometerAccuracy(_Config):
+    """Limits of error of a tribometer's measurements (GUM type B, rectangular)."""
+
+    load: float = quantity(0.01, "1", "normal load, relative limit of error", ge=0)
+    friction_force: float = quantity(0.01, "1", "friction force, relative limit of error", ge=0)
+    length: float = quantity(1e-5, "m", "track radius or stroke length, limit of error", ge=0)
+    scar: float = quantity(5e-6, "m", "wear scar diameter under the microscope, limit", ge=0)
+    height: float = quantity(1e-6, "m", "pin's height loss, limit of error", ge=0)
+    balance_resolution: float = quantity(1e-8, "kg", "balance's resolution (0.01 mg)", ge=0)
+    density: float = quantity(20.0, "kg/m^3", "ρ of the specimens, limit of error", ge=0)
+    profile_height: float = quantity(
+        0.02, "1", "profilometer's heights across the track, relative limit", ge=0
+    )
+
+
+class TribometerConfig(_Config):
+    """What both tribometers share: the counter-body (pin or ball) and its geometry, the
+    materials, the test plan, the accuracy."""
+
+    tip: Literal["ball", "flat_pin"] = Field(
+        default="ball",
+        description=N_("the counter-body: a ball (ISO 20808), or a pin with a flat end (ASTM G99)"),
+    )
+    tip_diameter: float = quantity(
+        6e-3, "m", "diameter of the ball, or of the pin's flat end", gt=0
+    )
+    pin: SpecimenMaterial = Field(default_factory=_alumina)
+    disc: SpecimenMaterial = SpecimenMaterial()
+    plan: PlannedTest = PlannedTest()
+    accuracy: TribometerAccuracy = TribometerAccuracy()
+
+
+class PinOnDiscConfig(TribometerConfig):
+    track_radius: float = quantity(0.01, "m", "R, radius of the wear track on the disc", gt=0)
+
+
+class ReciprocatingConfig(TribometerConfig):
+    stroke_length: float = quantity(0.01, "m", "S, stroke length (one way, half a cycle)", gt=0)
+    frequency: float = quantity(5.0, "Hz", "f, strokes' frequency (cycles per second)", gt=0)
+
+
+StandConfig = (
+    Smts2Config
+    | SlideBearingConfig
+    | MtosConfig
+    | ProfilometerConfig
+    | PinOnDiscConfig
+    | ReciprocatingConfig
+)
 
 # --- channels -------------------------------------------------------------------------
 
@@ -403,6 +491,96 @@ PROFILOMETER_GROUPS = (
 )
 
 
+def _friction_group(*extra: Channel) -> ChannelGroup:
+    """The friction record of a tribometer as its software exports it."""
+    return ChannelGroup(
+        name="friction",
+        long_name=N_("friction record of the tribometer"),
+        aligned=True,
+        signals=("friction_coefficient", "friction_force"),
+        axis="time",
+        required=(("time", "friction_coefficient"), ("time", "friction_force", "normal_load")),
+        channels=(
+            _TIME,
+            _c("normal_load", "N", "F_N, normal load", Limit(low=0.0, high=2000.0)),
+            _c("friction_force", "N", "F_t, friction force", Limit(low=-2000.0, high=2000.0)),
+            _c("friction_coefficient", "1", "μ, friction coefficient", Limit(low=-5.0, high=5.0)),
+            _c("distance", "m", "s, sliding distance", Limit(low=0.0), Order.NON_DECREASING),
+            _c("laps", "1", "laps (cycles) run", Limit(low=0.0), Order.NON_DECREASING),
+            *extra,
+            _c("temperature", "degC", "temperature of the contact", Limit(low=-100, high=1000)),
+            _c(
+                "wear_depth",
+                "um",
+                "wear depth, the instrument's displacement sensor",
+                Limit(low=-5000, high=5000),
+            ),
+        ),
+    )
+
+
+_WEAR_TRACK = ChannelGroup(
+    name="wear_track",
+    long_name=N_("profiles across the wear track"),
+    aligned=True,
+    signals=("z",),
+    axis="x",
+    channels=(
+        _c("x", "mm", "x, position across the track", Limit(low=-100.0, high=100.0)),
+        _c("z", "um", "z, profile height", Limit(low=-1000.0, high=1000.0)),
+        _c(
+            "trace",
+            "1",
+            "number of the trace (one per place along the track)",
+            Limit(low=0, high=1000, integer=True),
+        ),
+    ),
+)
+
+_TRIBOMETER_MEASUREMENTS = ChannelGroup(
+    name=MEASUREMENTS,
+    long_name=N_("weighings, densities and the wear scar"),
+    aligned=False,
+    channels=(
+        _c("pin_mass_before", "g", "pin's or ball's mass before the test", Limit(low=0, high=5000)),
+        _c("pin_mass_after", "g", "pin's or ball's mass after the test", Limit(low=0, high=5000)),
+        _c(
+            "disc_mass_before",
+            "g",
+            "disc's or flat's mass before the test",
+            Limit(low=0, high=5000),
+        ),
+        _c("disc_mass_after", "g", "disc's or flat's mass after the test", Limit(low=0, high=5000)),
+        _c("pin_density", "kg/m^3", "density of the pin or ball", Limit(low=100, high=25000)),
+        _c("disc_density", "kg/m^3", "density of the disc or flat", Limit(low=100, high=25000)),
+        _c(
+            "scar_diameter",
+            "um",
+            "wear scar diameter on the ball or pin (mean of two across)",
+            Limit(low=0, high=50000),
+        ),
+        _c("pin_height_loss", "um", "height lost by the flat-ended pin", Limit(low=0, high=50000)),
+    ),
+)
+
+PIN_ON_DISC_GROUPS = (_friction_group(), _WEAR_TRACK, _TRIBOMETER_MEASUREMENTS)
+
+RECIPROCATING_GROUPS = (
+    _friction_group(
+        _c("position", "mm", "x, position along the stroke", Limit(low=-500.0, high=500.0)),
+        _c(
+            "stroke",
+            "1",
+            "number of the stroke (two per cycle)",
+            Limit(low=0.0),
+            Order.NON_DECREASING,
+        ),
+    ),
+    _WEAR_TRACK,
+    _TRIBOMETER_MEASUREMENTS,
+)
+
+
 class Stand(BaseModel):
     """A stand kind as the service describes it: configuration, its schema, channels."""
 
@@ -410,7 +588,9 @@ class Stand(BaseModel):
 
     kind: StandKind
     title: str
-    lab_work: int
+    lab_work: int | None = Field(
+        description="the lab manual's work on the stand; none for a commercial tribometer"
+    )
     configuration: StandConfig
     groups: tuple[ChannelGroup, ...]
 
@@ -429,11 +609,13 @@ CONFIG_MODELS: dict[StandKind, type[_Config]] = {
     StandKind.SLIDE_BEARING: SlideBearingConfig,
     StandKind.MTOS: MtosConfig,
     StandKind.PROFILOMETER: ProfilometerConfig,
+    StandKind.PIN_ON_DISC: PinOnDiscConfig,
+    StandKind.RECIPROCATING: ReciprocatingConfig,
 }
 
 
 def default_stands() -> dict[StandKind, Stand]:
-    """The four stands with the manual's defaults."""
+    """The stands with their defaults: the manual's, a common tribometer test's."""
     return {
         StandKind.SMTS2: Stand(
             kind=StandKind.SMTS2,
@@ -463,13 +645,27 @@ def default_stands() -> dict[StandKind, Stand]:
             configuration=ProfilometerConfig(),
             groups=PROFILOMETER_GROUPS,
         ),
+        StandKind.PIN_ON_DISC: Stand(
+            kind=StandKind.PIN_ON_DISC,
+            title="Pin- or ball-on-disc tribometer (ASTM G99, ISO 20808)",
+            lab_work=None,
+            configuration=PinOnDiscConfig(),
+            groups=PIN_ON_DISC_GROUPS,
+        ),
+        StandKind.RECIPROCATING: Stand(
+            kind=StandKind.RECIPROCATING,
+            title="Reciprocating tribometer (ASTM G133)",
+            lab_work=None,
+            configuration=ReciprocatingConfig(),
+            groups=RECIPROCATING_GROUPS,
+        ),
     }
 
 
 def configure_stands(
     overrides: dict[str, dict[str, object]] | None = None,
 ) -> dict[StandKind, Stand]:
-    """The four stands with a lab's overrides of their configurations (e.g. from a file).
+    """The stands with a lab's overrides of their configurations (e.g. from a file).
 
     ``overrides`` maps a stand kind to the fields to change; every value is checked by the
     stand's configuration schema, so a wrong unit or a negative clearance fails here.

@@ -56,6 +56,9 @@ UnitSymbol = Literal[
     "div",
     "code",
     "%",
+    "Hz",
+    "m/s",
+    "GPa",
 ]
 
 
@@ -118,6 +121,9 @@ UNITS: dict[str, Unit] = {
         Unit("div", "div", 1.0, "scale divisions of an instrument (calibrated per stand)"),
         Unit("code", "code", 1.0, "an integer code from a declared list"),
         Unit("%", "1", 1e-2, "percent"),
+        Unit("Hz", "Hz", 1.0, "hertz (strokes of a reciprocating tribometer)"),
+        Unit("m/s", "m/s", 1.0, "metre per second (sliding speed)"),
+        Unit("GPa", "Pa", 1e9, "gigapascal"),
     )
 }
 

@@ -21,7 +21,7 @@ import re
 from datetime import UTC, datetime
 from typing import Annotated, Any
 
-from pydantic import AfterValidator, BeforeValidator
+from pydantic import AfterValidator, BeforeValidator, Strict
 from pydantic_core import PydanticCustomError
 
 #: The whole numbers the wire takes: SQLite's INTEGER.
@@ -137,5 +137,10 @@ Text = Annotated[str, AfterValidator(clean_text)]
 Scalar = Annotated[str | float | int | bool, BeforeValidator(_scalar)]
 #: A test-plan value: a :data:`Scalar` or a list of finite numbers (e.g. the load steps).
 PlanValue = Annotated[str | float | int | bool | list[float], BeforeValidator(_plan_value)]
+#: A number of a configuration or a calculator's input: a JSON number (whole or not), never
+#: ``true`` or ``"1.5"`` (pydantic's lax mode takes both as 1.0 and 1.5). The models that
+#: take them are strict as a whole (``ConfigDict(strict=True)``); a tuple of them is a
+#: field with ``strict=False`` (a JSON array is a list) of these.
+Number = Annotated[float, Strict()]
 #: A time, converted to UTC; refused if it does not exist there.
 UtcTime = Annotated[datetime, AfterValidator(_utc)]

@@ -11,7 +11,7 @@ from typing import Any
 
 from pydantic import BaseModel
 
-from rigserver.analysis import mtos, profilometer, slide_bearing, smts2
+from rigserver.analysis import mtos, profilometer, slide_bearing, smts2, tribometer
 from rigserver.analysis.readings import Readings
 from rigserver.analysis.references import Profiles, RunLookup, referenced_profiles
 from schemas.quantity import unit_paths
@@ -25,6 +25,8 @@ _PIPELINES: dict[StandKind, Callable[[Run, Readings, Profiles], BaseModel]] = {
     StandKind.SLIDE_BEARING: lambda run, readings, _: slide_bearing.analyse(run, readings),
     StandKind.MTOS: mtos.analyse,
     StandKind.PROFILOMETER: lambda run, readings, _: profilometer.analyse(run, readings),
+    StandKind.PIN_ON_DISC: tribometer.analyse,
+    StandKind.RECIPROCATING: tribometer.analyse,
 }
 
 
@@ -54,6 +56,18 @@ _KEYS: dict[StandKind, tuple[str, ...]] = {
     StandKind.SLIDE_BEARING: ("chi_mean", "pressure_max", "phi_max"),
     StandKind.MTOS: ("friction_fluid", "h_min_smallest", "h_crit"),
     StandKind.PROFILOMETER: ("ra", "rz", "complex_parameter"),
+    StandKind.PIN_ON_DISC: (
+        "friction_steady",
+        "running_in_distance",
+        "disc_track.specific_wear_rate",
+        "pin_scar.specific_wear_rate",
+    ),
+    StandKind.RECIPROCATING: (
+        "friction_steady",
+        "running_in_distance",
+        "disc_track.specific_wear_rate",
+        "pin_scar.specific_wear_rate",
+    ),
 }
 
 

@@ -19,7 +19,14 @@ from pydantic import BaseModel
 from rigserver.core import statistics
 from schemas.labels import RESULTS, Label, round_to
 from schemas.quantity import description_paths, unit_paths
-from schemas.results import MtosResults, ProfilometerResults, SlideBearingResults, Smts2Results
+from schemas.results import (
+    MtosResults,
+    PinOnDiscResults,
+    ProfilometerResults,
+    ReciprocatingResults,
+    SlideBearingResults,
+    Smts2Results,
+)
 from schemas.runs import Run, RunState
 from schemas.series import (
     ComparisonResult,
@@ -58,6 +65,17 @@ class Headline:
     uncertainty: str | None = None
 
 
+_TRIBOMETER = (
+    Headline("friction_steady", "μ", "friction_steady_uncertainty"),
+    Headline("friction_mean", "μ̄"),
+    Headline("friction_static", "μ_s"),
+    Headline("running_in_distance", "L_r"),
+    *(
+        Headline(f"{wear}.specific_wear_rate", "k", f"{wear}.specific_wear_rate_uncertainty")
+        for wear in ("disc_track", "disc_mass", "pin_scar", "pin_mass")
+    ),
+)
+
 HEADLINES: dict[StandKind, tuple[Headline, ...]] = {
     StandKind.SMTS2: (
         Headline("friction_steady", "f", "friction_steady_uncertainty"),
@@ -88,6 +106,8 @@ HEADLINES: dict[StandKind, tuple[Headline, ...]] = {
         Headline("rmax", "R_max"),
         Headline("sm", "S_m"),
     ),
+    StandKind.PIN_ON_DISC: _TRIBOMETER,
+    StandKind.RECIPROCATING: _TRIBOMETER,
 }
 
 RESULT_MODELS: dict[StandKind, type[BaseModel]] = {
@@ -95,6 +115,8 @@ RESULT_MODELS: dict[StandKind, type[BaseModel]] = {
     StandKind.SLIDE_BEARING: SlideBearingResults,
     StandKind.MTOS: MtosResults,
     StandKind.PROFILOMETER: ProfilometerResults,
+    StandKind.PIN_ON_DISC: PinOnDiscResults,
+    StandKind.RECIPROCATING: ReciprocatingResults,
 }
 
 

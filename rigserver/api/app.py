@@ -16,7 +16,17 @@ from rigserver.api.gate import Gate
 from rigserver.api.openapi import add_components
 from rigserver.api.page_policy import PagePolicy
 from rigserver.api.rate_limit import RateLimit
-from rigserver.api.routes import api_docs, live, models, pages, readings, reports, results, runs
+from rigserver.api.routes import (
+    api_docs,
+    eln,
+    live,
+    models,
+    pages,
+    readings,
+    reports,
+    results,
+    runs,
+)
 from rigserver.api.routes import series as series_routes
 from rigserver.api.routes import stands as stand_routes
 from rigserver.api.settings import Settings
@@ -35,6 +45,7 @@ API_ROUTERS = (
     results.router,
     models.router,
     reports.router,
+    eln.router,
     live.router,
     series_routes.router,
 )
@@ -56,6 +67,7 @@ def create_app(
     async def lifespan(app: FastAPI) -> AsyncIterator[None]:
         yield
         app.state.services.results.close()
+        app.state.services.reports.close()
         store.close()
         series_store.close()
 
@@ -84,7 +96,12 @@ def create_app(
     api_docs.install(app)
     pages.install(app)
     # the last added is the outermost: rate, then key, then size
-    app.add_middleware(BodyLimit, max_bytes=settings.max_body_bytes, timeout=settings.body_timeout)
+    app.add_middleware(
+        BodyLimit,
+        max_bytes=settings.max_body_bytes,
+        timeout=settings.body_timeout,
+        larger={f"{API_PREFIX}/runs/import": settings.import_max_bytes},
+    )
     services = app.state.services
     api_routes = [route for router in API_ROUTERS for route in router.routes]
     app.add_middleware(Gate, services=services, prefix=API_PREFIX, routes=api_routes)

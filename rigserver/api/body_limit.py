@@ -10,6 +10,7 @@ the client's disconnect (a streamed answer's) is not timed.
 from __future__ import annotations
 
 import asyncio
+from collections.abc import Mapping
 from typing import Any
 
 from starlette.types import ASGIApp, Message, Receive, Scope, Send
@@ -19,20 +20,30 @@ from schemas.problems import Problem
 
 
 class BodyLimit:
-    """ASGI middleware: 413 when Content-Length or the streamed body exceeds ``max_bytes``;
-    408 when the body has not arrived ``timeout`` seconds after it was first asked for."""
+    """ASGI middleware: 413 when Content-Length or the streamed body exceeds ``max_bytes``
+    (or, on a path of ``larger``, the limit it gives: an archive's import); 408 when the
+    body has not arrived ``timeout`` seconds after it was first asked for."""
 
-    def __init__(self, app: ASGIApp, max_bytes: int, timeout: float) -> None:
+    def __init__(
+        self,
+        app: ASGIApp,
+        max_bytes: int,
+        timeout: float,
+        larger: Mapping[str, int] | None = None,
+    ) -> None:
         self.app = app
         self.max_bytes = max_bytes
+        self.larger = dict(larger or {})
         self.timeout = timeout
         self.watch = _Watch(timeout)
 
-    def _too_large(self) -> Problem:
+    def _too_large(self, limit: int) -> Problem:
         return Problem(
             title="Request body too large",
             status=413,
-            detail=f"the body exceeds {self.max_bytes} bytes; send smaller batches",
+            detail=f"the body exceeds {limit} bytes; send smaller batches"
+            if limit == self.max_bytes
+            else f"the body exceeds {limit} bytes, the largest this server takes here",
         )
 
     def _too_slow(self, seen: int) -> Problem:
@@ -47,12 +58,12 @@ class BodyLimit:
         if scope["type"] != "http":
             await self.app(scope, receive, send)
             return
+        limit = self.larger.get(scope["path"], self.max_bytes)
         for name, value in scope.get("headers", []):
-            if name == b"content-length" and value.isdigit() and int(value) > self.max_bytes:
-                await problem_response(self._too_large())(scope, receive, send)
+            if name == b"content-length" and value.isdigit() and int(value) > limit:
+                await problem_response(self._too_large(limit))(scope, receive, send)
                 return
         seen = 0
-        limit = self.max_bytes
         body = _Body()
 
         async def counted() -> Message:
@@ -73,7 +84,7 @@ class BodyLimit:
         try:
             await self.app(scope, counted, send)
         except _BodyTooLarge:
-            await problem_response(self._too_large())(scope, receive, send)
+            await problem_response(self._too_large(limit))(scope, receive, send)
         except _BodyTooSlow:
             response = problem_response(self._too_slow(seen), {"Connection": "close"})
             await response(scope, receive, send)

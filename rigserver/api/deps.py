@@ -6,6 +6,7 @@ dependency in its thread pool, a thread hop per request.
 
 from __future__ import annotations
 
+import hashlib
 import threading
 from collections import OrderedDict, defaultdict
 from dataclasses import dataclass, field
@@ -18,6 +19,8 @@ from starlette.types import Scope
 from rigserver.api.auth import READ, ApiKey, Keyring, write_scope
 from rigserver.api.ingest_queue import IngestQueue
 from rigserver.api.problems import ApiProblem
+from rigserver.api.report_files import ReportFiles
+from rigserver.api.report_pool import RenderPool
 from rigserver.api.results_cache import ResultsCache
 from rigserver.api.sessions import COOKIE, Sessions
 from rigserver.api.settings import Settings
@@ -49,8 +52,21 @@ class Services:
     run_stands: OrderedDict[str, Stand] = field(default_factory=OrderedDict)
     ingest: IngestQueue = field(init=False)
     results: ResultsCache = field(init=False)
+    reports: RenderPool = field(init=False)
+    report_files: ReportFiles = field(init=False)
 
     def __post_init__(self) -> None:
+        self.reports = RenderPool(
+            workers=self.settings.report_workers,
+            queue=self.settings.report_queue,
+            share=self.settings.report_key_share,
+            retry_after=self.settings.retry_after,
+            processes=self.settings.report_processes,
+        )
+        stands = "".join(self.stands[kind].model_dump_json() for kind in sorted(self.stands))
+        self.report_files = ReportFiles(
+            self.settings.data_dir / "reports", hashlib.sha256(stands.encode()).hexdigest()
+        )
         self.results = ResultsCache(
             workers=self.settings.results_workers,
             runs=RESULTS_KEPT,
@@ -64,6 +80,13 @@ class Services:
             share=self.settings.ingest_key_share,
             retry_after=self.settings.retry_after,
         )
+
+    def stop(self) -> None:
+        """The server is asked to stop: long requests end (live streams are woken)."""
+        self.stopping.set()
+        wake = getattr(self.store, "wake_waiters", None)
+        if wake is not None:
+            wake()
 
     def stand_of(self, run: Run) -> Stand:
         """The run's stand as its configuration snapshot sets it (the gauges' unit)."""

@@ -1,17 +1,20 @@
 """The bounded ingest queue: admission of batch posts, and group commits.
 
 Admission bounds what the service holds for ingest: at most ``max_batches`` posts at once
-(from reading the body to the answer) and ``max_bytes`` of their bodies as declared by
-``Content-Length`` (a single body larger than that is admitted alone; a chunked body counts
-as none, and the body limit caps it). A post beyond either is answered 503 with
-``Retry-After`` before its body is read, so a burst of lab PCs makes them wait instead of
-growing the server's memory.
+(from reading the body to the answer) and ``max_bytes`` of their bodies, counted as the
+bytes that have arrived: a body that declares 64 MiB and trickles in a byte now and then
+holds what has come, not what it promised. A post beyond either is answered 503 with
+``Retry-After``, before its body is read when it cannot fit (the bodies in plus its
+``Content-Length``), or as soon as its arriving bytes overflow the queue; so a burst of lab
+PCs makes them wait instead of growing the server's memory.
 
 Admission is fair across API keys: one key holds at most its ``share`` of the posts and of
-the bytes (a body larger than its share of the bytes is admitted when the key holds
-nothing else), so one lab PC's slow or stuck uploads (each held until the body arrives or
-its time is up, :mod:`rigserver.api.body_limit`) leave the rest of the queue to the
-others. Its post beyond the share is answered 503 with ``Retry-After`` too.
+the bytes (its posts' declared sizes, and the bytes of its bodies that have arrived), and
+counts against the queue's bytes for at most that share: a body larger than its key's share
+is admitted when the key holds nothing else, and the other keys keep the rest of the queue
+while it arrives. So one lab PC's slow, stuck or huge uploads (each held until the body
+arrives or its time is up, :mod:`rigserver.api.body_limit`) never refuse another stand's
+posts. Its post beyond the share is answered 503 with ``Retry-After`` too.
 
 Small batches (single readings, a few rows) are stored on the event loop in groups: every
 small batch that arrives while the loop is busy joins the next group, stored with one
@@ -45,6 +48,32 @@ Outcome = BatchReceipt | Exception
 _Pending = list[tuple[NewBatch, "asyncio.Future[Outcome]"]]
 
 
+class _Held:
+    """What one API key holds: its posts, their bodies' declared bytes and arrived bytes."""
+
+    __slots__ = ("arrived", "declared", "posts")
+
+    def __init__(self) -> None:
+        self.posts = self.declared = self.arrived = 0
+
+
+class Place:
+    """A post's place in the queue (:meth:`IngestQueue.admit`): the bytes of its body that
+    have arrived."""
+
+    __slots__ = ("bytes", "key", "queue")
+
+    def __init__(self, queue: IngestQueue, key: str) -> None:
+        self.queue = queue
+        self.key = key
+        self.bytes = 0
+
+    def arrived(self, size: int) -> None:
+        """``size`` more bytes of the body are in; 503 (ApiProblem) if they overflow the
+        key's share or the queue: the post is refused, its body read no further."""
+        self.queue.arrive(self, size)
+
+
 class IngestQueue:
     """Admission and group commits of one service (see the module docstring).
 
@@ -56,7 +85,7 @@ class IngestQueue:
     max_batches : int
         Posts admitted at once.
     max_bytes : int
-        Bytes of request bodies admitted at once.
+        Bytes of request bodies held at once, as they arrive.
     share : float
         The fraction of ``max_batches`` and ``max_bytes`` one API key may hold, 0 < share <= 1.
     retry_after : int
@@ -82,51 +111,86 @@ class IngestQueue:
         self.retry_after = retry_after
         self._admission = threading.Lock()
         self._admitted = 0
-        self._bytes = 0
-        #: API key -> posts and bytes it holds (a key holding none is not kept)
-        self._held: dict[str, tuple[int, int]] = {}
+        #: bytes counted against max_bytes: per key, what has arrived, at most its share
+        self._counted = 0
+        #: API key -> what it holds (a key holding none is not kept)
+        self._held: dict[str, _Held] = {}
         self._pending: dict[asyncio.AbstractEventLoop, _Pending] = {}
 
     # --- admission --------------------------------------------------------------------
 
     @property
     def admitted(self) -> tuple[int, int]:
-        """Posts and body bytes admitted now."""
+        """Posts admitted now, and the bytes of their bodies counted against the queue."""
         with self._admission:
-            return self._admitted, self._bytes
+            return self._admitted, self._counted
 
     @contextmanager
-    def admit(self, size: int, key: str = "") -> Iterator[None]:
-        """Hold a place for a post of the API key ``key`` (its fingerprint) whose body has
-        ``size`` bytes; 503 if there is none, or if the key holds its share."""
+    def admit(self, size: int, key: str = "") -> Iterator[Place]:
+        """Hold a place for a post of the API key ``key`` (its fingerprint) whose body
+        declares ``size`` bytes (0 if chunked); 503 if there is none, or if the key holds
+        its share. The body's bytes are counted as they arrive (:meth:`Place.arrived`)."""
         with self._admission:
-            posts, held = self._held.get(key, (0, 0))
+            held = self._held.get(key) or _Held()
             if self._admitted >= self.max_batches or (
-                self._bytes and self._bytes + size > self.max_bytes
+                self._counted and self._counted + min(size, self.key_bytes) > self.max_bytes
             ):
-                raise self._full(
-                    "Ingest queue full",
-                    f"the server holds {self._admitted} batches ({self._bytes} bytes) and "
-                    f"takes at most {self.max_batches} ({self.max_bytes} bytes) at once",
-                )
-            if posts >= self.key_batches or (held and held + size > self.key_bytes):
-                raise self._full(
-                    "Ingest share used",
-                    f"this key's uploads hold {posts} batches ({held} bytes) and one key may "
-                    f"hold {self.key_batches} ({self.key_bytes} bytes) at once",
-                )
+                raise self._queue_full()
+            if held.posts >= self.key_batches or (
+                held.posts and max(held.declared + size, held.arrived) > self.key_bytes
+            ):
+                raise self._share_used(held)
             self._admitted += 1
-            self._bytes += size
-            self._held[key] = (posts + 1, held + size)
+            held.posts += 1
+            held.declared += size
+            self._held[key] = held
+        place = Place(self, key)
         try:
-            yield
+            yield place
         finally:
             with self._admission:
                 self._admitted -= 1
-                self._bytes -= size
-                posts, held = self._held.pop(key)
-                if posts > 1:
-                    self._held[key] = (posts - 1, held - size)
+                held.posts -= 1
+                held.declared -= size
+                self._count(held, -place.bytes)
+                if not held.posts:
+                    del self._held[key]
+
+    def arrive(self, place: Place, size: int) -> None:
+        """``size`` more bytes of the body of ``place`` are in; 503 if they overflow the
+        key's share (while it holds another post) or the queue (while another post is in)."""
+        with self._admission:
+            held = self._held[place.key]
+            if held.posts > 1 and held.arrived + size > self.key_bytes:
+                raise self._share_used(held)
+            self._count(held, size)
+            if self._counted > self.max_bytes and self._admitted > 1:
+                self._count(held, -size)
+                raise self._queue_full()
+            place.bytes += size
+
+    def _count(self, held: _Held, size: int) -> None:
+        """``size`` bytes more (or fewer) of the key ``held`` in: counted up to its share."""
+        counted = min(held.arrived, self.key_bytes)
+        held.arrived += size
+        self._counted += min(held.arrived, self.key_bytes) - counted
+
+    def _queue_full(self) -> ApiProblem:
+        return self._full(
+            "Ingest queue full",
+            f"the server holds {self._admitted} batches ({self._counted} bytes) and takes "
+            f"at most {self.max_batches} ({self.max_bytes} bytes) at once",
+        )
+
+    def _share_used(self, held: _Held) -> ApiProblem:
+        if self.key_bytes >= self.max_bytes:  # a key's share is the whole queue
+            return self._queue_full()
+        return self._full(
+            "Ingest share used",
+            f"this key's uploads hold {held.posts} batches "
+            f"({max(held.declared, held.arrived)} bytes) and one key may hold "
+            f"{self.key_batches} ({self.key_bytes} bytes) at once",
+        )
 
     def _full(self, title: str, detail: str) -> ApiProblem:
         return ApiProblem(

@@ -2,16 +2,18 @@
 
 A stored (uncompressed) member, as ``numpy.savez`` writes it, is read in place: its array
 is a view of the request body (copied only if misaligned), found through the zip
-directory (:mod:`zipfile`) and the ``.npy`` header (:mod:`numpy.lib.format`). Reading it
-through ``numpy.load`` would copy every value out of the archive and checksum it, which
-costs more than storing it. A deflated member is inflated by :mod:`zipfile` (which checks
-its CRC), at most its declared size.
+directory (:mod:`zipfile`) and the ``.npy`` header (:mod:`numpy.lib.format`), once its
+CRC-32 is checked against the bytes there (``zlib.crc32`` over the member, far cheaper
+than ``numpy.load``'s copy of every value). A deflated member is inflated by
+:mod:`zipfile` (which checks its CRC), at most its declared size. A member whose bytes
+do not match its CRC-32 was damaged on its way: it is refused, never stored.
 
 Nothing a header says is believed until it is checked against the bytes there are: the
 declared sizes (at most ``max_bytes`` unpacked in all, a zip bomb's defence), where each
 member lies (its local header and data inside the archive, before the central directory,
 overlapping no other member), and the ``.npy`` header (version, a real-number dtype, a
-1-D shape whose values fill the member exactly). A lie is refused with 422 naming the
+1-D shape whose values fill the member exactly). A boolean array is no channel of numbers
+(``True`` is not a reading of 1.0). A lie is refused with 422 naming the
 member and the field; two members of one name are refused too.
 """
 
@@ -21,6 +23,7 @@ import io
 import itertools
 import struct
 import zipfile
+import zlib
 from typing import Any, NoReturn
 
 import numpy as np
@@ -35,8 +38,8 @@ _LOCAL_HEADER = struct.Struct("<4s22xHH")
 _NPY_HEAD = 12 + 10_000
 #: Compression methods read: stored, and deflated (numpy.savez_compressed).
 _METHODS = (zipfile.ZIP_STORED, zipfile.ZIP_DEFLATED)
-#: dtype kinds of real numbers (and booleans) taken as readings.
-_REAL_KINDS = "biuf"
+#: dtype kinds of real numbers taken as readings: signed, unsigned, floating (no booleans).
+_REAL_KINDS = "iuf"
 
 
 def parse_npz(body: bytes, max_bytes: int) -> dict[str, NDArray[Any]]:
@@ -133,9 +136,21 @@ def _member_array(
     """The array of the ``.npy`` member ``info`` whose data starts at ``start`` in
     ``body``: a view of ``body`` if stored, else of the member inflated."""
     size = info.file_size
-    if info.compress_type != zipfile.ZIP_STORED:
-        with archive.open(info) as member:
-            body, start = member.read(size), 0
+    if info.compress_type == zipfile.ZIP_STORED:
+        crc = zlib.crc32(memoryview(body)[start : start + size])
+        if crc != info.CRC:
+            _refuse(
+                info,
+                "CRC-32",
+                f"{info.CRC:08x} does not match the member's bytes ({crc:08x}): the "
+                "archive was damaged on its way; send it again",
+            )
+    else:
+        try:
+            with archive.open(info) as member:
+                body, start = member.read(size), 0
+        except zipfile.BadZipFile as exc:  # a bad CRC-32, or a damaged local header
+            _refuse(info, "CRC-32" if "CRC" in str(exc) else "data", f"is damaged: {exc}")
         if len(body) != size:
             _refuse(info, "file_size", f"{size} is more than the member inflates to ({len(body)})")
     dtype, length, at = _npy_header(info, body[start : start + min(size, _NPY_HEAD)])

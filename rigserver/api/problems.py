@@ -24,11 +24,13 @@ from rigserver.storage.errors import (
     KeyReused,
     MemberExists,
     MemberNotFound,
+    OtherStand,
     RunDamaged,
     RunExists,
     RunNotFound,
     RunNotOpen,
     SequenceConflict,
+    SeriesFull,
     SeriesNotFound,
     StorageError,
     StorageFull,
@@ -128,6 +130,8 @@ _STORAGE_STATUS: list[tuple[type[StorageError], int, str]] = [
     (SeriesNotFound, 404, "Series not found"),
     (MemberExists, 409, "Run in the series already"),
     (MemberNotFound, 404, "Run not in the series"),
+    (SeriesFull, 409, "Series full"),
+    (OtherStand, 409, "Run of another stand"),
 ]
 
 

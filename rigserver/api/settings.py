@@ -26,6 +26,23 @@ class Settings(BaseSettings):
     )
     public_reads: bool = Field(default=False, description="reads need no key")
     max_body_bytes: int = Field(default=64 << 20, gt=0, description="largest request body")
+    import_max_bytes: int = Field(
+        default=1 << 30,
+        gt=0,
+        description="largest .eln archive that POST /runs/import takes",
+    )
+    import_unpacked_bytes: int = Field(
+        default=8 << 30,
+        gt=0,
+        description="most bytes the members of an imported archive may declare unpacked "
+        "(more is refused as a zip bomb); each is read no further than it declares",
+    )
+    license: str | None = Field(
+        default=None,
+        max_length=500,
+        description="the licence stated in the .eln archives exported: an SPDX identifier "
+        "(CC-BY-4.0) or the licence's address; none: no licence stated",
+    )
     ingest_queue: int = Field(
         default=64, gt=0, description="batch posts admitted at once; more are answered 503"
     )
@@ -58,6 +75,29 @@ class Settings(BaseSettings):
         gt=0,
         description="runs whose results are computed at once; a request that would start "
         "one more is answered 503",
+    )
+    report_workers: int = Field(
+        default=1,
+        gt=0,
+        description="processes rendering reports (beside the service's own, which ingest "
+        "and answer reads)",
+    )
+    report_queue: int = Field(
+        default=4,
+        gt=0,
+        description="report renders admitted at once (running or waiting); more are answered 503",
+    )
+    report_key_share: float = Field(
+        default=0.5,
+        gt=0.0,
+        le=1.0,
+        description="share of the report renders one API key (or one address without a "
+        "key) may hold; more of its renders are answered 503",
+    )
+    report_processes: bool = Field(
+        default=True,
+        description="render the reports of ended runs in processes of their own (off: in "
+        "threads of the service)",
     )
     synchronous: str = Field(
         default="normal",

@@ -1,5 +1,8 @@
 """JSON bodies read strictly: a key given twice in an object, or a number too long to
-convert, is refused (422 naming where), never decided silently by the last copy.
+convert, is refused (422 naming where), never decided silently by the last copy; a body
+nested deeper than :data:`MAX_DEPTH` arrays and objects is refused naming the limit (no
+body the service takes nests deeper than a few levels, and Python's parser and every
+walk over the tree recurse once per level: 1 000 levels end in a ``RecursionError``).
 
 :class:`StrictJsonRoute` is the route class of the routers that take JSON bodies through
 FastAPI (``/runs``, ``/models``); the ingest route parses its own (``routes.readings``)
@@ -14,6 +17,9 @@ from typing import Any
 
 from fastapi import Request, Response
 from fastapi.routing import APIRoute
+
+#: Arrays and objects a JSON body may nest, one in another.
+MAX_DEPTH = 64
 
 
 class JsonRefused(json.JSONDecodeError):
@@ -30,15 +36,24 @@ class _Duplicate(Exception):
         self.path = path
 
 
+class _TooDeep(Exception):
+    pass
+
+
+def too_deep() -> str:
+    """What a body nested too deeply is told."""
+    return f"arrays and objects are nested deeper than {MAX_DEPTH} levels, the limit"
+
+
 class _Pairs(list[tuple[str, Any]]):
     """An object as its key-value pairs, in order, duplicates kept (checked afterwards)."""
 
 
 def strict_loads(body: bytes | str) -> Any:
-    """The JSON value of ``body``; :class:`JsonRefused` for a duplicated key or an integer
-    longer than Python converts (``sys.get_int_max_str_digits``), ``json.JSONDecodeError``
-    for text that is not JSON. NaN, Infinity and lone surrogates are left to the models,
-    which refuse them naming the field."""
+    """The JSON value of ``body``; :class:`JsonRefused` for a duplicated key, an integer
+    longer than Python converts (``sys.get_int_max_str_digits``) or nesting deeper than
+    :data:`MAX_DEPTH`, ``json.JSONDecodeError`` for text that is not JSON. NaN, Infinity
+    and lone surrogates are left to the models, which refuse them naming the field."""
     try:
         text = body.decode("utf-8") if isinstance(body, bytes) else body
     except UnicodeDecodeError as exc:
@@ -47,6 +62,8 @@ def strict_loads(body: bytes | str) -> Any:
         ) from None
     try:
         tree = json.loads(text, object_pairs_hook=_Pairs)
+    except RecursionError:  # the parser's own limit: deeper than MAX_DEPTH all the same
+        raise JsonRefused(too_deep(), text, "body") from None
     except ValueError as exc:
         if isinstance(exc, json.JSONDecodeError):
             raise
@@ -56,10 +73,14 @@ def strict_loads(body: bytes | str) -> Any:
     except _Duplicate as dup:
         where = ".".join(dup.path)
         raise JsonRefused(f"the key {dup.path[-1]!r} is given twice", text, where) from None
+    except _TooDeep:
+        raise JsonRefused(too_deep(), text, "body") from None
 
 
 def _objects(node: Any, path: list[str]) -> Any:
     if isinstance(node, _Pairs):
+        if len(path) >= MAX_DEPTH:
+            raise _TooDeep
         found: dict[str, Any] = {}
         for key, value in node:
             if key in found:
@@ -67,6 +88,8 @@ def _objects(node: Any, path: list[str]) -> Any:
             found[key] = _objects(value, [*path, key])
         return found
     if isinstance(node, list):
+        if len(path) >= MAX_DEPTH:
+            raise _TooDeep
         return [_objects(item, [*path, str(i)]) for i, item in enumerate(node)]
     return node
 

@@ -133,14 +133,21 @@ class Stencil:
     couette: FloatArray
     squeeze: FloatArray
     row_weight: FloatArray
+    #: the face coefficients of every coupled pair: ``east`` (all), then ``north[:, :-1]``,
+    #: flattened (the pairs of ``_reynolds_lcp``)
+    couplings: FloatArray
 
     def apply(self, values: FloatArray) -> FloatArray:
         """K·Π on the block (edge values 0; the mirror condition built in)."""
+        east, north = self.east, self.north[:, :-1]
         r = self.diag * values
-        r -= self.east * np.roll(values, -1, axis=0)
-        r -= np.roll(self.east * values, 1, axis=0)
-        r[:, :-1] -= self.north[:, :-1] * values[:, 1:]
-        r[:, 1:] -= self.north[:, :-1] * values[:, :-1]
+        flux = east * values
+        r[:-1] -= east[:-1] * values[1:]
+        r[-1] -= east[-1] * values[0]
+        r[1:] -= flux[:-1]
+        r[0] -= flux[-1]
+        r[:, :-1] -= north * values[:, 1:]
+        r[:, 1:] -= north * values[:, :-1]
         return r
 
 
@@ -185,6 +192,7 @@ def stencil(
         couette=couette,
         squeeze=squeeze,
         row_weight=w,
+        couplings=np.concatenate([east.ravel(), north[:, :-1].ravel()]),
     )
 
 

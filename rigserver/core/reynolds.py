@@ -28,6 +28,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass, replace
+from functools import lru_cache
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -74,6 +75,8 @@ MAX_ACTIVE_SET_ITERATIONS = 200
 #: Coarsest grid of the coarse-to-fine start of the active-set iteration.
 _COARSEST_N_PHI = 36
 _COARSEST_N_Z = 8
+#: Projected Gauss-Seidel sweeps smoothing a coarse grid's field into the next grid's start.
+_SMOOTHING_SWEEPS = 10
 #: Eccentricity ratios bracketing the inverse problem; beyond 0.99 the default grid no longer
 #: resolves the pressure spike at the thinnest film.
 EQUILIBRIUM_CHI_RANGE = (1e-6, 0.99)
@@ -264,8 +267,10 @@ def _check_supply(supply: Sequence[Supply], half_width: float) -> tuple[Supply, 
     return tuple(out)
 
 
+@lru_cache(maxsize=64)
 def _supply_nodes(grid: Grid, supply: tuple[Supply, ...]) -> tuple[BoolArray, FloatArray]:
-    """Nodes of the full grid held at the supply pressures, and the values.
+    """Nodes of the full grid held at the supply pressures, and the values (read-only,
+    remembered per grid and supply).
 
     The edge nodes of a groove that runs the whole length belong to it too (they stay at
     ambient pressure), so that the flow out of it is counted over the full width.
@@ -298,6 +303,8 @@ def _supply_nodes(grid: Grid, supply: tuple[Supply, ...]) -> tuple[BoolArray, Fl
         fixed |= mask
         values[mask] = s.pressure
     values[:, [0, -1]] = 0.0
+    fixed.setflags(write=False)
+    values.setflags(write=False)
     return fixed, values
 
 
@@ -318,6 +325,18 @@ def _prolong(coarse: BoolArray, n_phi: int, n_z: int) -> BoolArray:
             out &= c[np.ix_(ii, jj)]
     out[:, [0, -1]] = False
     return out
+
+
+def _prolong_pressure(coarse: FloatArray) -> FloatArray:
+    """A coarse grid's Π on the grid twice as fine in both directions (bilinear; the coarse
+    nodes are every other fine node, φ periodic)."""
+    n_c, rows_c = coarse.shape
+    fine = np.empty((2 * n_c, 2 * rows_c - 1))
+    fine[0::2, 0::2] = coarse
+    fine[1:-1:2, 0::2] = 0.5 * (coarse[:-1] + coarse[1:])
+    fine[-1, 0::2] = 0.5 * (coarse[-1] + coarse[0])
+    fine[:, 1::2] = 0.5 * (fine[:, 0:-1:2] + fine[:, 2::2])
+    return fine
 
 
 @dataclass(frozen=True, slots=True)
@@ -376,8 +395,10 @@ def _field(
         coarse_pb = _coarser(pb) if guess is None else None
         if coarse_pb is not None:
             coarse = _field(coarse_pb, chi_x, chi_y, vel_x, vel_y, None)
-            guess = _prolong(coarse.ruptured, pb.n_phi, pb.n_z)
-        start = guess[:, rows] if guess is not None else st.rhs < 0.0
+            prolonged = _prolong_pressure(coarse.pressure)[:, rows]
+            start = lcp.smoothed_rupture(st, fixed, fixed_values, prolonged, _SMOOTHING_SWEEPS)
+        else:
+            start = guess[:, rows] if guess is not None else st.rhs < 0.0
         res = lcp.solve_complementarity(
             st, fixed, fixed_values, start, max_iter=MAX_ACTIVE_SET_ITERATIONS
         )

@@ -17,7 +17,7 @@ import io
 import json
 import time
 import zipfile
-from collections.abc import Iterator, Mapping, Sequence
+from collections.abc import Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from typing import IO, Any, Literal
 
@@ -148,6 +148,28 @@ def table_csvs(
     return found
 
 
+def export_members(
+    *,
+    run: Run,
+    stand: Stand,
+    readings: Readings,
+    payload: Mapping[str, Any],
+    t: Messages,
+    dialect: CsvDialect,
+) -> Iterator[tuple[str, Iterable[bytes]]]:
+    """The members of the run's export, each as its name and its content in pieces:
+    ``run.json``, ``results.json`` (everything, SI), ``results.csv`` (the single results),
+    a CSV per per-row table of the results (``results_<table>.csv``) and a CSV per channel
+    group (streamed, a few thousand rows at a time)."""
+    yield "run.json", [run.model_dump_json(indent=1).encode()]
+    yield "results.json", [json.dumps(payload, indent=1).encode()]
+    yield "results.csv", [results_csv(payload, stand=stand, t=t, dialect=dialect).encode()]
+    for name, text in table_csvs(payload, stand=stand, t=t, dialect=dialect).items():
+        yield f"results_{name}.csv", [text.encode()]
+    for group in stand.groups:
+        yield f"{group.name}.csv", (piece.encode() for piece in group_csv(readings, group))
+
+
 def export_zip(
     target: IO[bytes],
     *,
@@ -158,10 +180,8 @@ def export_zip(
     t: Messages,
     dialect: CsvDialect,
 ) -> None:
-    """Write the run's archive into ``target``, under ``<run id>/``: ``run.json``,
-    ``results.json`` (everything, SI), ``results.csv`` (the single results), a CSV per
-    per-row table of the results (``results_<table>.csv``) and a CSV per channel group;
-    entries dated now."""
+    """Write the run's archive into ``target``, under ``<run id>/``: the members of
+    :func:`export_members`, entries dated now."""
     now = time.localtime()[:6]
 
     def entry(name: str) -> zipfile.ZipInfo:
@@ -169,15 +189,11 @@ def export_zip(
         info.compress_type = zipfile.ZIP_DEFLATED
         return info
 
+    members = export_members(
+        run=run, stand=stand, readings=readings, payload=payload, t=t, dialect=dialect
+    )
     with zipfile.ZipFile(target, "w", compression=zipfile.ZIP_DEFLATED) as archive:
-        archive.writestr(entry("run.json"), run.model_dump_json(indent=1))
-        archive.writestr(entry("results.json"), json.dumps(payload, indent=1))
-        archive.writestr(
-            entry("results.csv"), results_csv(payload, stand=stand, t=t, dialect=dialect)
-        )
-        for name, text in table_csvs(payload, stand=stand, t=t, dialect=dialect).items():
-            archive.writestr(entry(f"results_{name}.csv"), text)
-        for group in stand.groups:
-            with archive.open(entry(f"{group.name}.csv"), "w") as member:
-                for piece in group_csv(readings, group):
-                    member.write(piece.encode())
+        for name, pieces in members:
+            with archive.open(entry(name), "w") as member:
+                for piece in pieces:
+                    member.write(piece)

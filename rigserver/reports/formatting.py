@@ -7,6 +7,9 @@ decimal sign is the language's (Babel: a comma in Russian), set for the work at 
 Symbols are written once in a small TeX-like syntax (``"Π_э"``, ``"t_{pэ}"``, ``"S_1^{-1}"``)
 and printed as HTML (``<sub>``/``<sup>``) in tables and as mathtext in the plots.
 Message texts use the same syntax, so a caption or a legend prints its symbols alike.
+Text from users (a series' levels, an operator) is never read in that syntax or as
+mathtext: :func:`plot_text` draws it as it is, :func:`spreadsheet_text` keeps a CSV cell
+of it from being evaluated as a formula.
 """
 
 from __future__ import annotations
@@ -115,6 +118,33 @@ def html_symbol(symbol: str) -> Markup:
         pos = match.end()
     out.append(str(escape(symbol[pos:])))
     return Markup("".join(out))
+
+
+def plot_text(text: str) -> str:
+    """Text from a user, for matplotlib, drawn as written: each ``$`` escaped, so no part
+    of it is parsed as mathtext (``$\\foo$`` would make the plot fail) and a label made of
+    it and of :func:`tex` text shows it literally (outside a ``$...$`` pair mathtext takes
+    text as it is, ``\\$`` as ``$``)."""
+    return text.replace("$", r"\$")
+
+
+#: What a spreadsheet takes for the start of a formula (OWASP, CSV injection).
+_FORMULA_START = ("=", "+", "-", "@")
+_NUMBER = re.compile(r"[+-]?(?:[0-9]+(?:[.,][0-9]*)?|[.,][0-9]+)(?:[eE][+-]?[0-9]+)?")
+
+
+def spreadsheet_text(cell: str) -> str:
+    """A text cell of a CSV that Excel or LibreOffice shows as text, never evaluates: one
+    that starts like a formula (``=``, ``+``, ``-``, ``@``, after blanks or not) or with a
+    tab or a carriage return gets a leading ``'`` (OWASP's advice against CSV injection);
+    a number (``-1.5``, ``+3e-4``) and any other text are left as they are."""
+    if not cell:
+        return cell
+    if cell[0] in "\t\r" or (
+        cell.lstrip(" \t\r\n").startswith(_FORMULA_START) and not _NUMBER.fullmatch(cell)
+    ):
+        return "'" + cell
+    return cell
 
 
 def tex(text: str) -> str:

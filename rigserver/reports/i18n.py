@@ -150,6 +150,9 @@ UNIT_LABELS: dict[str, str] = {
     "div": C_("unit", "div"),
     "code": C_("unit", "code"),
     "%": C_("unit", "%"),
+    "Hz": C_("unit", "Hz"),
+    "m/s": C_("unit", "m/s"),
+    "GPa": C_("unit", "GPa"),
 }
 """Every unit symbol of :mod:`schemas.units` as printed in English (message ids in the
 context ``unit``)."""
@@ -186,6 +189,18 @@ MESSAGES: dict[str, str] = {
     "stand.slide_bearing": N_("Slide-bearing stand"),
     "stand.mtos": N_("MTOS stand"),
     "stand.profilometer": N_("ABRIS-PM7 profilometer"),
+    "stand.pin_on_disc": N_("Pin- or ball-on-disc tribometer"),
+    "stand.reciprocating": N_("Reciprocating tribometer"),
+    "title.pin_on_disc": N_("Friction and wear of a ball or pin on a disc (ASTM G99, ISO 20808)"),
+    "title.reciprocating": N_("Friction and wear in reciprocating sliding (ASTM G133)"),
+    "aim.pin_on_disc": N_(
+        "To find the friction coefficient, its running-in and the specific wear rates of a "
+        "ball or pin sliding on a rotating disc."
+    ),
+    "aim.reciprocating": N_(
+        "To find the friction coefficient, its running-in and the specific wear rates of a "
+        "ball sliding back and forth on a flat."
+    ),
     "run": N_("Run"),
     "stand": N_("Stand"),
     "state": N_("State"),
@@ -428,6 +443,46 @@ MESSAGES: dict[str, str] = {
     "w.cycles": N_("cycles to failure per asperity"),
     "w.kf_plastic": N_("k_f^n of the plastic branch"),
     "w.sensitivity": N_("Sensitivity of I_h (2.1) to t and σ0/σ_B"),
+    "t.distance": N_("sliding distance"),
+    "t.laps": N_("laps (cycles) run"),
+    "t.load": N_("mean normal load"),
+    "t.mean": N_("friction coefficient, whole record"),
+    "t.static": N_("static (peak) friction coefficient at the start"),
+    "t.running_in": N_("running-in distance (change points, PELT)"),
+    "t.steady": N_("friction coefficient, steady part"),
+    "t.lap_amplitude": N_("once-per-lap amplitude of μ"),
+    "t.forward": N_("friction coefficient, forward strokes"),
+    "t.backward": N_("friction coefficient, backward strokes"),
+    "t.fig_friction": N_(
+        "Friction coefficient against the sliding distance: block means with their min-max "
+        "band; the running-in (found by PELT) shaded"
+    ),
+    "t.fig_map": N_("Friction coefficient over the laps and the angular position on the disc"),
+    "t.fig_loops": N_("Friction loops: μ against the position along the stroke"),
+    "t.running_in_band": N_("running-in"),
+    "t.lap_axis": N_("lap"),
+    "t.loop": N_("cycle {cycle}"),
+    "t.hertz": N_("Initial contact of the ball on the flat (Hertz)"),
+    "t.modulus": N_("contact modulus"),
+    "t.contact_radius": N_("radius of the contact circle"),
+    "t.p0": N_("maximum contact pressure"),
+    "t.pm": N_("mean contact pressure"),
+    "t.disc_track": N_("Wear of the disc from profiles across its track"),
+    "t.disc_mass": N_("Wear of the disc from its mass loss"),
+    "t.pin_scar": N_("Wear of the ball or pin from its scar"),
+    "t.pin_mass": N_("Wear of the ball or pin from its mass loss"),
+    "t.traces": N_("profiles across the track"),
+    "t.mass_loss": N_("mass loss"),
+    "t.density": N_("density"),
+    "t.scar": N_("wear scar diameter"),
+    "t.height_loss": N_("height loss of the pin"),
+    "t.volume": N_("worn volume"),
+    "t.k": N_("specific wear rate k = V/(F·L)"),
+    "t.c_friction": N_(
+        "The friction coefficient starts at μ_s = {static}, runs in over L_r = {distance} m "
+        "and is μ = {mu} (s = {std}) after it; over the whole record μ̄ = {mean}."
+    ),
+    "t.c_wear": N_("{what}: k = {k} mm³/(N·m)."),
     "w.c_outside": N_(
         "The fatigue-wear theory (2.1) is outside its range for this test, so (2.15) is not "
         "judged: {reasons}."

@@ -57,12 +57,20 @@ class LocaleTicks(ScalarFormatter):
 
 
 def decorate(
-    ax: Axes, *, xlabel: str, ylabel: str, title: str = "", legend_outside: bool = False
+    ax: Axes,
+    *,
+    xlabel: str,
+    ylabel: str,
+    title: str = "",
+    legend_outside: bool = False,
+    labels_drawn_as_given: bool = False,
 ) -> None:
     """Axis labels (symbol, unit), a light grid, and a legend when lines are labelled.
 
     Legend labels may hold symbols in the syntax of :func:`formatting.tex` (``"Π_э"``);
-    ``legend_outside`` puts the legend right of the axes, for plots that fill them.
+    ``labels_drawn_as_given``: they are matplotlib's text already (made with
+    :func:`formatting.tex` and :func:`formatting.plot_text`, for labels holding a user's
+    text); ``legend_outside`` puts the legend right of the axes, for plots that fill them.
     """
     ax.set_xlabel(xlabel)
     ax.set_ylabel(ylabel)
@@ -73,7 +81,7 @@ def decorate(
     ax.grid(True, linewidth=0.3)
     handles, labels = ax.get_legend_handles_labels()
     if handles:
-        texts = [tex(label) for label in labels]
+        texts = labels if labels_drawn_as_given else [tex(label) for label in labels]
         if legend_outside:
             ax.legend(handles, texts, fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0))
         else:

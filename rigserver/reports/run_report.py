@@ -15,11 +15,18 @@ from rigserver.reports.context import Context, LabReport
 from rigserver.reports.document import Items, Paragraph, Report, Section, Table, Text
 from rigserver.reports.formatting import fmt, html_symbol, number_locale, value_text
 from rigserver.reports.i18n import Lang, Messages
-from rigserver.reports.labs import mtos, profilometer, slide_bearing, smts2
+from rigserver.reports.labs import mtos, profilometer, slide_bearing, smts2, tribometer
 from rigserver.reports.render import render
 from schemas.labels import PARTICULARS
 from schemas.messages import N_
-from schemas.results import MtosResults, ProfilometerResults, SlideBearingResults, Smts2Results
+from schemas.results import (
+    MtosResults,
+    PinOnDiscResults,
+    ProfilometerResults,
+    ReciprocatingResults,
+    SlideBearingResults,
+    Smts2Results,
+)
 from schemas.runs import Run, RunState
 from schemas.stands import CONFIG_MODELS, Stand, StandKind
 
@@ -28,6 +35,8 @@ RESULT_MODELS: dict[StandKind, type[BaseModel]] = {
     StandKind.SLIDE_BEARING: SlideBearingResults,
     StandKind.MTOS: MtosResults,
     StandKind.PROFILOMETER: ProfilometerResults,
+    StandKind.PIN_ON_DISC: PinOnDiscResults,
+    StandKind.RECIPROCATING: ReciprocatingResults,
 }
 
 _LABS: dict[StandKind, Callable[[Context, Any], LabReport]] = {
@@ -35,6 +44,8 @@ _LABS: dict[StandKind, Callable[[Context, Any], LabReport]] = {
     StandKind.SLIDE_BEARING: slide_bearing.build,
     StandKind.MTOS: mtos.build,
     StandKind.PROFILOMETER: profilometer.build,
+    StandKind.PIN_ON_DISC: tribometer.build,
+    StandKind.RECIPROCATING: tribometer.build,
 }
 
 
@@ -89,7 +100,9 @@ def _build(
             sections.append(Section(t(key), [Items([escape(t.gettext(item)) for item in items])]))
     return Report(
         lang=t.lang,
-        title=f"{t('lab_work', n=stand.lab_work)}. {t('title.' + kind)}",
+        title=t("title." + kind)
+        if stand.lab_work is None
+        else f"{t('lab_work', n=stand.lab_work)}. {t('title.' + kind)}",
         subtitle=t("stand." + kind),
         aim_label=t("aim"),
         aim=t("aim." + kind),

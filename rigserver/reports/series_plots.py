@@ -3,7 +3,8 @@ mean with a band of one standard deviation either side.
 
 A level's runs rarely share their abscissae (sliding distances, loads, angles), so the mean
 is taken on a common grid over the range all of them cover, each run interpolated linearly
-onto it; a level of one run draws no band.
+onto it; a level of one run draws no band. A level is a user's text: it is drawn as
+written, never read as mathtext (:func:`~rigserver.reports.formatting.plot_text`).
 """
 
 from __future__ import annotations
@@ -14,6 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
+from rigserver.reports.formatting import plot_text, tex
 from rigserver.reports.plots import axes, decorate, to_svg
 
 #: Points of the common grid a level's mean and band are drawn on.
@@ -85,7 +87,8 @@ def overlay(
     fig, (ax,) = axes(height=3.4)
     for i, (level, curves) in enumerate(levels.items()):
         colour = COLOURS[i % len(COLOURS)]
-        name = f"{level}: {mean_label}" if level else mean_label
+        shown = plot_text(level)
+        name = f"{shown}: {tex(mean_label)}" if level else tex(mean_label)
         if paired:
             for curve in curves:
                 ax.plot(curve.x, curve.y, "o", color=colour, markersize=3, alpha=0.5)
@@ -103,7 +106,7 @@ def overlay(
                     label=f"{name} ± s",
                 )
             elif level:
-                ax.plot([], [], "o", color=colour, label=level)
+                ax.plot([], [], "o", color=colour, label=shown)
             continue
         for curve in curves:
             x, y = _sorted(curve)
@@ -122,8 +125,14 @@ def overlay(
             ax.plot(grid, mean, color=colour, linewidth=2.0, label=f"{name} ± s")
             ax.fill_between(grid, mean - std, mean + std, color=colour, alpha=0.2, linewidth=0)
         elif level:
-            ax.plot([], [], color=colour, linewidth=0.7, label=level)
-    decorate(ax, xlabel=xlabel, ylabel=ylabel, legend_outside=len(levels) > 2)
+            ax.plot([], [], color=colour, linewidth=0.7, label=shown)
+    decorate(
+        ax,
+        xlabel=xlabel,
+        ylabel=ylabel,
+        legend_outside=len(levels) > 2,
+        labels_drawn_as_given=True,
+    )
     return to_svg(fig)
 
 

@@ -23,7 +23,7 @@ from rigserver.analysis.series import label_of
 from rigserver.reports import results_view
 from rigserver.reports.blocks import axis
 from rigserver.reports.downsample import min_max
-from rigserver.reports.formatting import fmt, number_locale, shown
+from rigserver.reports.formatting import fmt, number_locale, shown, spreadsheet_text
 from rigserver.reports.i18n import Lang, Messages
 from rigserver.reports.render import render
 from rigserver.reports.series_plots import Curve, overlay
@@ -82,6 +82,7 @@ TEXT: dict[str, str] = {
     "runs_csv": N_("Runs and their results, CSV"),
     "mean_curve": N_("mean"),
     "plot.friction": N_("f against the sliding distance L (time scaled by the run's L)"),
+    "plot.tribometer": N_("μ against the sliding distance L"),
     "plot.mtos_f": N_("f_э against the load N"),
     "plot.stribeck": N_("f_э against S_1 (Hersey-Stribeck)"),
     "plot.pressure": N_("Π_э against φ (z = 0)"),
@@ -111,7 +112,8 @@ def text(lang: Lang) -> Callable[..., str]:
 def series_csv(detail: SeriesDetail) -> str:
     """One row per run: id, level, state, operator, start, then every headline result
     (``key [unit]``, in its display unit: mm³, mg, µm) at full precision; empty where a run
-    lacks it."""
+    lacks it. A text cell that a spreadsheet would take for a formula (``=HYPERLINK(...)``
+    for a level) starts with ``'`` (:func:`~rigserver.reports.formatting.spreadsheet_text`)."""
     out = io.StringIO()
     writer = csv.writer(out)
     shown_in: dict[str, tuple[str, float]] = {}
@@ -135,7 +137,8 @@ def series_csv(detail: SeriesDetail) -> str:
             for key, (_, factor) in shown_in.items()
         ]
         when = row.created.isoformat()
-        writer.writerow([row.run_id, row.level or "", row.state.value, row.operator, when, *values])
+        texts = [row.run_id, row.level or "", row.state.value, row.operator, when]
+        writer.writerow([*(spreadsheet_text(cell) for cell in texts), *values])
     return out.getvalue()
 
 
@@ -243,6 +246,13 @@ def _plots(
     v = values
     if detail.stand is StandKind.SMTS2:
         draw("plot.friction", axis(m, "L", "m"), axis(m, "f"), curves(lambda r: _friction(r, v[r])))
+    elif detail.stand in (StandKind.PIN_ON_DISC, StandKind.RECIPROCATING):
+        draw(
+            "plot.tribometer",
+            axis(m, "L", "m"),
+            axis(m, "μ"),
+            curves(lambda r: _series(r, v[r], "friction")),
+        )
     elif detail.stand is StandKind.MTOS:
         draw(
             "plot.mtos_f",
@@ -296,6 +306,14 @@ def _friction(run_id: str, values: Mapping[str, Any] | None) -> Curve | None:
         return None
     distance = (x - x[0]) / (x[-1] - x[0]) * float(values["sliding_distance"])
     return Curve(run_id, distance, y)
+
+
+def _series(run_id: str, values: Mapping[str, Any] | None, name: str) -> Curve | None:
+    """A plot series of the results as it is (the tribometers' μ against L)."""
+    found = None if values is None else values.get(name)
+    if not found or len(found.get("x") or []) < 2:
+        return None
+    return Curve(run_id, np.asarray(found["x"], float), np.asarray(found["y"], float))
 
 
 def _rows(

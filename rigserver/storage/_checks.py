@@ -4,7 +4,8 @@ and receipt.
 The API has checked the readings against their limits (``schemas.channels.check_columns``);
 a store checks only what it needs to store the batch sensibly: the group belongs to the
 run's stand, the channel names are the group's, the channels of an aligned group come
-all together with equal lengths.
+all together (or, where the group declares ``required`` sets, at least one set of them: the
+others are stored as NaN) with equal lengths.
 
 In a non-aligned group (``measurements``) a batch may carry any subset of the channels, of
 any lengths; the stores keep every channel of a group at the same length by padding the
@@ -179,9 +180,9 @@ def check(stand: StandKind, batch: Batch) -> ChannelGroup:
             f"group {batch.group!r} has no channel {unknown[0]!r} (known: {', '.join(known)})"
         )
     if decl.aligned:
-        missing = [n for n in known if n not in batch.columns]
-        if missing:
-            raise ValueError(f"channel {missing[0]!r} is missing; group {decl.name!r} needs all")
+        lacks = decl.missing(batch.columns.keys())
+        if lacks is not None:
+            raise ValueError(lacks)
         if len({len(v) for v in batch.columns.values()}) > 1:
             detail = ", ".join(f"{n}: {len(v)}" for n, v in batch.columns.items())
             raise ValueError(f"channels of group {decl.name!r} differ in length ({detail})")

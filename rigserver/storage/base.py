@@ -8,16 +8,19 @@ one commit (group commit).
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterator, Mapping, Sequence
+from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Protocol
+from typing import TYPE_CHECKING, Any, Protocol
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from schemas.readings import BatchReceipt
 from schemas.runs import Run, RunPage, RunQuery, RunState
+
+if TYPE_CHECKING:
+    from rigserver.storage._checks import StoredBatch
 
 Columns = Mapping[str, NDArray[np.float64]]
 #: Called with a batch's columns (float64) and the last stored value of each channel of its
@@ -108,6 +111,19 @@ class RunStore(Protocol):
 
     def run_file(self, run_id: str) -> Path:
         """Path of a consistent HDF5 file of the run (a snapshot for an open run)."""
+        ...
+
+    def import_run(
+        self,
+        run: Run,
+        key: str | None,
+        results: Mapping[str, Any] | None,
+        batches: Iterable[tuple[int, StoredBatch, Mapping[str, NDArray[np.float64]]]],
+    ) -> bool:
+        """Store a run made elsewhere whole, all or nothing: its catalogue entry as it is
+        (state, times, counters, results) and its batches (seq, receipt, every channel of
+        the group) in the order given; False, and nothing stored, if its id is taken. An
+        exception raised by ``batches`` stores nothing."""
         ...
 
     def readings_version(self, run_id: str) -> int:

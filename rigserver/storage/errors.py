@@ -13,7 +13,9 @@
      ├── StorageUnavailable   any other failure to make a batch durable
      ├── SeriesNotFound       no series with that id
      ├── MemberExists         the run is in the series already
-     └── MemberNotFound       the run is not in the series
+     ├── MemberNotFound       the run is not in the series
+     ├── SeriesFull           the series holds as many runs as a series may
+     └── OtherStand           the series holds runs of another stand
 """
 
 from __future__ import annotations
@@ -64,4 +66,12 @@ class MemberExists(StorageError):
 
 
 class MemberNotFound(StorageError):
+    pass
+
+
+class SeriesFull(StorageError):
+    pass
+
+
+class OtherStand(StorageError):
     pass

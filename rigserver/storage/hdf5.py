@@ -51,7 +51,7 @@ import shutil
 import sqlite3
 import threading
 from collections import OrderedDict
-from collections.abc import Iterator, Mapping, Sequence
+from collections.abc import Iterable, Iterator, Mapping, Sequence
 from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -82,6 +82,7 @@ from rigserver.storage._time import now
 from rigserver.storage.base import Columns, NewBatch
 from rigserver.storage.errors import (
     RunDamaged,
+    RunNotFound,
     RunNotOpen,
     SequenceConflict,
     StorageError,
@@ -89,6 +90,7 @@ from rigserver.storage.errors import (
 )
 from rigserver.storage.journal import CatalogueEntry, Journal, Synchronous
 from rigserver.storage.runfile import RunFile, fsync_path, read_summary, write_file
+from rigserver.storage.waiters import AppendWaiters
 from schemas.readings import BatchReceipt
 from schemas.runs import Run, RunPage, RunQuery, RunState
 
@@ -138,6 +140,8 @@ class HDF5Store:
         #: ended runs whose finalized file is being fsynced (outside the lock)
         self._finishing: set[str] = set()
         self._closed = False
+        #: the live streams waiting for a run's next batch (woken after each commit)
+        self.appends = AppendWaiters()
         with failures_as(f"opening the data directory {self.data_dir}"):
             for d in (self.data_dir, self._runs, self._snapshots):
                 d.mkdir(parents=True, exist_ok=True)
@@ -256,6 +260,7 @@ class HDF5Store:
                 self._journal.end_run(ended)
             del self._live[run_id]
             self._files.pop(run_id, None)
+            self.appends.ended(run_id)
             try:
                 with failures_as(doing):
                     try:
@@ -345,7 +350,19 @@ class HDF5Store:
                 ]
             for st in staged:
                 outcomes[st.index] = self._write_staged(st)
+            grown = {run_id: self._live[run_id].run.batches for run_id in saved}
+        for run_id, count in grown.items():
+            self.appends.woken(run_id, count)
         return [o for o in outcomes if o is not None]
+
+    def wake_waiters(self) -> None:
+        """Wake every live stream waiting (the server is stopping)."""
+        self.appends.wake_all()
+
+    async def wait_for_appends(self, run_id: str, batches: int, timeout: float) -> bool:
+        """Until a batch of the run beyond ``batches`` is committed or the run ends (told
+        in this process, :mod:`rigserver.storage.waiters`); False after ``timeout`` s."""
+        return await self.appends.wait(run_id, batches, timeout)
 
     def _stage(
         self,
@@ -510,6 +527,56 @@ class HDF5Store:
             with failures_as(f"reading the results of run {run_id}"):
                 text = self._journal.results(run_id)
         return None if text is None else dict(json.loads(text))
+
+    def import_run(
+        self,
+        run: Run,
+        key: str | None,
+        results: Mapping[str, Any] | None,
+        batches: Iterable[tuple[int, StoredBatch, Mapping[str, NDArray[np.float64]]]],
+    ) -> bool:
+        """Store a run made elsewhere whole (:meth:`RunStore.import_run`): its final file
+        is written first, outside the store's lock (a temp file renamed when complete),
+        then its catalogue entry; the run is seen only once both are there. The batches'
+        receipts are not kept: an imported run has ended and takes no retries."""
+        checked = None if results is None else check_results(results, run.key_results)
+        path = self._path(run.id)
+        with self._lock:
+            self._check_open()
+            if run.id in self._live or path.exists() or self._catalogued(run.id):
+                return False
+        with failures_as(f"writing the file of imported run {run.id}"):
+            write_file(
+                path,
+                run,
+                ((s.group, dict(columns), s.rows) for _, s, columns in batches),
+                checked,
+                final=True,
+            )
+        try:
+            with self._lock:
+                self._check_open()
+                with failures_as(f"importing run {run.id}"):
+                    self._journal.insert_run(
+                        run,
+                        file_final=True,
+                        results=None if checked is None else checked.text,
+                        key=key,
+                    )
+        except BaseException:
+            path.unlink(missing_ok=True)
+            raise
+        return True
+
+    def _catalogued(self, run_id: str) -> bool:
+        with failures_as(f"looking up run {run_id}"):
+            try:
+                self._journal.entry(run_id)
+            except RunNotFound:
+                return False
+            except RunDamaged:
+                pass
+        return True
 
     def readings_version(self, run_id: str) -> int:
         """The run's batch count (:meth:`RunStore.readings_version`)."""

@@ -8,10 +8,11 @@ It makes the same checks and gives the same receipts as :class:`HDF5Store` (both
 from __future__ import annotations
 
 import json
+import os
 import shutil
 import tempfile
 import threading
-from collections.abc import Iterator, Mapping, Sequence
+from collections.abc import Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -38,6 +39,7 @@ from rigserver.storage._time import as_utc, now
 from rigserver.storage.base import Columns, NewBatch
 from rigserver.storage.errors import RunExists, RunNotFound, RunNotOpen
 from rigserver.storage.runfile import write_file
+from rigserver.storage.waiters import AppendWaiters
 from schemas.readings import BatchReceipt
 from schemas.runs import Run, RunPage, RunQuery, RunState
 
@@ -68,6 +70,8 @@ class MemoryStore:
         #: Idempotency-Key -> the run opened with it
         self._keys: dict[str, str] = {}
         self._dir: Path | None = None
+        #: the live streams waiting for a run's next batch
+        self.appends = AppendWaiters()
 
     def _get(self, run_id: str) -> _Run:
         found = self._runs.get(run_id)
@@ -113,7 +117,23 @@ class MemoryStore:
                     outcomes.append(self._append(nb))
                 except Exception as exc:
                     outcomes.append(exc)
+            grown = {
+                o.run_id: self._runs[o.run_id].run.batches
+                for o in outcomes
+                if isinstance(o, BatchReceipt) and not o.duplicate
+            }
+        for run_id, count in grown.items():
+            self.appends.woken(run_id, count)
         return outcomes
+
+    def wake_waiters(self) -> None:
+        """Wake every live stream waiting (the server is stopping)."""
+        self.appends.wake_all()
+
+    async def wait_for_appends(self, run_id: str, batches: int, timeout: float) -> bool:
+        """Until a batch of the run beyond ``batches`` is stored or the run ends (in this
+        process: :mod:`rigserver.storage.waiters`); False after ``timeout`` seconds."""
+        return await self.appends.wait(run_id, batches, timeout)
 
     def _append(self, nb: NewBatch) -> BatchReceipt:
         run_id, seq, group = nb.run_id, nb.seq, nb.group
@@ -200,7 +220,33 @@ class MemoryStore:
                 raise RunNotOpen(f"run {run_id} is already {run.state.value}")
             run.state = state
             run.ended = now()
-            return run.model_copy(deep=True)
+            ended = run.model_copy(deep=True)
+        self.appends.ended(run_id)
+        return ended
+
+    def import_run(
+        self,
+        run: Run,
+        key: str | None,
+        results: Mapping[str, Any] | None,
+        batches: Iterable[tuple[int, StoredBatch, Mapping[str, NDArray[np.float64]]]],
+    ) -> bool:
+        """Store a run made elsewhere whole (:meth:`RunStore.import_run`): gathered first,
+        then put in the store at once."""
+        checked = None if results is None else check_results(results, run.key_results)
+        imported = _Run(run.model_copy(deep=True), results=checked)
+        for seq, stored, columns in batches:
+            imported.batches[seq] = stored
+            group = imported.columns.setdefault(stored.group, {})
+            for name, values in columns.items():
+                group.setdefault(name, []).append(np.array(values, dtype=np.float64))
+        with self._lock:
+            if run.id in self._runs:
+                return False
+            self._runs[run.id] = imported
+            if key is not None:
+                self._keys[key] = run.id
+        return True
 
     def readings_version(self, run_id: str) -> int:
         with self._lock:
@@ -218,8 +264,11 @@ class MemoryStore:
             if self._dir is None:
                 self._dir = Path(tempfile.mkdtemp(prefix="rig-memory-store-"))
             path = self._dir / f"{run_id}.h5"
+            written = path.with_name(f"{run_id}.{threading.get_ident()}.tmp")
             batches = [(g, cols, run.rows[g]) for g, cols in groups.items()]
-            write_file(path, run, batches, stored_run.results, final=run.state is not RunState.OPEN)
+            final = run.state is not RunState.OPEN
+            write_file(written, run, batches, stored_run.results, final=final)
+            os.replace(written, path)  # a reader of the file before keeps reading it whole
             return path
 
     def close(self) -> None:

@@ -483,6 +483,17 @@ class PostgresStore:
             return {n: np.concatenate((stored[n], rest[n])) for n in names}
         return _journal_rows(decl, names, rows, lo, hi)
 
+    #: Notifications may be lost while the listener reconnects: waiters read the catalogue
+    #: again now and then (:mod:`rigserver.api.routes.live`)
+    appends_lossy = True
+
+    def wake_waiters(self) -> None:
+        """Wake every live stream waiting (the server is stopping)."""
+        with self._appends_lock:
+            appends = self._appends
+        if appends is not None:
+            appends.wake_all()
+
     async def wait_for_appends(self, run_id: str, batches: int, timeout: float) -> bool:
         """Until any worker stores more than ``batches`` batches of the run or ends it:
         True if notified, False after ``timeout`` seconds (the listener starts at the

@@ -5,10 +5,14 @@ A series holds references to runs, not readings, so it keeps its own small SQLit
 tests; a cluster keeps them in its PostgreSQL database (:mod:`.series_postgres`). Tables::
 
     series(id, name, purpose, factor, notes, created)
-    members(series_id, run_id, level, added, n)   n orders the runs as they joined
+    members(series_id, run_id, level, added, n, stand)   n orders the runs as they joined
 
-A run may belong to several series; that it exists, and that it is of the series' stand, is
-the API's to check (the run store knows the runs).
+A run may belong to several series; that it exists is the API's to check (the run store
+knows the runs), and the API names its stand. That a series holds runs of one stand, and
+at most ``limit`` of them, is checked by :meth:`SeriesStore.add` in the transaction that
+adds the run, so adds at once (threads of one server, or the workers of a cluster) never
+mix two stands or pass the limit. A member stored by an older version has no stand (NULL):
+the API checks the new run against such members' runs, whose stand never changes.
 """
 
 from __future__ import annotations
@@ -24,10 +28,18 @@ from rigserver.storage._time import as_utc, iso, now
 from rigserver.storage.errors import (
     MemberExists,
     MemberNotFound,
+    OtherStand,
+    SeriesFull,
     SeriesNotFound,
     StorageUnavailable,
 )
-from schemas.series import Series, SeriesCreate, SeriesMember, new_series_id
+from schemas.series import (
+    SERIES_RUNS_LIMIT,
+    Series,
+    SeriesCreate,
+    SeriesMember,
+    new_series_id,
+)
 
 _SCHEMA = """
 CREATE TABLE IF NOT EXISTS series (
@@ -44,9 +56,12 @@ CREATE TABLE IF NOT EXISTS members (
     run_id TEXT NOT NULL,
     level TEXT,
     added TEXT NOT NULL,
+    stand TEXT,
     UNIQUE (series_id, run_id)
 );
 """
+#: A members table made before the stand was kept gets the column (NULL in its rows).
+_STAND_COLUMN = "ALTER TABLE members ADD COLUMN stand TEXT"
 
 
 class SeriesStore(Protocol):
@@ -62,8 +77,18 @@ class SeriesStore(Protocol):
         """Every series, newest first."""
         ...
 
-    def add(self, series_id: str, run_id: str, level: str | None) -> Series:
-        """Add a run (``MemberExists`` if it is a member already)."""
+    def add(
+        self,
+        series_id: str,
+        run_id: str,
+        level: str | None,
+        *,
+        stand: str,
+        limit: int = SERIES_RUNS_LIMIT,
+    ) -> Series:
+        """Add the run, of the stand ``stand``, in one transaction with the checks:
+        ``SeriesFull`` if the series holds ``limit`` runs, ``OtherStand`` if it holds a run
+        of another stand, ``MemberExists`` if the run is a member already."""
         ...
 
     def remove(self, series_id: str, run_id: str) -> Series:
@@ -82,6 +107,9 @@ class SqliteSeries:
             self._db.execute("PRAGMA journal_mode=WAL")
             self._db.execute("PRAGMA foreign_keys=ON")
             self._db.executescript(_SCHEMA)
+            columns = {row[1] for row in self._db.execute("PRAGMA table_info(members)")}
+            if "stand" not in columns:
+                self._db.execute(_STAND_COLUMN)
         except sqlite3.Error as exc:
             raise StorageUnavailable(f"cannot open the series database: {exc}") from exc
         self._lock = threading.Lock()
@@ -111,17 +139,44 @@ class SqliteSeries:
             ids = [r[0] for r in self._db.execute("SELECT id FROM series ORDER BY created DESC")]
             return [self._get(i) for i in ids]
 
-    def add(self, series_id: str, run_id: str, level: str | None) -> Series:
+    def add(
+        self,
+        series_id: str,
+        run_id: str,
+        level: str | None,
+        *,
+        stand: str,
+        limit: int = SERIES_RUNS_LIMIT,
+    ) -> Series:
         with self._lock:
-            self._get(series_id)
+            # IMMEDIATE: the write lock from the first read, so no other connection adds
+            # between the checks and the insert
+            self._db.execute("BEGIN IMMEDIATE")
             try:
-                with self._db:
+                found = self._db.execute("SELECT 1 FROM series WHERE id = ?", (series_id,))
+                if found.fetchone() is None:
+                    raise SeriesNotFound(f"no series {series_id}")
+                (count,) = self._db.execute(
+                    "SELECT COUNT(*) FROM members WHERE series_id = ?", (series_id,)
+                ).fetchone()
+                other = self._db.execute(
+                    "SELECT run_id, stand FROM members WHERE series_id = ? AND stand IS NOT NULL "
+                    "AND stand != ? LIMIT 1",
+                    (series_id, stand),
+                ).fetchone()
+                check_room(series_id, run_id, stand, count, other, limit)
+                try:
                     self._db.execute(
-                        "INSERT INTO members (series_id, run_id, level, added) VALUES (?, ?, ?, ?)",
-                        (series_id, run_id, level, iso(now())),
+                        "INSERT INTO members (series_id, run_id, level, added, stand) "
+                        "VALUES (?, ?, ?, ?, ?)",
+                        (series_id, run_id, level, iso(now()), stand),
                     )
-            except sqlite3.IntegrityError:
-                raise MemberExists(f"run {run_id} is in series {series_id} already") from None
+                except sqlite3.IntegrityError:
+                    raise MemberExists(f"run {run_id} is in series {series_id} already") from None
+            except BaseException:
+                self._db.execute("ROLLBACK")
+                raise
+            self._db.execute("COMMIT")
             return self._get(series_id)
 
     def remove(self, series_id: str, run_id: str) -> Series:
@@ -149,6 +204,25 @@ class SqliteSeries:
             (series_id,),
         ).fetchall()
         return series_of(series_id, row, members)
+
+
+def check_room(
+    series_id: str,
+    run_id: str,
+    stand: str,
+    count: int,
+    other: Sequence[Any] | None,
+    limit: int,
+) -> None:
+    """``SeriesFull`` if the series holds ``count`` >= ``limit`` runs, ``OtherStand`` if it
+    holds ``other`` (a member's ``(run_id, stand)``, of a stand not ``stand``)."""
+    if count >= limit:
+        raise SeriesFull(f"series {series_id} holds {count} runs, as many as a series may")
+    if other is not None:
+        raise OtherStand(
+            f"series {series_id} holds {other[1]} runs (run {other[0]}); run {run_id} is a "
+            f"{stand} run"
+        )
 
 
 def new_series(body: SeriesCreate) -> Series:

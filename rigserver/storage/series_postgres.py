@@ -8,10 +8,10 @@ import psycopg_pool
 
 from rigserver.storage._failures import failures_as
 from rigserver.storage._time import iso, now
-from rigserver.storage.errors import MemberExists, MemberNotFound
+from rigserver.storage.errors import MemberExists, MemberNotFound, SeriesNotFound
 from rigserver.storage.postgres import PG_FAILURES
-from rigserver.storage.series import new_series, series_of
-from schemas.series import Series, SeriesCreate
+from rigserver.storage.series import check_room, new_series, series_of
+from schemas.series import SERIES_RUNS_LIMIT, Series, SeriesCreate
 
 _SCHEMA = """
 CREATE TABLE IF NOT EXISTS rig_series (
@@ -28,8 +28,10 @@ CREATE TABLE IF NOT EXISTS rig_series_members (
     run_id TEXT NOT NULL,
     level TEXT,
     added TEXT NOT NULL,
+    stand TEXT,
     UNIQUE (series_id, run_id)
 );
+ALTER TABLE rig_series_members ADD COLUMN IF NOT EXISTS stand TEXT;
 """
 
 
@@ -69,15 +71,39 @@ class PostgresSeries:
             ids = [r[0] for r in conn.execute("SELECT id FROM rig_series ORDER BY created DESC")]
         return [self.get(i) for i in ids]
 
-    def add(self, series_id: str, run_id: str, level: str | None) -> Series:
+    def add(
+        self,
+        series_id: str,
+        run_id: str,
+        level: str | None,
+        *,
+        stand: str,
+        limit: int = SERIES_RUNS_LIMIT,
+    ) -> Series:
         with failures_as(f"adding a run to series {series_id}", PG_FAILURES):
-            self._get(series_id)
             try:
-                with self._pool.connection() as conn:
+                with self._pool.connection() as conn, conn.transaction():
+                    # the series' row locked: the adds to one series, from any worker, one
+                    # at a time from here to the commit
+                    found = conn.execute(
+                        "SELECT 1 FROM rig_series WHERE id = %s FOR UPDATE", (series_id,)
+                    ).fetchone()
+                    if found is None:
+                        raise SeriesNotFound(f"no series {series_id}")
+                    row = conn.execute(
+                        "SELECT COUNT(*) FROM rig_series_members WHERE series_id = %s",
+                        (series_id,),
+                    ).fetchone()
+                    other = conn.execute(
+                        "SELECT run_id, stand FROM rig_series_members WHERE series_id = %s "
+                        "AND stand IS NOT NULL AND stand <> %s LIMIT 1",
+                        (series_id, stand),
+                    ).fetchone()
+                    check_room(series_id, run_id, stand, row[0] if row else 0, other, limit)
                     conn.execute(
-                        "INSERT INTO rig_series_members (series_id, run_id, level, added) "
-                        "VALUES (%s, %s, %s, %s)",
-                        (series_id, run_id, level, iso(now())),
+                        "INSERT INTO rig_series_members (series_id, run_id, level, added, stand) "
+                        "VALUES (%s, %s, %s, %s, %s)",
+                        (series_id, run_id, level, iso(now()), stand),
                     )
             except psycopg.errors.UniqueViolation:
                 raise MemberExists(f"run {run_id} is in series {series_id} already") from None

@@ -34,6 +34,8 @@ LIVE_AXES: dict[StandKind, tuple[str, str]] = {
     StandKind.SLIDE_BEARING: ("limb_angle", "p3"),
     StandKind.MTOS: ("load", "indicator"),
     StandKind.PROFILOMETER: ("x", "y"),
+    StandKind.PIN_ON_DISC: ("time", "friction_coefficient"),
+    StandKind.RECIPROCATING: ("time", "friction_coefficient"),
 }
 """The channels drawn first on a run's live chart: x and y (any channel can be chosen)."""
 

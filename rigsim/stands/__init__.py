@@ -1,4 +1,4 @@
-"""The four simulated stands: pure functions ``simulate(settings, seed) -> SimulatedRun``.
+"""The simulated stands: pure functions ``simulate(settings, seed) -> SimulatedRun``.
 
 :data:`SIMULATORS` maps each stand kind to its settings class and simulator;
 :func:`simulate` picks one by kind.
@@ -11,7 +11,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from rigsim.batches import SimulatedRun
-from rigsim.stands import mtos, profilometer, slide_bearing, smts2
+from rigsim.stands import mtos, profilometer, slide_bearing, smts2, tribometer
 from schemas.stands import StandKind
 
 __all__ = ["SIMULATORS", "Simulator", "simulate"]
@@ -19,9 +19,10 @@ __all__ = ["SIMULATORS", "Simulator", "simulate"]
 
 @dataclass(frozen=True, slots=True)
 class Simulator:
-    """A stand's settings class and its ``simulate(settings, seed)``."""
+    """A stand's default settings (its settings class, or a maker of them) and its
+    ``simulate(settings, seed)``."""
 
-    settings: type[Any]
+    settings: Callable[[], Any]
     simulate: Callable[[Any, int], SimulatedRun[Any]]
 
 
@@ -30,6 +31,10 @@ SIMULATORS: dict[StandKind, Simulator] = {
     StandKind.SLIDE_BEARING: Simulator(slide_bearing.SlideBearingSettings, slide_bearing.simulate),
     StandKind.MTOS: Simulator(mtos.MtosSettings, mtos.simulate),
     StandKind.PROFILOMETER: Simulator(profilometer.ProfilometerSettings, profilometer.simulate),
+    StandKind.PIN_ON_DISC: Simulator(tribometer.TribometerSettings, tribometer.simulate),
+    StandKind.RECIPROCATING: Simulator(
+        tribometer.TribometerSettings.reciprocating, tribometer.simulate_reciprocating
+    ),
 }
 
 

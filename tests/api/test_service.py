@@ -35,10 +35,17 @@ def friction_batch(seq: int, t0: float, n: int = 10, moment: float = 2.7) -> dic
     }
 
 
-def test_stands_list_the_four_kinds(client: TestClient) -> None:
+def test_stands_list_every_kind(client: TestClient) -> None:
     r = client.get(f"{API}/stands", headers=auth(READER))
     assert r.status_code == 200
-    assert {s["kind"] for s in r.json()} == {"smts2", "slide_bearing", "mtos", "profilometer"}
+    assert {s["kind"] for s in r.json()} == {
+        "smts2",
+        "slide_bearing",
+        "mtos",
+        "profilometer",
+        "pin_on_disc",
+        "reciprocating",
+    }
     one = client.get(f"{API}/stands/mtos", headers=auth(READER)).json()
     assert one["configuration"]["viscosity"]["A"] == pytest.approx(0.0773)  # (4.17) default
 

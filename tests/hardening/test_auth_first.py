@@ -64,6 +64,7 @@ def test_every_route_of_the_api_is_a_read_or_a_write() -> None:
     writes = {(m, p) for m, p, write in ROUTES if write}
     assert writes == {
         ("POST", f"{API}/runs"),
+        ("POST", f"{API}/runs/import"),
         ("POST", f"{API}/runs/{{run_id}}/readings"),
         ("POST", f"{API}/runs/{{run_id}}/finish"),
         ("POST", f"{API}/runs/{{run_id}}/abort"),

@@ -40,15 +40,19 @@ def test_admission_is_bounded_in_batches_and_bytes() -> None:
             pass
         return caught.value
 
-    with queue.admit(4), queue.admit(4):
+    with queue.admit(4) as first, queue.admit(4) as second:
+        first.arrived(4)  # bytes count as they arrive
+        second.arrived(4)
         assert queue.admitted == (2, 8)
         problem = refused(4)  # 12 bytes > 10
         assert (problem.problem.status, problem.headers) == (503, {"Retry-After": "7"})
         assert "at most 3 (10 bytes)" in problem.problem.detail
-        with queue.admit(2):  # 10 bytes, 3 batches: the limits, not past them
+        with queue.admit(2) as third:  # 10 bytes, 3 batches: the limits, not past them
+            third.arrived(2)
             refused(0)  # a fourth batch
     assert queue.admitted == (0, 0)
-    with queue.admit(50):  # alone, a body over the byte budget is admitted
+    with queue.admit(50) as alone:  # alone, a body over the byte budget is admitted
+        alone.arrived(50)
         refused(1)
     assert queue.admitted == (0, 0)
 

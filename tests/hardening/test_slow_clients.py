@@ -22,7 +22,7 @@ from rigserver.api.ingest_queue import IngestQueue
 from rigserver.api.problems import ApiProblem
 from rigserver.api.settings import Settings
 from rigserver.storage import MemoryStore
-from tests.api.conftest import KEYS, WRITER, Server, auth
+from tests.api.conftest import KEYS, MTOS_ONLY, WRITER, Server, auth
 from tests.hardening.conftest import API, json_batch, open_run
 
 #: The other stand's lab PC, a key of its own.
@@ -51,20 +51,58 @@ def test_one_key_holds_at_most_its_share_of_the_queue() -> None:
             pass
         return caught.value
 
-    with queue.admit(10, "a"), queue.admit(10, "a"):
+    with queue.admit(10, "a") as a1, queue.admit(10, "a") as a2:
+        a1.arrived(10)
+        a2.arrived(10)
         problem = refused(1, "a")  # a third post of key a
         assert (problem.problem.status, problem.problem.title) == (503, "Ingest share used")
         assert problem.headers == {"Retry-After": "3"}
-        with queue.admit(20, "b"):  # key b has its own share
+        with queue.admit(20, "b") as b1:  # key b has its own share
+            b1.arrived(20)
             assert refused(6, "b").problem.title == "Ingest share used"  # 26 bytes > 25
-            with queue.admit(5, "b"):
+            with queue.admit(5, "b") as b2:
+                b2.arrived(5)
                 assert queue.admitted == (4, 45)
     assert queue.admitted == (0, 0)
-    with queue.admit(90, "a"):  # alone, a body over the key's bytes is admitted
+    with queue.admit(90, "a") as big:  # alone, a body over the key's bytes is admitted
+        big.arrived(90)
         assert refused(1, "a").problem.title == "Ingest share used"
-        assert refused(11, "b").problem.title == "Ingest queue full"  # 101 bytes > 100
-        with queue.admit(10, "b"):
+        assert queue.admitted == (1, 25)  # it counts for the key's share, no more
+        with queue.admit(11, "b"):  # so the other keys keep the rest of the queue
             pass
+
+
+def test_a_body_counts_by_the_bytes_that_have_arrived() -> None:
+    """100 bytes at once, a quarter per key; a body that declares more than it sends holds
+    what has come (issue 22, item 7)."""
+    queue = IngestQueue(
+        MemoryStore(), lambda _: threading.Lock(),
+        max_batches=8, max_bytes=100, share=0.25, retry_after=3,
+    )  # fmt: skip
+    with queue.admit(64 << 20, "slow") as slow:  # declares 64 MiB, sends one byte
+        slow.arrived(1)
+        assert queue.admitted == (1, 1)
+        for key in ("b", "c", "d"):  # every other key's post fits, of any size
+            with queue.admit(25, key) as place:
+                place.arrived(25)
+        with queue.admit(0, "b") as b, queue.admit(0, "c") as c, queue.admit(0, "d") as d:
+            for place in (b, c, d):  # chunked: counted as they arrive
+                place.arrived(25)
+            assert queue.admitted == (4, 76)
+            with pytest.raises(ApiProblem) as caught, queue.admit(0, "e") as e:
+                e.arrived(25)  # 101 bytes in: the queue is full
+            assert caught.value.problem.title == "Ingest queue full"
+            with queue.admit(0, "b") as more, pytest.raises(ApiProblem) as caught:
+                more.arrived(1)  # 26 bytes of key b in two bodies
+            assert caught.value.problem.title == "Ingest share used"
+            slow.arrived(24)  # the slow body fills its key's share
+            assert queue.admitted == (4, 100)
+            with pytest.raises(ApiProblem) as caught, queue.admit(1, "e"):
+                pass
+            assert caught.value.problem.title == "Ingest queue full"
+        slow.arrived(1000)  # alone of its key, it arrives whole: counted at its share
+        assert queue.admitted == (1, 25)
+    assert queue.admitted == (0, 0)
 
 
 # --- the body's time limit, at the ASGI level --------------------------------------------
@@ -228,3 +266,53 @@ def test_one_keys_slow_uploads_do_not_starve_another_stand(
     with httpx.Client(base_url=server.url, timeout=30) as http:
         run = http.get(f"{API}/runs/{run_id}", headers=auth(WRITER)).json()
     assert run["batches"] == 0
+
+
+def test_a_trickling_body_that_declares_64_mib_leaves_the_queue_to_the_others(
+    server: Server,
+) -> None:
+    """The MTOS PC's post declares the largest body (64 MiB, the whole queue's bytes) and
+    sends a byte every 0.5 s: it holds the bytes that came, so the other stand's posts are
+    all taken meanwhile (they were 503 until its time ran out), and it is let go at its
+    time limit (issue 22, item 7)."""
+    with httpx.Client(base_url=server.url, timeout=30) as http:
+        r = http.post(
+            f"{API}/runs", json={"stand": "mtos", "operator": "x"}, headers=auth(MTOS_ONLY)
+        )
+        assert r.status_code == 201, r.text
+        mtos_run = r.json()["id"]
+    sock = socket.create_connection(("127.0.0.1", server.port), timeout=BODY_TIMEOUT + 10)
+    head = (
+        f"POST {API}/runs/{mtos_run}/readings HTTP/1.1\r\nHost: 127.0.0.1\r\n"
+        f"Authorization: Bearer {MTOS_ONLY}\r\nContent-Type: application/json\r\n"
+        f"Content-Length: {64 << 20}\r\n\r\n"
+    )
+    sock.sendall(head.encode())
+    stop = threading.Event()
+
+    def trickle() -> None:
+        for byte in b'{"seq": 0, "group": "steps", "columns": {' * 100:
+            if stop.wait(0.5):
+                return
+            try:
+                sock.sendall(bytes([byte]))
+            except OSError:  # answered and closed
+                return
+
+    dripping = threading.Thread(target=trickle)
+    dripping.start()
+    opened = time.monotonic()
+    try:
+        time.sleep(0.5)  # the upload is admitted first
+        took = _other_stand_posts(server.url, 10)  # each asserts its 201
+        during = time.monotonic() - opened
+        status = _status(sock)
+        answered = time.monotonic() - opened
+    finally:
+        stop.set()
+        dripping.join()
+        sock.close()
+    assert during < BODY_TIMEOUT, "the other stand posted after the slow upload timed out"
+    assert max(took) < 2.0, took
+    assert status == 408
+    assert answered < BODY_TIMEOUT + 5

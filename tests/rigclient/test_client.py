@@ -126,14 +126,27 @@ def test_a_refused_batch_stops_its_run_and_stays_in_the_spool(tmp_path: Path) ->
 
 def test_a_refused_opening_is_kept_with_the_servers_problem(tmp_path: Path) -> None:
     server = FakeServer()
-    server.script = [lambda r: problem(403, "Forbidden", "the key lacks write:profilometer")]
+    detail = "configuration.spring_rate: a number is needed"
+    server.script = [lambda r: problem(422, "Run refused", detail)]
     with _client(server, tmp_path) as client:
         run = client.open_run(stand="profilometer", operator="Petrov")
         run.post("profile", _profile(0.0))
         assert not client.wait(10)
         record = run.status()
     assert record.refused_what == "opening" and record.refused is not None
-    assert "write:profilometer" in record.refused["detail"] and record.pending == 1
+    assert record.refused["detail"] == detail and record.pending == 1
+
+
+def test_a_key_refused_at_the_opening_is_tried_again(tmp_path: Path) -> None:
+    """403 is not the opening's fault: tried again (a key changed on the server)."""
+    server = FakeServer()
+    server.script = [lambda r: problem(403, "Forbidden", "the key lacks write:profilometer")]
+    with _client(server, tmp_path) as client:
+        run = client.open_run(stand="profilometer", operator="Petrov")
+        run.post("profile", _profile(0.0))
+        assert client.wait(10)
+        assert run.status().refused is None and run.status().last_error is None
+    assert sorted(server.stored) == [0]
 
 
 def test_retry_after_is_honoured(tmp_path: Path) -> None:
@@ -235,9 +248,10 @@ def test_tail_with_the_server_out_of_reach_prints_the_local_id_and_keeps_the_row
     spool = tmp_path / "spool"
     args = ["tail", str(path), "--stand", "profilometer", "--group", "profile", "--id-wait", "1"]
     args += ["--url", "http://127.0.0.1:9", "--spool", str(spool)]  # nothing listens there
-    assert main([*args, "--finish-after-idle", "0.5", "--drain", "0.5"]) == 0
+    assert main([*args, "--finish-after-idle", "0.5", "--drain", "0.5"]) == 1  # not delivered
     out, err = capsys.readouterr()
-    assert out.startswith("local-") and "1 batches wait in the spool" in err
+    assert out.startswith("local-") and "1 batch (2 rows) and the finish wait in the spool" in err
+    assert "POST http://127.0.0.1:9/api/v1/runs: connection refused" in err
     with Spool(spool) as opened:
         (record,) = opened.runs()
     assert (record.pending, record.finish_queued, record.server_id) == (1, True, None)

@@ -152,16 +152,27 @@ def test_import_refuses_a_malformed_line_and_delivers_the_rest(
     assert '"line": 8' in report and '"column": "load"' in report
 
 
-def test_tail_stops_at_once_when_the_server_refuses_the_opening(
+def test_a_key_refused_at_the_start_stops_the_agent_and_the_right_key_goes_on(
     server: Server, agents: list[AgentProcess], tmp_path: Path
 ) -> None:
-    """A key without the scope: the agent says so instead of spooling rows for nobody."""
+    """A key without the scope: the agent says so at once, with the URL, instead of
+    spooling rows for nobody; the same command with the right key goes on with the run the
+    spool kept, and delivers it (the key is not frozen into the spool)."""
     path = tmp_path / "smts2.csv"
-    path.write_text(HEADER + row(0), encoding="utf-8")
+    path.write_text(HEADER + "".join(row(k) for k in range(30)), encoding="utf-8")
     log = tmp_path / "agent.log"
     args = ["tail", str(path), "--stand", "smts2", "--group", "friction", "--url", server.url]
-    args += ["--key", READER, "--spool", str(tmp_path / "spool")]
-    agents.append(AgentProcess(args, log))
+    args += ["--spool", str(tmp_path / "spool"), "--finish-after-idle", "1"]
+    agents.append(AgentProcess([*args, "--key", READER], log))
     assert agents[-1].output(60) == []
     assert agents[-1].proc.returncode == 1
-    assert "the server refused the run's opening: 403" in log.read_text()
+    said = log.read_text()
+    assert f"POST {server.url}/api/v1/runs: 403" in said, said
+    assert "the server refused the key" in said and "--key" in said, said
+    agents.append(AgentProcess([*args, "--key", WRITER], log))
+    run_id = agents[-1].first_line()
+    assert agents[-1].wait(60) == 0, log.read_text()[-2000:]
+    assert "going on with run local-" in log.read_text()
+    columns = read_columns(server.url, run_id, "friction")
+    assert columns["time"] == [k * 0.5 for k in range(30)]
+    assert run_state(server.url, run_id)["state"] == "finished"

@@ -17,6 +17,8 @@ FAST: dict[StandKind, dict[str, Any]] = {
     StandKind.SLIDE_BEARING: {"model": "short"},
     StandKind.SMTS2: {"revolutions": 1000.0},
     StandKind.PROFILOMETER: {},
+    StandKind.PIN_ON_DISC: {"laps": 200, "running_in_laps": 40},
+    StandKind.RECIPROCATING: {"laps": 200, "running_in_laps": 40},
 }
 
 

@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 import threading
 from datetime import datetime, timedelta
+from typing import Any
 
 import h5py
 import numpy as np
@@ -419,3 +420,57 @@ def test_the_readings_version_grows_with_every_batch_stored(store: RunStore) -> 
     assert store.readings_version(run.id) == 2
     with pytest.raises(RunNotFound):
         store.readings_version("no-such-run")
+
+
+def _imported_batches(run_id: str, rows: int = 10) -> list[tuple[int, Any, dict[str, Any]]]:
+    from rigserver.storage._checks import StoredBatch, padded, prepare
+
+    decl = default_stands()[StandKind.SMTS2].group("measurements")
+    assert decl is not None
+    friction_batch = prepare("friction", friction(0, rows))
+    weighing = prepare("measurements", {"pin_mass_before": [12.5]})
+    return [
+        (0, StoredBatch("friction", rows, rows, friction_batch.digest), friction(0, rows)),
+        (1, StoredBatch("measurements", 1, 1, weighing.digest), padded(decl, weighing.columns, 1)),
+    ]
+
+
+def test_import_run_stores_it_whole(store: RunStore) -> None:
+    run = make_run(
+        state=RunState.FINISHED,
+        ended=T0 + timedelta(hours=1),
+        batches=2,
+        rows={"friction": 10, "measurements": 1},
+        key_results={"friction_steady": 0.3},
+    )
+    results = {"values": {"friction_steady": 0.3}, "units": {"friction_steady": "1"}}
+    assert store.import_run(run, None, results, _imported_batches(run.id))
+    got = store.get_run(run.id)
+    assert (got.state, got.rows, got.batches, got.ended) == (
+        RunState.FINISHED,
+        {"friction": 10, "measurements": 1},
+        2,
+        run.ended,
+    )
+    assert store.results(run.id) == results
+    np.testing.assert_array_equal(store.read(run.id, "friction")["load"], friction(0, 10)["load"])
+    assert store.last_values(run.id, "measurements") == {"pin_mass_before": 12.5}
+    # the id taken: nothing changes
+    assert not store.import_run(run, None, None, _imported_batches(run.id, rows=3))
+    assert store.get_run(run.id).rows["friction"] == 10
+    with pytest.raises(RunNotOpen):
+        store.append(run.id, 5, "friction", friction(10, 1))
+
+
+def test_import_run_stores_nothing_when_its_batches_fail(store: RunStore) -> None:
+    run = make_run(state=RunState.ABORTED, ended=T0, batches=2, rows={"friction": 10})
+
+    def failing() -> Any:
+        yield from _imported_batches(run.id)[:1]
+        raise ValueError("a reading refused half way")
+
+    with pytest.raises(ValueError, match="half way"):
+        store.import_run(run, None, None, failing())
+    with pytest.raises(RunNotFound):
+        store.get_run(run.id)
+    assert store.list_runs(RunQuery()).total == 0

@@ -19,10 +19,13 @@ from typing import Any
 
 import numpy as np
 from fastapi import APIRouter, FastAPI, Request, Response
+from fastapi.concurrency import run_in_threadpool
 from fastapi.openapi.docs import get_redoc_html
 from fastapi.responses import HTMLResponse
 from fastapi.staticfiles import StaticFiles
 
+from rigserver.api.routes.eln import ELN_EXAMPLE, example_archive
+from rigserver.reports.eln import ELN_MEDIA_TYPE
 from schemas.readings import NPZ_MEDIA_TYPE, ReadingBatch
 
 ASSETS = "/docs-assets"
@@ -94,6 +97,11 @@ def example_npz() -> bytes:
     buffer = io.BytesIO()
     np.savez(buffer, **arrays)
     return buffer.getvalue()
+
+
+@router.get(ELN_EXAMPLE)
+async def run_eln_example() -> Response:
+    return Response(await run_in_threadpool(example_archive), media_type=ELN_MEDIA_TYPE)
 
 
 @router.get(NPZ_EXAMPLE)

@@ -5,13 +5,15 @@ Each ``rows`` event carries the rows ``start:stop`` of the group as JSON columns
 sends that id back as ``Last-Event-ID`` when it reconnects, so a dropped connection
 resumes where it broke, with no row lost or repeated (``?from=`` sets the first row of a
 new connection). When the run has ended and every row is sent, an ``end`` event carries
-its state and the stream closes. The store is polled for the run's row counts, a cheap
-catalogue look-up; a store that notifies appends across processes (PostgreSQL's
-``wait_for_appends``) wakes the stream at once instead, and is polled only every
-``NOTIFIED_POLL_SECONDS`` in case a notification was lost. A connection is closed after
-``MAX_SECONDS`` (the client reconnects and resumes), and at the next poll once the server
-is asked to stop, so no stream holds up a server's shutdown; a client that goes away is
-noticed at the next write (a keep-alive comment at the latest).
+its state and the stream closes. A store that tells when a run's batch is stored or the
+run ends (``wait_for_appends``: the embedded stores in process, a cluster by PostgreSQL's
+LISTEN/NOTIFY) wakes the stream at once, and an idle stream costs nothing until its
+keep-alive is due; a cluster's stream also reads the catalogue every
+``NOTIFIED_POLL_SECONDS`` in case a notification was lost, and a store that does not tell
+is polled every ``POLL_SECONDS``. A connection is closed after ``MAX_SECONDS`` (the client
+reconnects and resumes), and at once when the server is asked to stop (its waiters are
+woken), so no stream holds up a server's shutdown; a client that goes away is noticed at
+the next write (a keep-alive comment at the latest).
 """
 
 from __future__ import annotations
@@ -38,9 +40,9 @@ from schemas.wire import Text, ascii_count
 router = APIRouter(prefix="/runs/{run_id}", tags=["live"], dependencies=[ReadAccess])
 
 POLL_SECONDS = 0.5
-"""How often the store is asked for the run's row counts."""
+"""How often a store that does not notify appends is asked for the run's row counts."""
 NOTIFIED_POLL_SECONDS = 5.0
-"""The same for a store that notifies appends."""
+"""The same for a store that notifies appends but may lose a notification (a cluster)."""
 MAX_ROWS = 5_000
 """Most rows in one event; a longer backlog goes out in several."""
 KEEPALIVE_SECONDS = 15.0
@@ -103,6 +105,8 @@ def _rows_event(services: Services, run_id: str, group: str, start: int, stop: i
 async def _stream(services: Services, run_id: str, group: str, seen: int) -> AsyncIterator[str]:
     yield f"retry: {RETRY_MS}\n\n"
     opened = last_sent = time.monotonic()
+    wait = getattr(services.store, "wait_for_appends", None)
+    lossy = getattr(services.store, "appends_lossy", False)
     while True:
         run = await run_in_threadpool(services.store.get_run, run_id)
         total = run.rows.get(group, 0)
@@ -113,17 +117,35 @@ async def _stream(services: Services, run_id: str, group: str, seen: int) -> Asy
         if run.state is not RunState.OPEN:
             yield _event("end", {"state": run.state.value, "rows": seen})
             return
-        now = time.monotonic()
-        if now - opened > MAX_SECONDS or services.stopping.is_set():
-            return
-        if now - last_sent > KEEPALIVE_SECONDS:
-            yield ": keep-alive\n\n"
-            last_sent = now
-        wait = getattr(services.store, "wait_for_appends", None)
-        if wait is None:
+        if wait is None:  # a store that does not tell: poll its catalogue
             await asyncio.sleep(POLL_SECONDS)
-        else:
-            await wait(run_id, run.batches, NOTIFIED_POLL_SECONDS)
+            if _expired(services, opened):
+                return
+            if time.monotonic() - last_sent > KEEPALIVE_SECONDS:
+                yield ": keep-alive\n\n"
+                last_sent = time.monotonic()
+            continue
+        # Woken when a batch of the run is stored or it ends; an idle stream sleeps until
+        # its keep-alive is due (and reads the catalogue again only if the store may lose
+        # a notification).
+        while True:
+            if _expired(services, opened):
+                return
+            now = time.monotonic()
+            due = last_sent + KEEPALIVE_SECONDS - now
+            timeout = min(due, opened + MAX_SECONDS - now)
+            if lossy:
+                timeout = min(timeout, NOTIFIED_POLL_SECONDS)
+            if await wait(run_id, run.batches, max(timeout, 0.0)) or lossy:
+                break
+            if time.monotonic() - last_sent >= KEEPALIVE_SECONDS:
+                yield ": keep-alive\n\n"
+                last_sent = time.monotonic()
+
+
+def _expired(services: Services, opened: float) -> bool:
+    """The connection has lived its time, or the server is stopping."""
+    return time.monotonic() - opened > MAX_SECONDS or services.stopping.is_set()
 
 
 @router.get(

@@ -28,6 +28,7 @@ from rigserver.api.deps import (
     require_write,
     services_of,
 )
+from rigserver.api.ingest_queue import Place
 from rigserver.api.npz import parse_npz
 from rigserver.api.problems import ApiProblem, violations
 from rigserver.api.routes.api_docs import NPZ_EXAMPLE
@@ -192,6 +193,17 @@ def _binary_query(request: Request) -> tuple[int, str]:
     return number, group
 
 
+async def _body(request: Request, place: Place) -> bytes:
+    """The body, each piece counted in the ingest queue as it arrives (503 once it
+    overflows the key's share or the queue: read no further)."""
+    chunks = []
+    async for chunk in request.stream():
+        if chunk:
+            place.arrived(len(chunk))
+            chunks.append(chunk)
+    return b"".join(chunks)
+
+
 def _declared_length(request: Request) -> int:
     value = request.headers.get("content-length", "")
     return ascii_count(value) or 0
@@ -212,8 +224,8 @@ async def post_readings(request: Request) -> Response:
     seq, group = _binary_query(request) if media == NPZ_MEDIA_TYPE else (0, "")
     stand = await _stand_of(services, run_id)
     writer = require_write(caller, stand.kind)
-    with services.ingest.admit(_declared_length(request), writer.fingerprint):
-        body = await request.body()
+    with services.ingest.admit(_declared_length(request), writer.fingerprint) as place:
+        body = await _body(request, place)
         small = len(body) <= SMALL_BODY_BYTES
         if media == NPZ_MEDIA_TYPE:
             limit = services.settings.max_body_bytes

@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import os
 import tempfile
-from datetime import UTC, datetime
 from typing import Annotated
 
 from fastapi import APIRouter, Query, Request
@@ -15,12 +14,13 @@ from starlette.background import BackgroundTask
 
 from rigserver.api.deps import ReadAccess, Services, ServicesDep
 from rigserver.api.problems import ApiProblem
+from rigserver.api.report_answers import caller_key, file_answer, rendered, run_job
+from rigserver.api.report_files import ReportFile
+from rigserver.api.report_jobs import RunReportJob
 from rigserver.api.routes.runs import load_run
 from rigserver.api.run_results import StoredReadings, results_payload
 from rigserver.reports.export import DIALECTS, Dialect, export_zip, results_csv
 from rigserver.reports.i18n import Lang, Messages, language_headers, negotiate
-from rigserver.reports.pdf import html_to_pdf
-from rigserver.reports.run_report import build_report, render_report
 from rigserver.reports.x3p import PROFILE_GROUP, NoProfile, profile_group, profile_x3p
 from schemas.runs import Run
 
@@ -32,53 +32,69 @@ LangQuery = Annotated[
 ]
 
 
-def _report_html(services: Services, run_id: str, lang: Lang) -> tuple[Run, str]:
-    run = load_run(services, run_id)
-    report = build_report(
-        run=run,
-        stand=services.stand_of(run),
-        values=results_payload(services, run)["values"],
-        readings=StoredReadings(services, run),
-        lang=lang,
-        made=datetime.now(UTC),
-    )
-    return run, render_report(report)
-
-
 def _language(request: Request, lang: Lang | None) -> Lang:
     return negotiate(lang, request.headers.get("accept-language"))
+
+
+def _prepare(services: Services, run_id: str, lang: Lang, fmt: str) -> tuple[Run, ReportFile]:
+    run = load_run(services, run_id)
+    return run, services.report_files.run_report(run, lang, fmt)
+
+
+def _job(services: Services, run: Run, target: ReportFile) -> tuple[RunReportJob, bool]:
+    return run_job(services, run, results_payload(services, run)["values"], target)
+
+
+async def _report(
+    request: Request, services: Services, run_id: str, lang: Lang, fmt: str
+) -> tuple[Run, Response]:
+    """The run's report in ``fmt``: its file, rendered first if this version has none."""
+    run, target = await run_in_threadpool(_prepare, services, run_id, lang, fmt)
+    headers = language_headers(lang)
+    if fmt == "pdf":
+        headers["Content-Disposition"] = f'attachment; filename="{run.id}-report-{lang}.pdf"'
+    if not target.path.exists():
+        job, in_process = await run_in_threadpool(_job, services, run, target)
+        future = services.reports.render(
+            str(target.path), caller_key(request, services), job, in_process=in_process
+        )
+        await rendered(future, target)
+    return run, file_answer(request, target, headers)
+
+
+_RENDERED = (
+    "Rendered once per version of the run (its readings, state and results), language and "
+    "deployment, then kept: the answer carries an ETag, and If-None-Match with it is "
+    "answered 304. 503 with Retry-After while the server renders as many reports as it "
+    "may, or this key's share of them."
+)
 
 
 @router.get(
     "/report.html",
     summary="The run's report as a web page (the manual's tables, plots, conclusions)",
+    description=_RENDERED,
     response_class=HTMLResponse,
 )
 async def report_html(
     run_id: str, request: Request, services: ServicesDep, lang: LangQuery = None
-) -> HTMLResponse:
-    chosen = _language(request, lang)
-    _, html = await run_in_threadpool(_report_html, services, run_id, chosen)
-    return HTMLResponse(html, headers=language_headers(chosen))
+) -> Response:
+    _, answer = await _report(request, services, run_id, _language(request, lang), "html")
+    return answer
 
 
 @router.get(
     "/report.pdf",
     summary="The run's report as an A4 PDF, from the same template",
+    description=_RENDERED,
     response_class=Response,
     responses={200: {"content": {"application/pdf": {}}}},
 )
 async def report_pdf(
     run_id: str, request: Request, services: ServicesDep, lang: LangQuery = None
 ) -> Response:
-    chosen = _language(request, lang)
-    run, html = await run_in_threadpool(_report_html, services, run_id, chosen)
-    pdf = await run_in_threadpool(html_to_pdf, html)
-    headers = {
-        **language_headers(chosen),
-        "Content-Disposition": f'attachment; filename="{run.id}-report-{chosen}.pdf"',
-    }
-    return Response(pdf, media_type="application/pdf", headers=headers)
+    _, answer = await _report(request, services, run_id, _language(request, lang), "pdf")
+    return answer
 
 
 LabelsQuery = Annotated[

@@ -18,6 +18,7 @@ from rigserver.api.deps import (
     require_write,
 )
 from rigserver.api.problems import ApiProblem, violations
+from rigserver.api.report_answers import render_finished
 from rigserver.api.run_results import compute_results
 from rigserver.api.strict_json import StrictJsonRoute
 from rigserver.storage.errors import KeyReused
@@ -129,10 +130,14 @@ def _end(run_id: str, services: Services, caller: Any, state: RunState) -> Run:
     with services.run_locks[run_id]:
         run = services.store.get_run(run_id)  # as the lock leaves it: no batch lands now
         _require_open(run)  # a concurrent finish or abort came first
+        results = None
         if state is RunState.FINISHED:
             results = services.results.for_finish(run, lambda: compute_results(services, run))
             services.store.set_results(run_id, results.payload, results.key_results)
-        return services.store.end_run(run_id, state)
+        ended = services.store.end_run(run_id, state)
+    if results is not None:
+        render_finished(services, run_id, results.payload["values"])
+    return ended
 
 
 def _require_open(run: Run) -> None:

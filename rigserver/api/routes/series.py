@@ -3,7 +3,6 @@ the series report and the per-run table as CSV."""
 
 from __future__ import annotations
 
-from datetime import UTC, datetime
 from typing import Annotated, Any
 
 from fastapi import APIRouter, Query, Request, status
@@ -20,12 +19,14 @@ from rigserver.api.deps import (
     require_scope,
 )
 from rigserver.api.problems import ApiProblem
+from rigserver.api.report_answers import caller_key, file_answer, rendered, targets
+from rigserver.api.report_files import ReportFile
+from rigserver.api.report_jobs import SeriesReportJob
 from rigserver.api.routes.runs import load_run
 from rigserver.api.run_results import StoredReadings, results_payload
 from rigserver.api.strict_json import StrictJsonRoute
 from rigserver.reports.i18n import Lang, language_headers, negotiate
-from rigserver.reports.pdf import html_to_pdf
-from rigserver.reports.series_report import render_series_report, series_context, series_csv
+from rigserver.reports.series_report import series_context, series_csv
 from rigserver.storage.errors import RunNotFound, SeriesNotFound, StorageError
 from schemas.runs import RunState
 from schemas.series import (
@@ -138,7 +139,9 @@ def _add(services: Services, series_id: str, body: SeriesMemberAdd) -> Series:
                 f"run {run.id} is a {run.stand.value} run",
             )
         break
-    return services.series.add(series.id, run.id, body.level)
+    # the checks above saw the series before this add: the store checks both again in the
+    # transaction that adds the run (SeriesFull, OtherStand: 409), for adds at once
+    return services.series.add(series.id, run.id, body.level, stand=run.stand.value)
 
 
 @router.post(
@@ -184,11 +187,6 @@ async def runs_csv(series_id: str, services: ServicesDep) -> Response:
     )
 
 
-def _report(services: Services, series_id: str, lang: Lang) -> tuple[SeriesDetail, str]:
-    detail, context = series_view(services, series_id, lang)
-    return detail, render_series_report(context, made=datetime.now(UTC))
-
-
 def series_view(
     services: Services, series_id: str, lang: Lang
 ) -> tuple[SeriesDetail, dict[str, Any]]:
@@ -203,23 +201,81 @@ def series_view(
     return detail, context
 
 
+def _prepare(services: Services, series_id: str, lang: Lang, fmt: str) -> ReportFile:
+    """Where the series report of this version is: the series and its members' versions."""
+    series = load_series(services, series_id)
+    runs = []
+    for member in series.members:
+        try:
+            runs.append(services.store.get_run(member.run_id))
+        except StorageError:
+            continue
+    return services.report_files.series_report(series, runs, lang, fmt)
+
+
+def _job(services: Services, series_id: str, target: ReportFile) -> tuple[SeriesReportJob, bool]:
+    """The series report's job; rendered in this process if a member is open (its readings
+    are only in the store)."""
+    detail, members = _detail(services, series_id)
+    files = {fmt: t.path for fmt, t in targets(target).items()}
+    open_runs = {m.run.id: m.run for m in members if m.run.state is RunState.OPEN}
+    job = SeriesReportJob(
+        detail,
+        values={m.run.id: m.values for m in members},
+        lang=target.path.name.split("-", 1)[0],  # type: ignore[arg-type]
+        targets=files,
+        run_files={
+            m.run.id: services.store.run_file(m.run.id)
+            for m in members
+            if m.run.id not in open_runs
+        },
+        readings={run_id: StoredReadings(services, run) for run_id, run in open_runs.items()},
+    )
+    return job, bool(open_runs)
+
+
+async def _report(
+    request: Request, services: Services, series_id: str, lang: Lang, fmt: str
+) -> Response:
+    target = await run_in_threadpool(_prepare, services, series_id, lang, fmt)
+    headers = language_headers(lang)
+    if fmt == "pdf":
+        headers["Content-Disposition"] = f'attachment; filename="{series_id}-report-{lang}.pdf"'
+    if not target.path.exists():
+        job, in_process = await run_in_threadpool(_job, services, series_id, target)
+        future = services.reports.render(
+            str(target.path), caller_key(request, services), job, in_process=in_process
+        )
+        await rendered(future, target)
+    return file_answer(request, target, headers)
+
+
+_RENDERED = (
+    "Rendered once per version of the series (its runs, their levels and each run's "
+    "version), language and deployment, then kept: the answer carries an ETag "
+    "(If-None-Match answered 304). 503 with Retry-After while the server renders as many "
+    "reports as it may, or this key's share of them."
+)
+
+
 @router.get(
     "/{series_id}/report.html",
     summary="The series report: the per-run table, the statistics and the overlay plots",
+    description=_RENDERED,
     response_class=HTMLResponse,
     dependencies=[ReadAccess],
 )
 async def report_html(
     series_id: str, request: Request, services: ServicesDep, lang: LangQuery = None
-) -> HTMLResponse:
+) -> Response:
     chosen = negotiate(lang, request.headers.get("accept-language"))
-    _, html = await run_in_threadpool(_report, services, series_id, chosen)
-    return HTMLResponse(html, headers=language_headers(chosen))
+    return await _report(request, services, series_id, chosen, "html")
 
 
 @router.get(
     "/{series_id}/report.pdf",
     summary="The series report as an A4 PDF",
+    description=_RENDERED,
     response_class=Response,
     responses={200: {"content": {"application/pdf": {}}}},
     dependencies=[ReadAccess],
@@ -228,13 +284,4 @@ async def report_pdf(
     series_id: str, request: Request, services: ServicesDep, lang: LangQuery = None
 ) -> Response:
     chosen = negotiate(lang, request.headers.get("accept-language"))
-    detail, html = await run_in_threadpool(_report, services, series_id, chosen)
-    pdf = await run_in_threadpool(html_to_pdf, html)
-    return Response(
-        pdf,
-        media_type="application/pdf",
-        headers={
-            **language_headers(chosen),
-            "Content-Disposition": f'attachment; filename="{detail.id}-report-{chosen}.pdf"',
-        },
-    )
+    return await _report(request, services, series_id, chosen, "pdf")

@@ -1,0 +1,387 @@
+"""A commercial tribometer's run: pin- or ball-on-disc (ASTM G99, ISO 20808) or
+reciprocating (ASTM G133). The friction record -> μ, its running-in and steady state; the
+track's profiles, the scar and the weighings -> the worn volumes and k = V/(F·L).
+
+The record needs ``time`` and μ, or the friction force with the normal load; what the
+file lacks comes from the configuration: the load from the test plan, the distance from the
+laps (2πR a lap on the disc, 2S a cycle of strokes) or from the time and the planned speed,
+the laps from the distance. Each such choice is named in the results' notes.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numpy.typing import NDArray
+from uncertainties import UFloat, wrap
+
+from rigserver.analysis.readings import Readings
+from rigserver.analysis.references import Profiles
+from rigserver.analysis.running_in import blocks_of, running_in
+from rigserver.analysis.streaming import BlockSeries
+from rigserver.analysis.uncertainty import batch_mean, estimate, from_limit, from_resolution
+from rigserver.core import tribometer, wear
+from rigserver.core.errors import ModelInputError
+from schemas.messages import N_
+from schemas.results import (
+    FrictionLoop,
+    HertzResult,
+    LapMapResult,
+    MassWear,
+    PinOnDiscResults,
+    ReciprocatingResults,
+    ScarWear,
+    StrokeBlock,
+    TrackWear,
+)
+from schemas.runs import Run
+from schemas.stands import PinOnDiscConfig, ReciprocatingConfig, StandKind, TribometerConfig
+from schemas.units import UNITS
+
+GROUP = "friction"
+TRACK = "wear_track"
+_KG_PER_G = UNITS["g"].factor
+_M_PER_UM = UNITS["um"].factor
+_M_PER_MM = UNITS["mm"].factor
+#: Rows of the stroke table and points of a drawn friction loop, at most.
+STROKE_BLOCKS = 40
+LOOP_POINTS = 200
+
+NOTE_LOAD = N_("the record has no normal load: the test plan's load is taken")
+NOTE_DISTANCE_LAPS = N_("the record has no distance: it is the laps times the track's length")
+NOTE_DISTANCE_TIME = N_("the record has neither distance nor laps: the planned speed times time")
+NOTE_LAPS = N_("the record has no laps: they are the distance over the track's length")
+PENDING_RECORD = N_("no friction record yet")
+PENDING_TRACK = N_("the disc's wear needs profiles across the track (group wear_track)")
+PENDING_SCAR = N_("the pin's wear needs scar_diameter (a ball) or pin_height_loss (a flat pin)")
+PENDING_LOOPS = N_("friction loops need the position along the stroke")
+
+Results = PinOnDiscResults | ReciprocatingResults
+
+
+class _Record:
+    """The friction record's columns the analysis uses, whole, in SI."""
+
+    def __init__(self, readings: Readings, config: TribometerConfig, lap_length: float) -> None:
+        parts: dict[str, list[NDArray[np.float64]]] = {}
+        for chunk in readings.iter_chunks(GROUP):
+            for name, values in chunk.items():
+                parts.setdefault(name, []).append(np.asarray(values, dtype=np.float64))
+        cols = {name: np.concatenate(p) for name, p in parts.items()}
+        n = cols["time"].size
+        nan = np.full(n, np.nan)
+        self.notes: list[str] = []
+        self.time = cols["time"]
+        load = cols.get("normal_load", nan)
+        if not np.isfinite(load).all():
+            self.notes.append(NOTE_LOAD)
+            load = np.where(np.isfinite(load), load, config.plan.load)
+        self.load = load
+        mu = cols.get("friction_coefficient", nan)
+        force = cols.get("friction_force", nan)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            self.signed = np.where(np.isfinite(mu), mu, force / load)
+        self.mu = np.abs(self.signed)
+        distance, laps = cols.get("distance", nan), cols.get("laps", nan)
+        have_distance, have_laps = np.isfinite(distance).all(), np.isfinite(laps).all()
+        if not have_distance:
+            if have_laps:
+                self.notes.append(NOTE_DISTANCE_LAPS)
+                distance = laps * lap_length
+            else:
+                self.notes.append(NOTE_DISTANCE_TIME)
+                distance = self.time * config.plan.speed
+        if not have_laps:
+            if have_distance:
+                self.notes.append(NOTE_LAPS)
+            laps = distance / lap_length
+        self.distance, self.laps = distance, laps
+        self.position = cols.get("position", nan) * _M_PER_MM
+        temperature = cols.get("temperature", nan)
+        self.temperature = temperature[np.isfinite(temperature)]
+        depth = cols.get("wear_depth", nan)
+        self.wear_depth = depth[np.isfinite(depth)] * _M_PER_UM
+
+
+def analyse(run: Run, readings: Readings, profiles: Profiles | None = None) -> Results:
+    """The tribometer's results on the run's readings (``profiles`` unused: the track's
+    profiles are the run's own group ``wear_track``)."""
+    pin_on_disc = run.stand is StandKind.PIN_ON_DISC
+    config: PinOnDiscConfig | ReciprocatingConfig
+    if pin_on_disc:
+        config = PinOnDiscConfig.model_validate(run.configuration)
+        lap_length = 2.0 * math.pi * config.track_radius
+    else:
+        config = ReciprocatingConfig.model_validate(run.configuration)
+        lap_length = 2.0 * config.stroke_length
+    model = PinOnDiscResults if pin_on_disc else ReciprocatingResults
+    total = readings.rows(GROUP)
+    if total == 0:
+        empty = model(
+            rows=0,
+            duration=0.0,
+            sliding_distance=0.0,
+            laps=0.0,
+            mean_load=0.0,
+            friction_mean=0.0,
+            friction_static=0.0,
+            running_in_distance=0.0,
+            running_in_laps=0.0,
+            change_points=0,
+            friction_steady=0.0,
+            friction_steady_std=0.0,
+            friction=BlockSeries(0).series("sliding distance", "friction coefficient"),
+        )
+        empty.pending.append(PENDING_RECORD)
+        return empty
+    r = _Record(readings, config, lap_length)
+    steady, changes = _steady_start(r)
+    series = BlockSeries(total)
+    series.add(r.distance - r.distance[0], r.mu)
+    static_until = steady if steady > 0 else _first_lap_end(r)
+    result = model(
+        rows=total,
+        duration=float(r.time[-1] - r.time[0]),
+        sliding_distance=float(r.distance[-1] - r.distance[0]),
+        laps=float(r.laps[-1] - r.laps[0]),
+        mean_load=float(r.load.mean()),
+        friction_mean=float(r.mu.mean()),
+        friction_static=float(r.mu[:static_until].max()),
+        running_in_distance=float(r.distance[steady] - r.distance[0]),
+        running_in_laps=float(r.laps[steady] - r.laps[0]),
+        change_points=changes,
+        friction_steady=float(r.mu[steady:].mean()),
+        friction_steady_std=float(r.mu[steady:].std()),
+        friction=series.series("sliding distance", "friction coefficient"),
+        temperature_mean=float(r.temperature.mean()) if r.temperature.size else None,
+        wear_depth_change=float(r.wear_depth[-1] - r.wear_depth[0]) if r.wear_depth.size else None,
+    )
+    result.notes.extend(r.notes)
+    acc = config.accuracy
+    if total - steady >= 2:
+        u = estimate(
+            batch_mean(r.mu[steady:].tolist())
+            * from_limit(1.0, acc.friction_force, "F_t")
+            / from_limit(1.0, acc.load, "F_N")
+        )
+        result.friction_steady_uncertainty, result.friction_steady_expanded = (
+            u.standard,
+            u.expanded,
+        )
+    _contact(config, result)
+    load = result.mean_load * from_limit(1.0, acc.load, "F_N")
+    distance = result.sliding_distance
+    _wear(run, readings, config, result, load, distance)
+    if isinstance(result, PinOnDiscResults):
+        _lap_views(r, steady, result)
+    else:
+        _strokes(r, steady, result)
+    return result
+
+
+def _steady_start(r: _Record) -> tuple[int, int]:
+    """The first row of the steady part and the change points found (module running_in)."""
+    lap = np.floor(r.laps - np.floor(r.laps[0])).astype(np.int64)
+    laps, means, counts = tribometer.segment_means(lap, r.mu)
+    per_block = blocks_of(laps.size)
+    block = (np.arange(laps.size) // per_block).astype(np.int64)
+    if block.size > 2 * per_block and counts[block == block[-1]].sum() < 0.5 * (
+        per_block * float(np.median(counts))
+    ):
+        # a last block of a few rows (the record's last reading, a lap begun) is as noisy
+        # as its rows: it joins the block before it
+        block[block == block[-1]] -= 1
+    sums = np.bincount(block, weights=means * counts)
+    rows = np.bincount(block, weights=counts.astype(np.float64))
+    found = running_in(sums / rows)  # each block's mean over its rows
+    first_lap = laps[found.steady_from * per_block] if found.steady_from else laps[0]
+    return int(np.searchsorted(lap, first_lap)), len(found.change_points)
+
+
+def _first_lap_end(r: _Record) -> int:
+    """The rows of the record's first lap (or cycle): where the static μ is sought when
+    the record is steady from its start."""
+    return max(1, int(np.searchsorted(r.laps, r.laps[0] + 1.0)))
+
+
+def _contact(config: TribometerConfig, result: PinOnDiscResults | ReciprocatingResults) -> None:
+    """The initial Hertz contact of a ball, or the nominal pressure of a flat pin."""
+    if config.tip == "flat_pin":
+        result.nominal_pressure = result.mean_load / (math.pi * config.tip_diameter**2 / 4.0)
+        return
+    modulus = tribometer.effective_modulus(
+        youngs_1=config.pin.youngs_modulus,
+        poisson_1=config.pin.poisson,
+        youngs_2=config.disc.youngs_modulus,
+        poisson_2=config.disc.poisson,
+    )
+    try:
+        hertz = tribometer.hertz_ball_on_flat(
+            load=result.mean_load, ball_radius=config.tip_diameter / 2.0, modulus=modulus
+        )
+    except ModelInputError as exc:
+        result.notes.append(f"Hertz contact not computed: {exc}")
+        return
+    result.hertz = HertzResult(
+        modulus=modulus,
+        contact_radius=hertz.radius,
+        max_pressure=hertz.max_pressure,
+        mean_pressure=hertz.mean_pressure,
+    )
+
+
+def _rate(volume: UFloat | float, load: UFloat | float, distance: float) -> dict[str, float]:
+    """V, k = V/(F·L) and their uncertainties, as the fields of a wear estimate."""
+    v, k = estimate(volume), estimate(volume / (load * distance))
+    return {
+        "volume": v.value,
+        "volume_uncertainty": v.standard,
+        "specific_wear_rate": k.value,
+        "specific_wear_rate_uncertainty": k.standard,
+        "specific_wear_rate_expanded": k.expanded,
+    }
+
+
+def _wear(
+    run: Run,
+    readings: Readings,
+    config: PinOnDiscConfig | ReciprocatingConfig,
+    result: PinOnDiscResults | ReciprocatingResults,
+    load: UFloat | float,
+    distance: float,
+) -> None:
+    """Every worn volume the readings allow: track profiles, scar or height loss, masses."""
+    if distance <= 0:
+        return
+    acc = config.accuracy
+    m = readings.measurements()
+    if readings.rows(TRACK):
+        result.disc_track = _track(readings, config, result, load, distance)
+    else:
+        result.pending.append(PENDING_TRACK)
+    radius = config.tip_diameter / 2.0
+    if config.tip == "ball" and "scar_diameter" in m:
+        cap = wrap(lambda d: tribometer.spherical_cap_volume(scar_diameter=d, ball_radius=radius))
+        d = m["scar_diameter"] * _M_PER_UM
+        volume = cap(from_limit(d, acc.scar, "d"))
+        result.pin_scar = ScarWear(scar_diameter=d, **_rate(volume, load, distance))
+    elif config.tip == "flat_pin" and "pin_height_loss" in m:
+        h = m["pin_height_loss"] * _M_PER_UM
+        area = math.pi * from_limit(config.tip_diameter, acc.length, "D") ** 2 / 4.0
+        volume = area * from_limit(h, acc.height, "Δh")
+        result.pin_scar = ScarWear(height_loss=h, **_rate(volume, load, distance))
+    else:
+        result.pending.append(PENDING_SCAR)
+    for specimen, material in (("pin", config.pin), ("disc", config.disc)):
+        before, after = m.get(f"{specimen}_mass_before"), m.get(f"{specimen}_mass_after")
+        if before is None or after is None:
+            continue
+        density = m.get(f"{specimen}_density", material.density)
+        loss = from_resolution(before * _KG_PER_G, acc.balance_resolution) - from_resolution(
+            after * _KG_PER_G, acc.balance_resolution
+        )
+        volume = loss / from_limit(density, acc.density, f"ρ_{specimen}")
+        found = MassWear(
+            mass_loss=(before - after) * _KG_PER_G,
+            density=density,
+            **_rate(volume, load, distance),
+        )
+        if specimen == "pin":
+            result.pin_mass = found
+        else:
+            result.disc_mass = found
+
+
+def _track(
+    readings: Readings,
+    config: PinOnDiscConfig | ReciprocatingConfig,
+    result: PinOnDiscResults | ReciprocatingResults,
+    load: UFloat | float,
+    distance: float,
+) -> TrackWear | None:
+    """The mean cross-section of the traces across the track, times the track's length."""
+    acc = config.accuracy
+    cols = readings.read(TRACK)
+    areas = []
+    for trace in np.unique(cols["trace"]):
+        chosen = cols["trace"] == trace
+        order = np.argsort(cols["x"][chosen], kind="stable")
+        try:
+            areas.append(
+                wear.wear_track_area(
+                    x=cols["x"][chosen][order] * _M_PER_MM,
+                    y=cols["z"][chosen][order] * _M_PER_UM,
+                )
+            )
+        except ModelInputError as exc:
+            result.notes.append(f"trace {trace:g} across the track left out: {exc}")
+    if not areas:
+        return None
+    mean = float(np.mean(areas))
+    spread = float(np.std(areas, ddof=1)) if len(areas) > 1 else None
+    scatter = (spread or 0.0) / math.sqrt(len(areas))
+    area: UFloat | float = from_limit(mean, acc.profile_height * mean * math.sqrt(3.0), "A")
+    if scatter > 0:
+        area = area + from_limit(0.0, scatter * math.sqrt(3.0), "s(A)")
+    if isinstance(config, PinOnDiscConfig):
+        radius = from_limit(config.track_radius, acc.length, "R")
+        volume = 2.0 * math.pi * radius * area
+    else:
+        volume = from_limit(config.stroke_length, acc.length, "S") * area
+    return TrackWear(
+        traces=len(areas),
+        track_area=mean,
+        track_area_std=spread,
+        **_rate(volume, load, distance),
+    )
+
+
+def _lap_views(r: _Record, steady: int, result: PinOnDiscResults) -> None:
+    """μ against lap and angle; the once-per-lap amplitude in the steady part."""
+    laps = r.laps - np.floor(r.laps[0])
+    found = tribometer.lap_map(laps=laps, values=r.mu)
+    result.friction_map = LapMapResult(
+        lap=found.lap.tolist(),
+        angle=found.angle.tolist(),
+        values=[[None if math.isnan(v) else float(v) for v in row] for row in found.values],
+    )
+    if r.mu.size - steady >= 3:
+        _, result.lap_amplitude = tribometer.lap_harmonic(laps=laps[steady:], values=r.mu[steady:])
+
+
+def _strokes(r: _Record, steady: int, result: ReciprocatingResults) -> None:
+    """Forward and backward strokes (the direction by the friction's sign: it opposes the
+    sliding), per block of cycles; three friction loops: the first, middle and last cycle."""
+    forward = r.signed >= 0
+    tail_f, tail_b = r.mu[steady:][forward[steady:]], r.mu[steady:][~forward[steady:]]
+    result.friction_forward = float(tail_f.mean()) if tail_f.size else None
+    result.friction_backward = float(tail_b.mean()) if tail_b.size else None
+    cycle = np.floor(r.laps - np.floor(r.laps[0])).astype(np.int64)
+    per_block = max(1, math.ceil((int(cycle[-1]) + 1) / STROKE_BLOCKS))
+    block = cycle // per_block
+    for b in np.unique(block):
+        rows = block == b
+        f, back = r.mu[rows & forward], r.mu[rows & ~forward]
+        result.strokes.append(
+            StrokeBlock(
+                cycle=float((b + 0.5) * per_block),
+                forward=float(f.mean()) if f.size else None,
+                backward=float(back.mean()) if back.size else None,
+            )
+        )
+    if not np.isfinite(r.position).all():
+        result.pending.append(PENDING_LOOPS)
+        return
+    complete = int(cycle[-1]) - 1 if cycle[-1] > 0 else 0
+    for c in sorted({0, complete // 2, complete}):
+        rows = np.flatnonzero(cycle == c)
+        step = max(1, math.ceil(rows.size / LOOP_POINTS))
+        chosen = rows[::step]
+        result.loops.append(
+            FrictionLoop(
+                cycle=c,
+                position=r.position[chosen].tolist(),
+                friction=r.signed[chosen].tolist(),
+            )
+        )

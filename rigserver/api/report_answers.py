@@ -1,0 +1,97 @@
+"""Reports answered as files: rendered once per version on the render pool, then served with
+their ``ETag`` (``If-None-Match`` answered 304)."""
+
+from __future__ import annotations
+
+import asyncio
+from collections.abc import Mapping
+from concurrent.futures import Future
+from functools import partial
+
+from fastapi import Request, Response
+from fastapi.responses import FileResponse
+
+from rigserver.api.deps import Services, caller_of
+from rigserver.api.problems import ApiProblem
+from rigserver.api.report_files import ReportFile
+from rigserver.api.report_jobs import RunReportJob
+from rigserver.api.run_results import StoredReadings
+from rigserver.reports.i18n import LANGS, Lang
+from schemas.runs import Run, RunState
+
+
+def caller_key(request: Request, services: Services) -> str:
+    """Whose share of the render pool a request takes: its key, else its address."""
+    caller = caller_of(request, services)
+    if caller is not None:
+        return caller.fingerprint
+    client = request.scope.get("client")
+    return f"address {client[0]}" if client else "address unknown"
+
+
+def targets(target: ReportFile) -> dict[str, ReportFile]:
+    """What one render writes: the page, and the PDF when it is asked for (made from the
+    page, which then costs nothing more)."""
+    return {
+        fmt: target.sibling(fmt) for fmt in (("html", "pdf") if target.fmt == "pdf" else ("html",))
+    }
+
+
+def run_job(
+    services: Services, run: Run, values: Mapping[str, object], target: ReportFile
+) -> tuple[RunReportJob, bool]:
+    """The job of ``target``, the report of ``run``, and whether it renders in this process
+    (an open run, whose readings only the store has)."""
+    lang: Lang = target.path.name.split("-", 1)[0]  # type: ignore[assignment]
+    files = {fmt: t.path for fmt, t in targets(target).items()}
+    stand = services.stand_of(run)
+    if run.state is RunState.OPEN:
+        return (
+            RunReportJob(
+                run, stand, dict(values), lang, files, readings=StoredReadings(services, run)
+            ),
+            True,
+        )
+    return RunReportJob(
+        run, stand, dict(values), lang, files, run_file=services.store.run_file(run.id)
+    ), False
+
+
+def file_answer(request: Request, target: ReportFile, headers: Mapping[str, str]) -> Response:
+    """The report's file, or 304 when the client holds this version."""
+    common = {"ETag": target.etag, "Cache-Control": "no-cache", **headers}
+    if target.matches(request.headers.get("if-none-match")):
+        return Response(status_code=304, headers=common)
+    return FileResponse(target.path, media_type=target.media_type, headers=common)
+
+
+async def rendered(future: Future[None], target: ReportFile) -> None:
+    """Wait for a render; a failure is a 500 that says so (logged once by the pool)."""
+    try:
+        await asyncio.wrap_future(future)
+    except Exception as exc:
+        raise ApiProblem(
+            500, "Report not rendered", f"rendering the report failed: {type(exc).__name__}"
+        ) from None
+    for t in targets(target).values():
+        t.prune()
+
+
+def render_finished(services: Services, run_id: str, values: Mapping[str, object]) -> None:
+    """Start rendering a finished run's reports in the background (both languages, page and
+    PDF), where the pool has room; the first download renders what was not."""
+    run = services.store.get_run(run_id)
+    for lang in LANGS:
+        target = services.report_files.run_report(run, lang, "pdf")
+        if target.path.exists():
+            continue
+        job, in_process = run_job(services, run, values, target)
+        future = services.reports.render_later(str(target.path), job, in_process=in_process)
+        if future is not None:
+            future.add_done_callback(partial(_prune_after, target))
+
+
+def _prune_after(target: ReportFile, done: Future[None]) -> None:
+    if not done.cancelled() and done.exception() is None:
+        for t in targets(target).values():
+            t.prune()

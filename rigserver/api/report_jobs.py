@@ -1,0 +1,156 @@
+"""One report render: what it needs (picklable, for the render pool's process) and the render.
+
+A run that has ended is read from its final HDF5 file (:class:`FileReadings`), so a report
+can be rendered in another process with nothing but the job: the run, its stand, its
+results and the file's path. An open run's readings are only in its store: its job carries
+them as a :class:`~rigserver.analysis.Readings` of this process and is rendered in a thread.
+Each target file is written under a temporary name and renamed, so a reader never sees half
+a report.
+"""
+
+from __future__ import annotations
+
+import logging
+import os
+from collections.abc import Iterator, Mapping
+from contextlib import ExitStack
+from dataclasses import dataclass, field
+from datetime import UTC, datetime
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from rigserver.analysis import Readings
+from rigserver.reports.i18n import Lang
+from rigserver.reports.pdf import html_to_pdf
+from rigserver.reports.run_report import build_report, render_report
+from rigserver.reports.series_report import render_series_report, series_context
+from rigserver.storage.runfile import RunFile
+from schemas.runs import Run
+from schemas.series import SeriesDetail
+from schemas.stands import MEASUREMENTS, Stand
+
+#: The loggers of the PDF renderer and its font library: their warnings about the report's
+#: CSS and fonts ("Ignored `stroke: ...`", "Anchor defined twice", "Step 5 - Creating
+#: layout") say nothing to the lab and thousands of lines of them buried the service's own.
+QUIET_LOGGERS = ("weasyprint", "fontTools")
+
+
+def quiet_renderer_logs() -> None:
+    """Keep the renderer's and the font library's messages out of the service's log; a
+    failed render is logged once by the service (:mod:`rigserver.api.report_pool`)."""
+    for name in QUIET_LOGGERS:
+        logger = logging.getLogger(name)
+        logger.setLevel(logging.CRITICAL + 1)
+        logger.propagate = False
+        if not logger.handlers:
+            logger.addHandler(logging.NullHandler())
+
+
+class FileReadings:
+    """A run's readings from its HDF5 file (read-only, opened once per render)."""
+
+    def __init__(self, path: Path, stack: ExitStack) -> None:
+        self._file = stack.enter_context(RunFile.open(path, writable=False))
+
+    def rows(self, group: str) -> int:
+        return self._file.rows(group)
+
+    def read(self, group: str, channels: list[str] | None = None) -> dict[str, NDArray[np.float64]]:
+        if self.rows(group) == 0:
+            return {}
+        return self._file.read(group, channels, 0, None)
+
+    def iter_chunks(
+        self, group: str, channels: list[str] | None = None, rows: int = 1 << 20
+    ) -> Iterator[dict[str, NDArray[np.float64]]]:
+        for start in range(0, self.rows(group), rows):
+            yield self._file.read(group, channels, start, start + rows)
+
+    def measurements(self) -> dict[str, float]:
+        if self.rows(MEASUREMENTS) == 0:
+            return {}
+        return self._file.last_values(MEASUREMENTS)
+
+
+@dataclass(frozen=True)
+class RunReportJob:
+    """The report of one run in one language, written to ``targets`` (format -> file)."""
+
+    run: Run
+    stand: Stand
+    values: Mapping[str, Any]
+    lang: Lang
+    targets: Mapping[str, Path]
+    #: the final file of an ended run; None: ``readings`` (an open run, this process only)
+    run_file: Path | None = None
+    readings: Readings | None = field(default=None, compare=False)
+
+    def render(self) -> None:
+        with ExitStack() as stack:
+            readings = self.readings
+            if self.run_file is not None:
+                readings = FileReadings(self.run_file, stack)
+            assert readings is not None, "a job reads a run file or readings"
+            report = build_report(
+                run=self.run,
+                stand=self.stand,
+                values=self.values,
+                readings=readings,
+                lang=self.lang,
+                made=datetime.now(UTC),
+            )
+            html = render_report(report)
+        write_targets(html, self.targets)
+
+
+@dataclass(frozen=True)
+class SeriesReportJob:
+    """The report of a series in one language, written to ``targets``."""
+
+    detail: SeriesDetail
+    values: Mapping[str, Mapping[str, Any] | None]
+    lang: Lang
+    targets: Mapping[str, Path]
+    #: member run id -> its final file; members missing here are in ``readings``
+    run_files: Mapping[str, Path] = field(default_factory=dict)
+    readings: Mapping[str, Readings] = field(default_factory=dict, compare=False)
+
+    def render(self) -> None:
+        with ExitStack() as stack:
+            readings: dict[str, Readings] = dict(self.readings)
+            for run_id, path in self.run_files.items():
+                readings[run_id] = FileReadings(path, stack)
+            context = series_context(
+                self.detail, values=self.values, readings=readings, lang=self.lang
+            )
+            html = render_series_report(context, made=datetime.now(UTC))
+        write_targets(html, self.targets)
+
+
+Job = RunReportJob | SeriesReportJob
+
+
+def render_job(job: Job) -> None:
+    """The render pool's task (in its process or thread)."""
+    job.render()
+
+
+def write_targets(html: str, targets: Mapping[str, Path]) -> None:
+    """The page as ``html`` and ``pdf`` files where asked, each written whole or not at all."""
+    for fmt, path in targets.items():
+        data = html.encode() if fmt == "html" else html_to_pdf(html)
+        write_atomically(path, data)
+
+
+def write_atomically(path: Path, data: bytes) -> None:
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+    try:
+        tmp.write_bytes(data)
+        os.replace(tmp, path)
+    except BaseException:
+        tmp.unlink(missing_ok=True)
+        raise

@@ -1,0 +1,152 @@
+"""The report renders of one service: a bounded pool of their own, shared fairly between keys.
+
+Rendering a report is CPU-bound Python (the plots, then WeasyPrint's layout: seconds for a
+PDF). Done in the service's threads it held the GIL from ingest and cheap reads: 8 clients
+of one read key looping on a report raised the p99 of ``/api/v1/stands`` from 8 ms to
+0.9 s, and 48 PDFs at once made ``POST /runs`` take 8.8 s (issue 22, item 9). So renders run
+in a pool of their own: ``workers`` processes (the reports of ended runs, read from their
+final files) and as many threads (those of open runs, whose readings only the store has).
+
+Admission: at most ``queue`` renders are admitted at once (running or waiting), and one
+key (its fingerprint; a caller without a key by its address) at most its ``share`` of them;
+a request that would start one more is answered 503 with ``Retry-After``. A render asked
+for again while it runs is joined, not started twice. Each report is rendered once per
+version (:mod:`rigserver.api.report_files`); afterwards it is a file, served without the
+pool. Renders in the background (a finished run's reports) take a free place or none.
+
+A failed render is logged in one line, without the renderer's own messages
+(:func:`~rigserver.api.report_jobs.quiet_renderer_logs`).
+"""
+
+from __future__ import annotations
+
+import logging
+import multiprocessing
+import threading
+from concurrent.futures import Executor, Future, ProcessPoolExecutor, ThreadPoolExecutor
+from dataclasses import dataclass
+
+from rigserver.api.problems import ApiProblem
+from rigserver.api.report_jobs import Job, quiet_renderer_logs, render_job
+
+log = logging.getLogger("rigserver")
+
+#: The key of the renders a finished run starts by itself.
+BACKGROUND = "(background)"
+
+
+@dataclass(frozen=True, slots=True)
+class Admission:
+    """How many renders are admitted now, in all and per key."""
+
+    renders: int
+    by_key: dict[str, int]
+
+
+class RenderPool:
+    """Bounded, fair report renders (see the module docstring)."""
+
+    def __init__(
+        self, *, workers: int, queue: int, share: float, retry_after: int, processes: bool
+    ) -> None:
+        self.workers = workers
+        self.queue = queue
+        self.per_key = max(1, int(queue * share))
+        self.retry_after = retry_after
+        self._use_processes = processes
+        self._lock = threading.Lock()
+        self._held: dict[str, int] = {}
+        self._flights: dict[str, Future[None]] = {}
+        self._threads = ThreadPoolExecutor(max_workers=workers, thread_name_prefix="reports")
+        self._processes: ProcessPoolExecutor | None = None
+        quiet_renderer_logs()
+
+    @property
+    def admitted(self) -> Admission:
+        with self._lock:
+            return Admission(sum(self._held.values()), dict(self._held))
+
+    def render(self, name: str, key: str, job: Job, *, in_process: bool) -> Future[None]:
+        """Render ``job`` (named ``name``: its first target) for the caller ``key``; joins a
+        render of ``name`` under way. 503 beyond the pool's or the key's share."""
+        future = self._admit(name, key, job, in_process=in_process, background=False)
+        assert future is not None
+        return future
+
+    def render_later(self, name: str, job: Job, *, in_process: bool) -> Future[None] | None:
+        """Start ``job`` in the background if there is room (None if there is not)."""
+        return self._admit(name, BACKGROUND, job, in_process=in_process, background=True)
+
+    def close(self) -> None:
+        """Stop taking renders; those under way finish (a process pool's workers exit)."""
+        self._threads.shutdown(wait=False, cancel_futures=True)
+        with self._lock:
+            processes, self._processes = self._processes, None
+        if processes is not None:
+            processes.shutdown(wait=True, cancel_futures=True)
+
+    def _admit(
+        self, name: str, key: str, job: Job, *, in_process: bool, background: bool
+    ) -> Future[None] | None:
+        with self._lock:
+            flight = self._flights.get(name)
+            if flight is not None:
+                return flight
+            total = sum(self._held.values())
+            held = self._held.get(key, 0)
+            if total >= self.queue or held >= self.per_key:
+                if background:
+                    return None
+                raise self._busy(total >= self.queue)
+            self._held[key] = held + 1
+            flight = self._flights[name] = Future()
+            executor = self._executor(in_process)
+        try:
+            task = executor.submit(render_job, job)
+        except BaseException:
+            self._release(name, key)
+            raise
+        task.add_done_callback(lambda done: self._finished(name, key, done, flight))
+        return flight
+
+    def _executor(self, in_process: bool) -> Executor:
+        """The threads (an open run's job), or the processes, started when first needed
+        (locked)."""
+        if in_process or not self._use_processes:
+            return self._threads
+        if self._processes is None:
+            self._processes = ProcessPoolExecutor(
+                max_workers=self.workers,
+                mp_context=multiprocessing.get_context("spawn"),
+                initializer=quiet_renderer_logs,
+            )
+        return self._processes
+
+    def _finished(self, name: str, key: str, done: Future[None], flight: Future[None]) -> None:
+        self._release(name, key)
+        exc = done.exception() if not done.cancelled() else RuntimeError("render cancelled")
+        if exc is None:
+            flight.set_result(None)
+            return
+        log.error("rendering %s failed: %s: %s", name, type(exc).__name__, exc)
+        flight.set_exception(exc)
+
+    def _release(self, name: str, key: str) -> None:
+        with self._lock:
+            self._flights.pop(name, None)
+            held = self._held.pop(key, 0) - 1
+            if held > 0:
+                self._held[key] = held
+
+    def _busy(self, full: bool) -> ApiProblem:
+        detail = (
+            f"the server renders at most {self.queue} reports at once and all places are taken"
+            if full
+            else f"one key may have at most {self.per_key} reports rendered at once"
+        )
+        return ApiProblem(
+            503,
+            "Reports are being rendered",
+            f"{detail}; retry in {self.retry_after} s (a report rendered once is kept)",
+            headers={"Retry-After": str(self.retry_after)},
+        )

@@ -1,0 +1,400 @@
+"""Runs and series as ``.eln`` archives (a zipped RO-Crate 1.1, :mod:`rigserver.reports.eln`):
+``GET /runs/{id}/export.eln``, ``GET /series/{id}/export.eln`` and ``POST /runs/import``,
+which recreates a run exported by a rig server under a new id (naming the original)."""
+
+from __future__ import annotations
+
+import io
+import math
+import os
+import shutil
+import tempfile
+from collections.abc import Callable, Iterator, Mapping
+from datetime import UTC, datetime
+from functools import lru_cache
+from pathlib import Path
+from typing import IO, Any
+
+import numpy as np
+from fastapi import APIRouter, Request, Response, status
+from fastapi.concurrency import run_in_threadpool
+from fastapi.responses import FileResponse
+from pydantic import ValidationError
+from starlette.background import BackgroundTask
+
+from rigserver.analysis import Readings, analyse
+from rigserver.api.deps import (
+    ReadAccess,
+    Services,
+    ServicesDep,
+    WriteAccess,
+    caller_of,
+    require_write,
+    services_of,
+)
+from rigserver.api.problems import ApiProblem, violations
+from rigserver.api.routes.reports import _report_html
+from rigserver.api.routes.runs import load_run
+from rigserver.api.routes.series import _detail, _report
+from rigserver.api.run_results import StoredReadings, results_payload
+from rigserver.reports.eln import (
+    ELN_MEDIA_TYPE,
+    Publisher,
+    RunPart,
+    SeriesPart,
+    licence_of,
+    write_run_archive,
+    write_series_archive,
+)
+from rigserver.reports.eln_read import ArchivedRun, ArchiveRefused, read_run_archive
+from rigserver.reports.i18n import LANGS, Lang
+from rigserver.reports.pdf import html_to_pdf
+from rigserver.reports.series_report import series_csv
+from rigserver.storage.archived import IMPORT_ROWS, FileReadings, file_batches, summary
+from rigserver.storage.errors import RunNotFound, StorageError
+from rigserver.storage.runfile import write_file
+from schemas.channels import check_columns
+from schemas.runs import ImportedFrom, Run, RunState, new_run_id
+from schemas.stands import CONFIG_MODELS, MEASUREMENTS, Stand, StandKind, default_stands
+
+router = APIRouter(tags=["eln"])
+
+#: Where the OpenAPI document's example archive is served (rigserver.api.routes.api_docs).
+ELN_EXAMPLE = "/docs/examples/run.eln"
+
+#: Tries for a free id when an imported run's id is taken (ids carry 32 random bits).
+ID_TRIES = 3
+
+
+def _publisher(request: Request) -> Publisher:
+    return Publisher(str(request.base_url))
+
+
+def _reports(render: Callable[[Lang], str]) -> dict[str, bytes]:
+    """The report in both languages, as a web page and as a PDF."""
+    found: dict[str, bytes] = {}
+    for lang in LANGS:
+        html = render(lang)
+        found[f"report-{lang}.html"] = html.encode()
+        found[f"report-{lang}.pdf"] = html_to_pdf(html)
+    return found
+
+
+def _references(services: Services, run: Run) -> dict[str, tuple[Run, Path]]:
+    """The profilometer runs the run's specimen names that this server holds."""
+    found = {}
+    for key, value in run.specimen.items():
+        if not key.endswith("_profile_run"):
+            continue
+        try:
+            other = services.store.get_run(str(value))
+        except RunNotFound:
+            continue
+        found[other.id] = (other, services.store.run_file(other.id))
+    return found
+
+
+def _run_part(services: Services, run: Run) -> RunPart:
+    return RunPart(
+        run=run,
+        stand=services.stand_of(run),
+        readings=StoredReadings(services, run),
+        payload=results_payload(services, run),
+        run_file=services.store.run_file(run.id),
+        reports=_reports(lambda lang: _report_html(services, run.id, lang)[1]),
+        references=_references(services, run),
+    )
+
+
+def _written(write: Callable[[IO[bytes]], None], prefix: str) -> str:
+    """A temporary file that ``write`` fills (removed if it fails)."""
+    handle, path = tempfile.mkstemp(prefix=prefix, suffix=".eln")
+    try:
+        with os.fdopen(handle, "wb") as target:
+            write(target)
+    except BaseException:
+        os.unlink(path)
+        raise
+    return path
+
+
+def _export_run(services: Services, run_id: str, publisher: Publisher) -> tuple[str, str]:
+    run = load_run(services, run_id)
+    part = _run_part(services, run)
+    licence = licence_of(services.settings.license)
+    made = datetime.now(UTC)
+    path = _written(
+        lambda target: write_run_archive(
+            target, part, made=made, publisher=publisher, licence=licence
+        ),
+        "rig-eln-",
+    )
+    return run.id, path
+
+
+def _export_series(services: Services, series_id: str, publisher: Publisher) -> tuple[str, str]:
+    detail, members = _detail(services, series_id)
+    series = SeriesPart(
+        detail=detail,
+        runs_csv=series_csv(detail),
+        reports=_reports(lambda lang: _report(services, series_id, lang)[1]),
+    )
+    licence = licence_of(services.settings.license)
+    made = datetime.now(UTC)
+    runs = (_run_part(services, m.run) for m in members)
+    path = _written(
+        lambda target: write_series_archive(
+            target, series, runs, made=made, publisher=publisher, licence=licence
+        ),
+        "rig-eln-",
+    )
+    return detail.id, path
+
+
+def _archive_response(name: str, path: str) -> FileResponse:
+    return FileResponse(
+        path,
+        media_type=ELN_MEDIA_TYPE,
+        filename=f"{name}.eln",
+        background=BackgroundTask(os.unlink, path),
+    )
+
+
+_ELN_ANSWER: dict[int | str, dict[str, Any]] = {200: {"content": {ELN_MEDIA_TYPE: {}}}}
+
+
+@router.get(
+    "/runs/{run_id}/export.eln",
+    summary="The run as an .eln archive (RO-Crate 1.1): its file, CSVs, reports, metadata",
+    description="The ELN consortium's format, which eLabFTW, Kadi4Mat, PASTA, SampleDB, "
+    "RSpace and NOMAD import: one root folder with ro-crate-metadata.json (schema.org and "
+    "tribAIn terms: the run, operator, stand and limits of error, specimens and materials, "
+    "rig's version, the results with units and uncertainties, the licence) and the run's "
+    "HDF5 file, the tidy CSVs and the report in English and Russian (docs/eln.md).",
+    response_class=FileResponse,
+    responses=_ELN_ANSWER,
+    dependencies=[ReadAccess],
+)
+async def export_run(run_id: str, request: Request, services: ServicesDep) -> FileResponse:
+    name, path = await run_in_threadpool(_export_run, services, run_id, _publisher(request))
+    return _archive_response(name, path)
+
+
+@router.get(
+    "/series/{series_id}/export.eln",
+    summary="The series as an .eln archive: each run's folder, the statistics, the report",
+    response_class=FileResponse,
+    responses=_ELN_ANSWER,
+    dependencies=[ReadAccess],
+)
+async def export_series(series_id: str, request: Request, services: ServicesDep) -> FileResponse:
+    name, path = await run_in_threadpool(_export_series, services, series_id, _publisher(request))
+    return _archive_response(name, path)
+
+
+# --- import ------------------------------------------------------------------------------
+
+
+def _refused(exc: ArchiveRefused) -> ApiProblem:
+    errors = violations([{"loc": [exc.member], "msg": exc.detail}])
+    return ApiProblem(422, "Archive refused", str(exc), errors)
+
+
+def _unpack(services: Services, archive: Path, directory: Path) -> tuple[ArchivedRun, Run]:
+    """The archive checked and its run as rig wrote it (run.json); 422 naming the member."""
+    limit = services.settings.import_unpacked_bytes
+    try:
+        with archive.open("rb") as source:
+            found = read_run_archive(source, directory, unpacked_limit=limit)
+    except ArchiveRefused as exc:
+        raise _refused(exc) from None
+    try:
+        run = Run.model_validate_json(found.run_json)
+    except ValidationError as exc:
+        errors = violations(exc.errors(), "run.json.")
+        raise ApiProblem(422, "Archive refused", errors[0].message, errors) from None
+    if run.id != found.run_id:
+        raise _refused(ArchiveRefused("run.json", f"holds run {run.id}, not {found.run_id}"))
+    return found, run
+
+
+def _checked(
+    batches: Iterator[tuple[int, Any, dict[str, Any]]], stand: Stand
+) -> Iterator[tuple[int, Any, dict[str, Any]]]:
+    """The batches of an archive's run file, each checked as a posted batch is (limits,
+    ordering across batches); the single measurements without the NaN that stands for
+    "not in that batch"."""
+    last: dict[str, dict[str, float]] = {}
+    for seq, stored, columns in batches:
+        decl = stand.group(stored.group)
+        if decl is None:
+            raise _refused(ArchiveRefused("run file", f"no channel group {stored.group!r}"))
+        checked = columns
+        if stored.group == MEASUREMENTS:
+            checked = {n: v[~np.isnan(v)] for n, v in columns.items() if (~np.isnan(v)).any()}
+        found = check_columns(decl, checked, last.get(stored.group)) if checked else []
+        if found:
+            raise ApiProblem(
+                422,
+                "Archive refused",
+                f"the run file's readings of group {stored.group!r} would be refused here: "
+                f"{found[0].message}",
+                found,
+            )
+        last[stored.group] = {n: float(v[-1]) for n, v in checked.items() if len(v)}
+        yield seq, stored, columns
+
+
+def _import(services: Services, found: ArchivedRun, original: Run) -> Run:
+    """Recreate the archive's run here (a new id; readings, measurements and results
+    computed again), all or nothing."""
+    if original.state is RunState.OPEN:
+        raise ApiProblem(
+            409,
+            "Run was open",
+            f"run {original.id} was still open when exported; export it again once it ended",
+        )
+    try:
+        in_file = summary(found.run_file).run
+    except StorageError as exc:
+        raise _refused(ArchiveRefused(f"{original.id}.h5", str(exc))) from None
+    if (in_file.id, in_file.stand, in_file.rows) != (original.id, original.stand, original.rows):
+        raise _refused(
+            ArchiveRefused(
+                f"{original.id}.h5",
+                f"the run file holds run {in_file.id} ({in_file.stand.value}, rows "
+                f"{in_file.rows}); run.json says {original.id} ({original.stand.value}, rows "
+                f"{original.rows})",
+            )
+        )
+    try:
+        CONFIG_MODELS[original.stand].model_validate(original.configuration)
+    except ValidationError as exc:
+        errors = violations(exc.errors(), "run.json.configuration.")
+        raise ApiProblem(422, "Archive refused", errors[0].message, errors) from None
+    stand = services.stands[original.stand].for_run(original.configuration)
+    references: dict[str, tuple[Run, Readings]] = {}
+    for other_id, path in found.references.items():
+        try:
+            references[other_id] = (summary(path).run, FileReadings(path))
+        except StorageError as exc:
+            raise _refused(ArchiveRefused(f"references/{other_id}.h5", str(exc))) from None
+    batches = sum(math.ceil(rows / IMPORT_ROWS) for rows in original.rows.values())
+    origin = ImportedFrom(run_id=original.id, server=found.server, exported=found.exported)
+    for _ in range(ID_TRIES):
+        run = original.model_copy(
+            update={
+                "id": new_run_id(original.created),
+                "batches": batches,
+                "key_results": {},
+                "imported_from": origin,
+                "damage": None,
+            }
+        )
+        payload: Mapping[str, Any] | None = None
+        if run.state is RunState.FINISHED:
+            computed = analyse(run, FileReadings(found.run_file), references.get)
+            payload = computed.payload
+            run = run.model_copy(update={"key_results": computed.key_results})
+        rows = _checked(file_batches(found.run_file, run), stand)
+        if services.store.import_run(run, None, payload, rows):
+            return services.store.get_run(run.id)
+    raise ApiProblem(503, "No free run id", "try the import again", headers={"Retry-After": "1"})
+
+
+@lru_cache(maxsize=1)
+def example_archive() -> bytes:
+    """The archive of a small profilometer run made up here (a sine trace of 1 µm amplitude
+    and 0.1 mm pitch over the 0.8 mm base length, sampled every 0.5 µm), the import's
+    example in the OpenAPI document."""
+    made = datetime(2026, 11, 22, 11, 40, 26, tzinfo=UTC)
+    stand = default_stands()[StandKind.PROFILOMETER]
+    x = np.linspace(0.0, 0.8, 1601)
+    trace = {"x": x, "y": np.sin(2.0 * np.pi * x / 0.1)}
+    weighed = {"base_length": np.array([0.8]), "subrange": np.array([3.2])}
+    run = Run(
+        id="20261122T114026Z-0e1ec0de",
+        stand=StandKind.PROFILOMETER,
+        state=RunState.FINISHED,
+        operator="Ivanova",
+        title="Run-in surface, example",
+        specimen={"surface": "steel 45, run in"},
+        test_plan={"base_length_mm": 0.8},
+        configuration=stand.configuration.model_dump(mode="json"),
+        created=made,
+        ended=made,
+        batches=2,
+        rows={"profile": len(x), "measurements": 1},
+    )
+    with tempfile.TemporaryDirectory(prefix="rig-example-") as directory:
+        path = Path(directory) / "run.h5"
+        write_file(
+            path, run, [("profile", trace, len(x)), (MEASUREMENTS, weighed, 1)], None, final=True
+        )
+        readings = FileReadings(path)
+        part = RunPart(
+            run=run,
+            stand=stand,
+            readings=readings,
+            payload=analyse(run, readings).payload,
+            run_file=path,
+        )
+        target = io.BytesIO()
+        publisher = Publisher("http://rig.example/")
+        write_run_archive(target, part, made=made, publisher=publisher, licence=None)
+    return target.getvalue()
+
+
+async def _body_to(request: Request, path: Path) -> None:
+    with path.open("wb") as target:
+        async for piece in request.stream():
+            target.write(piece)
+
+
+@router.post(
+    "/runs/import",
+    status_code=status.HTTP_201_CREATED,
+    summary="Import a run from an .eln archive that a rig server exported",
+    description="The archive as the body (`Content-Type: application/vnd.eln+zip`, at most "
+    "`RIG_IMPORT_MAX_BYTES`). The run is recreated under a new id, its `imported_from` "
+    "naming the original run and server: the same readings and measurements, the results "
+    "computed again. An archive that is damaged or not rig's is refused (422 naming the "
+    "member: no metadata, not made by rig, a member missing, given twice, undeclared or "
+    "larger than declared, a path that climbs out, a zip bomb, a checksum mismatch); "
+    "nothing of it is stored. Needs the scope `write:<stand>` of the run's stand, known "
+    "once the archive is read.",
+    responses={201: {"model": Run}},
+    dependencies=[WriteAccess],
+    openapi_extra={
+        "requestBody": {
+            "required": True,
+            "content": {
+                ELN_MEDIA_TYPE: {
+                    "schema": {"type": "string", "format": "binary"},
+                    "examples": {
+                        "profile": {
+                            "summary": "a profilometer run exported by a rig server",
+                            "externalValue": ELN_EXAMPLE,
+                        }
+                    },
+                }
+            },
+        }
+    },
+)
+async def import_run(request: Request) -> Response:
+    services = services_of(request)
+    caller = caller_of(request, services)
+    media = request.headers.get("content-type", "").split(";")[0].strip().lower()
+    if media != ELN_MEDIA_TYPE:
+        raise ApiProblem(415, "Unsupported media type", f"send the archive as {ELN_MEDIA_TYPE}")
+    directory = Path(await run_in_threadpool(tempfile.mkdtemp, prefix="rig-import-"))
+    try:
+        archive = directory / "archive.eln"
+        await _body_to(request, archive)
+        found, original = await run_in_threadpool(_unpack, services, archive, directory)
+        require_write(caller, original.stand)
+        run = await run_in_threadpool(_import, services, found, original)
+    finally:
+        await run_in_threadpool(shutil.rmtree, directory, True)
+    return Response(run.model_dump_json(), status_code=201, media_type="application/json")

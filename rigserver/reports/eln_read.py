@@ -1,0 +1,295 @@
+"""An ``.eln`` archive read back, trusting nothing: what an import of a run takes.
+
+The archive is refused (:class:`ArchiveRefused`, naming the member and what is wrong) when
+it is no zip; when a member's name climbs out of the archive (``..``, an absolute path, a
+backslash, a drive) or is given twice; when it has not one root folder holding
+``ro-crate-metadata.json``; when the metadata is no JSON-LD crate, or no crate that rig
+made (no ``#rig`` software, no ``run.json``), or holds other than one run; when a file the
+metadata describes is missing, or a member is not described; when the sizes it declares
+add up to more than the unpacked limit (a zip bomb) or a member's size differs from the
+``contentSize`` the metadata gives; when a member inflates to other than its declared size
+or its CRC, or its SHA-256 differs from the metadata's. Every member is read (never more
+than its declared size), and the members an import needs are written into a directory.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import re
+import zipfile
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from pathlib import Path, PurePosixPath
+from typing import IO, Any
+
+from rigserver.reports.eln import METADATA, REFERENCES, SOFTWARE, term
+
+#: The metadata of an archive is at most this large (bytes, unpacked).
+METADATA_BYTES = 32 << 20
+#: rig's own JSON members (run.json, results.json) are at most this large.
+JSON_BYTES = 64 << 20
+_DRIVE = re.compile(r"^[A-Za-z]:")
+
+
+class ArchiveRefused(Exception):
+    """The archive cannot be imported; ``member`` names the part that is wrong."""
+
+    def __init__(self, member: str, detail: str) -> None:
+        super().__init__(f"{member}: {detail}")
+        self.member = member
+        self.detail = detail
+
+
+@dataclass(frozen=True)
+class ArchivedRun:
+    """A run's archive, checked, its needed members written under ``directory``.
+
+    ``run_json`` is the text of ``run.json``; ``run_file`` the run's HDF5 file;
+    ``references`` the files of the profilometer runs it names, by run id; ``server`` the
+    address of the server that exported it.
+    """
+
+    directory: Path
+    run_id: str
+    run_json: bytes
+    run_file: Path
+    server: str
+    exported: str
+    references: dict[str, Path] = field(default_factory=dict)
+
+
+def _checked_name(name: str) -> PurePosixPath:
+    """A member's path, if it stays inside the archive."""
+    if not name or "\\" in name or "\0" in name or name.startswith("/") or _DRIVE.match(name):
+        raise ArchiveRefused(name[:200], "a member's name must be a relative path (path traversal)")
+    path = PurePosixPath(name)
+    if any(part in ("..", ".", "") for part in name.rstrip("/").split("/")):
+        raise ArchiveRefused(name[:200], "a member's name must not climb (path traversal)")
+    return path
+
+
+def _no_duplicates(pairs: list[tuple[str, Any]]) -> dict[str, Any]:
+    found: dict[str, Any] = {}
+    for key, value in pairs:
+        if key in found:
+            raise ValueError(f"the key {key!r} is given twice")
+        found[key] = value
+    return found
+
+
+def _as_list(value: Any) -> list[Any]:
+    if value is None:
+        return []
+    return value if isinstance(value, list) else [value]
+
+
+def _ids(value: Any) -> list[str]:
+    return [str(v["@id"]) for v in _as_list(value) if isinstance(v, dict) and "@id" in v]
+
+
+def _types(node: Mapping[str, Any]) -> list[str]:
+    return [str(t) for t in _as_list(node.get("@type"))]
+
+
+def read_run_archive(source: IO[bytes], directory: Path, *, unpacked_limit: int) -> ArchivedRun:
+    """Check the archive of one run made by rig (module docstring) and write its run.json,
+    run file and referenced run files into ``directory``."""
+    try:
+        archive = zipfile.ZipFile(source)
+    except (zipfile.BadZipFile, OSError, ValueError, EOFError) as exc:
+        raise ArchiveRefused("archive", f"not a zip archive ({exc})") from None
+    with archive:
+        members = _members(archive, unpacked_limit)
+        root = _root(members)
+        graph = _graph(archive, members, root)
+        run_dataset, server, exported = _rig_run(graph)
+        files = _described_files(graph, members, root)
+        parts = {str(p) for p in _ids(run_dataset.get("hasPart"))}
+        run_id = str(run_dataset.get("identifier", ""))
+        folder = str(run_dataset["@id"])
+        wanted = {
+            f"{folder}run.json": directory / "run.json",
+            f"{folder}{run_id}.h5": directory / "run.h5",
+        }
+        references: dict[str, Path] = {}
+        for part in parts:
+            if part.startswith(f"{folder}{REFERENCES}/") and part.endswith(".h5"):
+                other = part.removeprefix(f"{folder}{REFERENCES}/").removesuffix(".h5")
+                references[other] = directory / f"reference-{len(references)}.h5"
+                wanted[part] = references[other]
+        for needed in wanted:
+            if needed not in parts:
+                raise ArchiveRefused(needed, "the run's Dataset does not name this file")
+        for entity_id, node in files.items():
+            _verify(archive, members[f"{root}/{entity_id}"], node, wanted.get(entity_id))
+    return ArchivedRun(
+        directory=directory,
+        run_id=run_id,
+        run_json=(directory / "run.json").read_bytes(),
+        run_file=directory / "run.h5",
+        server=server,
+        exported=exported,
+        references=references,
+    )
+
+
+def _members(archive: zipfile.ZipFile, unpacked_limit: int) -> dict[str, zipfile.ZipInfo]:
+    """The archive's files by name: names checked, none twice, the sizes they declare
+    within the limit."""
+    found: dict[str, zipfile.ZipInfo] = {}
+    total = 0
+    for info in archive.infolist():
+        _checked_name(info.filename)
+        if info.filename in found or (info.is_dir() and info.filename in found):
+            raise ArchiveRefused(info.filename, "the member is in the archive twice")
+        if info.flag_bits & 0x1:
+            raise ArchiveRefused(info.filename, "the member is encrypted")
+        total += info.file_size
+        if total > unpacked_limit:
+            raise ArchiveRefused(
+                info.filename,
+                f"the members declare more than {unpacked_limit} bytes unpacked, the most "
+                "this server unpacks (a zip bomb?)",
+            )
+        found[info.filename] = info
+    return {name: info for name, info in found.items() if not info.is_dir()}
+
+
+def _root(members: Mapping[str, zipfile.ZipInfo]) -> str:
+    roots = {name.split("/", 1)[0] for name in members}
+    outside = [name for name in members if "/" not in name]
+    if outside:
+        raise ArchiveRefused(outside[0], "every file of an .eln archive is in its root folder")
+    if len(roots) != 1:
+        shown = ", ".join(sorted(roots)[:5])
+        raise ArchiveRefused("archive", f"an .eln archive has one root folder, not {shown}")
+    root = roots.pop()
+    if f"{root}/{METADATA}" not in members:
+        raise ArchiveRefused(
+            f"{root}/{METADATA}", "no metadata: the root folder has no " + METADATA
+        )
+    return root
+
+
+def _graph(
+    archive: zipfile.ZipFile, members: Mapping[str, zipfile.ZipInfo], root: str
+) -> dict[str, dict[str, Any]]:
+    name = f"{root}/{METADATA}"
+    info = members[name]
+    if info.file_size > METADATA_BYTES:
+        raise ArchiveRefused(name, f"the metadata is larger than {METADATA_BYTES} bytes")
+    text = _read(archive, info, limit=METADATA_BYTES)
+    try:
+        document = json.loads(text, object_pairs_hook=_no_duplicates)
+    except (ValueError, UnicodeDecodeError) as exc:
+        raise ArchiveRefused(name, f"the metadata is no JSON: {exc}") from None
+    if not isinstance(document, dict) or not isinstance(document.get("@graph"), list):
+        raise ArchiveRefused(name, "the metadata is no JSON-LD with a @graph")
+    graph: dict[str, dict[str, Any]] = {}
+    for node in document["@graph"]:
+        if not isinstance(node, dict) or not isinstance(node.get("@id"), str):
+            raise ArchiveRefused(name, "every entity of the @graph has an @id")
+        if node["@id"] in graph:
+            raise ArchiveRefused(name, f"the entity {node['@id'][:100]!r} is described twice")
+        graph[node["@id"]] = node
+    descriptor = graph.get(METADATA)
+    if descriptor is None or "./" not in _ids(descriptor.get("about")) or "./" not in graph:
+        raise ArchiveRefused(name, "not an RO-Crate: no metadata descriptor about ./")
+    return graph
+
+
+def _rig_run(graph: Mapping[str, dict[str, Any]]) -> tuple[dict[str, Any], str, str]:
+    """The one run's Dataset of a crate rig made, the server's address, the export's date."""
+    software = graph.get(SOFTWARE)
+    if software is None or software.get("name") != "rig":
+        raise ArchiveRefused(METADATA, "not an archive made by rig (no #rig software)")
+    root = graph["./"]
+    runs = [
+        graph[p]
+        for p in _ids(root.get("hasPart"))
+        if p in graph and term("TribologicalTesting") in _ids(graph[p].get("additionalType"))
+    ]
+    if len(runs) != 1:
+        raise ArchiveRefused(
+            METADATA,
+            f"the archive holds {len(runs)} runs; an import takes the archive of one run "
+            "(GET /api/v1/runs/{id}/export.eln)",
+        )
+    descriptor = graph[METADATA]
+    publishers = _ids(descriptor.get("sdPublisher"))
+    server = publishers[0] if publishers else ""
+    return runs[0], server, str(descriptor.get("dateCreated", ""))
+
+
+def _described_files(
+    graph: Mapping[str, dict[str, Any]], members: Mapping[str, zipfile.ZipInfo], root: str
+) -> dict[str, dict[str, Any]]:
+    """The File entities, each with its member; every member but the metadata described."""
+    files = {
+        entity_id: node
+        for entity_id, node in graph.items()
+        if "File" in _types(node) and not entity_id.startswith(("#", "http://", "https://"))
+    }
+    for entity_id in files:
+        if f"{root}/{entity_id}" not in members:
+            raise ArchiveRefused(f"{root}/{entity_id}", "missing member: the metadata describes it")
+    described = {f"{root}/{entity_id}" for entity_id in files} | {f"{root}/{METADATA}"}
+    for name in members:
+        if name not in described:
+            raise ArchiveRefused(name, "the member is not described in the metadata")
+    return files
+
+
+def _verify(
+    archive: zipfile.ZipFile, info: zipfile.ZipInfo, node: Mapping[str, Any], out: Path | None
+) -> None:
+    """Read the member whole (writing it to ``out`` if given): its size and SHA-256 as
+    the metadata declares them."""
+    name = info.filename
+    declared, sha256 = node.get("contentSize"), node.get("sha256")
+    if not isinstance(declared, str) or not declared.isascii() or not declared.isdigit():
+        raise ArchiveRefused(name, f"the metadata gives no contentSize in bytes ({declared!r:.40})")
+    if not isinstance(sha256, str):
+        raise ArchiveRefused(name, "the metadata gives no sha256")
+    if info.file_size != int(declared):
+        raise ArchiveRefused(
+            name,
+            f"oversized member: {info.file_size} bytes in the zip, {declared} in the metadata"
+            if info.file_size > int(declared)
+            else f"{info.file_size} bytes in the zip, {declared} in the metadata",
+        )
+    if out is not None and out.name.endswith(".json") and info.file_size > JSON_BYTES:
+        raise ArchiveRefused(name, f"oversized member: more than {JSON_BYTES} bytes")
+    digest = hashlib.sha256()
+    seen = 0
+    target = out.open("wb") if out is not None else None
+    try:
+        with archive.open(info) as member:
+            while piece := member.read(1 << 20):
+                seen += len(piece)
+                digest.update(piece)
+                if target is not None:
+                    target.write(piece)
+    except (zipfile.BadZipFile, OSError, EOFError, ValueError, NotImplementedError) as exc:
+        raise ArchiveRefused(
+            name, f"the member does not unpack to what it declares ({exc})"
+        ) from None
+    finally:
+        if target is not None:
+            target.close()
+    if seen != info.file_size:
+        raise ArchiveRefused(name, f"unpacks to {seen} bytes, declares {info.file_size}")
+    if digest.hexdigest() != sha256.lower():
+        raise ArchiveRefused(name, "checksum mismatch: its SHA-256 is not the metadata's")
+
+
+def _read(archive: zipfile.ZipFile, info: zipfile.ZipInfo, *, limit: int) -> bytes:
+    try:
+        with archive.open(info) as member:
+            data = member.read(limit + 1)
+    except (zipfile.BadZipFile, OSError, EOFError, ValueError, NotImplementedError) as exc:
+        raise ArchiveRefused(info.filename, f"the member does not unpack ({exc})") from None
+    if len(data) > limit:
+        raise ArchiveRefused(info.filename, f"oversized member: more than {limit} bytes")
+    return data

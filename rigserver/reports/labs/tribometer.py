@@ -1,0 +1,211 @@
+"""A commercial tribometer's report (pin- or ball-on-disc, reciprocating): the friction
+record with its running-in, the per-lap map or the strokes and friction loops, the wear
+volumes and specific wear rates, the Hertz contact."""
+
+from __future__ import annotations
+
+import numpy as np
+from matplotlib.colors import Normalize
+
+from rigserver.reports import blocks
+from rigserver.reports.context import Context, LabReport
+from rigserver.reports.document import Block, Figure, Section, Text
+from rigserver.reports.formatting import fmt, html_symbol
+from rigserver.reports.i18n import Messages
+from rigserver.reports.plots import axes, decorate, to_svg
+from schemas.labels import RESULTS, TABLES
+from schemas.results import PinOnDiscResults, ReciprocatingResults, WearEstimate
+from schemas.stands import MEASUREMENTS
+
+Results = PinOnDiscResults | ReciprocatingResults
+
+#: The wear estimates in the report's order: (field, message key of its caption).
+WEAR = (
+    ("disc_track", "t.disc_track"),
+    ("disc_mass", "t.disc_mass"),
+    ("pin_scar", "t.pin_scar"),
+    ("pin_mass", "t.pin_mass"),
+)
+
+
+def build(ctx: Context, v: Results) -> LabReport:
+    t = ctx.t
+    labels = RESULTS[ctx.run.stand]
+    measured: list[Block] = [
+        blocks.measurements(t, ctx.group(MEASUREMENTS), ctx.readings.measurements())
+    ]
+    if v.rows:
+        fields = [
+            ("rows", "n", "w.rows"),
+            ("duration", "t", "w.duration"),
+            ("sliding_distance", "L", "t.distance"),
+            ("laps", "n_L", "t.laps"),
+            ("mean_load", "F", "t.load"),
+            ("friction_mean", "μ̄", "t.mean"),
+            ("friction_static", "μ_s", "t.static"),
+            ("running_in_distance", "L_r", "t.running_in"),
+            ("friction_steady", "μ", "t.steady"),
+            ("friction_steady_std", "σ_μ", "w.f_std"),
+        ]
+        if isinstance(v, PinOnDiscResults) and v.lap_amplitude is not None:
+            fields.append(("lap_amplitude", "Δμ_1", "t.lap_amplitude"))
+        if isinstance(v, ReciprocatingResults) and v.friction_forward is not None:
+            fields += [
+                ("friction_forward", "μ_f", "t.forward"),
+                ("friction_backward", "μ_b", "t.backward"),
+            ]
+        measured.append(blocks.quantities(t, t("w.record"), v, fields, labels=labels))
+        measured.append(Figure(t("t.fig_friction"), _friction_svg(t, v)))
+        if isinstance(v, PinOnDiscResults) and v.friction_map is not None:
+            measured.append(Figure(t("t.fig_map"), _map_svg(t, v)))
+        if isinstance(v, ReciprocatingResults):
+            if v.loops:
+                measured.append(Figure(t("t.fig_loops"), _loops_svg(t, v)))
+            if v.strokes:
+                (table,) = TABLES[ctx.run.stand]
+                measured.append(
+                    blocks.result_table(
+                        t,
+                        t.gettext(table.caption),
+                        v.strokes,
+                        [("cycle", "n"), ("forward", "μ_f"), ("backward", "μ_b")],
+                        model=type(v.strokes[0]),
+                        labels={k.removeprefix("strokes[]."): x for k, x in labels.items()},
+                    )
+                )
+    processed: list[Block] = []
+    if v.hertz is not None:
+        processed.append(
+            blocks.quantities(
+                t,
+                t("t.hertz"),
+                v.hertz,
+                [
+                    ("modulus", "E*", "t.modulus"),
+                    ("contact_radius", "a", "t.contact_radius"),
+                    ("max_pressure", "p_0", "t.p0"),
+                    ("mean_pressure", "p_m", "t.pm"),
+                ],
+                labels=labels,
+                prefix="hertz.",
+            )
+        )
+    spread = blocks.uncertainties(t, v, [("friction_steady", "μ", "t.steady")], labels=labels)
+    for name, key in WEAR:
+        estimate: WearEstimate | None = getattr(v, name)
+        if estimate is None:
+            continue
+        fields = [(f, s, k) for f, s, k in _wear_fields(name) if getattr(estimate, f) is not None]
+        processed.append(
+            blocks.quantities(t, t(key), estimate, fields, labels=labels, prefix=f"{name}.")
+        )
+        spread += blocks.uncertainties(
+            t,
+            estimate,
+            [("specific_wear_rate", "k", "t.k")],
+            f" ({t(key)})",
+            labels=labels,
+            prefix=f"{name}.",
+        )
+    if v.rows:
+        processed.append(blocks.uncertainty_table(t, spread))
+    return LabReport(
+        sections=[
+            Section(t("sec.measured"), measured),
+            Section(t("sec.processed"), processed),
+        ],
+        conclusions=_conclusions(t, v),
+    )
+
+
+def _wear_fields(name: str) -> list[tuple[str, str, str]]:
+    first = {
+        "disc_track": [("traces", "n", "t.traces"), ("track_area", "A", "w.track_area")],
+        "disc_mass": [("mass_loss", "Δm", "t.mass_loss"), ("density", "ρ", "t.density")],
+        "pin_scar": [("scar_diameter", "d", "t.scar"), ("height_loss", "Δh", "t.height_loss")],
+        "pin_mass": [("mass_loss", "Δm", "t.mass_loss"), ("density", "ρ", "t.density")],
+    }[name]
+    return [*first, ("volume", "V", "t.volume"), ("specific_wear_rate", "k", "t.k")]
+
+
+def _friction_svg(t: Messages, v: Results) -> str:
+    """μ against the sliding distance (block means and their min-max band), the running-in
+    shaded, the steady mean drawn over the steady part."""
+    s = v.friction
+    fig, (ax,) = axes(height=3.0)
+    if v.running_in_distance > 0:
+        ax.axvspan(0.0, v.running_in_distance, color="0.88", label=t("t.running_in_band"))
+    ax.fill_between(s.x, s.y_min, s.y_max, color="C0", alpha=0.25, linewidth=0)
+    ax.plot(s.x, s.y, color="C0", linewidth=0.8, label=t("w.block_mean"))
+    if s.x:
+        ax.hlines(
+            v.friction_steady,
+            v.running_in_distance,
+            s.x[-1],
+            colors="C3",
+            linewidth=1.2,
+            label=f"{t('w.steady_mean')} μ = {fmt(v.friction_steady)}",
+        )
+    decorate(ax, xlabel=blocks.axis(t, "L", "m"), ylabel=blocks.axis(t, "μ"))
+    return to_svg(fig)
+
+
+def _map_svg(t: Messages, v: PinOnDiscResults) -> str:
+    """μ over the lap (rows) and the angular position on the disc (columns)."""
+    assert v.friction_map is not None
+    m = v.friction_map
+    values = np.array([[np.nan if c is None else c for c in row] for row in m.values], dtype=float)
+    fig, (ax,) = axes(height=3.2)
+    step = 360.0 / len(m.angle)
+    lap_step = m.lap[1] - m.lap[0] if len(m.lap) > 1 else 1.0
+    finite = values[np.isfinite(values)]
+    norm = Normalize(float(finite.min()), float(finite.max())) if finite.size else None
+    mesh = ax.pcolormesh(
+        np.r_[np.asarray(m.angle) - step / 2, m.angle[-1] + step / 2],
+        np.r_[np.asarray(m.lap) - lap_step / 2, m.lap[-1] + lap_step / 2],
+        np.ma.masked_invalid(values),
+        cmap="viridis",
+        norm=norm,
+        shading="flat",
+    )
+    fig.colorbar(mesh, ax=ax, label=blocks.axis(t, "μ"))
+    decorate(ax, xlabel=blocks.axis(t, "θ", "deg"), ylabel=t("t.lap_axis"))
+    return to_svg(fig)
+
+
+def _loops_svg(t: Messages, v: ReciprocatingResults) -> str:
+    """μ (signed by the sliding direction) against the position: the first, a middle and
+    the last cycle."""
+    fig, (ax,) = axes(height=3.0)
+    for loop in v.loops:
+        ax.plot(
+            np.asarray(loop.position) * 1e3,
+            loop.friction,
+            linewidth=0.9,
+            label=t("t.loop", cycle=loop.cycle + 1),
+        )
+    decorate(ax, xlabel=blocks.axis(t, "x", "mm"), ylabel=blocks.axis(t, "μ"))
+    return to_svg(fig)
+
+
+def _conclusions(t: Messages, v: Results) -> list[Text]:
+    found: list[Text] = []
+    if v.rows:
+        found.append(
+            html_symbol(
+                t(
+                    "t.c_friction",
+                    mu=fmt(v.friction_steady),
+                    std=fmt(v.friction_steady_std),
+                    distance=fmt(v.running_in_distance),
+                    static=fmt(v.friction_static),
+                    mean=fmt(v.friction_mean),
+                )
+            )
+        )
+    for name, key in WEAR:
+        estimate: WearEstimate | None = getattr(v, name)
+        if estimate is not None:
+            rate = estimate.specific_wear_rate / 1e-9  # mm³/(N·m)
+            found.append(html_symbol(t("t.c_wear", what=t(key), k=fmt(rate))))
+    return found

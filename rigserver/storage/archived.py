@@ -1,0 +1,75 @@
+"""A run file from elsewhere (the run file of an ``.eln`` archive): its run, its readings
+read as an analysis reads a store's, and its batches as :meth:`RunStore.import_run` takes
+them."""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from pathlib import Path
+
+import numpy as np
+from numpy.typing import NDArray
+
+from rigserver.storage._checks import StoredBatch, prepare, stand_groups
+from rigserver.storage._failures import UNREADABLE
+from rigserver.storage.errors import RunDamaged
+from rigserver.storage.runfile import FileSummary, RunFile, read_summary
+from schemas.runs import Run
+from schemas.stands import MEASUREMENTS
+
+#: Rows of a group per imported batch
+IMPORT_ROWS = 1 << 20
+
+#: A batch of :meth:`RunStore.import_run`: its seq, its receipt, every channel of its group.
+ImportedBatch = tuple[int, StoredBatch, dict[str, NDArray[np.float64]]]
+
+
+def summary(path: Path) -> FileSummary:
+    """The run, flags and results a run file holds; ``RunDamaged`` if it is no run file."""
+    try:
+        return read_summary(path)
+    except UNREADABLE as exc:
+        raise RunDamaged(f"{path.name} is not a readable run file: {exc}") from None
+
+
+class FileReadings:
+    """The readings of a run file, as :class:`rigserver.analysis.Readings` asks for them
+    (the file is opened for each call)."""
+
+    def __init__(self, path: Path) -> None:
+        self.path = path
+
+    def rows(self, group: str) -> int:
+        with RunFile.open(self.path, writable=False) as rf:
+            return rf.rows(group)
+
+    def read(self, group: str, channels: list[str] | None = None) -> dict[str, NDArray[np.float64]]:
+        with RunFile.open(self.path, writable=False) as rf:
+            return rf.read(group, channels, 0, None) if rf.rows(group) else {}
+
+    def iter_chunks(
+        self, group: str, channels: list[str] | None = None, rows: int = 1 << 20
+    ) -> Iterator[dict[str, NDArray[np.float64]]]:
+        with RunFile.open(self.path, writable=False) as rf:
+            total = rf.rows(group)
+            for start in range(0, total, rows):
+                yield rf.read(group, channels, start, start + rows)
+
+    def measurements(self) -> dict[str, float]:
+        with RunFile.open(self.path, writable=False) as rf:
+            return rf.last_values(MEASUREMENTS)
+
+
+def file_batches(path: Path, run: Run, rows: int = IMPORT_ROWS) -> Iterator[ImportedBatch]:
+    """The readings of the run file as batches (seq 0, 1, ...; at most ``rows`` rows of
+    one group each, every channel, NaN where the file has it), group by group."""
+    seq = 0
+    with RunFile.open(path, writable=False) as rf:
+        for decl in stand_groups(run.stand):
+            stored = 0
+            for start in range(0, rf.rows(decl.name), rows):
+                columns = rf.read(decl.name, None, start, start + rows)
+                batch = prepare(decl.name, columns)
+                stored += batch.rows
+                yield seq, StoredBatch(decl.name, batch.rows, stored, batch.digest), batch.columns
+                seq += 1

@@ -1,0 +1,361 @@
+"""Commercial tribometers: a ball (or flat pin) on a disc (ASTM G99, ISO 20808) and on a
+reciprocating flat (ASTM G133).
+
+The friction coefficient runs in from its static value μ_s to its steady value μ_ss over a
+known distance L_r along a truncated exponential that ends there,
+
+    μ(s) = μ_ss + (μ_s - μ_ss)·(e^(-s/λ) - e^(-L_r/λ))/(1 - e^(-L_r/λ)) for s < L_r, λ = L_r/3,
+
+and is μ_ss after it; on the disc a once-per-lap part μ_ss·a·sin θ rides on it (a run-out),
+on the flat μ_ss·a·cos 2φ over the cycle's phase φ (friction highest at the stroke's ends,
+x = -S/2·cos φ), both averaging out over whole laps; the friction's fluctuation is AR(1)
+(as the SMTs-2's). Readings are taken a whole number of times per lap (cycle), so lap means
+and the steady mean hold no periodic remainder. The instrument writes the normal load, the
+friction force and μ = F_t/F_N of its own two readings.
+
+Wear follows Archard's law, V = k·F·L for the ball and for the disc (flat): the ball's
+scar is the spherical cap of that volume, the track a parabolic groove of the scar's width
+and the area V/(2πR) (V/S on the flat), traced across in four places; the specimens lose
+ρ·V on the balance. Defaults: an Al2O3 ball of 6 mm on 100Cr6, 5 N, 0.1 m/s on a 10 mm
+radius, 1000 laps (63 m); on the flat 10 mm strokes at 5 Hz, 1000 cycles.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Literal
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy.optimize import brentq
+
+from rigserver.core import tribometer
+from rigsim.batches import Batch, SimulatedRun, split
+from rigsim.errors import SettingsError
+from rigsim.instruments import Fault, Instrument, apply_faults
+from rigsim.stands.smts2 import _fluctuation
+from schemas.runs import RunCreate
+from schemas.stands import (
+    MEASUREMENTS,
+    PIN_ON_DISC_GROUPS,
+    RECIPROCATING_GROUPS,
+    PinOnDiscConfig,
+    ReciprocatingConfig,
+    StandKind,
+)
+from schemas.units import UNITS
+
+FloatArray = NDArray[np.float64]
+Kind = Literal["pin_on_disc", "reciprocating"]
+_KG_PER_G = UNITS["g"].factor
+_M_PER_UM = UNITS["um"].factor
+#: Profiles traced across the track, and their half-length and step, m.
+TRACES = 4
+TRACE_HALF = 1.5e-3
+TRACE_STEP = 5e-6
+
+
+_LOAD = Instrument(resolution=1e-3, noise=0.01)
+_FORCE = Instrument(resolution=1e-4, noise=0.002)
+_THERMOMETER = Instrument(resolution=0.1, noise=0.1)
+_DEPTH = Instrument(resolution=0.01, noise=0.05)
+_PROFILOMETER = Instrument(resolution=0.001, noise=0.005)
+_MICROSCOPE = Instrument(resolution=1.0, noise=1.0)
+_BALANCE = Instrument(resolution=1e-5, noise=1e-5)
+
+
+@dataclass(frozen=True, slots=True)
+class TribometerInstruments:
+    """The tribometer's sensors, each in its channel's unit."""
+
+    load: Instrument = _LOAD
+    force: Instrument = _FORCE
+    thermometer: Instrument = _THERMOMETER
+    depth: Instrument = _DEPTH
+    profilometer: Instrument = _PROFILOMETER
+    microscope: Instrument = _MICROSCOPE
+    balance: Instrument = _BALANCE
+
+
+@dataclass(frozen=True, slots=True)
+class TribometerSettings:
+    """What the simulated lab runs; defaults: a ball-on-disc test.
+
+    Attributes
+    ----------
+    kind : {"pin_on_disc", "reciprocating"}
+    load : float
+        F_N on the ball, N.
+    laps : int
+        Laps (cycles) of the test.
+    samples_per_lap : int
+        Readings per lap (cycle).
+    friction_static, friction_steady : float
+        μ_s at the start and μ_ss after the running-in.
+    running_in_laps : int
+        Laps (cycles) of the running-in: L_r = running_in_laps times a lap's length.
+    periodic : float
+        a, the once-per-lap (per-cycle) part relative to μ_ss.
+    friction_fluctuation : float
+        Relative standard deviation of the friction's AR(1) fluctuation.
+    ball_wear, disc_wear : float
+        Archard's k of the ball and the disc, m³/(N·m).
+    temperature_rise : float
+        Warming of the contact over the test, °C, from the plan's temperature.
+    configuration : PinOnDiscConfig | ReciprocatingConfig
+    instruments : TribometerInstruments
+    faults : tuple of Fault
+    operator : str
+    batch_rows : int
+    """
+
+    kind: Kind = "pin_on_disc"
+    load: float = 5.0
+    laps: int = 1000
+    samples_per_lap: int = 64
+    friction_static: float = 0.8
+    friction_steady: float = 0.55
+    running_in_laps: int = 160
+    periodic: float = 0.04
+    friction_fluctuation: float = 0.02
+    ball_wear: float = 2e-15
+    disc_wear: float = 1e-13
+    temperature_rise: float = 4.0
+    configuration: PinOnDiscConfig | ReciprocatingConfig = field(default_factory=PinOnDiscConfig)
+    instruments: TribometerInstruments = TribometerInstruments()
+    faults: tuple[Fault, ...] = ()
+    operator: str = "rigsim"
+    batch_rows: int = 2000
+
+    def __post_init__(self) -> None:
+        wanted = PinOnDiscConfig if self.kind == "pin_on_disc" else ReciprocatingConfig
+        if type(self.configuration) is not wanted:
+            raise SettingsError(f"a {self.kind} run needs a {wanted.__name__}")
+        if not 0 < self.running_in_laps < self.laps:
+            raise SettingsError(
+                f"running_in_laps must lie in (0, laps = {self.laps}), got {self.running_in_laps}"
+            )
+        if self.samples_per_lap < 8 or self.samples_per_lap % 4:
+            raise SettingsError(
+                f"samples_per_lap must be >= 8, a multiple of 4: {self.samples_per_lap}"
+            )
+        for name in ("friction_static", "friction_steady"):
+            if not 0.0 < getattr(self, name) < 2.0:
+                raise SettingsError(f"{name} must lie in (0, 2), got {getattr(self, name)}")
+        if self.load <= 0 or self.ball_wear <= 0 or self.disc_wear <= 0:
+            raise SettingsError("load, ball_wear and disc_wear must be > 0")
+
+    @classmethod
+    def reciprocating(cls, **changes: object) -> TribometerSettings:
+        """A ball on a reciprocating flat (the defaults of the stroke)."""
+        base: dict[str, object] = {
+            "kind": "reciprocating",
+            "samples_per_lap": 80,
+            "configuration": ReciprocatingConfig(),
+        }
+        return cls(**{**base, **changes})  # type: ignore[arg-type]
+
+    @property
+    def lap_length(self) -> float:
+        c = self.configuration
+        if isinstance(c, PinOnDiscConfig):
+            return 2.0 * math.pi * c.track_radius
+        return 2.0 * c.stroke_length
+
+    @property
+    def speed(self) -> float:
+        """The mean sliding speed, m/s (reciprocating: 2S·f)."""
+        c = self.configuration
+        if isinstance(c, ReciprocatingConfig):
+            return 2.0 * c.stroke_length * c.frequency
+        return c.plan.speed
+
+
+@dataclass(frozen=True, slots=True)
+class TribometerTruth:
+    """The simulated run's truth (SI; μ of the noise-free record).
+
+    ``friction_static`` is the largest true μ before the steady part, ``friction_mean``
+    the true μ's mean over the record; the wear volumes are Archard's, the scar's diameter
+    and the track's area those of the volumes.
+    """
+
+    kind: Kind
+    load: float
+    laps: float
+    sliding_distance: float
+    friction_static: float
+    friction_steady: float
+    friction_mean: float
+    running_in_distance: float
+    running_in_laps: float
+    lap_amplitude: float
+    ball_volume: float
+    disc_volume: float
+    scar_diameter: float
+    track_area: float
+    track_width: float
+    ball_mass_loss: float
+    disc_mass_loss: float
+    ball_rate: float
+    disc_rate: float
+    hertz_pressure: float
+
+
+def running_in_shape(s: FloatArray, length: float) -> FloatArray:
+    """g(s): 1 at s = 0, 0 from s = L_r on, the truncated exponential of λ = L_r/3."""
+    lam = length / 3.0
+    tail = math.exp(-length / lam)
+    return np.where(s < length, (np.exp(-s / lam) - tail) / (1.0 - tail), 0.0)
+
+
+def scar_of(volume: float, radius: float) -> float:
+    """The scar diameter of a spherical cap of ``volume`` on a ball of ``radius``."""
+    if volume <= 0:
+        return 0.0
+    return float(
+        brentq(
+            lambda d: tribometer.spherical_cap_volume(scar_diameter=d, ball_radius=radius) - volume,
+            0.0,
+            2.0 * radius,
+            xtol=1e-15,
+            rtol=1e-15,
+        )
+    )
+
+
+def track_profile(x: FloatArray, width: float, depth: float, tilt: float = 2e-4) -> FloatArray:
+    """A parabolic groove of ``width`` and ``depth`` in a surface tilted by ``tilt``, m."""
+    inside = np.abs(x) < width / 2.0
+    groove = np.where(inside, depth * (1.0 - (2.0 * x / width) ** 2), 0.0)
+    return tilt * x - groove
+
+
+def simulate(
+    settings: TribometerSettings | None = None, seed: int = 0
+) -> SimulatedRun[TribometerTruth]:
+    """A simulated tribometer run: weighings, the friction record, the track's profiles,
+    the scar and the weighings after."""
+    s = settings or TribometerSettings()
+    rng = np.random.default_rng(seed)
+    c = s.configuration
+    ins = s.instruments
+    recip = isinstance(c, ReciprocatingConfig)
+    stroke = c.stroke_length if isinstance(c, ReciprocatingConfig) else 0.0
+    n = s.laps * s.samples_per_lap + (0 if recip else 1)
+    k = np.arange(n, dtype=np.float64)
+    offset = 0.5 if recip else 0.0  # never at a reversal, where the friction turns over
+    laps = (k + offset) / s.samples_per_lap
+    distance = laps * s.lap_length
+    time = distance / s.speed
+    first = distance[0]
+    g = running_in_shape(distance - first, s.running_in_laps * s.lap_length)
+    base = s.friction_steady + (s.friction_static - s.friction_steady) * g
+    phase = 2.0 * math.pi * laps
+    wave = np.sin(phase) if not recip else np.cos(2.0 * phase)
+    true_mu = base + s.friction_steady * s.periodic * wave
+    direction = np.sign(np.sin(phase)) if recip else np.ones(n)
+    mu = true_mu * (1.0 + _fluctuation(n, s.friction_fluctuation, rng))
+    load = ins.load.read(np.full(n, s.load), rng)
+    force = ins.force.read(direction * mu * s.load, rng)
+    record: dict[str, FloatArray] = {
+        "time": np.round(time, 9),
+        "normal_load": load,
+        "friction_force": force,
+        "friction_coefficient": force / load,
+        "distance": distance,
+        "laps": laps,
+    }
+    if recip:
+        record["position"] = -stroke / 2.0 * np.cos(phase) / 1e-3
+        record["stroke"] = np.floor(2.0 * laps) + 1.0
+    sliding = float(distance[-1] - first)
+    heat = 1.0 - np.exp(-(distance - first) / (0.2 * sliding))
+    record["temperature"] = ins.thermometer.read(
+        c.plan.temperature + s.temperature_rise * heat, rng
+    )
+    ball_volume = s.ball_wear * s.load * sliding
+    disc_volume = s.disc_wear * s.load * sliding
+    radius = c.tip_diameter / 2.0
+    scar = scar_of(ball_volume, radius)
+    track_length = stroke if isinstance(c, ReciprocatingConfig) else 2.0 * math.pi * c.track_radius
+    area = disc_volume / track_length
+    # the groove's edges on the profiles' samples: the trapezoid rule then errs by the
+    # parabola's curvature alone, a relative -(step/width)²
+    width = max(round(scar / (2.0 * TRACE_STEP)), 20) * 2.0 * TRACE_STEP
+    depth = 1.5 * area / width  # a parabola's area is (2/3)·width·depth
+    record["wear_depth"] = ins.depth.read(depth * (distance - first) / sliding / _M_PER_UM, rng)
+    groups = PIN_ON_DISC_GROUPS if not recip else RECIPROCATING_GROUPS
+    friction, at = apply_faults(groups[0], record, time, s.faults)
+    half = round(TRACE_HALF / TRACE_STEP)
+    x = np.arange(-half, half + 1, dtype=np.float64) * TRACE_STEP
+    profiles: dict[str, list[FloatArray]] = {"x": [], "z": [], "trace": []}
+    for trace in range(TRACES):
+        profiles["x"].append(x / 1e-3)
+        profiles["z"].append(ins.profilometer.read(track_profile(x, width, depth) / 1e-6, rng))
+        profiles["trace"].append(np.full(x.size, float(trace)))
+    track = {name: np.concatenate(parts) for name, parts in profiles.items()}
+    ball_mass, disc_mass = 0.44e-3 * c.pin.density / 3950.0, 20e-3
+    ball_loss, disc_loss = c.pin.density * ball_volume, c.disc.density * disc_volume
+    before = {
+        "pin_mass_before": ins.balance.read([ball_mass / _KG_PER_G], rng),
+        "disc_mass_before": ins.balance.read([disc_mass / _KG_PER_G], rng),
+    }
+    after = {
+        "pin_mass_after": ins.balance.read([(ball_mass - ball_loss) / _KG_PER_G], rng),
+        "disc_mass_after": ins.balance.read([(disc_mass - disc_loss) / _KG_PER_G], rng),
+        "scar_diameter": ins.microscope.read([scar / _M_PER_UM], rng),
+    }
+    end = float(time[-1])
+    batches: list[Batch] = [Batch(group=MEASUREMENTS, columns=before, at=0.0)]
+    batches += split("friction", friction, at, rows=s.batch_rows)
+    batches.append(Batch(group="wear_track", columns=track, at=end + 300.0))
+    batches.append(Batch(group=MEASUREMENTS, columns=after, at=end + 600.0))
+    kind = StandKind.RECIPROCATING if recip else StandKind.PIN_ON_DISC
+    modulus = tribometer.effective_modulus(
+        youngs_1=c.pin.youngs_modulus,
+        poisson_1=c.pin.poisson,
+        youngs_2=c.disc.youngs_modulus,
+        poisson_2=c.disc.poisson,
+    )
+    hertz = tribometer.hertz_ball_on_flat(load=s.load, ball_radius=radius, modulus=modulus)
+    steady = int(np.searchsorted(distance - first, s.running_in_laps * s.lap_length - 1e-12))
+    body = RunCreate(
+        stand=kind,
+        operator=s.operator,
+        title=f"Simulated {'reciprocating' if recip else 'ball-on-disc'} test, {s.load:g} N",
+        specimen={"ball": c.pin.name, "disc": c.disc.name},
+        test_plan={"load_N": s.load, "laps": s.laps, "simulated": True},
+        configuration=c.model_dump(mode="json"),
+    )
+    truth = TribometerTruth(
+        kind=s.kind,
+        load=s.load,
+        laps=float(laps[-1] - laps[0]),
+        sliding_distance=sliding,
+        friction_static=float(np.abs(true_mu[:steady]).max()),
+        friction_steady=s.friction_steady,
+        friction_mean=float(np.abs(true_mu).mean()),
+        running_in_distance=float(distance[steady] - first),
+        running_in_laps=float(s.running_in_laps),
+        lap_amplitude=s.friction_steady * s.periodic,
+        ball_volume=ball_volume,
+        disc_volume=disc_volume,
+        scar_diameter=scar,
+        track_area=area,
+        track_width=width,
+        ball_mass_loss=ball_loss,
+        disc_mass_loss=disc_loss,
+        ball_rate=s.ball_wear,
+        disc_rate=s.disc_wear,
+        hertz_pressure=hertz.max_pressure,
+    )
+    return SimulatedRun(run_create=body, batches=tuple(batches), truth=truth)
+
+
+def simulate_reciprocating(
+    settings: TribometerSettings | None = None, seed: int = 0
+) -> SimulatedRun[TribometerTruth]:
+    """:func:`simulate` of a reciprocating test (its defaults when ``settings`` is None)."""
+    return simulate(settings or TribometerSettings.reciprocating(), seed)

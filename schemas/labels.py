@@ -498,6 +498,7 @@ TRIBOMETER: dict[str, Label] = {
         N_("standard deviation of the track's area"), "s(A)", "", "mm^2"
     ),
     **_wear_labels("disc_track", N_("worn volume of the disc, from the track")),
+    **_iso("disc_track.iso."),
     "disc_mass.mass_loss": Label(N_("mass loss of the disc"), "Δm", unit="mg"),
     "disc_mass.density": Label(N_("density of the disc"), "ρ", unit="kg/m^3"),
     **_wear_labels("disc_mass", N_("worn volume of the disc, from its mass loss")),

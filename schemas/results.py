@@ -361,6 +361,9 @@ class TrackWear(WearEstimate):
     traces: int = Field(description="profiles across the track averaged")
     track_area: float = quantity(..., "m^2", "A, mean cross-section area of the track")
     track_area_std: float | None = quantity(None, "m^2", "s(A) over the traces")
+    iso: IsoRoughnessResult | None = Field(
+        default=None, description="ISO roughness of the first trace (the track's form filtered out)"
+    )
 
 
 class ScarWear(WearEstimate):

@@ -91,3 +91,19 @@ def test_the_wear_track_profile_has_its_iso_roughness() -> None:
     assert own.iso.lambda_c == 0.8e-3
     assert own.iso.ra == pytest.approx(2 * 0.5e-6 / math.pi, rel=0.1)
     assert own.iso.rsm == pytest.approx(0.05e-3, rel=0.1)
+
+
+@pytest.mark.parametrize("kind", [StandKind.PIN_ON_DISC, StandKind.RECIPROCATING])
+def test_the_tribometers_track_has_the_iso_roughness_of_its_first_trace(kind: StandKind) -> None:
+    from rigserver.core.iso_roughness import iso_profile
+    from tests.reports.simulated import simulated
+
+    s = simulated(kind)
+    track = s.result.values.disc_track  # type: ignore[attr-defined]
+    assert track is not None and track.iso is not None
+    cols = s.readings.read("wear_track")
+    first = cols["trace"] == np.unique(cols["trace"])[0]
+    order = np.argsort(cols["x"][first], kind="stable")
+    expected = iso_profile(cols["x"][first][order] * 1e-3, cols["z"][first][order] * 1e-6)
+    assert (track.iso.lambda_c, track.iso.ra) == (expected.lambda_c, expected.parameters.ra)
+    assert track.iso.rk == expected.parameters.rk

@@ -150,9 +150,9 @@ def profilometer_section(
 
 
 def track_table(
-    t: Messages, iso: IsoRoughnessResult | None, labels: Mapping[str, Label]
+    t: Messages, iso: IsoRoughnessResult | None, labels: Mapping[str, Label], prefix: str
 ) -> Table | None:
-    """The ISO roughness across a wear track, labelled ``disc_wear.iso.*``."""
+    """The ISO roughness across a wear track, labelled ``<prefix>*`` (``disc_wear.iso.``)."""
     if iso is None:
         return None
-    return parameters_table(t, t("iso.track"), iso, labels, "disc_wear.iso.")
+    return parameters_table(t, t("iso.track"), iso, labels, prefix)

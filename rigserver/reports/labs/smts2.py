@@ -86,7 +86,7 @@ def build(ctx: Context, v: Smts2Results) -> LabReport:
                 prefix="disc_wear.",
             )
         )
-        track_iso = iso_profile.track_table(t, v.disc_wear.iso, SMTS2)
+        track_iso = iso_profile.track_table(t, v.disc_wear.iso, SMTS2, "disc_wear.iso.")
         if track_iso is not None:
             processed.append(track_iso)
     if v.theoretical is not None:

@@ -61,13 +61,19 @@ def post(http: httpx.Client, sim: SimulatedRun[Any]) -> str:
     return run_id
 
 
-def wait_for_files(folder: Path, count: int, timeout: float = 600.0) -> None:
-    """Until the background renders of a finished run have written ``count`` files."""
+def wait_for_background(reports: Path, quiet: float = 5.0, timeout: float = 600.0) -> None:
+    """Until the finished runs' background renders have ended (those the pool had room for):
+    no report file written for ``quiet`` seconds."""
     deadline = time.monotonic() + timeout
-    while len(list(folder.glob("*-*.*"))) < count:
+    seen: list[str] = []
+    still = time.monotonic()
+    while time.monotonic() - still < quiet:
         if time.monotonic() > deadline:
-            raise RuntimeError(f"{folder}: the background renders did not end in {timeout} s")
-        time.sleep(0.2)
+            raise RuntimeError(f"the background renders did not end in {timeout} s")
+        now = sorted(str(p) for p in reports.rglob("*.*"))
+        if now != seen:
+            seen, still = now, time.monotonic()
+        time.sleep(0.5)
 
 
 def timed_get(http: httpx.Client, url: str, **kwargs: Any) -> tuple[float, httpx.Response]:
@@ -78,7 +84,6 @@ def timed_get(http: httpx.Client, url: str, **kwargs: Any) -> tuple[float, httpx
 
 def first_and_repeat(http: httpx.Client, data: Path, run_id: str) -> dict[str, Any]:
     folder = data / "reports" / "run" / run_id
-    wait_for_files(folder, 4)
     for kept in folder.glob("en-*.*"):
         kept.unlink()
     url = f"{API}/runs/{run_id}/report.pdf"
@@ -133,18 +138,39 @@ def keep_posting(url: str, kind: StandKind, stop: threading.Event, seed: int) ->
             seed += 1
 
 
-def keep_downloading(url: str, reports: list[str], stop: threading.Event, out: list[float]) -> None:
+def keep_downloading(
+    url: str, reports: list[str], stop: threading.Event, out: list[float], refused: list[int]
+) -> None:
     with httpx.Client(base_url=url, headers=AUTH, timeout=120) as http:
         i = 0
         while not stop.is_set():
             took, answer = timed_get(http, reports[i % len(reports)])
+            if answer.status_code == 503:
+                refused.append(1)
+                continue
             answer.raise_for_status()
             out.append(took)
             i += 1
 
 
+def render_all(url: str, reports: list[str]) -> None:
+    """Every report downloaded once (rendered where the background did not)."""
+    with httpx.Client(base_url=url, headers=AUTH, timeout=600) as http:
+        for report in reports:
+            while (answer := http.get(report)).status_code == 503:
+                time.sleep(1.0)
+            answer.raise_for_status()
+
+
 def concurrent(url: str, runs: dict[str, str], log: Path, seconds: float) -> dict[str, Any]:
     kinds = list(StandKind)[:POSTING_STANDS]
+    reports = [
+        f"{url}{API}/runs/{run_id}/report.pdf?lang={lang}"
+        for run_id in runs.values()
+        for lang in ("en", "ru")
+    ]
+    render_all(url, reports)
+    refused: list[int] = []
     stop = threading.Event()
     quiet: list[float] = []
     posters = [
@@ -159,15 +185,11 @@ def concurrent(url: str, runs: dict[str, str], log: Path, seconds: float) -> dic
     quiet_n = len(quiet)
     downloads: list[float] = []
     lines_before = len(log.read_text(errors="replace").splitlines())
-    reports = [
-        f"{url}{API}/runs/{run_id}/report.pdf?lang={lang}"
-        for run_id in runs.values()
-        for lang in ("en", "ru")
-    ]
     downloading = threading.Event()
     clients = [
         threading.Thread(
-            target=keep_downloading, args=(url, reports[i:] + reports[:i], downloading, downloads)
+            target=keep_downloading,
+            args=(url, reports[i:] + reports[:i], downloading, downloads, refused),
         )
         for i in range(DOWNLOADERS)
     ]
@@ -186,6 +208,7 @@ def concurrent(url: str, runs: dict[str, str], log: Path, seconds: float) -> dic
         "downloaders": DOWNLOADERS,
         "posting_stands": POSTING_STANDS,
         "downloads": percentiles(downloads),
+        "downloads_refused_503": len(refused),
         "stands_while_downloading": percentiles(busy_stands),
         "stands_while_posting_only": percentiles(quiet[:quiet_n]),
         "log_lines": lines,
@@ -204,6 +227,7 @@ def main(argv: list[str] | None = None) -> int:
             data = work / "data-reports"
             with httpx.Client(base_url=url, headers=AUTH, timeout=600) as http:
                 runs = {kind.value: post(http, simulate(kind, seed=7)) for kind in StandKind}
+                wait_for_background(data / "reports")
                 out["stands"] = {
                     kind: first_and_repeat(http, data, run_id) for kind, run_id in runs.items()
                 }

@@ -200,9 +200,9 @@ def _announce(client: Client, run: RunHandle, wait: float) -> None:
         raise RigclientError(f"{record.damaged} (kept in the spool; see `status`)")
     if record.server_id is None and failed_now(record) and record.last_status in (401, 403):
         raise RigclientError(
-            f"the server refused the key: {record.last_error}. The run {run.local_id} and its "
-            "readings stay in the spool: start the same command again with the right --key "
-            "(or RIG_KEY), it goes on with this run"
+            f"the server refused the key ({record.last_status}, see above); stopped. The run "
+            f"{run.local_id} and its readings stay in the spool: start the same command again "
+            "with the right --key (or RIG_KEY), it goes on with this run"
         )
     print(record.server_id or run.local_id, flush=True)
     if record.server_id is None:

@@ -160,9 +160,9 @@ def check_columns(
     if any(v.ndim != 1 for v in arrays.values()):
         raise InputError(f"group {group!r}: every column must be 1-D")
     if decl.aligned:
-        missing = sorted(names - set(columns))
-        if missing:
-            raise InputError(f"group {group!r} needs every channel; missing: {', '.join(missing)}")
+        lacks = decl.missing(columns.keys())
+        if lacks is not None:
+            raise InputError(lacks)
         if len(set(lengths.values())) > 1:
             raise InputError(f"group {group!r}: columns of different lengths {lengths}")
     return arrays

@@ -157,11 +157,13 @@ def _body(response: httpx.Response, size: int = 120) -> str:
     return f"{media or 'an answer'} {text!r}"
 
 
-def not_the_api(response: httpx.Response) -> str:
-    """Why an answer is not the API's, for a message: its status and what the body is."""
+def not_the_api(response: httpx.Response, expected: str = "") -> str:
+    """Why an answer is not the API's, for a message: its status and what the body is
+    (``expected``: what it should have been, e.g. "a receipt")."""
+    instead = f", not {expected}" if expected else ""
     return (
-        f"{response.status_code} {response.reason_phrase}: {_body(response)}, not the API's "
-        "answer (a proxy between this PC and the server, or the wrong URL?)"
+        f"{response.status_code} {response.reason_phrase}: {_body(response)}{instead}, not the "
+        "API's answer (a proxy between this PC and the server, or the wrong URL?)"
     )
 
 
@@ -305,7 +307,8 @@ class Reporter:
         if self.since is None:
             return None
         spent = _duration(self._clock() - self.since)
-        text = f"the server answers again, after {self.tries} failed tries in {spent}"
+        tries = f"{self.tries} failed tr{'y' if self.tries == 1 else 'ies'}"
+        text = f"the server answers again, after {tries} in {spent}"
         self.since, self.tries, self._kind = None, 0, None
         return text
 

@@ -256,7 +256,7 @@ def _open(spool: Spool, api: Api, run: RunRecord, say: Callable[[str], None]) ->
     try:
         server_id = Run.model_validate(answer.json()).id
     except ValueError:  # JSON or pydantic's ValidationError: not the API's run
-        why = TryLater(f"POST {api.url_of('/runs')}: {not_the_api(answer)}", status=None)
+        why = TryLater(f"POST {api.url_of('/runs')}: {not_the_api(answer, 'a run')}")
         return Failed(run.local_id, run.name, "the opening", why)
     spool.opened(run.local_id, server_id)
     return Sent(run.local_id)
@@ -298,7 +298,7 @@ def _post(
     try:
         receipt = BatchReceipt.model_validate(answer.json())
     except (ValueError, ValidationError):
-        why = TryLater(f"POST {api.url_of(path)}: {not_the_api(answer)}")
+        why = TryLater(f"POST {api.url_of(path)}: {not_the_api(answer, 'a receipt')}")
         return Failed(run.local_id, run.name, what, why)
     state.duplicates += receipt.duplicate
     spool.acknowledged(batch.local_id, batch.seq)

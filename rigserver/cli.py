@@ -214,6 +214,21 @@ def main(argv: Sequence[str] | None = None) -> int:
         help="runs whose results are computed at once, more answered 503 (RIG_RESULTS_WORKERS)",
     )
     serve.add_argument(
+        "--report-workers",
+        type=int,
+        help="processes rendering reports (RIG_REPORT_WORKERS; default 1)",
+    )
+    serve.add_argument(
+        "--report-queue",
+        type=int,
+        help="report renders admitted at once, more answered 503 (RIG_REPORT_QUEUE)",
+    )
+    serve.add_argument(
+        "--report-key-share",
+        type=float,
+        help="share of the report renders one key may hold (RIG_REPORT_KEY_SHARE)",
+    )
+    serve.add_argument(
         "--synchronous",
         choices=("normal", "full"),
         help="journal durability: normal survives a crash, full a power loss (RIG_SYNCHRONOUS)",
@@ -267,6 +282,9 @@ def main(argv: Sequence[str] | None = None) -> int:
         "synchronous": args.synchronous,
         "database_url": args.database_url,
         "results_workers": args.results_workers,
+        "report_workers": args.report_workers,
+        "report_queue": args.report_queue,
+        "report_key_share": args.report_key_share,
         "hsds_endpoint": args.hsds_endpoint,
         "license": args.license,
         "import_max_bytes": args.import_max_bytes,

@@ -1,11 +1,12 @@
-"""``rigsim demo``: the service with the embedded storage and all four stands posting to it.
+"""``rigsim demo``: the service with the embedded storage and every stand posting to it.
 
 Starts ``rigserver serve`` as a subprocess (its own process: rigsim reaches the server only
 over HTTP) on a data directory, with public reads and a demo key generated into
 ``<data dir>/demo-keys.json`` (reused on the next start), waits until it answers, runs the
-four simulated stands against it in threads at an accelerated pace, prints where to look,
-and keeps the server running until Ctrl-C or SIGTERM (either stops the server too). On a
-port where something already listens it says so and exits with status 1.
+simulated stands (the lab's four, the two tribometers) against it in threads at an
+accelerated pace, prints where to look, and keeps the server running until Ctrl-C or
+SIGTERM (either stops the server too). On a port where something already listens it says so
+and exits with status 1.
 """
 
 from __future__ import annotations
@@ -29,6 +30,7 @@ from rich.console import Console
 from rigsim.client import LabClient, RunOutcome
 from rigsim.errors import PortInUse, RigsimError, ServerError, ServerUnavailable
 from rigsim.stands import simulate
+from schemas.labels import RESULTS, THEORY_VERDICT, Part, theory_outside
 from schemas.stands import StandKind
 
 KEYS_FILE = "demo-keys.json"
@@ -122,7 +124,7 @@ def run_demo(
     seed: int,
     console: Console,
 ) -> int:
-    """Serve, post the four stands concurrently, then serve until Ctrl-C (or SIGTERM)."""
+    """Serve, post every stand concurrently, then serve until Ctrl-C (or SIGTERM)."""
     check_port_free(host, port)
     keys_file, key = demo_key(data_dir)
     url = f"http://{host}:{port}"
@@ -155,7 +157,8 @@ def run_demo(
         for thread in threads:
             thread.start()
         console.print(
-            f"posting the four simulated stands (the SMTs-2 three times) at {_pace(speed)} ..."
+            "posting the four simulated stands (the SMTs-2 three times) and the two "
+            f"tribometers at {_pace(speed)} ..."
         )
         for thread in threads:
             thread.join()
@@ -167,7 +170,7 @@ def run_demo(
                 console.print(
                     f"  {label:14s} {url}/runs/{outcome.run.id}"
                     f"  (report: {url}/api/v1/runs/{outcome.run.id}/report.pdf)\n"
-                    f"  {'':14s} {_headline(outcome.run.key_results, units)}",
+                    f"  {'':14s} {_headline(outcome.run.key_results, units, outcome.run.stand)}",
                     soft_wrap=True,
                 )
         repeats = [
@@ -211,9 +214,23 @@ def _pace(speed: float | None) -> str:
     return "full speed" if speed is None else f"{speed:g} times the stands' pace"
 
 
-def _headline(key_results: dict[str, Any], units: dict[str, str]) -> str:
+def _headline(key_results: dict[str, Any], units: dict[str, str], stand: StandKind) -> str:
+    """The key results in SI; a theoretical value outside its theory's range is marked so
+    (schemas.labels.THEORY_VERDICT), never a bare headline."""
+
     def unit(path: str) -> str:
         u = units.get(path, "1")
         return "" if u == "1" else f" {u}"
 
-    return ", ".join(f"{k} = {v:.4g}{unit(k)}" for k, v in key_results.items())
+    outside = theory_outside(stand, key_results)
+    verdict = THEORY_VERDICT.get(stand)
+    parts = []
+    for k, v in key_results.items():
+        if k == verdict:
+            continue
+        part = f"{k} = {v:.4g}{unit(k)}"
+        label = RESULTS[stand].get(k)
+        if outside and label is not None and label.part is Part.THEORY:
+            part += " (theory outside its range)"
+        parts.append(part)
+    return ", ".join(parts)

@@ -12,7 +12,7 @@ from rich.console import Console
 from rich.table import Table
 
 from schemas import labelled
-from schemas.labels import Label, plain_symbol
+from schemas.labels import Label, Part, plain_symbol, theory_outside
 from schemas.stands import StandKind
 from schemas.units import UNITS
 
@@ -45,13 +45,12 @@ def results_tables(results: Mapping[str, Any]) -> list[Table]:
     main.add_column("symbol")
     main.add_column("value", justify="right")
     main.add_column("unit")
+    outside = theory_outside(kind, results.get("values", {}))
     for e in labelled.scalars(kind, results):
-        main.add_row(
-            _name(e.label),
-            plain_symbol(e.label.symbol),
-            _shown(e.label, e.value, e.stored),
-            _unit(e.label),
-        )
+        value = _shown(e.label, e.value, e.stored)
+        if outside and e.label.part is Part.THEORY and isinstance(e.value, int | float):
+            value += " (theory outside its range)"
+        main.add_row(_name(e.label), plain_symbol(e.label.symbol), value, _unit(e.label))
     tables = [main]
     for found in labelled.row_tables(kind, results):
         table = Table(title=found.table.caption)

@@ -76,16 +76,21 @@ def _in_tables(kind: StandKind) -> set[str]:
 
 
 def scalars(kind: StandKind, payload: Mapping[str, Any]) -> list[Entry]:
-    """The single results present in ``payload``, in the declared order."""
+    """The single results present in ``payload``, in the declared order; a result that
+    repeats an earlier one (the same symbol, equation and value: the sliding distance L
+    (2.12) of the record and of the wear table) is listed once."""
     values: Mapping[str, Any] = payload.get("values", {})
     units: Mapping[str, str] = payload.get("units", {})
     tabled = _in_tables(kind)
-    found = []
+    found: list[Entry] = []
     for path, label in RESULTS[kind].items():
         if path in tabled or "[]" in path:
             continue
         value = _get(values, path)
         if value is None or isinstance(value, list | dict):
+            continue
+        same = (label.symbol, label.equation, value)
+        if label.symbol and any((e.label.symbol, e.label.equation, e.value) == same for e in found):
             continue
         found.append(Entry(path, label, value, units.get(path, label.unit)))
     return found

@@ -156,8 +156,8 @@ def _iso(prefix: str) -> dict[str, Label]:
 
 
 SMTS2: dict[str, Label] = {
-    "rows": Label(N_("rows analysed"), "n", digits=9),
-    "duration": Label(N_("duration of the record"), "t", unit="s"),
+    "rows": Label(N_("rows analysed"), digits=9),
+    "duration": Label(N_("duration of the record"), "τ", unit="s"),
     "revolutions": Label(N_("disc revolutions"), "M_rev", unit="rev"),
     "sliding_distance": Label(N_("sliding distance"), "L", "2.12", "m"),
     "mean_load": Label(N_("mean load, steady part"), "N", unit="N"),
@@ -194,9 +194,9 @@ SMTS2: dict[str, Label] = {
     "disc_wear.track_area": Label(
         N_("cross-section area of the wear track"), "A", "ASTM G99", "mm^2"
     ),
-    "disc_wear.volume": Label(N_("worn volume of the disc"), "V", "ASTM G99", "mm^3"),
+    "disc_wear.volume": Label(N_("worn volume of the disc"), "V_2", "ASTM G99", "mm^3"),
     "disc_wear.specific_wear_rate": Label(
-        N_("specific wear rate of the disc"), "k", "ASTM G99", "mm^3/(N*m)"
+        N_("specific wear rate of the disc"), "k_2", "ASTM G99", "mm^3/(N*m)"
     ),
     **_iso("disc_wear.iso."),
     "theoretical.contact": Label(N_("contact mode"), "", "2.7", part=_THEORY),
@@ -218,7 +218,7 @@ SMTS2: dict[str, Label] = {
     "theoretical.k_nu": Label(N_("coefficient k_ν"), "k_ν", "2.1", part=_THEORY),
     "theoretical.k_f": Label(N_("coefficient of the contact mode"), "k_f", "2.1", part=_THEORY),
     "theoretical.intensity": Label(
-        N_("theoretical wear intensity"), "I_{h,theor}", "2.1", part=_THEORY
+        N_("theoretical wear intensity"), "I_{h,th}", "2.1", part=_THEORY
     ),
     "validity.approach": Label(N_("relative approach at the contour pressure"), "ε", part=_THEORY),
     "validity.real_area_ratio": Label(
@@ -240,15 +240,17 @@ SMTS2: dict[str, Label] = {
     "sensitivity[].strength_ratio": Label(
         N_("ratio of the fatigue strength to the tensile strength"), "σ_0/σ_B", part=_THEORY
     ),
-    "sensitivity[].intensity": Label(N_("wear intensity (2.1)"), "I_h", "2.1", part=_THEORY),
+    "sensitivity[].intensity": Label(
+        N_("theoretical wear intensity"), "I_{h,th}", "2.1", part=_THEORY
+    ),
     "sensitivity[].cycles_to_failure": Label(
         N_("cycles to failure per asperity"), "n", part=_THEORY
     ),
     "adequacy.relative_error_percent": Label(
         N_("relative difference"), "ΔI_h", "2.14", "%", 3, part=_COMPARISON
     ),
-    "adequacy.lower": Label(N_("lower bound 0.4·I_{h,theor}"), "", "2.15", part=_COMPARISON),
-    "adequacy.upper": Label(N_("upper bound 2.6·I_{h,theor}"), "", "2.15", part=_COMPARISON),
+    "adequacy.lower": Label(N_("lower bound 0.4·I_{h,th}"), "", "2.15", part=_COMPARISON),
+    "adequacy.upper": Label(N_("upper bound 2.6·I_{h,th}"), "", "2.15", part=_COMPARISON),
     "adequacy.adequate": Label(N_("model adequate"), "", "2.15", part=_COMPARISON),
     "validity.within_range": Label(N_("theory within its range"), part=_COMPARISON),
     "validity.reasons": Label(N_("why the theory is outside its range"), part=_COMPARISON),
@@ -256,17 +258,17 @@ SMTS2: dict[str, Label] = {
 }
 
 SLIDE_BEARING: dict[str, Label] = {
-    "rows": Label(N_("rows of table 3.1"), "n", digits=9),
+    "rows": Label(N_("rows of table 3.1"), digits=9),
     "load": Label(N_("load from the loader scale"), "N", unit="N"),
     "temperature": Label(N_("mean oil temperature"), "t", "3.21", "degC", 3),
     "viscosity": Label(N_("oil viscosity"), "μ_t", "3.21", "Pa*s"),
     "mu_bar": Label(N_("dimensionless viscosity"), "μ̄", "3.22"),
-    "chi_mean": Label(N_("mean eccentricity ratio"), "χ_ср", "3.23", resolution=_NOISE_PI),
+    "chi_mean": Label(N_("mean eccentricity ratio"), "χ_mean", "3.23", resolution=_NOISE_PI),
     "chi_mean_uncertainty": Label(
-        N_("standard uncertainty of the mean eccentricity ratio"), "u(χ_ср)", "GUM"
+        N_("standard uncertainty of the mean eccentricity ratio"), "u(χ_mean)", "GUM"
     ),
     "chi_mean_expanded": Label(
-        N_("expanded uncertainty of the mean eccentricity ratio (k = 2)"), "U(χ_ср)", "GUM"
+        N_("expanded uncertainty of the mean eccentricity ratio (k = 2)"), "U(χ_mean)", "GUM"
     ),
     "attitude_angle": Label(
         N_("attitude angle, from the load line to the line of centres"), "ψ", unit="deg"
@@ -280,7 +282,7 @@ SLIDE_BEARING: dict[str, Label] = {
     "half_width": Label(N_("relative half-width"), "a", "3.24, E3"),
     "phi_max": Label(N_("angle of the largest pressure"), "φ_pmax", unit="deg"),
     "pressure_max": Label(N_("largest pressure"), "p_max", unit="at"),
-    "table[].limb_angle": Label(N_("limb angle"), "φ_лимб", unit="deg"),
+    "table[].limb_angle": Label(N_("limb angle"), "φ_limb", unit="deg"),
     "table[].phi_model": Label(N_("angle in the model frame"), "φ", "3.20", "deg"),
     "table[].pressure": Label(N_("pressure at z = 0"), "p", unit="at", resolution=1e-4),
     "table[].e_x": Label(N_("displacement of the journal along x"), "e_x", "3.16", "um", 4, 1e-3),
@@ -288,7 +290,7 @@ SLIDE_BEARING: dict[str, Label] = {
     "table[].e": Label(N_("eccentricity"), "e", "3.16", "um", 4, _NOISE_UM),
     "table[].chi": Label(N_("eccentricity ratio"), "χ", "3.17", resolution=_NOISE_PI),
     "table[].pi_measured": Label(
-        N_("measured dimensionless pressure"), "Π_э", "3.18", resolution=_NOISE_PI
+        N_("measured dimensionless pressure"), "Π_e", "3.18", resolution=_NOISE_PI
     ),
     "table[].pi_short": Label(
         N_("short bearing"), "Π_0", "3.10", resolution=_NOISE_PI, part=_THEORY
@@ -321,10 +323,10 @@ SLIDE_BEARING: dict[str, Label] = {
 }
 
 MTOS: dict[str, Label] = {
-    "rows": Label(N_("load steps"), "n", digits=9),
-    "h_crit": Label(N_("critical film thickness, sum of the five terms"), "h_min^кр", "", "um"),
+    "rows": Label(N_("load steps"), digits=9),
+    "h_crit": Label(N_("critical film thickness, sum of the five terms"), "h_{min,cr}", "", "um"),
     "h_min_smallest": Label(N_("smallest film thickness of the run"), "h_min", "", "um"),
-    "friction_fluid": Label(N_("mean friction coefficient, fluid film"), "f_э", "4.16"),
+    "friction_fluid": Label(N_("mean measured friction coefficient, fluid film"), "f̄_e", "4.16"),
     "half_width": Label(N_("relative half-width"), "a", "E3"),
     "steps[].load": Label(N_("load"), "N", unit="N"),
     "steps[].regime": Label(N_("lubrication regime")),
@@ -340,9 +342,9 @@ MTOS: dict[str, Label] = {
     ),
     "steps[].angle": Label(N_("attitude angle"), "δ, γ", "4.12", "deg"),
     "steps[].spring_force": Label(N_("spring force"), "F", "4.13", "N"),
-    "steps[].friction_moment": Label(N_("friction moment"), "M_тр", "4.14", "N*m"),
-    "steps[].friction_force": Label(N_("friction force"), "F_тр", "4.15", "N"),
-    "steps[].friction_measured": Label(N_("measured friction coefficient"), "f_э", "4.16"),
+    "steps[].friction_moment": Label(N_("friction moment"), "M_fr", "4.14", "N*m"),
+    "steps[].friction_force": Label(N_("friction force"), "F_fr", "4.15", "N"),
+    "steps[].friction_measured": Label(N_("measured friction coefficient"), "f_e", "4.16"),
     "steps[].viscosity": Label(N_("oil viscosity"), "μ_t", "4.18", "Pa*s"),
     "steps[].bearing_characteristic": Label(N_("bearing characteristic"), "S_1", "4.21, E9"),
     "steps[].temperature_rise": Label(N_("temperature rise of the oil"), "Δt", "4.19", "degC", 3),
@@ -361,33 +363,54 @@ MTOS: dict[str, Label] = {
         N_("difference from the theory"), "Δf", "", "%", 3, 0.01, _COMPARISON
     ),
     "steps[].friction_measured_uncertainty": Label(
-        N_("standard uncertainty of the friction coefficient"), "u(f_э)", "GUM"
+        N_("standard uncertainty of the friction coefficient"), "u(f_e)", "GUM"
     ),
     "steps[].friction_measured_expanded": Label(
-        N_("expanded uncertainty of the friction coefficient (k = 2)"), "U(f_э)", "GUM"
+        N_("expanded uncertainty of the friction coefficient (k = 2)"), "U(f_e)", "GUM"
     ),
     "steps[].film_parameter": Label(
         N_("film parameter h_min/√(Rq_journal² + Rq_bush²)"), "Λ", digits=3
     ),
     "steps[].film_lambda": Label(N_("regime by the film parameter")),
-    "journal_rq": Label(N_("root-mean-square roughness of the journal"), "R_q", unit="um"),
-    "bush_rq": Label(N_("root-mean-square roughness of the bush"), "R_q", unit="um"),
+    "journal_rq": Label(N_("root-mean-square roughness of the journal"), "R_{q,j}", unit="um"),
+    "bush_rq": Label(N_("root-mean-square roughness of the bush"), "R_{q,b}", unit="um"),
     "roughness_source": Label(N_("where the roughness comes from")),
     "regime_disagreements": Label(
         N_("steps whose regime differs from the experiment's"), part=_COMPARISON
     ),
 }
 
-_FIT = {
-    "method": Label(N_("fitting method"), "", "", part=_THEORY),
-    "nu": Label(N_("exponent of the bearing curve"), "ν", "1.8", part=_THEORY),
-    "b": Label(N_("coefficient of the bearing curve"), "b", "1.8", part=_THEORY),
-    "nu_partial": Label(N_("exponent by a pair of levels"), "ν_i", "1.16", part=_THEORY),
-    "b_partial": Label(N_("coefficient by a level"), "b_i", "1.18", part=_THEORY),
-}
+
+def _fit(method: str) -> dict[str, Label]:
+    """The bearing-curve fit by three pairs of levels (the manual's ν, b) or by least squares
+    (ν_LSQ, b_LSQ): one symbol per fit."""
+    lsq = method == "lsq"
+    mark = "_{LSQ}" if lsq else ""
+    return {
+        "method": Label(N_("fitting method"), "", "", part=_THEORY),
+        "nu": Label(
+            N_("exponent of the bearing curve, least squares")
+            if lsq
+            else N_("exponent of the bearing curve, three pairs of levels"),
+            "ν" + mark,
+            "1.8",
+            part=_THEORY,
+        ),
+        "b": Label(
+            N_("coefficient of the bearing curve, least squares")
+            if lsq
+            else N_("coefficient of the bearing curve, three pairs of levels"),
+            "b" + mark,
+            "1.8",
+            part=_THEORY,
+        ),
+        "nu_partial": Label(N_("exponent by a pair of levels"), "ν_i", "1.16", part=_THEORY),
+        "b_partial": Label(N_("coefficient by a level"), "b_i", "1.18", part=_THEORY),
+    }
+
 
 PROFILOMETER: dict[str, Label] = {
-    "rows": Label(N_("points of the trace"), "n", digits=9),
+    "rows": Label(N_("points of the trace"), digits=9),
     "base_length": Label(N_("base length"), "l", "", "mm"),
     "ra": Label(N_("arithmetic mean deviation"), "R_a", "1.3", "um", 3),
     "ra_uncertainty": Label(
@@ -421,23 +444,44 @@ PROFILOMETER: dict[str, Label] = {
     **{
         f"fit_{method}.{name}": label
         for method in ("manual", "lsq")
-        for name, label in _FIT.items()
+        for name, label in _fit(method).items()
     },
     "fit_manual.residuals": Label(
         N_("difference from the fit by three pairs of levels"), "Δt_p", "1.8", digits=3
     ),
     "fit_lsq.residuals": Label(
-        N_("difference from the least-squares fit"), "Δt_p", "1.8", digits=3
+        N_("difference from the least-squares fit"), "Δt_{p,LSQ}", "1.8", digits=3
     ),
     "complex_parameter": Label(N_("complex roughness parameter"), "Δ", "1.9", part=_THEORY),
     "ra_from_complex": Label(
-        N_("Ra from the complex parameter"), "R_a", "1.10", "um", 3, 0, _THEORY
+        N_("Ra from the complex parameter"), "R_{a,Δ}", "1.10", "um", 3, 0, _THEORY
     ),
     "complex_parameter_equilibrium": Label(
         N_("complex parameter of the equilibrium roughness"), "Δ_T", "1.11", part=_COMPARISON
     ),
     **_iso("iso."),
 }
+
+
+THEORY_VERDICT: dict[StandKind, str] = {StandKind.SMTS2: "validity.within_range"}
+"""The result that says whether a stand's theory is within its range for the run (1 yes, 0
+no in the key results): every theoretical value shown (runs list, run page, console, report)
+carries this verdict beside it."""
+
+
+def theory_outside(kind: StandKind, values: Mapping[str, object]) -> bool:
+    """Whether the stand's theory is outside its range for a run: ``values`` holds the key
+    results (``{"validity.within_range": 0.0}``) or the results payload's values."""
+    path = THEORY_VERDICT.get(kind)
+    if path is None:
+        return False
+    found: object = values.get(path)
+    if found is None:  # the payload's values: walk the path
+        node: object = values
+        for part in path.split("."):
+            node = node.get(part) if isinstance(node, Mapping) else None
+        found = node
+    return found is not None and not bool(found)
 
 
 def _wear_labels(path: str, what: str) -> dict[str, Label]:
@@ -479,15 +523,13 @@ TRIBOMETER: dict[str, Label] = {
     ),
     "temperature_mean": Label(N_("mean temperature"), "T", unit="degC", digits=3),
     "wear_depth_change": Label(N_("wear depth by the displacement sensor"), "h", unit="um"),
-    "hertz.modulus": Label(N_("contact modulus"), "E*", "Hertz", "GPa", part=_THEORY),
-    "hertz.contact_radius": Label(
-        N_("radius of the contact circle"), "a", "Hertz", "um", part=_THEORY
-    ),
+    "hertz.modulus": Label(N_("contact modulus"), "E*", "", "GPa", part=_THEORY),
+    "hertz.contact_radius": Label(N_("radius of the contact circle"), "a", "", "um", part=_THEORY),
     "hertz.max_pressure": Label(
-        N_("initial maximum contact pressure"), "p_0", "Hertz", "MPa", part=_THEORY
+        N_("initial maximum contact pressure"), "p_0", "", "MPa", part=_THEORY
     ),
     "hertz.mean_pressure": Label(
-        N_("initial mean contact pressure"), "p_m", "Hertz", "MPa", part=_THEORY
+        N_("initial mean contact pressure"), "p_m", "", "MPa", part=_THEORY
     ),
     "nominal_pressure": Label(
         N_("nominal pressure of the flat pin"), "p", unit="MPa", part=_THEORY
@@ -646,6 +688,43 @@ PARTICULARS: dict[str, Label] = {
 """The usual keys of a run's test plan and specimen (free fields: a key not named here is
 shown as it is, as user data), each value in the unit of its key."""
 
+_MM, _UM, _MPA = Label("", unit="mm"), Label("", unit="um"), Label("", unit="MPa")
+CONFIGURATION: dict[str, Label] = {
+    "disc_radius": _MM,
+    "disc_width": _MM,
+    "pin_diameter": _MM,
+    "youngs_modulus": Label("", unit="GPa"),
+    "hardness": _MPA,
+    "yield_strength": _MPA,
+    "tensile_strength": _MPA,
+    "contour_pressure": _MPA,
+    "tau0": _MPA,
+    "accuracy.balance_resolution": Label("", unit="mg"),
+    "accuracy.length": _MM,
+    "clearance": _UM,
+    "accuracy.clearance": _UM,
+    "bearing_radius": _MM,
+    "width": _MM,
+    "diameter": _MM,
+    "displacement_per_division": _UM,
+    "lever_moment_arm": _MM,
+    "friction_arm": _MM,
+    "accuracy.arms": _MM,
+    "journal_roughness": _UM,
+    "bush_roughness": _UM,
+    "misalignment": _UM,
+    "deflection": _UM,
+    "shape_error": _UM,
+    "journal_rq": _UM,
+    "bush_rq": _UM,
+    "stylus_radius": _UM,
+    "step": _UM,
+}
+"""The display unit of a stand's configuration fields, by field name (``accuracy.<name>``
+for the instruments' accuracies), as the results print them: mm for the geometry, µm for
+clearances and roughness, MPa for strengths and pressures, GPa for moduli, mg for the
+balance; a field not named here is printed in its declared unit."""
+
 WORDS: tuple[str, ...] = (
     N_("fluid"),
     N_("mixed"),
@@ -658,6 +737,7 @@ WORDS: tuple[str, ...] = (
     N_("no"),
     N_("wear"),
     N_("ABRIS-PM7"),
+    N_("finite"),
     N_("ball"),
     N_("flat_pin"),
     N_("none"),
@@ -666,3 +746,9 @@ WORDS: tuple[str, ...] = (
 )
 """The words results, test plans and configurations hold as values (regimes, contact
 modes, methods, the instrument)."""
+
+VALUE_WORDS: dict[str, str] = {
+    "lsq": N_("least squares in log-log"),
+    "manual": N_("three pairs of levels (1.16)-(1.19)"),
+}
+"""Code words a result holds as its value, as a page prints them (in every language)."""

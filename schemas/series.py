@@ -112,7 +112,19 @@ class GrubbsResult(BaseModel):
     critical: float = Field(description="G_crit at the significance level")
     alpha: float = Field(description="significance level")
     run_id: str = Field(description="the run farthest from the mean")
-    outlier: bool
+    flagged: bool = Field(False, description="Grubbs' statistic exceeds its critical value")
+    deviation: float | None = Field(
+        None, description="the run's value less the mean of the other runs, same unit"
+    )
+    explained: float | None = Field(
+        None,
+        description="2·√(u² + u_rest²): the expanded uncertainty of that deviation from the "
+        "runs' own standard uncertainties (None where the runs carry none)",
+    )
+    outlier: bool = Field(
+        description="flagged by Grubbs and the deviation larger than the runs' own expanded "
+        "uncertainty explains (docs/series.md)"
+    )
 
 
 class Summary(BaseModel):
@@ -198,6 +210,10 @@ class SeriesDetail(Series):
     runs: list[SeriesRun] = Field(default_factory=list)
     statistics: list[ResultStatistics] = Field(default_factory=list)
     open_runs: int = Field(0, description="member runs still open (their figures may change)")
+    identical: list[list[str]] = Field(
+        default_factory=list,
+        description="groups of runs whose headline results are all identical: copied data",
+    )
     missing: list[str] = Field(
         default_factory=list, description="member runs that could not be read, and why"
     )

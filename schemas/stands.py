@@ -166,14 +166,14 @@ class MtosConfig(_Config):
     omega: float = quantity(157.0, "rad/s", "ω, journal angular speed (placeholder)", gt=0)
     viscosity: ViscosityLaw = ViscosityLaw()
     journal_roughness: float = quantity(
-        1.6e-6, "m", "h_journal, mean asperity height of the journal (seed 001)", ge=0
+        1.6e-6, "m", "h_journal, mean asperity height of the journal, a term of h_min,cr", ge=0
     )
     bush_roughness: float = quantity(
-        3.2e-6, "m", "h_bush, mean asperity height of the bush (seed 001)", ge=0
+        3.2e-6, "m", "h_bush, mean asperity height of the bush, a term of h_min,cr", ge=0
     )
-    misalignment: float = quantity(0.0, "m", "h from misalignment (seed 001)", ge=0)
-    deflection: float = quantity(0.0, "m", "h from shaft deflection (seed 001)", ge=0)
-    shape_error: float = quantity(0.0, "m", "h from form errors (seed 001)", ge=0)
+    misalignment: float = quantity(0.0, "m", "h from misalignment, a term of h_min,cr", ge=0)
+    deflection: float = quantity(0.0, "m", "h from shaft deflection, a term of h_min,cr", ge=0)
+    shape_error: float = quantity(0.0, "m", "h from form errors, a term of h_min,cr", ge=0)
     # Rq ≈ Rz/4.35 by (1.2) (Rmax ≈ 5ρ ≈ 1.15 Rz) from the mean heights above; a profilometer
     # run named in the run's specimen (journal_profile_run, bush_profile_run) overrides them.
     journal_rq: float = quantity(0.37e-6, "m", "Rq of the journal, for the film parameter Λ", gt=0)
@@ -182,7 +182,7 @@ class MtosConfig(_Config):
     signed_sensors: bool = Field(
         default=False,
         description="true when X, Y read more as the journal lifts off the zero contact: "
-        "(4.11) then takes the sign, not |X_уст - X|, which folds positions near the bush "
+        "(4.11) then takes the sign, not |X_set - X|, which folds positions near the bush "
         "(experiments 2-3)",
     )
 
@@ -400,8 +400,8 @@ SLIDE_BEARING_GROUPS = (
         aligned=False,
         channels=(
             _c("load_zone_end", "deg", "φ_k, limb angle at the end of the load zone (3.20)"),
-            _c("x_zero", "div", "X_уст, displacement gauge zero (3.16)"),
-            _c("y_zero", "div", "Y_уст, displacement gauge zero (3.16)"),
+            _c("x_zero", "div", "X_set, displacement gauge zero (3.16)"),
+            _c("y_zero", "div", "Y_set, displacement gauge zero (3.16)"),
             _c("loader_scale", "mm", "loader scale reading (16.2 N/mm)", Limit(low=0, high=1000)),
         ),
     ),
@@ -450,8 +450,8 @@ MTOS_GROUPS = (
         long_name=N_("zero readings of the displacement sensors"),
         aligned=False,
         channels=(
-            _c("x_zero", "um", "X_уст, sensor zero (4.11)"),
-            _c("y_zero", "um", "Y_уст, sensor zero (4.11)"),
+            _c("x_zero", "um", "X_set, sensor zero (4.11)"),
+            _c("y_zero", "um", "Y_set, sensor zero (4.11)"),
         ),
     ),
 )

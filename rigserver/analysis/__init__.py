@@ -14,6 +14,7 @@ from pydantic import BaseModel
 from rigserver.analysis import mtos, profilometer, slide_bearing, smts2, tribometer
 from rigserver.analysis.readings import Readings
 from rigserver.analysis.references import Profiles, RunLookup, referenced_profiles
+from schemas.labels import THEORY_VERDICT
 from schemas.quantity import unit_paths
 from schemas.runs import Run
 from schemas.stands import StandKind
@@ -52,6 +53,7 @@ _KEYS: dict[StandKind, tuple[str, ...]] = {
         "experimental.intensity",
         "experimental.specific_wear_rate",
         "theoretical.intensity",
+        THEORY_VERDICT[StandKind.SMTS2],
     ),
     StandKind.SLIDE_BEARING: ("chi_mean", "pressure_max", "phi_max"),
     StandKind.MTOS: ("friction_fluid", "h_min_smallest", "h_crit"),
@@ -87,6 +89,6 @@ def _headline(values: BaseModel, paths: tuple[str, ...]) -> dict[str, float]:
         node: Any = values
         for part in path.split("."):
             node = getattr(node, part, None)
-        if isinstance(node, int | float) and not isinstance(node, bool):
+        if isinstance(node, int | float):  # a verdict (bool) as 1 or 0
             found[path] = float(node)
     return found

@@ -79,7 +79,7 @@ _TRIBOMETER = (
 HEADLINES: dict[StandKind, tuple[Headline, ...]] = {
     StandKind.SMTS2: (
         Headline("friction_steady", "f", "friction_steady_uncertainty"),
-        Headline("experimental.intensity", "I_h", "experimental.intensity_uncertainty"),
+        Headline("experimental.intensity", "I_{h,exp}", "experimental.intensity_uncertainty"),
         Headline(
             "experimental.specific_wear_rate", "k", "experimental.specific_wear_rate_uncertainty"
         ),
@@ -87,15 +87,15 @@ HEADLINES: dict[StandKind, tuple[Headline, ...]] = {
         Headline("experimental.mass_loss", "Δm"),
     ),
     StandKind.SLIDE_BEARING: (
-        Headline("chi_mean", "χ_ср", "chi_mean_uncertainty"),
+        Headline("chi_mean", "χ_mean", "chi_mean_uncertainty"),
         Headline("pressure_max", "p_max"),
         Headline("phi_max", "φ_{p max}"),
         Headline("attitude_angle", "ψ"),
     ),
     StandKind.MTOS: (
-        Headline("friction_fluid", "f_э"),
+        Headline("friction_fluid", "f̄_e"),
         Headline("h_min_smallest", "h_min"),
-        Headline("steps[].friction_measured", "f_э", "steps[].friction_measured_uncertainty"),
+        Headline("steps[].friction_measured", "f_e", "steps[].friction_measured_uncertainty"),
         Headline("steps[].chi", "χ", "steps[].chi_uncertainty"),
         Headline("steps[].film_parameter", "Λ"),
     ),
@@ -167,7 +167,19 @@ def series_statistics(
         statistics=statistics_,
         open_runs=sum(m.run.state is RunState.OPEN for m in members),
         missing=missing,
+        identical=identical_runs(rows),
     )
+
+
+def identical_runs(rows: Sequence[SeriesRun]) -> list[list[str]]:
+    """Groups of two runs or more whose headline results are all present and identical to
+    the last digit: two specimens never give that, copied data does."""
+    groups: dict[tuple[tuple[str, float], ...], list[str]] = {}
+    for row in rows:
+        found = tuple(sorted((k, v) for k, v in row.values.items() if v is not None))
+        if found:
+            groups.setdefault(found, []).append(row.run_id)
+    return [ids for ids in groups.values() if len(ids) > 1]
 
 
 def _keys(stand: StandKind, members: Sequence[Member]) -> list[tuple[str, Headline]]:
@@ -216,7 +228,8 @@ def _result_statistics(
     numbers = [v.value for v in values]
     label = label_of(members[0].run.stand, key)
     digits = label.digits if label is not None else 4
-    result.overall = _summary(numbers, [v.run_id for v in values], digits)
+    own = [v.uncertainty for v in values]
+    result.overall = _summary(numbers, [v.run_id for v in values], digits, own)
     levels: dict[str, list[RunValue]] = {}
     for v in values:
         levels.setdefault(v.level or "", []).append(v)
@@ -238,13 +251,25 @@ def _result_statistics(
     return result
 
 
-def _summary(values: list[float], run_ids: list[str], digits: int) -> Summary:
+def _summary(
+    values: list[float],
+    run_ids: list[str],
+    digits: int,
+    own: Sequence[float | None] = (),
+) -> Summary:
     """The summary of the values; Grubbs' test only on three values or more that differ as
     printed (to the result's declared digits): values that differ below that are ties of
-    the instruments' resolution, which the test would flag by rounding alone."""
+    the instruments' resolution, which the test would flag by rounding alone. A run Grubbs
+    flags is an outlier only where its deviation from the other runs' mean exceeds the
+    expanded uncertainty the runs' own standard uncertainties give it (:func:`_explained`)."""
     found = statistics.summarise(values)
     distinct = len({round_to(v, digits) for v in values})
     test = found.grubbs if distinct >= 3 else None
+    deviation = explained = None
+    if test is not None:
+        rest = [v for i, v in enumerate(values) if i != test.index]
+        deviation = values[test.index] - sum(rest) / len(rest)
+        explained = _explained(test.index, list(own))
     return Summary(
         n=found.n,
         mean=found.mean,
@@ -260,9 +285,25 @@ def _summary(values: list[float], run_ids: list[str], digits: int) -> Summary:
             critical=test.critical,
             alpha=test.alpha,
             run_id=run_ids[test.index],
-            outlier=test.outlier,
+            flagged=test.outlier,
+            deviation=deviation,
+            explained=explained,
+            outlier=test.outlier
+            and (explained is None or deviation is None or abs(deviation) > explained),
         ),
     )
+
+
+def _explained(index: int, own: list[float | None]) -> float | None:
+    """U = 2·√(u_i² + u_rest²), u_rest = √(Σ_{j≠i} u_j²)/(n - 1): the expanded (k = 2)
+    uncertainty of the deviation of run ``index`` from the mean of the others, from each
+    run's own standard uncertainty; None unless every run has one (GUM, uncorrelated)."""
+    if len(own) < 2 or any(u is None for u in own):
+        return None
+    u = [float(x) for x in own if x is not None]
+    rest = [x for j, x in enumerate(u) if j != index]
+    u_rest = math.sqrt(sum(x * x for x in rest)) / len(rest)
+    return 2.0 * math.sqrt(u[index] ** 2 + u_rest**2)
 
 
 def _untested(
@@ -298,7 +339,7 @@ def label_of(stand: StandKind, key: str) -> Label | None:
 
 
 def _symbol(key: str, headline: Headline) -> str:
-    """``f_э`` of the load step ``steps[2]`` -> ``f_{э,3}`` (steps counted from 1)."""
+    """``f_e`` of the load step ``steps[2]`` -> ``f_{e,3}`` (steps counted from 1)."""
     if _EACH not in headline.path:
         return headline.symbol
     step = int(key.partition("[")[2].partition("]")[0]) + 1

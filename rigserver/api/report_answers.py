@@ -4,7 +4,7 @@ their ``ETag`` (``If-None-Match`` answered 304)."""
 from __future__ import annotations
 
 import asyncio
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from concurrent.futures import Future
 from functools import partial
 
@@ -14,9 +14,9 @@ from fastapi.responses import FileResponse
 from rigserver.api.deps import Services, caller_of
 from rigserver.api.problems import ApiProblem
 from rigserver.api.report_files import ReportFile
-from rigserver.api.report_jobs import RunReportJob
+from rigserver.api.report_jobs import Job, RunReportJob
 from rigserver.api.run_results import StoredReadings
-from rigserver.reports.i18n import LANGS, Lang
+from rigserver.reports.i18n import LANGS
 from schemas.runs import Run, RunState
 
 
@@ -42,7 +42,7 @@ def run_job(
 ) -> tuple[RunReportJob, bool]:
     """The job of ``target``, the report of ``run``, and whether it renders in this process
     (an open run, whose readings only the store has)."""
-    lang: Lang = target.path.name.split("-", 1)[0]  # type: ignore[assignment]
+    lang = target.lang
     files = {fmt: t.path for fmt, t in targets(target).items()}
     stand = services.stand_of(run)
     if run.state is RunState.OPEN:
@@ -55,6 +55,19 @@ def run_job(
     return RunReportJob(
         run, stand, dict(values), lang, files, run_file=services.store.run_file(run.id)
     ), False
+
+
+def kept(
+    services: Services, target: ReportFile, job: Callable[[], tuple[Job, bool]], key: str
+) -> dict[str, bytes]:
+    """The report of ``target`` as page and PDF bytes, rendered on the pool first if this
+    version has none (blocks the calling thread: for an export that packs reports)."""
+    if not target.path.exists():
+        made, in_process = job()
+        services.reports.render(str(target.path), key, made, in_process=in_process).result()
+        for t in targets(target).values():
+            t.prune()
+    return {fmt: t.path.read_bytes() for fmt, t in targets(target).items()}
 
 
 def file_answer(request: Request, target: ReportFile, headers: Mapping[str, str]) -> Response:

@@ -24,6 +24,7 @@ from pathlib import Path
 
 import rigserver
 import schemas
+from rigserver.reports.i18n import Lang
 from schemas.runs import Run
 from schemas.series import Series
 
@@ -65,6 +66,7 @@ class ReportFile:
     path: Path
     etag: str
     fmt: str
+    lang: Lang
 
     @property
     def media_type(self) -> str:
@@ -72,7 +74,7 @@ class ReportFile:
 
     def sibling(self, fmt: str) -> ReportFile:
         """The same report in another format."""
-        return ReportFile(self.path.with_suffix(f".{fmt}"), self.etag, fmt)
+        return ReportFile(self.path.with_suffix(f".{fmt}"), self.etag, fmt, self.lang)
 
     def matches(self, if_none_match: str | None) -> bool:
         """Whether ``If-None-Match`` names this version."""
@@ -83,8 +85,7 @@ class ReportFile:
 
     def prune(self) -> None:
         """Remove the older versions of this report (same kind, id, language, format)."""
-        lang = self.path.name.split("-", 1)[0]
-        for old in self.path.parent.glob(f"{lang}-*.{self.fmt}"):
+        for old in self.path.parent.glob(f"{self.lang}-*.{self.fmt}"):
             if old != self.path:
                 old.unlink(missing_ok=True)
 
@@ -97,14 +98,16 @@ class ReportFiles:
         self.root = root
         self._salt = salt
 
-    def run_report(self, run: Run, lang: str, fmt: str) -> ReportFile:
+    def run_report(self, run: Run, lang: Lang, fmt: str) -> ReportFile:
         return self._file("run", run.id, run_version(run), lang, fmt)
 
-    def series_report(self, series: Series, runs: Iterable[Run], lang: str, fmt: str) -> ReportFile:
+    def series_report(
+        self, series: Series, runs: Iterable[Run], lang: Lang, fmt: str
+    ) -> ReportFile:
         return self._file("series", series.id, series_version(series, runs), lang, fmt)
 
-    def _file(self, kind: str, ident: str, version: str, lang: str, fmt: str) -> ReportFile:
+    def _file(self, kind: str, ident: str, version: str, lang: Lang, fmt: str) -> ReportFile:
         key = "\n".join((code_version(), self._salt, kind, ident, version, lang))
         digest = hashlib.sha256(key.encode()).hexdigest()[:32]
         path = self.root / kind / ident / f"{lang}-{digest}.{fmt}"
-        return ReportFile(path, f'"{digest}"', fmt)
+        return ReportFile(path, f'"{digest}"', fmt, lang)

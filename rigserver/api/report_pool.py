@@ -20,9 +20,11 @@ A failed render is logged in one line, without the renderer's own messages
 
 from __future__ import annotations
 
+import contextlib
 import logging
 import multiprocessing
 import threading
+from collections.abc import Callable
 from concurrent.futures import Executor, Future, ProcessPoolExecutor, ThreadPoolExecutor
 from dataclasses import dataclass
 
@@ -76,6 +78,19 @@ class RenderPool:
     def render_later(self, name: str, job: Job, *, in_process: bool) -> Future[None] | None:
         """Start ``job`` in the background if there is room (None if there is not)."""
         return self._admit(name, BACKGROUND, job, in_process=in_process, background=True)
+
+    def soon(self, what: str, task: Callable[[], None]) -> None:
+        """Run ``task`` (scheduling background renders) in the pool's threads, off the
+        caller's request; a failure is logged in one line."""
+
+        def run() -> None:
+            try:
+                task()
+            except Exception as exc:
+                log.error("%s failed: %s: %s", what, type(exc).__name__, exc)
+
+        with contextlib.suppress(RuntimeError):  # the pool is closed: the server stops
+            self._threads.submit(run)
 
     def close(self) -> None:
         """Stop taking renders; those under way finish (a process pool's workers exit)."""

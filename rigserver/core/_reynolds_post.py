@@ -73,6 +73,8 @@ def _supply_outflow(
     a second-order one-sided pressure gradient: circumferentially Ω·H/2 - H³∂φΠ/(12μ̄) per
     unit z, axially -H³∂zΠ/(12μ̄) per unit φ.
     """
+    if not fixed.any():  # no supply: nothing flows out of one
+        return 0.0
     dphi, dz = grid.d_phi, grid.d_z
     h = film[:, None]
     zw = np.full(grid.n_z + 1, dz)
@@ -150,7 +152,11 @@ def integrate(
     zw[[0, -1]] = dz / 2.0
     h = film[:, None]
     couette = mu_bar * omega / h
-    dp = (np.roll(p, -1, axis=0) - np.roll(p, 1, axis=0)) / (2.0 * dphi)
+    dp = np.empty_like(p)  # central difference in φ, periodic
+    dp[1:-1] = p[2:] - p[:-2]
+    dp[0] = p[1] - p[-1]
+    dp[-1] = p[0] - p[-2]
+    dp /= 2.0 * dphi
     poiseuille = 0.5 * h * dp
     weights = dphi * zw[None, :]
     journal = float(np.sum((theta * couette + poiseuille) * weights))

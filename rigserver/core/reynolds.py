@@ -77,6 +77,8 @@ _COARSEST_N_PHI = 36
 _COARSEST_N_Z = 8
 #: Projected Gauss-Seidel sweeps smoothing a coarse grid's field into the next grid's start.
 _SMOOTHING_SWEEPS = 10
+#: The same from the coarsest grid to the next (whose factorisations cost little).
+_COARSE_SMOOTHING_SWEEPS = 5
 #: Eccentricity ratios bracketing the inverse problem; beyond 0.99 the default grid no longer
 #: resolves the pressure spike at the thinnest film.
 EQUILIBRIUM_CHI_RANGE = (1e-6, 0.99)
@@ -396,7 +398,8 @@ def _field(
         if coarse_pb is not None:
             coarse = _field(coarse_pb, chi_x, chi_y, vel_x, vel_y, None)
             prolonged = _prolong_pressure(coarse.pressure)[:, rows]
-            start = lcp.smoothed_rupture(st, fixed, fixed_values, prolonged, _SMOOTHING_SWEEPS)
+            sweeps = _SMOOTHING_SWEEPS if _coarser(coarse_pb) else _COARSE_SMOOTHING_SWEEPS
+            start = lcp.smoothed_rupture(st, fixed, fixed_values, prolonged, sweeps)
         else:
             start = guess[:, rows] if guess is not None else st.rhs < 0.0
         res = lcp.solve_complementarity(

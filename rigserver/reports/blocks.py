@@ -2,31 +2,66 @@
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping, Sequence
 
 from markupsafe import Markup
 from pydantic import BaseModel
 
 from rigserver.reports.document import Table, Text
-from rigserver.reports.formatting import fmt, html_symbol, shown, tex, with_uncertainty
+from rigserver.reports.formatting import (
+    decimal_sign,
+    fmt,
+    html_symbol,
+    shown,
+    tex,
+    with_uncertainty,
+)
 from rigserver.reports.i18n import Messages
 from schemas.channels import ChannelGroup
 from schemas.labels import Label
+from schemas.messages import N_
 from schemas.quantity import units_of
 from schemas.units import UNITS
 
 
 def header(t: Messages, symbol: str, unit: str | None = None) -> Markup:
     """A column header: the symbol and, unless dimensionless, its unit (``e<sub>x</sub>, m``)."""
-    label = html_symbol(symbol)
+    label = html_symbol(t.symbol(symbol))
     if unit is None or unit == "1":
         return label
     return Markup("{}, {}").format(label, t.unit(unit))
 
 
+AXES: dict[str, str] = {
+    "L": N_("sliding distance"),
+    "f": N_("friction coefficient"),
+    "f_e": N_("measured friction coefficient"),
+    "I_h": N_("wear intensity"),
+    "N": N_("load"),
+    "S_1": N_("bearing characteristic"),
+    "S_1 = μ_t·ω/p̄": N_("bearing characteristic"),
+    "e_x": N_("journal centre along x"),
+    "e_y": N_("journal centre along y"),
+    "Δt": N_("temperature rise of the oil"),
+    "x": N_("position along the trace"),
+    "y": N_("height of the profile"),
+    "ε": N_("relative depth"),
+    "t_p": N_("relative bearing length"),
+    "φ": N_("angle"),
+    "Π": N_("dimensionless pressure"),
+    "Π_e": N_("measured dimensionless pressure"),
+    "z = Z/R": N_("axial coordinate"),
+}
+"""The quantity each plotted symbol stands for, named on the axis beside the symbol."""
+
+
 def axis(t: Messages, symbol: str, unit: str | None = None) -> str:
-    """An axis label for the plots: the symbol in mathtext and the unit (``$e_{x}$, m``)."""
-    label = tex(symbol)
+    """An axis label for the plots: the quantity, its symbol in mathtext and the unit
+    (``friction coefficient $f$``, ``journal centre along x $e_{x}$, µm``)."""
+    label = tex(t.symbol(symbol))
+    if symbol in AXES:
+        label = f"{t.gettext(AXES[symbol])} {label}"
     if unit is None or unit == "1":
         return label
     return f"{label}, {t.unit(unit)}"
@@ -55,7 +90,7 @@ def quantities(
         stored = units.get(name, label.unit)
         row: list[Text] = [
             html_symbol(t(key)),
-            html_symbol(symbol),
+            html_symbol(t.symbol(symbol or label.symbol)),
             shown(label, getattr(model, name), stored),
             t.unit(label.unit),
         ]
@@ -106,10 +141,27 @@ def result_table(
     )
 
 
-def measurements(t: Messages, group: ChannelGroup, values: Mapping[str, float]) -> Table:
-    """The single measurements posted (masses, zero readings) with their declared units."""
+def measurements(
+    t: Messages,
+    group: ChannelGroup,
+    values: Mapping[str, float],
+    resolutions: Mapping[str, float] | None = None,
+) -> Table:
+    """The single measurements posted (masses, zero readings) with their declared units;
+    a channel with a ``resolutions`` entry (its instrument's step, in the channel's unit: the
+    balance's 0.1 mg) is printed with the digits that instrument gives (12.2004 g)."""
+    steps = resolutions or {}
+
+    def printed(name: str) -> str:
+        value = values.get(name)
+        step = steps.get(name)
+        if value is None or not step or step <= 0 or not math.isfinite(value):
+            return fmt(value)
+        places = max(0, -math.floor(math.log10(step) + 1e-9))
+        return f"{value:.{places}f}".replace(".", decimal_sign())
+
     rows: list[list[Text]] = [
-        [html_symbol(t.gettext(c.long_name)), fmt(values.get(c.name)), t.unit(c.unit)]
+        [html_symbol(t.gettext(c.long_name)), printed(c.name), t.unit(c.unit)]
         for c in group.channels
     ]
     return Table(
@@ -160,7 +212,7 @@ def uncertainties(
         rows.append(
             [
                 html_symbol(f"{t(key)}{label}"),
-                html_symbol(symbol),
+                html_symbol(t.symbol(symbol)),
                 with_uncertainty(value * factor, None if expanded is None else expanded * factor),
                 t.unit(shown_as.unit),
             ]

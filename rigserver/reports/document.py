@@ -20,7 +20,9 @@ Text = str | Markup
 class Table:
     """A table: a caption, one header row, rows of printed cells.
 
-    The first ``labels`` columns hold names (left-aligned), the others numbers.
+    The first ``labels`` columns hold names (left-aligned, wrapped), the others numbers.
+    A table wider than the page is printed in parts (:mod:`rigserver.reports.layout`), each
+    repeating the first ``keys`` columns (default: the name columns, else the first).
     """
 
     kind: ClassVar[str] = "table"
@@ -29,6 +31,7 @@ class Table:
     rows: Sequence[Sequence[Text]]
     labels: int = 0
     note: Text = ""
+    keys: int = 0
 
 
 @dataclass(frozen=True, slots=True)

@@ -115,7 +115,7 @@ def results_csv(
         rows.append(
             [
                 plain_symbol(results_view.name(t, e.label)),
-                plain_symbol(e.label.symbol),
+                plain_symbol(t.symbol(e.label.symbol)),
                 _shown(e.label, e.value, e.stored, t),
                 _unit(t, e.label),
                 e.path,
@@ -135,7 +135,7 @@ def table_csvs(
         for c in rows_of.columns:
             unit = _unit(t, c.label)
             words = plain_symbol(results_view.name(t, c.label))
-            name = f"{words}, {plain_symbol(c.symbol)}" if c.symbol else words
+            name = f"{words}, {plain_symbol(t.symbol(c.symbol))}" if c.symbol else words
             head.append(f"{name} [{unit}]" if unit else name)
         body = [
             [

@@ -24,7 +24,7 @@ from typing import Any
 from babel.numbers import get_decimal_symbol
 from markupsafe import Markup, escape
 
-from schemas.labels import Label
+from schemas.labels import Label, plain_symbol
 
 DASH = "—"
 _SUPERSCRIPT = str.maketrans("0123456789-+", "⁰¹²³⁴⁵⁶⁷⁸⁹⁻⁺")
@@ -108,7 +108,9 @@ def value_text(value: Any) -> str:
 
 
 def html_symbol(symbol: str) -> Markup:
-    """``"e_x"`` -> ``e<sub>x</sub>``, ``"S_1^{-1}"`` -> ``S<sub>1</sub><sup>-1</sup>``."""
+    """``"e_x"`` -> ``e<sub>x</sub>``, ``"S_1^{-1}"`` -> ``S<sub>1</sub><sup>-1</sup>``;
+    ``<=`` and ``>=`` as ``≤`` and ``≥``."""
+    symbol = symbol.replace("<=", "≤").replace(">=", "≥")
     out: list[str] = []
     pos = 0
     for match in _SCRIPT.finditer(symbol):
@@ -118,6 +120,13 @@ def html_symbol(symbol: str) -> Markup:
         pos = match.end()
     out.append(str(escape(symbol[pos:])))
     return Markup("".join(out))
+
+
+def plain_text(text: str) -> str:
+    """Text for a place that cannot hold markup (a ``<select>`` option, a canvas axis): the
+    scripts in Unicode where it has them (``e_x`` -> ``eₓ``), else run on (``M_тр`` ->
+    ``Mтр``), never the raw ``_`` or ``^``."""
+    return re.sub(r"[_^{}]", "", plain_symbol(text))
 
 
 def plot_text(text: str) -> str:

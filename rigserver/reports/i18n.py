@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import gettext
 import io
+import re
 from functools import lru_cache
 from importlib import resources
 from typing import Literal, get_args
@@ -27,8 +28,12 @@ Lang = Literal["en", "ru"]
 LANGS: tuple[Lang, ...] = get_args(Lang)
 DEFAULT: Lang = "en"
 DOMAIN = "messages"
+_STEP = re.compile(r"([^_{}]+)_\{([^,{}]+),(\d+)\}")
 UNIT_CONTEXT = "unit"
 """The message context of unit symbols (``s`` the unit is not ``s`` the word)."""
+SYMBOL_CONTEXT = "symbol"
+"""The message context of the quantities' symbols: written in English (``f_e``, ``χ_mean``,
+``I_{h,exp}``), each language's catalog gives its own (``f_э``, ``χ_ср``, ``I_{h,э}``)."""
 
 
 def language_headers(lang: str) -> dict[str, str]:
@@ -101,6 +106,19 @@ class Messages:
     def markup(self, key: str, **values: object) -> Markup:
         """A message that holds markup (``<sub>``), with the values escaped."""
         return Markup(self.gettext(MESSAGES[key])).format(**values)
+
+    def symbol(self, symbol: str) -> str:
+        """A quantity's symbol in this language (``f_e`` -> ``f_э``); a symbol without a
+        translation is the same in every language (``N``, ``e_x``)."""
+        if not symbol:
+            return symbol
+        found = self.translations.pgettext(SYMBOL_CONTEXT, symbol)
+        step = _STEP.fullmatch(symbol)
+        if found == symbol and step:  # f_{e,3}: the symbol f_e of load step 3
+            base = self.translations.pgettext(SYMBOL_CONTEXT, f"{step[1]}_{step[2]}")
+            head, _, script = base.partition("_")
+            return f"{head}_{{{script.strip('{}')},{step[3]}}}"
+        return found
 
     def unit(self, symbol: str) -> str:
         """A unit as printed: ``Pa*s`` -> ``Pa·s`` (``Па·с``); dimensionless -> ``—``."""
@@ -230,6 +248,40 @@ MESSAGES: dict[str, str] = {
         "Stand configuration of this run: calibration, geometry, materials"
     ),
     "caption.measurements": N_("Single measurements"),
+    "table.continued": N_("{caption} (continued)"),
+    "sec.abbreviations": N_("Abbreviations and corrections to the printed formulas"),
+    "abbr.gum": N_(
+        "GUM: the Guide to the expression of uncertainty in measurement (JCGM 100:2008): "
+        "u is the standard uncertainty, U = 2u the expanded one (k = 2, about 95 %)."
+    ),
+    "abbr.g99": N_(
+        "ASTM G99: the standard test method for wear testing with a pin-on-disc apparatus; its "
+        "specific wear rate is k = V/(F·L)."
+    ),
+    "abbr.e1": N_(
+        "E1 (2.2): C = 0.118/(1 + t/2), not 0.118·(1 + t/2) as printed: the general C of (2.1) "
+        "at ν = 2."
+    ),
+    "abbr.e2": N_(
+        "E2 (2.6): Δ = 5.4·10⁻²·Ra² (Ra in µm), the inverse of (1.10); the print drops the square."
+    ),
+    "abbr.e3": N_(
+        "E3 (3.5, 3.24, 4.8, 4.20): a = B/(2R) = B/D, not B/(4R): only this half-width gives "
+        "the short-bearing load of (3.12)."
+    ),
+    "abbr.e4": N_(
+        "E4 (4.19): the temperature rise is Δt_i = t_i - t_1; the print has t_1 - t_i, "
+        "negative for oil that warms."
+    ),
+    "abbr.e5": N_(
+        "E5 (1.1): R = √(π/2)/ρ_2, ρ_2 the rms curvature of the profile; the print puts the "
+        "whole product under the root, which is not a length."
+    ),
+    "abbr.e9": N_(
+        "E9 (4.21): the manual calls both μω/p̄ and p̄/(μω) S_1; the report uses "
+        "S_1 = μ_t·ω/p̄ as (4.21) does."
+    ),
+    "theory_outside": N_("theory outside its range"),
     "col.parameter": N_("Parameter"),
     "col.description": N_("Description"),
     "col.quantity": N_("Quantity"),
@@ -241,10 +293,10 @@ MESSAGES: dict[str, str] = {
     "col.method": N_("Method"),
     "col.level": N_("Level"),
     "col.regime": N_("Regime"),
-    "col.film": N_("Film (seed 001)"),
+    "col.film": N_("Film against h_{{min,cr}}"),
     "mean": N_("Mean"),
     "sym.i_exp": N_("I_{{h,exp}}"),
-    "sym.i_theor": N_("I_{{h,theor}}"),
+    "sym.i_theor": N_("I_{{h,th}}"),
     "yes": N_("yes"),
     "no": N_("no"),
     "regime.fluid": N_("fluid film"),
@@ -269,7 +321,7 @@ MESSAGES: dict[str, str] = {
         "Table 1.6. Bearing length of the profile at the levels p_i below the peak line"
     ),
     "p.table_1_7": N_("Table 1.7. Coefficients ν and b of t_p = b·ε^ν (1.16)-(1.19)"),
-    "p.table_1_8": N_("Table 1.8. Measured t_pэ against t_pт = b·ε^ν (manual method)"),
+    "p.table_1_8": N_("Table 1.8. Measured t_{{p,e}} against t_{{p,t}} = b·ε^ν (manual method)"),
     "p.manual": N_("three pairs of levels (1.16)-(1.19)"),
     "p.lsq": N_("least squares in log-log"),
     "p.complex": N_("Complex roughness parameter (1.9)-(1.11)"),
@@ -303,12 +355,13 @@ MESSAGES: dict[str, str] = {
     "w.load": N_("mean load, steady part"),
     "w.f": N_("friction coefficient, steady part (2.8)"),
     "w.f_std": N_("its standard deviation"),
+    "w.moment": N_("friction moment, steady part, M_fr = f·N·r_2 (2.8)"),
     "w.steady_from": N_("steady part from"),
     "w.experimental": N_("Experimental linear wear intensity (2.9)-(2.13)"),
     "w.mass_loss": N_("mass loss of the pin (2.9)"),
     "w.volume": N_("worn volume (2.10)"),
     "w.depth": N_("linear wear (2.11)"),
-    "w.intensity_exp": N_("wear intensity (2.13)"),
+    "w.intensity_exp": N_("experimental wear intensity (2.13)"),
     "w.theoretical": N_("Theoretical linear wear intensity, fatigue wear (2.1)-(2.7)"),
     "w.contact": N_("contact mode (2.7)"),
     "w.fatigue_t": N_("fatigue parameter t"),
@@ -322,34 +375,47 @@ MESSAGES: dict[str, str] = {
     "w.beta": N_("β = 1/(1 + 2ν)"),
     "w.k_nu": N_("k_ν of (2.1)"),
     "w.k_f": N_("k_f of the contact mode"),
-    "w.intensity_theor": N_("wear intensity (2.1)"),
+    "w.intensity_theor": N_("theoretical wear intensity (2.1)"),
     "w.adequacy": N_("Theory against experiment (2.14)-(2.15)"),
     "w.error": N_("relative difference (2.14)"),
-    "w.lower": N_("lower bound 0.4·I_{{h,theor}} (2.15)"),
-    "w.upper": N_("upper bound 2.6·I_{{h,theor}} (2.15)"),
+    "w.lower": N_("lower bound 0.4·I_{{h,th}} (2.15)"),
+    "w.upper": N_("upper bound 2.6·I_{{h,th}} (2.15)"),
     "w.adequate": N_("model adequate (2.15)"),
     "w.fig_friction": N_(
         "Friction coefficient against the sliding distance; the running-in part is shaded"
     ),
-    "w.fig_wear": N_("Experimental and theoretical wear intensity with the adequacy band (2.15)"),
+    "w.fig_wear": N_(
+        "Experimental and theoretical wear intensity; no adequacy band (2.15): the theory is "
+        "not judged for this test"
+    ),
+    "w.fig_wear_band": N_(
+        "Experimental and theoretical wear intensity with the adequacy band (2.15)"
+    ),
+    "w.source": N_("source of the value"),
+    "w.out_of_range": N_("(outside its range)"),
     "w.running_in": N_("running-in: first {share} % of the record, not averaged"),
     "w.steady_mean": N_("steady mean"),
     "w.envelope": N_("min-max per block"),
     "w.block_mean": N_("block means"),
-    "w.band": N_("0.4·I_theor … 2.6·I_theor (2.15)"),
+    "w.band": N_("0.4·I_{{h,th}} … 2.6·I_{{h,th}} (2.15)"),
     "w.exp": N_("experiment"),
     "w.theor": N_("theory (2.1)"),
-    "w.c_friction": N_(
-        "Steady friction coefficient f = {f} ± {std} (from t = {t} s, load {load} N)."
+    "w.c_friction_u": N_(
+        "Steady friction coefficient f = {f} (from t = {t} s, load {load} N), as in the "
+        "uncertainty table."
+    ),
+    "w.theory_note": N_(
+        "The fatigue-wear theory (2.1) is outside its range for this test (see the validity "
+        "table): these values are not judged against the experiment."
     ),
     "w.c_adequate": N_(
-        "I_{{h,exp}} = {exp} lies within 0.4·I_{{h,theor}} … 2.6·I_{{h,theor}} = {lower} … "
-        "{upper} (I_{{h,theor}} = {theor}, {contact} contact): the model (2.1) is adequate "
+        "I_{{h,exp}} = {exp} lies within 0.4·I_{{h,th}} … 2.6·I_{{h,th}} = {lower} … "
+        "{upper} (I_{{h,th}} = {theor}, {contact} contact): the model (2.1) is adequate "
         "(2.15)."
     ),
     "w.c_inadequate": N_(
-        "I_{{h,exp}} = {exp} lies outside 0.4·I_{{h,theor}} … 2.6·I_{{h,theor}} = {lower} … "
-        "{upper} (I_{{h,theor}} = {theor}, {contact} contact; ΔI_h = {error} %): the model "
+        "I_{{h,exp}} = {exp} lies outside 0.4·I_{{h,th}} … 2.6·I_{{h,th}} = {lower} … "
+        "{upper} (I_{{h,th}} = {theor}, {contact} contact; ΔI_h = {error} %): the model "
         "(2.1) is not adequate to this test (2.15)."
     ),
     "b.table_3_1": N_(
@@ -370,16 +436,16 @@ MESSAGES: dict[str, str] = {
     "b.edges": N_("Π = 0 at the edges z = ±a = ±{a}."),
     "b.table_3_3": N_(
         "Table 3.3. Π along the angle at z = 0: short bearing Π_0, long bearing Π_∞, finite "
-        "bearing, measured Π_э"
+        "bearing, measured Π_e"
     ),
     "b.fig_phi": N_("Dimensionless pressure Π against the angle φ at z = 0 (3.28)"),
     "b.fig_z": N_("Dimensionless pressure Π against z at the angle of the largest pressure (3.29)"),
-    "b.measured": N_("measured Π_э"),
+    "b.measured": N_("measured Π_e"),
     "b.short": N_("short bearing Π_0 (3.12)"),
     "b.long": N_("long bearing Π_∞ (3.15)"),
     "b.finite": N_("finite bearing (3.1)"),
     "b.c_chi": N_(
-        "Mean eccentricity ratio χ_ср = {chi}; the largest pressure {p} {unit} at φ = {phi}°."
+        "Mean eccentricity ratio χ_mean = {chi}; the largest pressure {p} {unit} at φ = {phi}°."
     ),
     "b.c_errors": N_(
         "Mean |ΔΠ_0| = {short} % (short bearing), mean |ΔΠ_∞| = {long} % (long bearing) over "
@@ -389,33 +455,33 @@ MESSAGES: dict[str, str] = {
         "Along z at φ = {phi}°: mean |ΔΠ| = {error} % against the short bearing (3.25)."
     ),
     "m.raw": N_("Table 4.{n}. Readings, experiment {n} ({regime})"),
-    "m.film": N_("Film thickness (seed 001) and headline results"),
-    "m.h_crit": N_("h_min^crit, sum of the five terms"),
+    "m.film": N_("Film thickness against the critical one, and headline results"),
+    "m.h_crit": N_("critical film thickness, sum of the five terms"),
     "m.half_width": N_("a = B/D (E3)"),
-    "m.h_min_smallest": N_("smallest h_min of the run"),
-    "m.friction_fluid": N_("mean f_э, fluid film"),
+    "m.h_min_smallest": N_("smallest film thickness of the run"),
+    "m.friction_fluid": N_("mean measured friction coefficient, fluid film (4.16)"),
     "m.processed": N_("Table 4.{table}. Processing, experiment {n} ({regime})"),
     "m.continued": N_("continued"),
     "m.theory": N_(
         "Table 4.4, end. Theory (4.1)-(4.10) and the finite bearing (3.1) beside the experiment"
     ),
-    "m.ratio_note": N_("f_э/f_э1: against experiment 1 at the same load."),
+    "m.ratio_note": N_("f_e/f_e1: against experiment 1 at the same load."),
     "m.fig_stribeck": N_("Hersey-Stribeck diagram: f against S_1 = μ_t·ω/p̄ (4.21, E9)"),
     "m.fig_trajectory": N_("Journal-centre trajectory and the Gümbel semicircle"),
     "m.fig_friction": N_("Friction coefficient against the load, three regimes"),
     "m.fig_temperature": N_("Temperature rise of the oil against the load (4.19, E4)"),
-    "m.f_exp": N_("f_э, {regime}"),
+    "m.f_exp": N_("f_e, {regime}"),
     "m.f_theory": N_("f_T (4.10)"),
     "m.f_finite": N_("finite bearing (3.1)"),
     "m.h_min_mark": N_("h_min = h_0 - e_max = {h} µm"),
     "m.clearance": N_("clearance circle h_0"),
     "m.gumbel": N_("Gümbel semicircle"),
     "m.c_friction": N_(
-        "Fluid film: f_э = {f_min} … {f_max}, mean |Δf| = {error} % against f_T (4.10)."
+        "Fluid film: f_e = {f_min} … {f_max}, mean |Δf| = {error} % against f_T (4.10)."
     ),
-    "m.c_regime": N_("{regime}: f_э = {f_min} … {f_max}."),
+    "m.c_regime": N_("{regime}: f_e = {f_min} … {f_max}."),
     "m.c_film": N_(
-        "h_min is below h_min^{{crit}} = {h_crit} µm at {count} of {total} steps (no fluid film)."
+        "h_min is below h_{{min,cr}} = {h_crit} µm at {count} of {total} steps (no fluid film)."
     ),
     "regime.full film": N_("full film"),
     "col.film_lambda": N_("Regime by Λ"),
@@ -432,6 +498,7 @@ MESSAGES: dict[str, str] = {
     "w.disc_wear": N_("Wear of the disc from a profile across its track (ASTM G99)"),
     "w.track_area": N_("cross-section area of the track"),
     "w.disc_volume": N_("worn volume of the disc"),
+    "w.k_disc": N_("specific wear rate of the disc k_2 = V_2/(F·L) (ASTM G99)"),
     "w.validity": N_("Validity of the fatigue-wear theory (2.1)"),
     "w.within_range": N_("theory within its range"),
     "w.approach": N_("relative approach ε"),
@@ -443,6 +510,7 @@ MESSAGES: dict[str, str] = {
     "w.cycles": N_("cycles to failure per asperity"),
     "w.kf_plastic": N_("k_f^n of the plastic branch"),
     "w.sensitivity": N_("Sensitivity of I_h (2.1) to t and σ0/σ_B"),
+    "t.record": N_("Friction record of the tribometer"),
     "t.distance": N_("sliding distance"),
     "t.laps": N_("laps (cycles) run"),
     "t.load": N_("mean normal load"),

@@ -8,7 +8,7 @@ from typing import Any
 
 from rigserver.reports.formatting import shown
 from rigserver.reports.i18n import Messages
-from schemas.labels import Label
+from schemas.labels import VALUE_WORDS, Label
 
 
 def name(t: Messages, label: Label) -> str:
@@ -23,7 +23,7 @@ def value(t: Messages, label: Label, stored_value: Any, stored: str) -> str:
     if isinstance(stored_value, bool):
         return t("yes") if stored_value else t("no")
     if isinstance(stored_value, str):
-        return t.gettext(stored_value)
+        return t.gettext(VALUE_WORDS.get(stored_value, stored_value))
     return shown(label, stored_value, stored)
 
 

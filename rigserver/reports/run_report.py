@@ -3,7 +3,8 @@ conclusions; rendered to HTML by ``templates/report.html`` and to PDF from the s
 
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping
+import re
+from collections.abc import Callable, Mapping, Sequence
 from datetime import datetime
 from typing import Any
 
@@ -11,13 +12,14 @@ from markupsafe import escape
 from pydantic import BaseModel
 
 from rigserver.analysis import Readings
+from rigserver.reports import layout
 from rigserver.reports.context import Context, LabReport
 from rigserver.reports.document import Items, Paragraph, Report, Section, Table, Text
 from rigserver.reports.formatting import fmt, html_symbol, number_locale, value_text
-from rigserver.reports.i18n import Lang, Messages
+from rigserver.reports.i18n import MESSAGES, Lang, Messages, translations
 from rigserver.reports.labs import mtos, profilometer, slide_bearing, smts2, tribometer
 from rigserver.reports.render import render
-from schemas.labels import PARTICULARS
+from schemas.labels import CONFIGURATION, PARTICULARS
 from schemas.messages import N_
 from schemas.results import (
     MtosResults,
@@ -98,6 +100,9 @@ def _build(
     for key, items in (("sec.pending", model.pending), ("sec.notes", model.notes)):  # type: ignore[attr-defined]
         if items:  # the analysis' words, printed as they are (x_zero is not x subscript zero)
             sections.append(Section(t(key), [Items([escape(t.gettext(item)) for item in items])]))
+    explained = abbreviations(t, sections)
+    if explained:
+        sections.append(Section(t("sec.abbreviations"), [Items(explained)]))
     return Report(
         lang=t.lang,
         title=t("title." + kind)
@@ -112,9 +117,38 @@ def _build(
     )
 
 
+ABBREVIATIONS: dict[str, str] = {
+    "GUM": "abbr.gum",
+    "ASTM G99": "abbr.g99",
+    **{f"E{n}": f"abbr.e{n}" for n in (1, 2, 3, 4, 5, 9)},
+}
+"""The abbreviations and the corrections to the manual's printed formulas (docs/models.md)
+a report may cite, each explained once in its appendix."""
+_CITED = re.compile(r"GUM|ASTM G99|(?<=\()E[1-9]\b|(?<=, )E[1-9]\b")
+
+
+def abbreviations(t: Messages, sections: Sequence[Section]) -> list[Text]:
+    """The explanations of the abbreviations and corrections (E1-E9) the sections cite, in
+    the order of :data:`ABBREVIATIONS`."""
+    texts: list[str] = []
+    for section in sections:
+        for block in section.blocks:
+            if isinstance(block, Table):
+                texts += [str(block.caption), str(block.note), *map(str, block.header)]
+                texts += [str(cell) for row in block.rows for cell in row]
+            elif isinstance(block, Items):
+                texts += [str(item) for item in block.items]
+            else:
+                texts.append(str(getattr(block, "caption", "") or getattr(block, "text", "")))
+    cited = set(_CITED.findall(" ".join(texts)))
+    return [html_symbol(t(key)) for code, key in ABBREVIATIONS.items() if code in cited]
+
+
 def render_report(report: Report) -> str:
-    """The report as a standalone HTML page (A4 print styles, inline SVG plots)."""
-    return render("report.html", report=report)
+    """The report as a standalone HTML page (A4 print styles, inline SVG plots); tables wider
+    than the page's column are printed in parts (:func:`rigserver.reports.layout.fit`)."""
+    fitted = layout.fit(report, translations(report.lang).gettext(MESSAGES["table.continued"]))
+    return render("report.html", report=fitted)
 
 
 def particulars_text(t: Messages, mapping: Mapping[str, Any]) -> str:
@@ -175,30 +209,36 @@ def _configuration(t: Messages, run: Run) -> Table:
 
 def configuration_rows(t: Messages, run: Run) -> list[tuple[Text, str, str]]:
     """The configuration snapshot of the run: each field's description (with the manual's
-    symbol) in ``t``'s language, its value and its unit."""
+    symbol) in ``t``'s language, its value and its unit, in the display unit of
+    :data:`schemas.labels.CONFIGURATION` (mm, µm, MPa, GPa, mg) as the results print them."""
     rows: list[tuple[Text, str, str]] = []
 
-    def walk(model: type[BaseModel], data: Mapping[str, Any], owner: str) -> None:
+    def walk(model: type[BaseModel], data: Mapping[str, Any], owner: str, path: str) -> None:
         for name, info in model.model_fields.items():
             value = data.get(name)
             inner = info.annotation
             if isinstance(inner, type) and issubclass(inner, BaseModel):
                 label = PARTICULARS.get(name)
-                walk(inner, value or {}, t.gettext(label.text) + ": " if label else "")
+                words = t.gettext(label.text) + ": " if label else ""
+                walk(inner, value or {}, words, f"{name}.")
                 continue
             extra = info.json_schema_extra
             unit = extra.get("unit") if isinstance(extra, dict) else None
             words = owner + t.gettext(info.description or _FIELD_WORDS.get(name, name))
+            display = CONFIGURATION.get(path + name) or CONFIGURATION.get(name)
             if name == "gauge_unit" and isinstance(value, str):
                 shown = t.unit(value)
-            elif isinstance(value, str):
-                shown = t.gettext(value)
+            elif isinstance(value, str | bool):
+                shown = t.gettext(value) if isinstance(value, str) else t("yes" if value else "no")
+            elif display is not None and unit is not None and isinstance(value, int | float):
+                shown = fmt(display.shown(float(value), str(unit)), display.digits)
+                unit = display.unit
             else:
                 shown = value_text(value)
             unit_text = t.unit(str(unit)) if unit is not None and unit != "1" else ""
             rows.append((html_symbol(words), shown, unit_text))
 
-    walk(CONFIG_MODELS[run.stand], run.configuration, "")
+    walk(CONFIG_MODELS[run.stand], run.configuration, "", "")
     return rows
 
 

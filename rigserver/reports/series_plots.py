@@ -71,6 +71,15 @@ def paired_band(
     return xs.mean(axis=0), ys.mean(axis=0), ys.std(axis=0, ddof=1)
 
 
+STYLES = ("-", "--", ":", "-.")
+MARKS = ("o", "^", "v", "D", "x")
+
+
+def run_label(run_id: str) -> str:
+    """A run in a legend: the end of its id (``…-0000abcd``), its own line beside the band."""
+    return "…" + run_id[-8:] if len(run_id) > 10 else run_id
+
+
 def overlay(
     levels: Mapping[str, Sequence[Curve]],
     *,
@@ -90,8 +99,16 @@ def overlay(
         shown = plot_text(level)
         name = f"{shown}: {tex(mean_label)}" if level else tex(mean_label)
         if paired:
-            for curve in curves:
-                ax.plot(curve.x, curve.y, "o", color=colour, markersize=3, alpha=0.5)
+            for number, curve in enumerate(curves):
+                ax.plot(
+                    curve.x,
+                    curve.y,
+                    MARKS[number % len(MARKS)],
+                    color=colour,
+                    markersize=3,
+                    alpha=0.7,
+                    label=run_label(curve.label),
+                )
             pairs = paired_band(curves)
             if pairs is not None:
                 x, mean, std = pairs
@@ -108,16 +125,18 @@ def overlay(
             elif level:
                 ax.plot([], [], "o", color=colour, label=shown)
             continue
-        for curve in curves:
+        for number, curve in enumerate(curves):
             x, y = _sorted(curve)
             ax.plot(
                 x,
                 y,
                 color=colour,
-                linewidth=0.7,
-                alpha=0.6,
+                linewidth=0.8,
+                alpha=0.8,
+                linestyle=STYLES[number % len(STYLES)],
                 marker="o" if markers else None,
                 markersize=3,
+                label=run_label(curve.label),
             )
         band = level_band(curves)
         if band is not None:
@@ -130,7 +149,7 @@ def overlay(
         ax,
         xlabel=xlabel,
         ylabel=ylabel,
-        legend_outside=len(levels) > 2,
+        legend_outside=True,
         labels_drawn_as_given=True,
     )
     return to_svg(fig)

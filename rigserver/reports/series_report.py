@@ -45,6 +45,7 @@ TEXT: dict[str, str] = {
     "open_runs": N_("{n} of the runs are still open: their figures may change."),
     "sec.runs": N_("Runs"),
     "sec.statistics": N_("Statistics of the results"),
+    "sec.spread": N_("Spread of the runs against their instruments"),
     "sec.comparison": N_("Comparison of the levels"),
     "sec.plots": N_("Overlay plots"),
     "run": N_("Run"),
@@ -63,6 +64,12 @@ TEXT: dict[str, str] = {
     "grubbs": N_("Grubbs (E178)"),
     "outlier": N_("outlier: {run}"),
     "no_outlier": N_("none"),
+    "beyond": N_("|Δ| = {d} > U = {u} of the runs"),
+    "explained": N_(
+        "G flags {run}, but its |Δ| = {d} ≤ U = {u} the runs' own uncertainties explain: no outlier"
+    ),
+    "identical": N_("Identical data"),
+    "identical_runs": N_("the runs {runs} have identical results, to the last digit: copied data?"),
     "test": N_("Test"),
     "welch": N_("Welch's t"),
     "anova": N_("one-way ANOVA, F"),
@@ -83,9 +90,9 @@ TEXT: dict[str, str] = {
     "mean_curve": N_("mean"),
     "plot.friction": N_("f against the sliding distance L (time scaled by the run's L)"),
     "plot.tribometer": N_("μ against the sliding distance L"),
-    "plot.mtos_f": N_("f_э against the load N"),
-    "plot.stribeck": N_("f_э against S_1 (Hersey-Stribeck)"),
-    "plot.pressure": N_("Π_э against φ (z = 0)"),
+    "plot.mtos_f": N_("f_e against the load N"),
+    "plot.stribeck": N_("f_e against S_1 (Hersey-Stribeck)"),
+    "plot.pressure": N_("Π_e against φ (z = 0)"),
     "plot.bearing": N_("Bearing curves t_p(ε)"),
     "plot.profile": N_("Profiles y(x)"),
     "state.open": N_("open"),
@@ -205,6 +212,7 @@ def _statistics_row(
 
     return {
         "stats": stats,
+        "symbol": m.symbol(stats.symbol),
         "name": results_view.name(m, label),
         "unit": results_view.unit(m, label),
         "show": show,
@@ -257,14 +265,14 @@ def _plots(
         draw(
             "plot.mtos_f",
             axis(m, "N", "N"),
-            axis(m, "f_э"),
+            axis(m, "f_e"),
             curves(lambda r: _rows(r, v[r], "steps", "load", "friction_measured")),
             paired=True,
         )
         draw(
             "plot.stribeck",
             axis(m, "S_1"),
-            axis(m, "f_э"),
+            axis(m, "f_e"),
             curves(
                 lambda r: _rows(r, v[r], "steps", "bearing_characteristic", "friction_measured")
             ),
@@ -274,7 +282,7 @@ def _plots(
         draw(
             "plot.pressure",
             axis(m, "φ", "deg"),
-            axis(m, "Π_э"),
+            axis(m, "Π_e"),
             curves(lambda r: _rows(r, v[r], "table", "phi_model", "pi_measured")),
             markers=True,
         )

@@ -17,12 +17,19 @@ from jinja2 import Environment, PackageLoader, select_autoescape
 from markupsafe import Markup
 
 from rigserver.reports import results_view
-from rigserver.reports.formatting import decimal_sign, fmt, html_symbol, number_locale, shown
+from rigserver.reports.formatting import (
+    decimal_sign,
+    fmt,
+    html_symbol,
+    number_locale,
+    plain_text,
+    shown,
+)
 from rigserver.reports.i18n import LANGS, Lang, Messages
 from rigserver.reports.run_report import RESULT_MODELS, configuration_rows, particulars_text
 from rigserver.reports.x3p import PROFILE_GROUP, NoProfile, profile_group
 from schemas import labelled
-from schemas.labels import RESULTS
+from schemas.labels import RESULTS, THEORY_VERDICT, Part, theory_outside
 from schemas.quantity import unit_paths
 from schemas.runs import Run, RunPage, RunState
 from schemas.stands import Stand, StandKind
@@ -54,6 +61,7 @@ def environment(lang: Lang) -> Environment:
     env.install_gettext_translations(Messages(lang).translations, newstyle=True)  # type: ignore[attr-defined]
     env.filters["fmt"] = fmt
     env.filters["sym"] = html_symbol
+    env.filters["plain"] = plain_text
     return env
 
 
@@ -77,16 +85,24 @@ def render_page(template: str, lang: Lang, **context: Any) -> str:
 
 
 def key_results(t: Messages, run: Run) -> Markup:
-    """``f = 0.3985; I_h,exp = 3.833·10⁻⁸`` in the display units of the stand's results."""
+    """``f = 0.3985; I_h,exp = 3.833·10⁻⁸`` in the display units of the stand's results; a
+    theoretical value outside its theory's range says so beside it (never a bare headline)."""
     units = unit_paths(RESULT_MODELS[run.stand])
     labels = RESULTS[run.stand]
+    outside = theory_outside(run.stand, run.key_results)
+    verdict = THEORY_VERDICT.get(run.stand)
     parts = []
     for path, value in run.key_results.items():
+        if path == verdict:
+            continue
         label = labels[path]
         text = shown(label, value, units.get(path, label.unit))
         unit = results_view.unit(t, label)
-        name = html_symbol(label.symbol or t.gettext(label.text))
-        parts.append(Markup("{} = {}").format(name, f"{text} {unit}" if unit else text))
+        name = html_symbol(t.symbol(label.symbol) or t.gettext(label.text))
+        part = Markup("{} = {}").format(name, f"{text} {unit}" if unit else text)
+        if outside and label.part is Part.THEORY:
+            part += Markup(' <em class="outside">({})</em>').format(t("theory_outside"))
+        parts.append(part)
     return Markup("; ").join(parts)
 
 
@@ -99,7 +115,7 @@ def results_html(*, run: Run, payload: Mapping[str, Any], lang: Lang) -> str:
         return {
             "path": e.path,
             "name": html_symbol(results_view.name(t, e.label)),
-            "symbol": html_symbol(e.label.symbol),
+            "symbol": html_symbol(t.symbol(e.label.symbol)),
             "value": results_view.value(t, e.label, e.value, e.stored),
             "unit": results_view.unit(t, e.label),
         }
@@ -116,7 +132,7 @@ def results_html(*, run: Run, payload: Mapping[str, Any], lang: Lang) -> str:
                 "header": [
                     {
                         "name": results_view.name(t, c.label),
-                        "symbol": html_symbol(c.symbol or t.gettext(c.label.text)),
+                        "symbol": html_symbol(t.symbol(c.symbol) or t.gettext(c.label.text)),
                         "unit": results_view.unit(t, c.label),
                     }
                     for c in found.columns
@@ -199,7 +215,7 @@ def run_page(
         "x": x,
         "y": y,
         "channels": [
-            {"name": c.name, "unit": t.unit(c.unit), "label": t.gettext(c.long_name)}
+            {"name": c.name, "unit": t.unit(c.unit), "label": plain_text(t.gettext(c.long_name))}
             for c in record.channels
         ],
         "live_url": f"{base}/live?group={record.name}",

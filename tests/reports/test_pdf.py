@@ -6,16 +6,14 @@ from __future__ import annotations
 import re
 import shutil
 import subprocess
-from functools import lru_cache
 from pathlib import Path
 
 import numpy as np
 import pytest
 from PIL import Image
 
-from rigserver.reports.pdf import html_to_pdf
 from schemas.stands import StandKind
-from tests.reports.test_report import report
+from tests.reports.rendered import run_report
 
 A4 = (0.0, 0.0, 210 / 25.4 * 72, 297 / 25.4 * 72)  # 595.28 x 841.89 pt
 
@@ -27,9 +25,8 @@ if missing:  # a system package, as chromium is: make test installs it
     )
 
 
-@lru_cache
 def pdf(kind: StandKind) -> bytes:
-    return html_to_pdf(report(kind))
+    return run_report(kind, "en").pdf  # laid out once, shared with tests/reports/test_layout.py
 
 
 def run(*args: str | Path) -> str:

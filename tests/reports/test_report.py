@@ -136,14 +136,18 @@ def test_smts2_wear_tables_and_validity() -> None:
         fmt(float(f"{v.experimental.mass_loss * 1e6:.4g}")),  # kg -> mg
         "mg",
     ]
-    assert row_of(html, caption, "wear intensity (2.13)")[1] == fmt(v.experimental.intensity)
+    assert row_of(html, caption, "experimental wear intensity (2.13)")[1] == fmt(
+        v.experimental.intensity
+    )
     theory = "Theoretical linear wear intensity"
     assert row_of(html, theory, "contour pressure (2.3)") == [
         "pc",
         fmt(float(f"{v.theoretical.contour_pressure / 1e6:.4g}")),  # Pa -> MPa
         "MPa",
     ]
-    assert row_of(html, theory, "wear intensity (2.1)")[1] == fmt(v.theoretical.intensity)
+    assert row_of(html, theory, "theoretical wear intensity (2.1)")[1] == fmt(
+        v.theoretical.intensity
+    )
     validity = "Validity of the fatigue-wear theory (2.1)"
     assert row_of(html, validity, "cycles to failure per asperity")[1] == fmt(
         v.validity.cycles_to_failure
@@ -157,7 +161,7 @@ def test_smts2_wear_tables_and_validity() -> None:
     assert row_of(html, "Friction record", "friction coefficient, steady part (2.8)")[1] == fmt(
         v.friction_steady
     )
-    assert f"f = {fmt(v.friction_steady)} ± {fmt(v.friction_steady_std)}" in html
+    assert f"f = {with_uncertainty(v.friction_steady, v.friction_steady_expanded)}" in html
 
 
 def test_smts2_measurements_as_posted() -> None:
@@ -165,7 +169,8 @@ def test_smts2_measurements_as_posted() -> None:
     posted = s.sim.columns("measurements")
     html = report(StandKind.SMTS2)
     row = row_of(html, "Single measurements", "m1, pin mass before the test (2.9)")
-    assert row == [fmt(float(posted["pin_mass_before"][-1])), "g"]
+    # with the digits the balance gives: 0.1 mg = 10⁻⁴ g (Smts2Config.accuracy)
+    assert row == [f"{float(posted['pin_mass_before'][-1]):.4f}", "g"]
     plots = svgs(html)
     assert len(plots) == 2 and all("<path" in p for p in plots)  # f(L), wear intensity
 
@@ -307,7 +312,10 @@ def test_input_data_print_the_configuration_with_units() -> None:
     html = report(StandKind.SLIDE_BEARING)
     config = table(html, "Stand configuration of this run")
     rows = {r[0]: r[1:] for r in config.rows}
-    assert rows["h0, radial clearance (3.17)"] == [fmt(s.run.configuration["clearance"]), "m"]
+    # in the display unit of the results (µm for clearances, schemas.labels.CONFIGURATION)
+    clearance_um = s.run.configuration["clearance"] * 1e6
+    assert rows["h0, radial clearance (3.17)"] == [fmt(clearance_um), "µm"]
+    assert [v[1] for k, v in rows.items() if k.startswith("B, bearing width")] == ["mm"]
     assert rows["α of μ = A·exp(α·t) (3.21)"] == [
         fmt(s.run.configuration["viscosity"]["alpha"]),
         "1/°C",
@@ -323,8 +331,9 @@ def test_the_russian_report_has_no_tex_and_no_english(kind: StandKind) -> None:
     typed = " ".join([run.operator, run.title or "", *map(str, run.specimen.values())])
     typed += " " + " ".join(str(v) for v in run.test_plan.values())
     words = set(re.findall(r"\b[A-Za-z]{3,}\b", text)) - set(re.findall(r"[A-Za-z]+", typed))
-    # the names of standards and methods stay as they are: ASTM G99, ISO 20808, GUM, PELT
-    names = {"ASTM", "GUM", "ISO", "PELT"}
+    # the names of standards and methods stay as they are: ASTM G99, ISO 20808, GUM (JCGM 100),
+    # PELT
+    names = {"ASTM", "GUM", "JCGM", "ISO", "PELT"}
     assert words <= {"Rmax", "max", "min", "rev", "exp", "pmax", "rig", "UTC", *names}, words
 
 

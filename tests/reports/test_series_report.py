@@ -19,6 +19,8 @@ PLOTS = {
     StandKind.MTOS: 2,
     StandKind.SLIDE_BEARING: 1,
     StandKind.PROFILOMETER: 2,
+    StandKind.PIN_ON_DISC: 1,
+    StandKind.RECIPROCATING: 1,
 }
 
 
@@ -50,5 +52,6 @@ def test_series_report_of_every_stand(kind: StandKind, lang: str) -> None:
     assert [row[0] for row in runs_table.rows] == [m.run.id for m in members]
     header = found[2].header
     assert header[0] == ("Result" if lang == "en" else "Результат")
-    comparison = found[3]
+    assert found[3].header[0] == header[0]  # the spread against the instruments
+    comparison = found[4]
     assert {row[1] for row in comparison.rows if row[1] in ("A", "B")} == {"A", "B"}

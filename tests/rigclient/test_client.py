@@ -202,7 +202,7 @@ def test_names_are_checked_before_spooling(tmp_path: Path) -> None:
             run.post("friction", {"x": [1.0]})
         with pytest.raises(InputError, match="got z"):
             run.post("profile", {"x": [1.0], "y": [2.0], "z": [3.0]})
-        with pytest.raises(InputError, match="missing: y"):
+        with pytest.raises(InputError, match="channel 'y' is missing"):
             run.post("profile", {"x": [1.0]})
         assert run.status().batches == 0
 

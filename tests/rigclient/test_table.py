@@ -153,4 +153,5 @@ def test_the_readmes_maps_read_a_file_of_their_stand(tmp_path: Path) -> None:
         assert sorted(table.channels) == sorted(c.name for c in group.channels)
         constants(stand, mapping)
         seen.add(stand.kind)
-    assert seen == set(StandKind)
+    # the lab's four stands; the tribometers' maps are in docs/tribometers.md
+    assert seen == set(StandKind) - {StandKind.PIN_ON_DISC, StandKind.RECIPROCATING}

@@ -33,9 +33,10 @@ from rigserver.api.deps import (
     services_of,
 )
 from rigserver.api.problems import ApiProblem, violations
-from rigserver.api.routes.reports import _report_html
+from rigserver.api.routes import reports as run_reports
+from rigserver.api.routes import series as series_routes
 from rigserver.api.routes.runs import load_run
-from rigserver.api.routes.series import _detail, _report
+from rigserver.api.routes.series import _detail
 from rigserver.api.run_results import StoredReadings, results_payload
 from rigserver.reports.eln import (
     ELN_MEDIA_TYPE,
@@ -48,7 +49,6 @@ from rigserver.reports.eln import (
 )
 from rigserver.reports.eln_read import ArchivedRun, ArchiveRefused, read_run_archive
 from rigserver.reports.i18n import LANGS, Lang
-from rigserver.reports.pdf import html_to_pdf
 from rigserver.reports.series_report import series_csv
 from rigserver.storage.archived import IMPORT_ROWS, FileReadings, file_batches, summary
 from rigserver.storage.errors import RunNotFound, StorageError
@@ -70,13 +70,18 @@ def _publisher(request: Request) -> Publisher:
     return Publisher(str(request.base_url))
 
 
-def _reports(render: Callable[[Lang], str]) -> dict[str, bytes]:
-    """The report in both languages, as a web page and as a PDF."""
+#: Whose share of the report pool an export's renders take
+_EXPORT = "(.eln export)"
+
+
+def _reports(render: Callable[[Lang], dict[str, bytes]]) -> dict[str, bytes]:
+    """The report in both languages, as a web page and as a PDF (the kept files, rendered
+    on the report pool when missing: rigserver.api.report_pool)."""
     found: dict[str, bytes] = {}
     for lang in LANGS:
-        html = render(lang)
-        found[f"report-{lang}.html"] = html.encode()
-        found[f"report-{lang}.pdf"] = html_to_pdf(html)
+        files = render(lang)
+        found[f"report-{lang}.html"] = files["html"]
+        found[f"report-{lang}.pdf"] = files["pdf"]
     return found
 
 
@@ -101,7 +106,7 @@ def _run_part(services: Services, run: Run) -> RunPart:
         readings=StoredReadings(services, run),
         payload=results_payload(services, run),
         run_file=services.store.run_file(run.id),
-        reports=_reports(lambda lang: _report_html(services, run.id, lang)[1]),
+        reports=_reports(lambda lang: run_reports.report_bytes(services, run, lang, _EXPORT)),
         references=_references(services, run),
     )
 
@@ -137,7 +142,9 @@ def _export_series(services: Services, series_id: str, publisher: Publisher) -> 
     series = SeriesPart(
         detail=detail,
         runs_csv=series_csv(detail),
-        reports=_reports(lambda lang: _report(services, series_id, lang)[1]),
+        reports=_reports(
+            lambda lang: series_routes.report_bytes(services, series_id, lang, _EXPORT)
+        ),
     )
     licence = licence_of(services.settings.license)
     made = datetime.now(UTC)

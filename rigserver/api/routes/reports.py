@@ -14,7 +14,7 @@ from starlette.background import BackgroundTask
 
 from rigserver.api.deps import ReadAccess, Services, ServicesDep
 from rigserver.api.problems import ApiProblem
-from rigserver.api.report_answers import caller_key, file_answer, rendered, run_job
+from rigserver.api.report_answers import caller_key, file_answer, kept, rendered, run_job
 from rigserver.api.report_files import ReportFile
 from rigserver.api.report_jobs import RunReportJob
 from rigserver.api.routes.runs import load_run
@@ -53,13 +53,19 @@ async def _report(
     headers = language_headers(lang)
     if fmt == "pdf":
         headers["Content-Disposition"] = f'attachment; filename="{run.id}-report-{lang}.pdf"'
-    if not target.path.exists():
+    if not target.path.exists() and not target.matches(request.headers.get("if-none-match")):
         job, in_process = await run_in_threadpool(_job, services, run, target)
         future = services.reports.render(
             str(target.path), caller_key(request, services), job, in_process=in_process
         )
         await rendered(future, target)
     return run, file_answer(request, target, headers)
+
+
+def report_bytes(services: Services, run: Run, lang: Lang, key: str) -> dict[str, bytes]:
+    """The run's report in ``lang``, ``html`` and ``pdf``: kept, or rendered on the pool."""
+    target = services.report_files.run_report(run, lang, "pdf")
+    return kept(services, target, lambda: _job(services, run, target), key)
 
 
 _RENDERED = (

@@ -136,7 +136,11 @@ def _end(run_id: str, services: Services, caller: Any, state: RunState) -> Run:
             services.store.set_results(run_id, results.payload, results.key_results)
         ended = services.store.end_run(run_id, state)
     if results is not None:
-        render_finished(services, run_id, results.payload["values"])
+        values = results.payload["values"]
+        services.reports.soon(
+            f"rendering the reports of run {run_id}",
+            lambda: render_finished(services, run_id, values),
+        )
     return ended
 
 

@@ -19,7 +19,7 @@ from rigserver.api.deps import (
     require_scope,
 )
 from rigserver.api.problems import ApiProblem
-from rigserver.api.report_answers import caller_key, file_answer, rendered, targets
+from rigserver.api.report_answers import caller_key, file_answer, kept, rendered, targets
 from rigserver.api.report_files import ReportFile
 from rigserver.api.report_jobs import SeriesReportJob
 from rigserver.api.routes.runs import load_run
@@ -222,7 +222,7 @@ def _job(services: Services, series_id: str, target: ReportFile) -> tuple[Series
     job = SeriesReportJob(
         detail,
         values={m.run.id: m.values for m in members},
-        lang=target.path.name.split("-", 1)[0],  # type: ignore[arg-type]
+        lang=target.lang,
         targets=files,
         run_files={
             m.run.id: services.store.run_file(m.run.id)
@@ -234,6 +234,12 @@ def _job(services: Services, series_id: str, target: ReportFile) -> tuple[Series
     return job, bool(open_runs)
 
 
+def report_bytes(services: Services, series_id: str, lang: Lang, key: str) -> dict[str, bytes]:
+    """The series report in ``lang``, ``html`` and ``pdf``: kept, or rendered on the pool."""
+    target = _prepare(services, series_id, lang, "pdf")
+    return kept(services, target, lambda: _job(services, series_id, target), key)
+
+
 async def _report(
     request: Request, services: Services, series_id: str, lang: Lang, fmt: str
 ) -> Response:
@@ -241,7 +247,7 @@ async def _report(
     headers = language_headers(lang)
     if fmt == "pdf":
         headers["Content-Disposition"] = f'attachment; filename="{series_id}-report-{lang}.pdf"'
-    if not target.path.exists():
+    if not target.path.exists() and not target.matches(request.headers.get("if-none-match")):
         job, in_process = await run_in_threadpool(_job, services, series_id, target)
         future = services.reports.render(
             str(target.path), caller_key(request, services), job, in_process=in_process

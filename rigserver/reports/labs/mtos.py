@@ -7,6 +7,8 @@ from collections.abc import Sequence
 import numpy as np
 from markupsafe import Markup
 from matplotlib.axes import Axes
+from numpy.typing import NDArray
+from scipy.interpolate import make_interp_spline
 
 from rigserver.reports import blocks
 from rigserver.reports.context import Context, LabReport
@@ -41,9 +43,9 @@ def build(ctx: Context, v: MtosResults) -> LabReport:
             t("m.film"),
             v,
             [
-                ("h_crit", "h_min^кр", "m.h_crit"),
+                ("h_crit", "h_{min,cr}", "m.h_crit"),
                 ("h_min_smallest", "h_min", "m.h_min_smallest"),
-                ("friction_fluid", "f_э", "m.friction_fluid"),
+                ("friction_fluid", "f̄_e", "m.friction_fluid"),
                 ("half_width", "a", "m.half_width"),
             ],
             labels=MTOS,
@@ -60,7 +62,10 @@ def build(ctx: Context, v: MtosResults) -> LabReport:
         for row in blocks.uncertainties(
             t,
             s,
-            [("chi", "χ", "m.chi"), ("friction_measured", "f_э", "m.f_measured")],
+            [
+                ("chi", f"χ_{{{i + 1}}}", "m.chi"),
+                ("friction_measured", f"f_{{e,{i + 1}}}", "m.f_measured"),
+            ],
             label=t("u.step", i=i + 1, load=fmt(s.load)),
             labels=MTOS,
             prefix="steps[].",
@@ -136,9 +141,9 @@ def _processed_tables(
             ("chi", "χ"),
             ("angle", angle),
             ("spring_force", "F"),
-            ("friction_moment", "M_тр"),
-            ("friction_force", "F_тр"),
-            ("friction_measured", "f_э"),
+            ("friction_moment", "M_fr"),
+            ("friction_force", "F_fr"),
+            ("friction_measured", "f_e"),
         ],
         model=MtosStep,
         labels=labels,
@@ -173,7 +178,7 @@ def _processed_tables(
     note: Text = ""
     if regime != "fluid":
         fluid = {s.load: s.friction_measured for s in _of(every, "fluid")}
-        head.append(html_symbol("f_э/f_э1"))
+        head.append(html_symbol(t.symbol("f_e/f_e1")))
         data.append(
             [s.friction_measured / fluid[s.load] if s.load in fluid else None for s in steps]
         )
@@ -188,7 +193,7 @@ def _processed_tables(
         steps,
         [
             ("load", "N"),
-            ("friction_measured", "f_э"),
+            ("friction_measured", "f_e"),
             ("friction_theory", "f_T"),
             ("friction_error", "Δf"),
             ("friction_finite", f"f, {finite}"),
@@ -260,16 +265,14 @@ def _trajectory_svg(t: Messages, v: MtosResults, config: MtosConfig) -> str:
     circle = np.linspace(0.0, 2.0 * np.pi, 361)
     ax.plot(h0 * np.cos(circle), h0 * np.sin(circle), ":", color="0.4", label=t("m.clearance"))
     ax.plot([0.0, h0 * along[0]], [0.0, h0 * along[1]], "--", color="0.6", linewidth=0.8)
-    for regime in REGIMES:
-        steps = _of(v.steps, regime)
+    for number, regime in enumerate(REGIMES):
+        steps = sorted(_of(v.steps, regime), key=lambda s: s.load)
         if steps:
+            x = np.array([s.e_x * scale for s in steps])
+            y = np.array([s.e_y * scale for s in steps])
+            ax.plot(x, y, MARKERS[regime], color=f"C{number}", markersize=5)
             ax.plot(
-                [s.e_x * scale for s in steps],
-                [s.e_y * scale for s in steps],
-                MARKERS[regime] + "-",
-                linewidth=0.8,
-                markersize=5,
-                label=t("regime." + regime),
+                *_smooth(x, y), "-", color=f"C{number}", linewidth=0.8, label=t("regime." + regime)
             )
             for s in steps if regime == "fluid" else ():
                 ax.annotate(
@@ -287,6 +290,20 @@ def _trajectory_svg(t: Messages, v: MtosResults, config: MtosConfig) -> str:
         legend_outside=True,
     )
     return to_svg(fig)
+
+
+def _smooth(x: NDArray[np.float64], y: NDArray[np.float64]) -> tuple[NDArray[np.float64], ...]:
+    """The measured points in load order joined by a smooth curve, as the manual asks of the
+    trajectory: a parametric spline (cubic, or of the points' count less one) through every
+    point, parametrised by the chord length; the points themselves where fewer than three."""
+    if x.size < 3:
+        return x, y
+    chord = np.concatenate([[0.0], np.cumsum(np.hypot(np.diff(x), np.diff(y)))])
+    if not np.all(np.diff(chord) > 0):
+        return x, y
+    spline = make_interp_spline(chord, np.column_stack([x, y]), k=min(3, x.size - 1))
+    drawn = spline(np.linspace(0.0, chord[-1], 200))
+    return drawn[:, 0], drawn[:, 1]
 
 
 def _friction_svg(t: Messages, v: MtosResults) -> str:

@@ -10,7 +10,7 @@ from rigserver.reports import blocks
 from rigserver.reports.context import Context, LabReport
 from rigserver.reports.document import Block, Figure, Section, Table, Text
 from rigserver.reports.downsample import min_max
-from rigserver.reports.formatting import DASH, fmt, html_symbol, shown
+from rigserver.reports.formatting import DASH, fmt, html_symbol, shown, with_uncertainty
 from rigserver.reports.i18n import Messages
 from rigserver.reports.labs import iso_profile
 from rigserver.reports.plots import axes, decorate, to_svg
@@ -69,7 +69,7 @@ def build(ctx: Context, v: ProfilometerResults) -> LabReport:
                 v,
                 [
                     ("complex_parameter", "Δ", "p.delta"),
-                    ("ra_from_complex", "R_a", "p.ra_delta"),
+                    ("ra_from_complex", "R_{a,Δ}", "p.ra_delta"),
                     ("complex_parameter_equilibrium", "Δ_T", "p.delta_t"),
                 ],
                 labels=PROFILOMETER,
@@ -160,9 +160,12 @@ def _table_1_8(t: Messages, v: ProfilometerResults, fit: BearingFitResult) -> Ta
     residuals = np.asarray(fit.residuals)
     theory = np.asarray(v.tp) - residuals  # Δt_p = t_pэ - t_pт (table 1.8)
     rows: list[list[Text]] = [
-        [html_symbol("t_{pэ}"), *(fmt(p) for p in v.tp)],
-        [html_symbol("t_{pт} = b·ε^ν"), *(fmt(float(p)) for p in theory)],
-        [html_symbol("Δt_p = t_{pэ} - t_{pт}"), *(fmt(float(p)) for p in residuals)],
+        [html_symbol(t.symbol("t_{p,e}")), *(fmt(p) for p in v.tp)],
+        [html_symbol(t.symbol("t_{p,t}") + " = b·ε^ν"), *(fmt(float(p)) for p in theory)],
+        [
+            html_symbol(f"Δt_p = {t.symbol('t_{p,e}')} - {t.symbol('t_{p,t}')}"),
+            *(fmt(float(p)) for p in residuals),
+        ],
     ]
     return _levels_table(t, html_symbol(t("p.table_1_8")), rows, len(v.tp))
 
@@ -209,7 +212,9 @@ def _conclusions(t: Messages, v: ProfilometerResults) -> list[Text]:
             html_symbol(
                 t(
                     "p.c_ra",
-                    ra=shown(PROFILOMETER["ra"], v.ra, "m"),
+                    ra=with_uncertainty(v.ra * 1e6, v.ra_expanded * 1e6)
+                    if v.ra_expanded
+                    else shown(PROFILOMETER["ra"], v.ra, "m"),
                     ra_delta=shown(PROFILOMETER["ra_from_complex"], v.ra_from_complex, "m"),
                     diff=_percent(v.ra, v.ra_from_complex),
                 )

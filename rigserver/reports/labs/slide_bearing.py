@@ -10,7 +10,7 @@ from markupsafe import Markup
 from rigserver.reports import blocks
 from rigserver.reports.context import Context, LabReport
 from rigserver.reports.document import Block, Figure, Section, Table, Text
-from rigserver.reports.formatting import fmt, html_symbol, shown
+from rigserver.reports.formatting import fmt, html_symbol, shown, with_uncertainty
 from rigserver.reports.i18n import Messages
 from rigserver.reports.plots import axes, decorate, to_svg
 from schemas.labels import SLIDE_BEARING, row_labels
@@ -38,7 +38,7 @@ def build(ctx: Context, v: SlideBearingResults) -> LabReport:
                 ("temperature", "t", "b.temperature"),
                 ("viscosity", "μ_t", "b.viscosity"),
                 ("mu_bar", "μ̄", "b.mu_bar"),
-                ("chi_mean", "χ_ср", "b.chi_mean"),
+                ("chi_mean", "χ_mean", "b.chi_mean"),
                 ("attitude_angle", "ψ", "b.attitude"),
                 ("rupture_angle", "φ_r", "b.rupture"),
                 ("half_width", "a", "b.half_width"),
@@ -56,7 +56,9 @@ def build(ctx: Context, v: SlideBearingResults) -> LabReport:
         processed.append(Figure(html_symbol(t("b.fig_phi")), _angle_svg(t, v.table)))
     if v.axial:
         processed.append(Figure(html_symbol(t("b.fig_z")), _axial_svg(t, v)))
-    spread = blocks.uncertainties(t, v, [("chi_mean", "χ_ср", "b.chi_mean")], labels=SLIDE_BEARING)
+    spread = blocks.uncertainties(
+        t, v, [("chi_mean", "χ_mean", "b.chi_mean")], labels=SLIDE_BEARING
+    )
     if spread:
         processed.append(blocks.uncertainty_table(t, spread))
     return LabReport(
@@ -89,7 +91,7 @@ def _table_3_1(ctx: Context, v: SlideBearingResults) -> Table:
         field("e_y", "e_y"),
         field("e", "e"),
         field("chi", "χ"),
-        field("phi_model", "φ_мод"),
+        field("phi_model", "φ_mod"),
     ]
     pressure = field("pressure", "p")
     data: list[Sequence[float | Text | None]] = [
@@ -102,7 +104,7 @@ def _table_3_1(ctx: Context, v: SlideBearingResults) -> Table:
         *(cells for _, cells in processed),
     ]
     head = [
-        blocks.header(t, "φ_лимб", units["limb_angle"]),
+        blocks.header(t, "φ_limb", units["limb_angle"]),
         pressure[0],
         blocks.header(t, "X", units["x"]),
         blocks.header(t, "Y", units["y"]),
@@ -150,7 +152,7 @@ def _table_3_3(t: Messages, table: Sequence[SlideBearingRow]) -> Table:
             ("pi_short", "Π_0"),
             ("pi_long", "Π_∞"),
             ("pi_finite", f"Π, {t('b.finite')}"),
-            ("pi_measured", "Π_э"),
+            ("pi_measured", "Π_e"),
             ("error_short", "ΔΠ_0"),
             ("error_long", "ΔΠ_∞"),
         ],
@@ -207,7 +209,9 @@ def _conclusions(t: Messages, v: SlideBearingResults) -> list[Text]:
             html_symbol(
                 t(
                     "b.c_chi",
-                    chi=shown(SLIDE_BEARING["chi_mean"], v.chi_mean, "1"),
+                    chi=with_uncertainty(v.chi_mean, v.chi_mean_expanded)
+                    if v.chi_mean_expanded
+                    else shown(SLIDE_BEARING["chi_mean"], v.chi_mean, "1"),
                     p=shown(SLIDE_BEARING["pressure_max"], v.pressure_max, "Pa"),
                     unit=t.unit(SLIDE_BEARING["pressure_max"].unit),
                     phi=fmt(v.phi_max),

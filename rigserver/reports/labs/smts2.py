@@ -12,7 +12,7 @@ from rigserver.core import wear
 from rigserver.reports import blocks
 from rigserver.reports.context import Context, LabReport
 from rigserver.reports.document import Block, Figure, Section, Table, Text
-from rigserver.reports.formatting import fmt, html_symbol
+from rigserver.reports.formatting import fmt, html_symbol, tex, with_uncertainty
 from rigserver.reports.i18n import Messages
 from rigserver.reports.labs import iso_profile
 from rigserver.reports.plots import axes, decorate, to_svg
@@ -29,28 +29,43 @@ DRAWN_BLOCKS = 600
 def build(ctx: Context, v: Smts2Results) -> LabReport:
     t = ctx.t
     config = Smts2Config.model_validate(ctx.run.configuration)
-    measured: list[Block] = [
-        blocks.measurements(t, ctx.group(MEASUREMENTS), ctx.readings.measurements())
-    ]
+    group = ctx.group(MEASUREMENTS)
+    balance = {  # the masses with the digits the balance gives (its resolution, declared)
+        c.name: config.accuracy.balance_resolution / UNITS[c.unit].factor
+        for c in group.channels
+        if UNITS[c.unit].si == "kg"
+    }
+    measured: list[Block] = [blocks.measurements(t, group, ctx.readings.measurements(), balance)]
     if v.rows:
-        measured.append(
-            blocks.quantities(
-                t,
-                t("w.record"),
-                v,
-                [
-                    ("rows", "n", "w.rows"),
-                    ("duration", "t", "w.duration"),
-                    ("revolutions", "M_rev", "w.revolutions"),
-                    ("sliding_distance", "L", "w.sliding"),
-                    ("mean_load", "N", "w.load"),
-                    ("friction_steady", "f", "w.f"),
-                    ("friction_steady_std", "σ_f", "w.f_std"),
-                    ("steady_from_time", "t_s", "w.steady_from"),
-                ],
-                labels=SMTS2,
-            )
+        record = blocks.quantities(
+            t,
+            t("w.record"),
+            v,
+            [
+                ("rows", "", "w.rows"),
+                ("duration", "τ", "w.duration"),
+                ("revolutions", "M_rev", "w.revolutions"),
+                ("sliding_distance", "L", "w.sliding"),
+                ("mean_load", "N", "w.load"),
+                ("friction_steady", "f", "w.f"),
+                ("friction_steady_std", "σ_f", "w.f_std"),
+                ("steady_from_time", "t_s", "w.steady_from"),
+            ],
+            labels=SMTS2,
         )
+        # the friction moment beside f: M_fr = f·N·r2, the inverse of (2.8)
+        moment = None
+        if v.friction_steady is not None and v.mean_load is not None:
+            moment = v.friction_steady * v.mean_load * config.disc_radius
+        row: list[Text] = [
+            html_symbol(t("w.moment")),
+            html_symbol(t.symbol("M_fr")),
+            fmt(moment),
+            t.unit("N*m"),
+        ]
+        at = next(i for i, r in enumerate(record.rows) if str(r[1]) == "f") + 1
+        rows = [*record.rows[:at], row, *record.rows[at:]]
+        measured.append(dataclasses.replace(record, rows=rows))
         measured.append(Figure(t("w.fig_friction"), _friction_svg(ctx, v, config)))
     processed: list[Block] = []
     if v.experimental is not None:
@@ -63,8 +78,7 @@ def build(ctx: Context, v: Smts2Results) -> LabReport:
                     ("mass_loss", "Δm", "w.mass_loss"),
                     ("volume", "V", "w.volume"),
                     ("wear_depth", "h", "w.depth"),
-                    ("sliding_distance", "L", "w.sliding"),
-                    ("intensity", "I_h", "w.intensity_exp"),
+                    ("intensity", "I_{h,exp}", "w.intensity_exp"),
                     ("specific_wear_rate", "k", "w.k"),
                 ],
                 labels=SMTS2,
@@ -79,8 +93,8 @@ def build(ctx: Context, v: Smts2Results) -> LabReport:
                 v.disc_wear,
                 [
                     ("track_area", "A", "w.track_area"),
-                    ("volume", "V", "w.disc_volume"),
-                    ("specific_wear_rate", "k", "w.k"),
+                    ("volume", "V_2", "w.disc_volume"),
+                    ("specific_wear_rate", "k_2", "w.k_disc"),
                 ],
                 labels=SMTS2,
                 prefix="disc_wear.",
@@ -106,13 +120,15 @@ def build(ctx: Context, v: Smts2Results) -> LabReport:
                 ("beta", "β", "w.beta"),
                 ("k_nu", "k_ν", "w.k_nu"),
                 ("k_f", "k_f", "w.k_f"),
-                ("intensity", "I_h", "w.intensity_theor"),
+                ("intensity", "I_{h,th}", "w.intensity_theor"),
             ],
             labels=SMTS2,
             prefix="theoretical.",
         )
         contact: list[Text] = [t("w.contact"), "", t("contact." + v.theoretical.contact), ""]
-        processed.append(dataclasses.replace(theory, rows=[contact, *theory.rows]))
+        outside = v.validity is not None and not v.validity.within_range
+        note = t("w.theory_note") if outside else ""
+        processed.append(dataclasses.replace(theory, rows=[contact, *theory.rows], note=note))
     if v.validity is not None:
         processed.append(_validity(t, v))
     if v.sensitivity:
@@ -120,13 +136,15 @@ def build(ctx: Context, v: Smts2Results) -> LabReport:
     if v.adequacy is not None and v.experimental and v.theoretical:
         processed.append(_adequacy(t, v))
     if v.experimental is not None or v.theoretical is not None:
-        processed.append(Figure(t("w.fig_wear"), _wear_svg(t, v)))
+        svg, band = _wear_svg(t, v)
+        caption = t("w.fig_wear_band" if band else "w.fig_wear")
+        processed.append(Figure(html_symbol(caption), svg))
     spread = blocks.uncertainties(t, v, [("friction_steady", "f", "w.f")], labels=SMTS2)
     if v.experimental is not None:
         spread += blocks.uncertainties(
             t,
             v.experimental,
-            [("intensity", "I_h", "w.intensity_exp"), ("specific_wear_rate", "k", "w.k")],
+            [("intensity", "I_{h,exp}", "w.intensity_exp"), ("specific_wear_rate", "k", "w.k")],
             labels=SMTS2,
             prefix="experimental.",
         )
@@ -189,8 +207,18 @@ def _adequacy(t: Messages, v: Smts2Results) -> Table:
     a = v.adequacy
     one = t.unit("1")
     rows: list[list[Text]] = [
-        [t("w.intensity_exp"), html_symbol(t("sym.i_exp")), fmt(v.experimental.intensity), one],
-        [t("w.intensity_theor"), html_symbol(t("sym.i_theor")), fmt(v.theoretical.intensity), one],
+        [
+            t("w.intensity_exp"),
+            html_symbol(t.symbol("I_{h,exp}")),
+            fmt(v.experimental.intensity),
+            one,
+        ],
+        [
+            t("w.intensity_theor"),
+            html_symbol(t.symbol("I_{h,th}")),
+            fmt(v.theoretical.intensity),
+            one,
+        ],
         [t("w.error"), html_symbol("ΔI_h"), fmt(a.relative_error_percent), t.unit("%")],
         [t("w.lower"), "", fmt(a.lower), one],
         [t("w.upper"), "", fmt(a.upper), one],
@@ -249,20 +277,29 @@ def _friction_svg(ctx: Context, v: Smts2Results, config: Smts2Config) -> str:
     return to_svg(fig)
 
 
-def _wear_svg(t: Messages, v: Smts2Results) -> str:
-    """I_h,exp and I_h,theor on a log axis with the band 0.4·I_theor … 2.6·I_theor (2.15)."""
+def _wear_svg(t: Messages, v: Smts2Results) -> tuple[str, bool]:
+    """I_h,exp (2.13) and I_h,th (2.1) on a log axis, each named under its point, with the
+    band 0.4·I_h,th … 2.6·I_h,th (2.15) where the theory is judged; and whether the band is
+    drawn (the caption says what is there)."""
     fig, (ax,) = axes(height=2.8)
     ax.set_yscale("log")
-    if v.adequacy is not None:
+    band = v.adequacy is not None and (v.validity is None or v.validity.within_range)
+    if band and v.adequacy is not None:
         ax.axhspan(v.adequacy.lower, v.adequacy.upper, color="C2", alpha=0.25, label=t("w.band"))
+    names: list[str] = []
     if v.experimental is not None:
-        ax.plot([0], [v.experimental.intensity], "o", color="C0", markersize=8, label=t("w.exp"))
+        ax.plot([len(names)], [v.experimental.intensity], "o", color="C0", markersize=8)
+        names.append(f"{t('w.exp')}\n{tex(t.symbol('I_{h,exp}'))} (2.13)")
     if v.theoretical is not None:
-        ax.plot([1], [v.theoretical.intensity], "s", color="C3", markersize=8, label=t("w.theor"))
-    ax.set_xticks([0, 1], [t("w.exp"), t("w.theor")])
-    ax.set_xlim(-0.6, 1.6)
-    decorate(ax, xlabel="", ylabel=blocks.axis(t, "I_h"))
-    return to_svg(fig)
+        ax.plot([len(names)], [v.theoretical.intensity], "s", color="C3", markersize=8)
+        theory = f"{t('w.theor')}\n{tex(t.symbol('I_{h,th}'))}"
+        if v.validity is not None and not v.validity.within_range:
+            theory += f"\n{t('w.out_of_range')}"
+        names.append(theory)
+    ax.set_xticks(range(len(names)), names)
+    ax.set_xlim(-0.6, len(names) - 0.4)
+    decorate(ax, xlabel=t("w.source"), ylabel=blocks.axis(t, "I_h"))
+    return to_svg(fig), band
 
 
 def _conclusions(t: Messages, v: Smts2Results) -> list[Text]:
@@ -271,9 +308,8 @@ def _conclusions(t: Messages, v: Smts2Results) -> list[Text]:
         found.append(
             html_symbol(
                 t(
-                    "w.c_friction",
-                    f=fmt(v.friction_steady),
-                    std=fmt(v.friction_steady_std),
+                    "w.c_friction_u",
+                    f=with_uncertainty(v.friction_steady, v.friction_steady_expanded),
                     t=fmt(v.steady_from_time),
                     load=fmt(v.mean_load),
                 )

@@ -55,7 +55,7 @@ def build(ctx: Context, v: Results) -> LabReport:
                 ("friction_forward", "μ_f", "t.forward"),
                 ("friction_backward", "μ_b", "t.backward"),
             ]
-        measured.append(blocks.quantities(t, t("w.record"), v, fields, labels=labels))
+        measured.append(blocks.quantities(t, t("t.record"), v, fields, labels=labels))
         measured.append(Figure(t("t.fig_friction"), _friction_svg(t, v)))
         if isinstance(v, PinOnDiscResults) and v.friction_map is not None:
             measured.append(Figure(t("t.fig_map"), _map_svg(t, v)))
@@ -101,12 +101,7 @@ def build(ctx: Context, v: Results) -> LabReport:
             blocks.quantities(t, t(key), estimate, fields, labels=labels, prefix=f"{name}.")
         )
         spread += blocks.uncertainties(
-            t,
-            estimate,
-            [("specific_wear_rate", "k", "t.k")],
-            f" ({t(key)})",
-            labels=labels,
-            prefix=f"{name}.",
+            t, estimate, [("specific_wear_rate", "k", key)], labels=labels, prefix=f"{name}."
         )
     if v.disc_track is not None:
         track_iso = iso_profile.track_table(t, v.disc_track.iso, labels, "disc_track.iso.")
@@ -173,8 +168,11 @@ def _map_svg(t: Messages, v: PinOnDiscResults) -> str:
         norm=norm,
         shading="flat",
     )
-    fig.colorbar(mesh, ax=ax, label=blocks.axis(t, "μ"))
+    bar = fig.colorbar(mesh, ax=ax, label=blocks.axis(t, "μ"))
+    if bar.solids is not None:
+        bar.solids.set_rasterized(False)  # vectors, as every plot of the reports
     decorate(ax, xlabel=blocks.axis(t, "θ", "deg"), ylabel=t("t.lap_axis"))
+    ax.grid(False)  # the cells are the picture
     return to_svg(fig)
 
 

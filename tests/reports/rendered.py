@@ -1,0 +1,174 @@
+"""Every stand's report and series report, rendered once per language from simulated runs
+and laid out by WeasyPrint: shared by the layout, symbol and figure tests.
+
+Generic over :class:`schemas.stands.StandKind`: a new stand's simulator, analysis and report
+module are covered by these tests as soon as they exist.
+"""
+
+from __future__ import annotations
+
+import shutil
+import subprocess
+import unicodedata
+from dataclasses import dataclass, field
+from datetime import UTC, datetime
+from functools import lru_cache
+from typing import Any
+
+from matplotlib.figure import Figure
+
+from rigserver.analysis.series import Member, series_statistics
+from rigserver.reports import plots
+from rigserver.reports.i18n import Lang
+from rigserver.reports.run_report import build_report, render_report
+from rigserver.reports.series_report import render_series_report, series_context
+from schemas.series import Series, SeriesPurpose
+from schemas.stands import StandKind
+from tests.reports.simulated import MADE, Simulated, simulated
+
+#: The seeds of the three runs of a series: two specimens, and the first run's readings
+#: handed in twice (a copy, as a teaching lab sees it: the report flags identical data).
+SERIES_SEEDS = (7, 8, 7)
+POPPLER = shutil.which("pdftotext")
+
+
+@dataclass(frozen=True)
+class Box:
+    """A laid-out box that leaves the page's content area, in pt."""
+
+    page: int
+    tag: str
+    kind: str
+    text: str
+    right: float
+    bottom: float
+
+
+@dataclass(frozen=True)
+class Rendered:
+    """A report: its HTML, the PDF made from it, the boxes outside the page, the PDF's text."""
+
+    name: str
+    html: str
+    pdf: bytes
+    pages: int
+    outside: list[Box]
+    figures: list[Figure] = field(default_factory=list)
+
+    @property
+    def text(self) -> str:
+        return pdf_text(self.pdf)
+
+
+def _outside(document: Any) -> list[Box]:
+    """Every box of the laid-out pages that extends beyond its page's content area (the
+    page-number margin boxes are outside it by design)."""
+    from weasyprint.formatting_structure.boxes import MarginBox  # type: ignore[import-untyped]
+
+    found: list[Box] = []
+    for number, page in enumerate(document.pages, start=1):
+        box = page._page_box
+        left, top = box.content_box_x(), box.content_box_y()
+        right, bottom = left + box.width, top + box.height
+        roots = [c for c in box.children if not isinstance(c, MarginBox)]
+        for root in roots:
+            for d in root.descendants():
+                if not hasattr(d, "border_width") or d.width is None:
+                    continue
+                x1 = d.border_box_x() + d.border_width()
+                y1 = d.border_box_y() + d.border_height()
+                if x1 > right + 0.5 or y1 > bottom + 0.5 or d.border_box_x() < left - 0.5:
+                    text = getattr(d, "text", "") or ""
+                    found.append(
+                        Box(
+                            number,
+                            str(d.element_tag),
+                            type(d).__name__,
+                            text[:60],
+                            x1 - right,
+                            y1 - bottom,
+                        )
+                    )
+    return found
+
+
+def laid_out(name: str, html: str, figures: list[Figure]) -> Rendered:
+    from weasyprint import HTML
+
+    document = HTML(string=html).render()
+    pdf: bytes = document.write_pdf()
+    return Rendered(name, html, pdf, len(document.pages), _outside(document), figures)
+
+
+@lru_cache(maxsize=64)
+def pdf_text(pdf: bytes) -> str:
+    """The PDF's text in content-stream order (poppler's pdftotext -raw)."""
+    if POPPLER is None:
+        raise RuntimeError("poppler-utils missing (pdftotext): apt-get install poppler-utils")
+    done = subprocess.run(
+        [POPPLER, "-raw", "-enc", "UTF-8", "-", "-"], input=pdf, capture_output=True, check=True
+    )
+    return done.stdout.decode()
+
+
+def squeezed(text: str) -> str:
+    """Text compared as read: Unicode-normalised, without whitespace (lines wrap in the PDF)."""
+    text = unicodedata.normalize("NFKC", text).replace("−", "-")
+    return "".join(text.split())
+
+
+def run_html(kind: StandKind, lang: Lang) -> str:
+    s = simulated(kind)
+    return render_report(
+        build_report(
+            run=s.run,
+            stand=s.stand,
+            values=s.result.payload["values"],
+            readings=s.readings,
+            lang=lang,
+            made=MADE,
+        )
+    )
+
+
+@lru_cache
+def run_report(kind: StandKind, lang: Lang) -> Rendered:
+    """A stand's run report, laid out, with the figures it drew."""
+    with plots.recording() as drawn:
+        html = run_html(kind, lang)
+    return laid_out(f"{kind.value} report ({lang})", html, drawn)
+
+
+def series_runs(kind: StandKind) -> list[Simulated]:
+    return [simulated(kind, seed) for seed in SERIES_SEEDS]
+
+
+def series_context_of(kind: StandKind, lang: Lang) -> dict[str, Any]:
+    """The series report's context for three simulated runs of ``kind`` (repeats)."""
+    runs = series_runs(kind)
+    members = [
+        Member(
+            run=r.run.model_copy(update={"id": f"20261125T120000Z-0000000{i}"}),
+            level=None,
+            values=r.result.payload["values"],
+        )
+        for i, r in enumerate(runs)
+    ]
+    series = Series(
+        id="s-00000000000b",
+        name="repeats",
+        purpose=SeriesPurpose.REPEATABILITY,
+        created=datetime(2026, 11, 25, 12, 0, tzinfo=UTC),
+    )
+    detail = series_statistics(series, members, [])
+    readings = {m.run.id: r.readings for m, r in zip(members, runs, strict=True)}
+    values = {m.run.id: m.values for m in members}
+    return series_context(detail, values=values, readings=readings, lang=lang)
+
+
+@lru_cache
+def series_report(kind: StandKind, lang: Lang) -> Rendered:
+    """A stand's series report (three simulated runs), laid out, with the figures it drew."""
+    with plots.recording() as drawn:
+        html = render_series_report(series_context_of(kind, lang), made=MADE)
+    return laid_out(f"{kind.value} series report ({lang})", html, drawn)

@@ -37,13 +37,18 @@ _M_PER_MM, _M_PER_UM = 1e-3, 1e-6
 def parameters_table(
     t: Messages, caption: Text, iso: IsoRoughnessResult, labels: Mapping[str, Label], prefix: str
 ) -> Table:
-    """Every field of the ISO result, the filter's settings first: name (with the standard),
-    symbol, value, unit."""
+    """Every quantity of the ISO result, the filter's settings first: name (with the
+    standard), symbol, value, unit; how λc was chosen and the ends were handled, in words,
+    below the table."""
     units = units_of(IsoRoughnessResult)
     rows: list[list[Text]] = []
+    words: list[str] = []
     for name in IsoRoughnessResult.model_fields:
         label = labels[prefix + name]
         value: Any = getattr(iso, name)
+        if isinstance(value, str):
+            words.append(f"{t.gettext(label.text)}: {t.gettext(value)}")
+            continue
         rows.append(
             [
                 html_symbol(results_view.name(t, label)),
@@ -53,7 +58,7 @@ def parameters_table(
             ]
         )
     head: list[Text] = [t("col.quantity"), t("col.symbol"), t("col.value"), t("col.unit")]
-    return Table(caption=caption, header=head, rows=rows, labels=2)
+    return Table(caption=caption, header=head, rows=rows, labels=2, note="; ".join(words) + ".")
 
 
 def _comparison(t: Messages, v: ProfilometerResults, iso: IsoRoughnessResult) -> Table:

@@ -150,7 +150,9 @@ def roughness_lines(payload: Mapping[str, Any]) -> list[str]:
         label = PROFILOMETER[path]
         unit = "" if label.unit == "1" else " " + UNITS[label.unit].symbol.replace("um", "µm")
         number = label.shown(float(node), units.get(path, label.unit))
-        symbol = label.symbol.translate(_FLAT)  # as profilometers print them: Ra, RSm, λc
+        symbol = label.symbol.replace("^{ISO}", "").translate(
+            _FLAT
+        )  # as profilometers print them: Ra, RSm, λc
         return f"{symbol} = {number:.{label.digits}g}{unit}"
 
     lines = []

@@ -132,18 +132,24 @@ def _iso(prefix: str) -> dict[str, Label]:
         "lambda_s": Label(N_("cut-off λs of the short-wave filter"), "λ_s", "ISO 16610-21", "um"),
         "lambda_c_source": Label(N_("how λc was chosen")),
         "ends": Label(N_("end effects of the filter")),
-        "sections": Label(N_("sections in the evaluation length"), "n", "ISO 21920-3", digits=9),
+        "sections": Label(
+            N_("sections in the evaluation length"), "n_{sc}", "ISO 21920-3", digits=9
+        ),
         "evaluation_length": Label(N_("evaluation length"), "l_e", "ISO 21920-3", "mm"),
-        "ra": Label(N_("arithmetic mean height of the roughness profile"), "R_a", iso, "um", 3),
-        "rq": Label(N_("root-mean-square height of the roughness profile"), "R_q", iso, "um", 3),
-        "rsk": Label(N_("skewness of the roughness profile"), "R_sk", iso, digits=3),
-        "rku": Label(N_("kurtosis of the roughness profile"), "R_ku", iso, digits=3),
-        "rp": Label(N_("maximum peak height, mean over the sections"), "R_p", iso, "um", 3),
-        "rv": Label(N_("maximum pit depth, mean over the sections"), "R_v", iso, "um", 3),
-        "rz": Label(N_("maximum height, mean over the sections"), "R_z", iso, "um", 3),
-        "rt": Label(N_("total height of the roughness profile"), "R_t", iso, "um", 3),
-        "rsm": Label(N_("mean width of the profile elements"), "R_{Sm}", iso, "mm", 3),
-        "rdq": Label(N_("root-mean-square slope"), "R_{Δq}", iso, digits=3),
+        "ra": Label(
+            N_("arithmetic mean height of the roughness profile"), "R_a^{ISO}", iso, "um", 3
+        ),
+        "rq": Label(
+            N_("root-mean-square height of the roughness profile"), "R_q^{ISO}", iso, "um", 3
+        ),
+        "rsk": Label(N_("skewness of the roughness profile"), "R_sk^{ISO}", iso, digits=3),
+        "rku": Label(N_("kurtosis of the roughness profile"), "R_ku^{ISO}", iso, digits=3),
+        "rp": Label(N_("maximum peak height, mean over the sections"), "R_p^{ISO}", iso, "um", 3),
+        "rv": Label(N_("maximum pit depth, mean over the sections"), "R_v^{ISO}", iso, "um", 3),
+        "rz": Label(N_("maximum height, mean over the sections"), "R_z^{ISO}", iso, "um", 3),
+        "rt": Label(N_("total height of the roughness profile"), "R_t^{ISO}", iso, "um", 3),
+        "rsm": Label(N_("mean width of the profile elements"), "R_{Sm}^{ISO}", iso, "mm", 3),
+        "rdq": Label(N_("root-mean-square slope"), "R_{Δq}^{ISO}", iso, digits=3),
         "rk": Label(N_("core height"), "R_k", "ISO 13565-2", "um", 3),
         "rpk": Label(N_("reduced peak height"), "R_{pk}", "ISO 13565-2", "um", 3),
         "rvk": Label(N_("reduced valley depth"), "R_{vk}", "ISO 13565-2", "um", 3),

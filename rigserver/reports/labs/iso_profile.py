@@ -11,6 +11,7 @@ from collections.abc import Mapping
 from typing import Any
 
 import numpy as np
+from markupsafe import Markup
 from matplotlib.figure import Figure as PlotFigure
 
 from rigserver.core import roughness
@@ -66,22 +67,16 @@ def _comparison(t: Messages, v: ProfilometerResults, iso: IsoRoughnessResult) ->
     rows: list[list[Text]] = []
     for manual, standard in PAIRS:
         m_label, i_label = PROFILOMETER[manual], PROFILOMETER["iso." + standard]
+        m_value = shown(m_label, getattr(v, manual), manual_units[manual])
+        i_value = shown(m_label, getattr(iso, standard), iso_units[standard])
         rows.append(
             [
-                html_symbol(m_label.symbol),
-                shown(m_label, getattr(v, manual), manual_units[manual]),
-                html_symbol(i_label.symbol),
-                shown(m_label, getattr(iso, standard), iso_units[standard]),
+                Markup("{} = {}").format(html_symbol(m_label.symbol), m_value),
+                Markup("{} = {}").format(html_symbol(i_label.symbol), i_value),
                 t.unit(m_label.unit),
             ]
         )
-    head: list[Text] = [
-        t("iso.col_manual"),
-        t("col.value"),
-        t("iso.col_iso"),
-        t("col.value"),
-        t("col.unit"),
-    ]
+    head: list[Text] = [t("iso.col_manual"), t("iso.col_iso"), t("col.unit")]
     return Table(caption=t("iso.compare"), header=head, rows=rows, labels=0)
 
 
@@ -128,11 +123,13 @@ def _figure_svg(t: Messages, x: Any, y: Any, iso: IsoRoughnessResult) -> str:
     bottom.axvspan(first, last, color="C2", alpha=0.08, label=t("iso.evaluation"))
     for k in range(1, found.sections):
         bottom.axvline(first + k * found.section_length / _M_PER_MM, linewidth=0.5, color="C2")
-    decorate(top, xlabel="", ylabel=blocks.axis(t, "y", "um"), legend_outside=True)
+    decorate(
+        top, xlabel=blocks.axis(t, "x", "mm"), ylabel=blocks.axis(t, "y", "um"), legend_outside=True
+    )
     decorate(
         bottom,
         xlabel=blocks.axis(t, "x", "mm"),
-        ylabel=blocks.axis(t, "R", "um"),
+        ylabel=blocks.axis(t, "Z", "um"),
         legend_outside=True,
     )
     return to_svg(fig)

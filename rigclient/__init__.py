@@ -3,7 +3,8 @@
 - :class:`Client`: ``open_run`` -> :class:`RunHandle`; ``post`` returns once the batch is
   durable in the local spool; a sender thread delivers it (retries, backoff, Retry-After);
   one client per spool (an OS lock).
-- :mod:`rigclient.spool`: the spool (SQLite in WAL mode).
+- :mod:`rigclient.spool`: the spool (SQLite in WAL mode, a checksum with each batch);
+  :mod:`rigclient.lock`: one agent per spool.
 - :mod:`rigclient.http`: the server's API, one request at a time or retried.
 - :mod:`rigclient.cli`: ``rigclient tail | import | profile | status | send | retry | drop``.
 

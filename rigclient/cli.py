@@ -43,9 +43,10 @@ from rich.table import Table as RichTable
 from rigclient.agent import Agent, Batching, Outcome, constants, run_metadata, stand_of
 from rigclient.client import Client, RunHandle
 from rigclient.errors import RigclientError, ServerError
+from rigclient.lock import SpoolLock, held_by
 from rigclient.mapping import StandMap, load_map
 from rigclient.profile import GROUP, read_profile, roughness_lines
-from rigclient.spool import RunRecord, Spool, SpoolLimits, SpoolLock, amount, held_by
+from rigclient.spool import RunRecord, Spool, SpoolLimits, amount
 
 DEFAULT_SPOOL = Path.home() / ".rigclient" / "spool"
 

@@ -35,8 +35,9 @@ from pydantic import ValidationError
 
 from rigclient.errors import InputError
 from rigclient.http import Api, RetryPolicy
+from rigclient.lock import SpoolLock
 from rigclient.sender import Sender
-from rigclient.spool import Cursor, Reject, RunRecord, Spool, SpoolLimits, SpoolLock
+from rigclient.spool import Cursor, Reject, RunRecord, Spool, SpoolLimits
 from schemas.runs import RunCreate
 from schemas.stands import Stand, default_stands
 from schemas.wire import Scalar

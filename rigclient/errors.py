@@ -40,6 +40,13 @@ class ServerError(RigclientError):
     """The server did not take a request."""
 
 
+def problem_text(problem: Problem) -> str:
+    """The API's problem in a line: status, title, detail, and the first offending fields."""
+    fields = "; ".join(e.message for e in problem.errors[:3] if e.message)
+    text = f"{problem.status} {problem.title}: {problem.detail}"
+    return f"{text} ({fields})" if fields and fields not in text else text
+
+
 class ServerRefused(ServerError):
     """The API answered that the request itself is wrong (its problem document, 4xx).
 
@@ -48,10 +55,7 @@ class ServerRefused(ServerError):
     """
 
     def __init__(self, problem: Problem, *, method: str = "", url: str = "") -> None:
-        fields = "; ".join(e.message for e in problem.errors[:3] if e.message)
-        text = f"{problem.status} {problem.title}: {problem.detail}"
-        if fields and fields not in text:
-            text += f" ({fields})"
+        text = problem_text(problem)
         if url:
             text += f" [{method} {url}]"
         super().__init__(text)

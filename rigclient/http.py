@@ -51,7 +51,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 from pydantic import ValidationError
 
-from rigclient.errors import ServerRefused, ServerUnavailable
+from rigclient.errors import ServerRefused, ServerUnavailable, problem_text
 from schemas.problems import PROBLEM_MEDIA_TYPE, Problem
 from schemas.readings import NPZ_MEDIA_TYPE, BatchReceipt
 from schemas.runs import Run, RunCreate, RunState
@@ -242,11 +242,7 @@ def transport_failure(exc: httpx.RequestError, url: str, timeout: httpx.Timeout)
 
 def answer_failure(response: httpx.Response, problem: Problem | None) -> str:
     """An error answer in plain words: the API's problem, or what the answer was."""
-    if problem is None:
-        return not_the_api(response)
-    fields = "; ".join(e.message for e in problem.errors[:3] if e.message)
-    text = f"{problem.status} {problem.title}: {problem.detail}"
-    return f"{text} ({fields})" if fields and fields not in text else text
+    return not_the_api(response) if problem is None else problem_text(problem)
 
 
 def _duration(seconds: float) -> str:

@@ -34,8 +34,8 @@ from typing import Literal
 import httpx
 from pydantic import ValidationError
 
-from rigclient.errors import ServerRefused, SpoolDamaged, SpoolError
-from rigclient.http import Api, Reporter, TryLater, answer_failure, not_the_api
+from rigclient.errors import ServerRefused, SpoolDamaged, SpoolError, problem_text
+from rigclient.http import Api, Reporter, TryLater, not_the_api
 from rigclient.spool import Pending, RunRecord, Spool, amount, columns_of
 from schemas.readings import BatchReceipt
 from schemas.runs import Run, RunCreate, RunState
@@ -218,9 +218,7 @@ def deliver_one(
 
 def _refusal(exc: ServerRefused) -> TryLater:
     """A refusal that does not stop the run (not a 422) as a failure to try again."""
-    reason = (
-        f"{exc.method} {exc.url}: {answer_failure(httpx.Response(exc.problem.status), exc.problem)}"
-    )
+    reason = f"{exc.method} {exc.url}: {problem_text(exc.problem)}"
     return TryLater(reason, None, exc, status=exc.problem.status, url=exc.url, problem=exc.problem)
 
 
@@ -324,5 +322,13 @@ def _finish(
             return Failed(run.local_id, run.name, "the finish", _refusal(exc))
     if isinstance(answer, TryLater):
         return Failed(run.local_id, run.name, "the finish", answer)
+    try:  # the API's run, finished: a proxy's welcome page is not a finish
+        finished = Run.model_validate(answer.json()).state is RunState.FINISHED
+    except ValueError:
+        finished = False
+    if not finished:
+        url = api.url_of(f"/runs/{server_id}/finish")
+        why = TryLater(f"POST {url}: {not_the_api(answer, 'the finished run')}")
+        return Failed(run.local_id, run.name, "the finish", why)
     spool.finished(run.local_id)
     return Sent(run.local_id)

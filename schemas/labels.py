@@ -490,26 +490,36 @@ def theory_outside(kind: StandKind, values: Mapping[str, object]) -> bool:
     return found is not None and not bool(found)
 
 
-def _wear_labels(path: str, what: str) -> dict[str, Label]:
+#: The wear estimates' subscripts: the specimen (1 the ball or pin, 2 the disc or flat, as
+#: the manual numbers the pin and the disc) and the method (A the track's area, d the scar,
+#: m the mass).
+WEAR_SUBSCRIPTS = {"disc_track": "2,A", "disc_mass": "2,m", "pin_scar": "1,d", "pin_mass": "1,m"}
+
+
+def _wear_labels(path: str, what: str, rate: str) -> dict[str, Label]:
     """A wear estimate's volume and specific wear rate, with their uncertainties."""
     k: UnitSymbol = "mm^3/(N*m)"
+    sub = WEAR_SUBSCRIPTS[path]
     return {
-        f"{path}.volume": Label(what, "V", "", "mm^3"),
+        f"{path}.volume": Label(what, f"V_{{{sub}}}", "", "mm^3"),
         f"{path}.volume_uncertainty": Label(
-            N_("standard uncertainty of the volume"), "u(V)", "GUM", "mm^3"
+            N_("standard uncertainty of the volume"), f"u(V_{{{sub}}})", "GUM", "mm^3"
         ),
-        f"{path}.specific_wear_rate": Label(N_("specific wear rate, V/(F·L)"), "k", "", k),
+        f"{path}.specific_wear_rate": Label(rate, f"k_{{{sub}}}", "", k),
         f"{path}.specific_wear_rate_uncertainty": Label(
-            N_("standard uncertainty of the specific wear rate"), "u(k)", "GUM", k
+            N_("standard uncertainty of the specific wear rate"), f"u(k_{{{sub}}})", "GUM", k
         ),
         f"{path}.specific_wear_rate_expanded": Label(
-            N_("expanded uncertainty of the specific wear rate (k = 2)"), "U(k)", "GUM", k
+            N_("expanded uncertainty of the specific wear rate (k = 2)"),
+            f"U(k_{{{sub}}})",
+            "GUM",
+            k,
         ),
     }
 
 
 TRIBOMETER: dict[str, Label] = {
-    "rows": Label(N_("rows analysed"), "n", digits=9),
+    "rows": Label(N_("rows analysed"), digits=9),
     "duration": Label(N_("duration of the record"), "t", unit="s"),
     "sliding_distance": Label(N_("sliding distance"), "L", unit="m"),
     "laps": Label(N_("laps (cycles) run"), "n_L", digits=6),
@@ -540,22 +550,38 @@ TRIBOMETER: dict[str, Label] = {
     "nominal_pressure": Label(
         N_("nominal pressure of the flat pin"), "p", unit="MPa", part=_THEORY
     ),
-    "disc_track.traces": Label(N_("profiles across the track"), "n", digits=3),
+    "disc_track.traces": Label(N_("profiles across the track"), "n_p", digits=3),
     "disc_track.track_area": Label(N_("cross-section area of the wear track"), "A", "", "mm^2"),
     "disc_track.track_area_std": Label(
         N_("standard deviation of the track's area"), "s(A)", "", "mm^2"
     ),
-    **_wear_labels("disc_track", N_("worn volume of the disc, from the track")),
+    **_wear_labels(
+        "disc_track",
+        N_("worn volume of the disc, from the track"),
+        N_("specific wear rate of the disc, from the track"),
+    ),
     **_iso("disc_track.iso."),
     "disc_mass.mass_loss": Label(N_("mass loss of the disc"), "Δm", unit="mg"),
     "disc_mass.density": Label(N_("density of the disc"), "ρ", unit="kg/m^3"),
-    **_wear_labels("disc_mass", N_("worn volume of the disc, from its mass loss")),
+    **_wear_labels(
+        "disc_mass",
+        N_("worn volume of the disc, from its mass loss"),
+        N_("specific wear rate of the disc, from its mass loss"),
+    ),
     "pin_scar.scar_diameter": Label(N_("wear scar diameter of the ball"), "d", unit="um"),
     "pin_scar.height_loss": Label(N_("height loss of the pin"), "Δh", unit="um"),
-    **_wear_labels("pin_scar", N_("worn volume of the ball or pin, from its scar")),
+    **_wear_labels(
+        "pin_scar",
+        N_("worn volume of the ball or pin, from its scar"),
+        N_("specific wear rate of the ball or pin, from its scar"),
+    ),
     "pin_mass.mass_loss": Label(N_("mass loss of the ball or pin"), "Δm", unit="mg"),
     "pin_mass.density": Label(N_("density of the ball or pin"), "ρ", unit="kg/m^3"),
-    **_wear_labels("pin_mass", N_("worn volume of the ball or pin, from its mass loss")),
+    **_wear_labels(
+        "pin_mass",
+        N_("worn volume of the ball or pin, from its mass loss"),
+        N_("specific wear rate of the ball or pin, from its mass loss"),
+    ),
 }
 
 PIN_ON_DISC: dict[str, Label] = {

@@ -17,7 +17,7 @@ from typing import Any
 from pydantic import BaseModel
 
 from rigserver.core import statistics
-from schemas.labels import RESULTS, Label, round_to
+from schemas.labels import RESULTS, WEAR_SUBSCRIPTS, Label, round_to
 from schemas.quantity import description_paths, unit_paths
 from schemas.results import (
     MtosResults,
@@ -67,12 +67,15 @@ class Headline:
 
 _TRIBOMETER = (
     Headline("friction_steady", "μ", "friction_steady_uncertainty"),
-    Headline("friction_mean", "μ̄"),
     Headline("friction_static", "μ_s"),
     Headline("running_in_distance", "L_r"),
     *(
-        Headline(f"{wear}.specific_wear_rate", "k", f"{wear}.specific_wear_rate_uncertainty")
-        for wear in ("disc_track", "disc_mass", "pin_scar", "pin_mass")
+        Headline(
+            f"{wear}.specific_wear_rate",
+            f"k_{{{WEAR_SUBSCRIPTS[wear]}}}",
+            f"{wear}.specific_wear_rate_uncertainty",
+        )
+        for wear in ("disc_track", "pin_scar")
     ),
 )
 

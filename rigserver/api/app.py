@@ -4,17 +4,20 @@ from __future__ import annotations
 
 from collections.abc import AsyncIterator
 from contextlib import asynccontextmanager
+from functools import partial
 
 from fastapi import FastAPI
 from starlette.middleware.cors import CORSMiddleware
+from starlette.types import Scope
 
 from rigserver.api import problems
 from rigserver.api.auth import ApiKey, Keyring
 from rigserver.api.body_limit import BodyLimit
-from rigserver.api.deps import Services
+from rigserver.api.deps import Services, caller_in
 from rigserver.api.gate import Gate
 from rigserver.api.openapi import add_components
 from rigserver.api.page_policy import PagePolicy
+from rigserver.api.problems import ApiProblem
 from rigserver.api.rate_limit import RateLimit
 from rigserver.api.routes import (
     api_docs,
@@ -29,6 +32,7 @@ from rigserver.api.routes import (
 )
 from rigserver.api.routes import series as series_routes
 from rigserver.api.routes import stands as stand_routes
+from rigserver.api.routes.pages import LOGIN_BODY_BYTES
 from rigserver.api.settings import Settings
 from rigserver.storage.base import RunStore
 from rigserver.storage.series import SeriesStore, SqliteSeries
@@ -49,6 +53,35 @@ API_ROUTERS = (
     live.router,
     series_routes.router,
 )
+
+
+#: The route that takes a whole run's archive (rigserver.api.routes.eln).
+IMPORT_PATH = f"{API_PREFIX}/runs/import"
+#: The bodies of routes without a key, bytes: the login and logout forms.
+FORM_BODY_BYTES = {"/login": LOGIN_BODY_BYTES, "/logout": LOGIN_BODY_BYTES}
+#: The largest body of any other request without a key (a calculator's input, when reads
+#: are public), bytes.
+ANONYMOUS_BODY_BYTES = 64 << 10
+
+
+def body_limit(services: Services, scope: Scope) -> int:
+    """The largest body the request may send: its route's own (the login form), else
+    without a key :data:`ANONYMOUS_BODY_BYTES` (a key this server does not know is none:
+    :mod:`rigserver.api.gate` answers it 401), with one ``max_body_bytes`` (an archive's
+    import: ``import_max_bytes``)."""
+    path = scope["path"]
+    own = FORM_BODY_BYTES.get(path)
+    if own is not None:
+        return own
+    try:
+        caller = caller_in(scope, services)
+    except ApiProblem:
+        caller = None
+    if caller is None:
+        return ANONYMOUS_BODY_BYTES
+    if path == IMPORT_PATH:
+        return services.settings.import_max_bytes
+    return services.settings.max_body_bytes
 
 
 def create_app(
@@ -96,13 +129,13 @@ def create_app(
     api_docs.install(app)
     pages.install(app)
     # the last added is the outermost: rate, then key, then size
+    services = app.state.services
     app.add_middleware(
         BodyLimit,
         max_bytes=settings.max_body_bytes,
         timeout=settings.body_timeout,
-        larger={f"{API_PREFIX}/runs/import": settings.import_max_bytes},
+        limit_of=partial(body_limit, services),
     )
-    services = app.state.services
     api_routes = [route for router in API_ROUTERS for route in router.routes]
     app.add_middleware(Gate, services=services, prefix=API_PREFIX, routes=api_routes)
     if settings.rate_limit:

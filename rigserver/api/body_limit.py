@@ -1,6 +1,12 @@
 """Refuse request bodies over a size limit with 413, before reading them into memory, and
 bodies that take longer than a time limit to arrive with 408.
 
+The size limit is the request's own (``limit_of``): a request with an API key may send
+``max_bytes``; one without a key (the login form, a calculator of public reads) only what
+its route takes, so no unauthenticated client can make the service hold megabytes. A
+``Content-Length`` over the limit is answered before any byte of the body is read; a
+chunked body is cut at the limit.
+
 The time limit runs from the first read of the body to its last byte, whatever the pace
 in between: a client trickling a byte now and then holds what its request holds (an
 ingest slot, a worker) for ``timeout`` seconds at most. Once the body is in, the wait for
@@ -10,7 +16,7 @@ the client's disconnect (a streamed answer's) is not timed.
 from __future__ import annotations
 
 import asyncio
-from collections.abc import Mapping
+from collections.abc import Callable
 from typing import Any
 
 from starlette.types import ASGIApp, Message, Receive, Scope, Send
@@ -20,21 +26,21 @@ from schemas.problems import Problem
 
 
 class BodyLimit:
-    """ASGI middleware: 413 when Content-Length or the streamed body exceeds ``max_bytes``
-    (or, on a path of ``larger``, the limit it gives: an archive's import); 408 when the
-    body has not arrived ``timeout`` seconds after it was first asked for."""
+    """ASGI middleware: 413 when Content-Length or the streamed body exceeds the request's
+    limit (``limit_of(scope)``, else ``max_bytes``); 408 when the body has not arrived
+    ``timeout`` seconds after it was first asked for."""
 
     def __init__(
         self,
         app: ASGIApp,
         max_bytes: int,
         timeout: float,
-        larger: Mapping[str, int] | None = None,
+        limit_of: Callable[[Scope], int] | None = None,
     ) -> None:
         self.app = app
         self.max_bytes = max_bytes
-        self.larger = dict(larger or {})
         self.timeout = timeout
+        self.limit_of = limit_of
         self.watch = _Watch(timeout)
 
     def _too_large(self, limit: int) -> Problem:
@@ -58,10 +64,11 @@ class BodyLimit:
         if scope["type"] != "http":
             await self.app(scope, receive, send)
             return
-        limit = self.larger.get(scope["path"], self.max_bytes)
+        limit = self.max_bytes if self.limit_of is None else self.limit_of(scope)
         for name, value in scope.get("headers", []):
-            if name == b"content-length" and value.isdigit() and int(value) > limit:
-                await problem_response(self._too_large(limit))(scope, receive, send)
+            if name == b"content-length" and value.isdigit() and _over(value, limit):
+                response = problem_response(self._too_large(limit), {"Connection": "close"})
+                await response(scope, receive, send)
                 return
         seen = 0
         body = _Body()
@@ -84,12 +91,18 @@ class BodyLimit:
         try:
             await self.app(scope, counted, send)
         except _BodyTooLarge:
-            await problem_response(self._too_large(limit))(scope, receive, send)
+            response = problem_response(self._too_large(limit), {"Connection": "close"})
+            await response(scope, receive, send)
         except _BodyTooSlow:
             response = problem_response(self._too_slow(seen), {"Connection": "close"})
             await response(scope, receive, send)
         finally:
             self.watch.done(body)
+
+
+def _over(length: bytes, limit: int) -> bool:
+    """Whether a Content-Length of ASCII digits exceeds ``limit`` (no int of 5 000 digits)."""
+    return len(length.lstrip(b"0")) > len(str(limit)) or int(length) > limit
 
 
 class _Body:
@@ -159,9 +172,14 @@ class _Watch:
             self._sweeper = None
 
 
-class _BodyTooLarge(Exception):
+# Not Exceptions: FastAPI answers any Exception raised while it reads a route's body with
+# a 400 ("There was an error parsing the body"), and Starlette's handlers catch Exceptions;
+# these pass both, to the middleware that answers them.
+
+
+class _BodyTooLarge(BaseException):
     pass
 
 
-class _BodyTooSlow(Exception):
+class _BodyTooSlow(BaseException):
     pass

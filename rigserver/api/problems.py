@@ -170,11 +170,18 @@ _PROBLEM_SCHEMAS: dict[str, Any] = component_schemas(Problem)
 
 
 def _allowed_methods(request: Request) -> list[str]:
-    """The methods some route of the request's path takes."""
+    """The methods some route of the request's path takes; a path that a route names
+    literally (``/runs/import``) is that route's alone, not also a value of another's
+    parameter (``/runs/{run_id}``)."""
+    methods = ("GET", "HEAD", "POST", "PUT", "PATCH", "DELETE")
+    literal = request.app.openapi().get("paths", {}).get(request.url.path)
+    if literal:  # as documented; a GET answers HEAD too
+        named = {m.upper() for m in literal} | ({"HEAD"} if "get" in literal else set())
+        return [method for method in methods if method in named]
     routes = request.app.router.routes
     return [
         method
-        for method in ("GET", "HEAD", "POST", "PUT", "PATCH", "DELETE")
+        for method in methods
         if any(
             route.matches({**request.scope, "method": method})[0] is Match.FULL for route in routes
         )

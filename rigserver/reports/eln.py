@@ -48,6 +48,7 @@ from schemas.quantity import units_of
 from schemas.runs import Run, RunState
 from schemas.series import SeriesDetail
 from schemas.stands import Stand
+from schemas.units import UNITS
 
 ELN_MEDIA_TYPE = "application/vnd.eln+zip"
 RO_CRATE = "https://w3id.org/ro/crate/1.1"
@@ -129,6 +130,7 @@ TERMS: dict[str, str] = {
 #: counter-body it runs against).
 ROLES: dict[str, str] = {
     "pin": "Body",
+    "ball": "Body",
     "disc": "CounterBody",
     "journal": "CounterBody",
     "bush": "Body",
@@ -411,17 +413,7 @@ def add_run(crate: Crate, part: RunPart, *, series: str | None = None) -> str:
         files.append(
             crate.file(folder + name, pieces, encoding=encoding, description=_describe(name, stand))
         )
-    for name, content in part.reports.items():
-        lang = name.rsplit(".", 1)[0].rsplit("-", 1)[-1]
-        files.append(
-            crate.file(
-                folder + name,
-                [content],
-                encoding=REPORT_TYPES[name.rsplit(".", 1)[-1]],
-                description=f"The run's report ({lang})",
-                inLanguage=lang,
-            )
-        )
+    files += _add_reports(crate, folder, part.reports, "The run's report")
     based_on = []
     for other_id, (other, path) in part.references.items():
         based_on.append(
@@ -435,6 +427,24 @@ def add_run(crate: Crate, part: RunPart, *, series: str | None = None) -> str:
             )
         )
     return _describe_run(crate, part, folder, files, based_on, series)
+
+
+def _add_reports(crate: Crate, folder: str, reports: Mapping[str, bytes], what: str) -> list[str]:
+    """The reports (``report-<lang>.<pdf|html>``) as files of ``folder``."""
+    found = []
+    for name, content in reports.items():
+        stem, suffix = name.rsplit(".", 1)
+        lang = stem.rsplit("-", 1)[-1]
+        found.append(
+            crate.file(
+                folder + name,
+                [content],
+                encoding=REPORT_TYPES[suffix],
+                description=f"{what} ({lang})",
+                inLanguage=lang,
+            )
+        )
+    return found
 
 
 def _describe(name: str, stand: Stand) -> str:
@@ -482,7 +492,8 @@ def _describe_run(
         "author": ref(operator),
         "dateCreated": _iso(run.created),
         "creativeWorkStatus": run.state.value,
-        "keywords": f"tribology, {stand.title}, lab work {stand.lab_work}",
+        "keywords": f"tribology, {stand.title}"
+        + ("" if stand.lab_work is None else f", lab work {stand.lab_work}"),
         "hasPart": [ref(f) for f in files],
         "variableMeasured": [ref(v) for v in plan + results],
         "about": [ref(s) for s in specimens],
@@ -546,7 +557,9 @@ def _add_stand(crate: Crate, run: Run, stand: Stand) -> str:
             "additionalType": kind("Device"),
             "name": stand.title,
             "identifier": stand.kind.value,
-            "description": f"Test stand of lab work {stand.lab_work}",
+            "description": "A commercial tribometer"
+            if stand.lab_work is None
+            else f"Test stand of lab work {stand.lab_work}",
             "additionalProperty": [ref(limit) for limit in limits],
         }
     )
@@ -585,19 +598,22 @@ def _add_specimens(crate: Crate, run: Run) -> list[str]:
 
 
 def _add_plan(crate: Crate, run: Run) -> list[str]:
+    """The test plan's entries; a key ending in a unit (``load_N``, ``speed_rpm``,
+    ``base_length_mm``) gives its value that unit."""
     found = []
     for key, value in run.test_plan.items():
-        leaf = key
         text: Any = value if isinstance(value, str | int | float | bool) else json.dumps(value)
+        unit = key.rsplit("_", 1)[-1] if "_" in key else None
+        numeric = isinstance(value, int | float) and not isinstance(value, bool)
         found.append(
             crate.add(
                 _value_node(
                     f"#run-{run.id}/plan/{_slug(key)}",
                     name=key,
                     value=text,
-                    unit=None,
+                    unit=unit if numeric and unit in UNITS else None,
                     property_id=f"test_plan.{key}",
-                    identifier=term(TERMS[leaf]) if leaf in TERMS else None,
+                    identifier=term(TERMS[key]) if key in TERMS else None,
                     description="test plan",
                 )
             )
@@ -754,17 +770,7 @@ def _add_series(crate: Crate, series: SeriesPart, folder: str, runs: list[str]) 
             description="The per-run table: one row per run, one column per headline result",
         ),
     ]
-    for name, content in series.reports.items():
-        lang = name.rsplit(".", 1)[0].rsplit("-", 1)[-1]
-        files.append(
-            crate.file(
-                folder + name,
-                [content],
-                encoding=REPORT_TYPES[name.rsplit(".", 1)[-1]],
-                description=f"The series report ({lang})",
-                inLanguage=lang,
-            )
-        )
+    files += _add_reports(crate, folder, series.reports, "The series report")
     statistics = []
     for stats in detail.statistics:
         if stats.overall is None:

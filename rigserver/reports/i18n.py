@@ -525,10 +525,13 @@ MESSAGES: dict[str, str] = {
         "Friction coefficient against the sliding distance: block means with their min-max "
         "band; the running-in (found by PELT) shaded"
     ),
-    "t.fig_map": N_("Friction coefficient over the laps and the angular position on the disc"),
+    "t.fig_map": N_(
+        "Friction coefficient over the angular position on the disc, by laps (the lap map of "
+        "the results)"
+    ),
     "t.fig_loops": N_("Friction loops: μ against the position along the stroke"),
     "t.running_in_band": N_("running-in"),
-    "t.lap_axis": N_("lap"),
+    "t.laps_range": N_("laps {first} to {last}"),
     "t.loop": N_("cycle {cycle}"),
     "t.hertz": N_("Initial contact of the ball on the flat (Hertz)"),
     "t.modulus": N_("contact modulus"),
@@ -544,8 +547,14 @@ MESSAGES: dict[str, str] = {
     "t.density": N_("density"),
     "t.scar": N_("wear scar diameter"),
     "t.height_loss": N_("height loss of the pin"),
-    "t.volume": N_("worn volume"),
-    "t.k": N_("specific wear rate k = V/(F·L)"),
+    "t.v.disc_track": N_("worn volume of the disc, from the track"),
+    "t.v.disc_mass": N_("worn volume of the disc, from its mass loss"),
+    "t.v.pin_scar": N_("worn volume of the ball or pin, from its scar"),
+    "t.v.pin_mass": N_("worn volume of the ball or pin, from its mass loss"),
+    "t.k.disc_track": N_("specific wear rate of the disc, from the track"),
+    "t.k.disc_mass": N_("specific wear rate of the disc, from its mass loss"),
+    "t.k.pin_scar": N_("specific wear rate of the ball or pin, from its scar"),
+    "t.k.pin_mass": N_("specific wear rate of the ball or pin, from its mass loss"),
     "t.c_friction": N_(
         "The friction coefficient starts at μ_s = {static}, runs in over L_r = {distance} m "
         "and is μ = {mu} (s = {std}) after it; over the whole record μ̄ = {mean}."

@@ -1,6 +1,5 @@
-"""A run file from elsewhere (the run file of an ``.eln`` archive): its run, its readings
-read as an analysis reads a store's, and its batches as :meth:`RunStore.import_run` takes
-them."""
+"""A run file from elsewhere (the run file of an ``.eln`` archive): its run, and its batches
+as :meth:`RunStore.import_run` takes them."""
 
 from __future__ import annotations
 
@@ -15,7 +14,6 @@ from rigserver.storage._failures import UNREADABLE
 from rigserver.storage.errors import RunDamaged
 from rigserver.storage.runfile import FileSummary, RunFile, read_summary
 from schemas.runs import Run
-from schemas.stands import MEASUREMENTS
 
 #: Rows of a group per imported batch
 IMPORT_ROWS = 1 << 20
@@ -30,34 +28,6 @@ def summary(path: Path) -> FileSummary:
         return read_summary(path)
     except UNREADABLE as exc:
         raise RunDamaged(f"{path.name} is not a readable run file: {exc}") from None
-
-
-class FileReadings:
-    """The readings of a run file, as :class:`rigserver.analysis.Readings` asks for them
-    (the file is opened for each call)."""
-
-    def __init__(self, path: Path) -> None:
-        self.path = path
-
-    def rows(self, group: str) -> int:
-        with RunFile.open(self.path, writable=False) as rf:
-            return rf.rows(group)
-
-    def read(self, group: str, channels: list[str] | None = None) -> dict[str, NDArray[np.float64]]:
-        with RunFile.open(self.path, writable=False) as rf:
-            return rf.read(group, channels, 0, None) if rf.rows(group) else {}
-
-    def iter_chunks(
-        self, group: str, channels: list[str] | None = None, rows: int = 1 << 20
-    ) -> Iterator[dict[str, NDArray[np.float64]]]:
-        with RunFile.open(self.path, writable=False) as rf:
-            total = rf.rows(group)
-            for start in range(0, total, rows):
-                yield rf.read(group, channels, start, start + rows)
-
-    def measurements(self) -> dict[str, float]:
-        with RunFile.open(self.path, writable=False) as rf:
-            return rf.last_values(MEASUREMENTS)
 
 
 def file_batches(path: Path, run: Run, rows: int = IMPORT_ROWS) -> Iterator[ImportedBatch]:

@@ -298,20 +298,24 @@ def simulate(
     track = {name: np.concatenate(parts) for name, parts in profiles.items()}
     ball_mass, disc_mass = 0.44e-3 * c.pin.density / 3950.0, 20e-3
     ball_loss, disc_loss = c.pin.density * ball_volume, c.disc.density * disc_volume
-    before = {
+    weighings = {
         "pin_mass_before": ins.balance.read([ball_mass / _KG_PER_G], rng),
         "disc_mass_before": ins.balance.read([disc_mass / _KG_PER_G], rng),
-    }
-    after = {
         "pin_mass_after": ins.balance.read([(ball_mass - ball_loss) / _KG_PER_G], rng),
         "disc_mass_after": ins.balance.read([(disc_mass - disc_loss) / _KG_PER_G], rng),
         "scar_diameter": ins.microscope.read([scar / _M_PER_UM], rng),
     }
+    track, _ = apply_faults(groups[1], track, np.zeros(track["x"].size), s.faults)
+    weighings, _ = apply_faults(groups[2], weighings, np.zeros(1), s.faults)
+    before = {k: v for k, v in weighings.items() if k.endswith("_before")}
+    after = {k: v for k, v in weighings.items() if not k.endswith("_before")}
     end = float(time[-1])
-    batches: list[Batch] = [Batch(group=MEASUREMENTS, columns=before, at=0.0)]
+    batches: list[Batch] = [Batch(group=MEASUREMENTS, columns=before, at=0.0)] if before else []
     batches += split("friction", friction, at, rows=s.batch_rows)
-    batches.append(Batch(group="wear_track", columns=track, at=end + 300.0))
-    batches.append(Batch(group=MEASUREMENTS, columns=after, at=end + 600.0))
+    if track:
+        batches.append(Batch(group="wear_track", columns=track, at=end + 300.0))
+    if after:
+        batches.append(Batch(group=MEASUREMENTS, columns=after, at=end + 600.0))
     kind = StandKind.RECIPROCATING if recip else StandKind.PIN_ON_DISC
     modulus = tribometer.effective_modulus(
         youngs_1=c.pin.youngs_modulus,

@@ -10,6 +10,7 @@ import json
 import subprocess
 from pathlib import Path
 from typing import Any
+from urllib.parse import urljoin
 
 import pytest
 import rocrate
@@ -150,7 +151,9 @@ def test_results_carry_units_and_uncertainties(lab: Lab) -> None:
     assert distance["unitText"] == "m" and distance["unitCode"] == "MTR"
     assert distance["identifier"] == term("SlidingDistance")
     assert "results.friction_steady_uncertainty" not in measured  # beside its result only
-    assert measured["test_plan.load_N"]["identifier"] == term("NormalForce")
+    load = measured["test_plan.load_N"]
+    assert load["identifier"] == term("NormalForce")
+    assert (load["value"], load["unitText"], load["unitCode"]) == (300.0, "N", "NEW")
 
 
 def test_the_licence_is_the_servers_setting(lab: Lab) -> None:
@@ -191,12 +194,18 @@ def _expand(document: dict[str, Any]) -> list[dict[str, Any]]:
 
 @pytest.mark.parametrize("kind", KINDS)
 def test_the_json_ld_expands(lab: Lab, kind: StandKind) -> None:
-    expanded = _expand(json.loads(_metadata_text(lab, kind)))
+    compact = json.loads(_metadata_text(lab, kind))
+    expanded = _expand(compact)
     by_id = {node["@id"]: node for node in expanded if "@id" in node}
     run = by_id[f"{BASE}{lab.runs[kind]}/"]
     assert run["http://schema.org/additionalType"] == [{"@id": term("TribologicalTesting")}]
-    for node in expanded:  # every term of every entity is known to the context
-        assert all(k.startswith(("@", "http://", "https://")) for k in node), node["@id"]
+    # every entity comes through, and every term of it: expansion drops a term the
+    # context does not define
+    assert len(by_id) == len(compact["@graph"])
+    for node in compact["@graph"]:
+        terms = {k for k in node if not k.startswith("@")}
+        got = by_id[urljoin(BASE, node["@id"])]
+        assert len(terms) == len([k for k in got if not k.startswith("@")]), node["@id"]
 
 
 def _validate(crate: Path) -> subprocess.CompletedProcess[str]:

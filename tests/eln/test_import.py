@@ -91,6 +91,8 @@ def test_round_trip_gives_the_same_readings_and_results(lab: Lab, kind: StandKin
         ), name
     graph = {n["@id"]: n for n in json.loads(again[f"{imported['id']}/{METADATA}"])["@graph"]}
     assert graph["./"]["publisher"] == {"@id": "http://lab-b/"}
+    page = lab.target.get(f"/runs/{imported['id']}?lang=ru", headers=auth(READER)).text
+    assert f"Импортировано из</th><td>{original}, http://testserver/" in page
 
 
 def _edit(archive_bytes: bytes, edit: Any) -> bytes:
@@ -288,3 +290,13 @@ def test_resealed_archive_helper_is_honest(lab: Lab) -> None:
     files = resealed(members(lab.archives[StandKind.PROFILOMETER]))
     assert hashlib.sha256(rezip(files)).hexdigest()
     assert import_archive(lab.target, rezip(files)).status_code == 201
+
+
+def test_the_import_path_allows_post_alone(lab: Lab) -> None:
+    # /runs/import is a resource of its own, not a run id of /runs/{run_id}
+    answer = lab.target.request("OPTIONS", "/api/v1/runs/import", headers=auth(READER))
+    assert answer.status_code == 405 and answer.headers["allow"] == "POST"
+    other = lab.target.request(
+        "OPTIONS", "/api/v1/runs/20261122T114026Z-00000000", headers=auth(READER)
+    )
+    assert "GET" in other.headers["allow"]

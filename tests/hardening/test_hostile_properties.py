@@ -1,8 +1,10 @@
 """Hypothesis sends hostile values across the API: NaN, infinities, literals beyond a
 double, whole numbers beyond 64 bits, NUL characters, lone surrogates, duplicated keys,
-values as text or flags. Whatever comes, the service never answers 5xx, stores nothing
-it refused, and every run it stored stays readable, also after a restart of the server
-process (a clean stop or a kill) on the same data directory."""
+values as text or flags, arrays nested hundreds of levels deep. Whatever comes, the service
+never answers 5xx, stores nothing it refused (no flag or text taken for a configured
+number), and every run it stored stays readable, also after a restart of the server
+process (a clean stop or a kill) on the same data directory. A user's text is never
+evaluated where it is shown: in a plot (mathtext) or a CSV cell (a formula)."""
 
 from __future__ import annotations
 
@@ -12,6 +14,8 @@ import tempfile
 from pathlib import Path
 
 import httpx
+import numpy as np
+import pytest
 from fastapi.testclient import TestClient
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
@@ -24,6 +28,9 @@ from hypothesis.stateful import (
     rule,
 )
 
+from rigserver.api.strict_json import MAX_DEPTH
+from rigserver.reports.formatting import spreadsheet_text
+from rigserver.reports.series_plots import Curve, overlay
 from schemas.stands import CONFIG_MODELS, StandKind
 from tests.api.conftest import READER, WRITER, Server, auth
 from tests.hardening.conftest import API, keys_file
@@ -42,6 +49,7 @@ _LEAF = st.one_of(
     st.sampled_from(["1e400", "-1e400", "1E999", "-0", "0.5", "300", "1000", "true", "null"]),
     _TEXT.map(json.dumps),  # lone surrogates as \\ud800 escapes
     _TEXT.map(lambda s: json.dumps(s.lstrip("-") or "1.5")),  # numbers as text
+    st.integers(MAX_DEPTH - 2, 1200).map(lambda d: "[" * d + "1" + "]" * d),  # deep nesting
 )
 
 
@@ -122,10 +130,42 @@ def test_opening_runs_with_hostile_values(
     assert listed.json()["total"] == before + (r.status_code == 201)
     assert all(run["damage"] is None for run in listed.json()["runs"])
     if r.status_code == 201:
+        _no_flag_or_text_for_a_number(opened)
         run_id = r.json()["id"]
         assert hdf5_client.get(f"{API}/runs/{run_id}", headers=auth(READER)).status_code == 200
         assert hdf5_client.get(f"/runs/{run_id}", headers=auth(READER)).status_code == 200
         assert hdf5_client.get("/", headers=auth(READER)).status_code == 200
+
+
+def _no_flag_or_text_for_a_number(opened: tuple[str, bytes]) -> None:
+    """A run taken was sent a number (never ``true`` or ``"20"``) for every number of its
+    stand's configuration it overrides."""
+    stand, body = opened
+    defaults = CONFIG_MODELS[StandKind(stand)]().model_dump()
+    for name, value in json.loads(body).get("configuration", {}).items():
+        if isinstance(defaults.get(name), float):
+            assert isinstance(value, int | float) and not isinstance(value, bool), (name, value)
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.text(_HOSTILE_CHARS, max_size=30))
+def test_a_users_text_is_never_a_formula_in_a_csv_cell(text: str) -> None:
+    cell = spreadsheet_text(text)
+    assert cell in (text, "'" + text)
+    if cell == text and text:  # left alone: no spreadsheet takes it for a formula
+        stripped = text.lstrip(" \t\r\n")
+        assert text[0] not in "\t\r"
+        if stripped.startswith(("=", "+", "-", "@")):  # only a number is left so
+            float(text.replace(",", "."))
+
+
+@pytest.mark.filterwarnings("ignore:Glyph .* missing from font")  # a box is drawn for it
+@settings(max_examples=25, deadline=None)
+@given(st.lists(st.text(_HOSTILE_CHARS, min_size=1, max_size=12), min_size=1, max_size=3))
+def test_any_levels_are_drawn_as_written(levels: list[str]) -> None:
+    x = np.linspace(0.0, 1.0, 4)
+    curves = [Curve("a", x, x), Curve("b", x, x + 0.1)]
+    overlay(dict.fromkeys(levels, curves), xlabel="L, m", ylabel="f", mean_label="mean f_э")
 
 
 # --- stateful: a real server process, restarted on its data directory ------------------------

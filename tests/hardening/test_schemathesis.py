@@ -20,6 +20,7 @@ from hypothesis import HealthCheck, settings
 from schemathesis import checks
 from starlette.types import ASGIApp, Receive, Scope, Send
 
+from rigserver.reports.eln import ELN_MEDIA_TYPE
 from schemas.readings import NPZ_MEDIA_TYPE
 from schemas.stands import StandKind
 from tests.api.conftest import WRITER, auth
@@ -46,8 +47,9 @@ _DATA = Path(tempfile.mkdtemp(prefix="rig-schemathesis-"))
 _APP = hdf5_app(_DATA)
 atexit.register(shutil.rmtree, _DATA, ignore_errors=True)
 atexit.register(_APP.state.services.store.close)
-# the binary batch form is bytes on the wire, as application/octet-stream
+# the binary batch form and an .eln archive are bytes on the wire, as application/octet-stream
 schemathesis.serializer.alias(NPZ_MEDIA_TYPE, "application/octet-stream")
+schemathesis.serializer.alias(ELN_MEDIA_TYPE, "application/octet-stream")
 NOT_CHECKED = [checks.negative_data_rejection, checks.positive_data_acceptance]
 # the model calculators (/models) are left to their own tests: their solvers take minutes on
 # the extreme inputs schemathesis sends (e.g. a move to 1e307 rad)

@@ -75,6 +75,8 @@ def _outside(document: Any) -> list[Box]:
             for d in root.descendants():
                 if not hasattr(d, "border_width") or d.width is None:
                     continue
+                if d.element_tag in ("html", "body"):  # containers: their contents are checked
+                    continue
                 x1 = d.border_box_x() + d.border_width()
                 y1 = d.border_box_y() + d.border_height()
                 if x1 > right + 0.5 or y1 > bottom + 0.5 or d.border_box_x() < left - 0.5:

@@ -353,3 +353,21 @@ def test_an_old_spool_refused_by_a_422_stays_refused(tmp_path: Path) -> None:
     with Spool(tmp_path) as spool:
         (record,) = spool.runs()
     assert record.state == "refused" and record.pending == 2 and record.rows_pending == 4
+
+
+def test_a_proxy_page_in_place_of_the_finish_is_not_taken_for_it(tmp_path: Path) -> None:
+    """Found by the state machine: a 200 page from a proxy counted as the finish."""
+    server = Scripted(
+        lambda r: html_page(200, "Welcome") if r.url.path.endswith("/finish") else None
+    )
+    with Client(
+        "http://rig.test", "k", spool=tmp_path, transport=httpx.MockTransport(server), retry=FAST
+    ) as client:
+        run = client.open_run(stand="profilometer", operator="Petrov")
+        run.post("profile", {"x": [0.0, 1.0], "y": [0.0, 1.0]})
+        run.finish()
+        assert not client.wait(0.5)  # not finished while the proxy answers for the server
+        assert "not the finished run" in str(run.status().last_error)
+        server.every = lambda r: None
+        assert client.wait(10)
+    assert server.state == "finished"

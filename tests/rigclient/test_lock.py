@@ -13,7 +13,7 @@ import pytest
 
 from rigclient import Client, SpoolBusy
 from rigclient.cli import main
-from rigclient.spool import held_by
+from rigclient.lock import held_by
 from tests.rigclient.conftest import AgentProcess
 from tests.rigclient.fake import FakeServer
 

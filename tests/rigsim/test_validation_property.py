@@ -13,7 +13,7 @@ from hypothesis import strategies as st
 
 from rigsim.batches import SimulatedRun
 from rigsim.instruments import Fault, beyond_limit
-from rigsim.stands import mtos, profilometer, slide_bearing, smts2
+from rigsim.stands import mtos, profilometer, slide_bearing, smts2, tribometer
 from schemas.channels import check_columns
 from schemas.stands import default_stands
 
@@ -89,6 +89,12 @@ def test_profilometer_inside_limits_passes(ra: float, seed: int) -> None:
     assert _problems(profilometer.simulate(s, seed)) == []
 
 
+@FAST
+@given(st.sampled_from(["pin_on_disc", "reciprocating"]), st.integers(0, 2**32 - 1))
+def test_tribometers_inside_limits_pass(kind: str, seed: int) -> None:
+    assert _problems(SIMULATE[kind]((), seed)) == []
+
+
 LIMITED = [
     (kind, group.name, channel.name)
     for kind, stand in STANDS.items()
@@ -118,6 +124,13 @@ SIMULATE: dict[str, Callable[[tuple[Fault, ...], int], SimulatedRun[Any]]] = {
     ),
     "profilometer": lambda faults, seed: profilometer.simulate(
         profilometer.ProfilometerSettings(faults=faults), seed
+    ),
+    "pin_on_disc": lambda faults, seed: tribometer.simulate(
+        tribometer.TribometerSettings(laps=20, running_in_laps=5, faults=faults), seed
+    ),
+    "reciprocating": lambda faults, seed: tribometer.simulate(
+        tribometer.TribometerSettings.reciprocating(laps=20, running_in_laps=5, faults=faults),
+        seed,
     ),
 }
 

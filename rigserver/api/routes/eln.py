@@ -10,6 +10,7 @@ import os
 import shutil
 import tempfile
 from collections.abc import Callable, Iterator, Mapping
+from contextlib import ExitStack
 from datetime import UTC, datetime
 from functools import lru_cache
 from pathlib import Path
@@ -33,6 +34,7 @@ from rigserver.api.deps import (
     services_of,
 )
 from rigserver.api.problems import ApiProblem, violations
+from rigserver.api.report_jobs import FileReadings
 from rigserver.api.routes import reports as run_reports
 from rigserver.api.routes import series as series_routes
 from rigserver.api.routes.runs import load_run
@@ -50,7 +52,7 @@ from rigserver.reports.eln import (
 from rigserver.reports.eln_read import ArchivedRun, ArchiveRefused, read_run_archive
 from rigserver.reports.i18n import LANGS, Lang
 from rigserver.reports.series_report import series_csv
-from rigserver.storage.archived import IMPORT_ROWS, FileReadings, file_batches, summary
+from rigserver.storage.archived import IMPORT_ROWS, file_batches, summary
 from rigserver.storage.errors import RunNotFound, StorageError
 from rigserver.storage.runfile import write_file
 from schemas.channels import check_columns
@@ -280,32 +282,34 @@ def _import(services: Services, found: ArchivedRun, original: Run) -> Run:
         errors = violations(exc.errors(), "run.json.configuration.")
         raise ApiProblem(422, "Archive refused", errors[0].message, errors) from None
     stand = services.stands[original.stand].for_run(original.configuration)
-    references: dict[str, tuple[Run, Readings]] = {}
-    for other_id, path in found.references.items():
-        try:
-            references[other_id] = (summary(path).run, FileReadings(path))
-        except StorageError as exc:
-            raise _refused(ArchiveRefused(f"references/{other_id}.h5", str(exc))) from None
     batches = sum(math.ceil(rows / IMPORT_ROWS) for rows in original.rows.values())
     origin = ImportedFrom(run_id=original.id, server=found.server, exported=found.exported)
-    for _ in range(ID_TRIES):
-        run = original.model_copy(
-            update={
-                "id": new_run_id(original.created),
-                "batches": batches,
-                "key_results": {},
-                "imported_from": origin,
-                "damage": None,
-            }
-        )
-        payload: Mapping[str, Any] | None = None
-        if run.state is RunState.FINISHED:
-            computed = analyse(run, FileReadings(found.run_file), references.get)
-            payload = computed.payload
-            run = run.model_copy(update={"key_results": computed.key_results})
-        rows = _checked(file_batches(found.run_file, run), stand)
-        if services.store.import_run(run, None, payload, rows):
-            return services.store.get_run(run.id)
+    with ExitStack() as stack:
+        references: dict[str, tuple[Run, Readings]] = {}
+        for other_id, path in found.references.items():
+            try:
+                references[other_id] = (summary(path).run, FileReadings(path, stack))
+            except StorageError as exc:
+                raise _refused(ArchiveRefused(f"references/{other_id}.h5", str(exc))) from None
+        readings = FileReadings(found.run_file, stack)
+        for _ in range(ID_TRIES):
+            run = original.model_copy(
+                update={
+                    "id": new_run_id(original.created),
+                    "batches": batches,
+                    "key_results": {},
+                    "imported_from": origin,
+                    "damage": None,
+                }
+            )
+            payload: Mapping[str, Any] | None = None
+            if run.state is RunState.FINISHED:
+                computed = analyse(run, readings, references.get)
+                payload = computed.payload
+                run = run.model_copy(update={"key_results": computed.key_results})
+            rows = _checked(file_batches(found.run_file, run), stand)
+            if services.store.import_run(run, None, payload, rows):
+                return services.store.get_run(run.id)
     raise ApiProblem(503, "No free run id", "try the import again", headers={"Retry-After": "1"})
 
 
@@ -333,12 +337,12 @@ def example_archive() -> bytes:
         batches=2,
         rows={"profile": len(x), "measurements": 1},
     )
-    with tempfile.TemporaryDirectory(prefix="rig-example-") as directory:
+    with tempfile.TemporaryDirectory(prefix="rig-example-") as directory, ExitStack() as stack:
         path = Path(directory) / "run.h5"
         write_file(
             path, run, [("profile", trace, len(x)), (MEASUREMENTS, weighed, 1)], None, final=True
         )
-        readings = FileReadings(path)
+        readings = FileReadings(path, stack)
         part = RunPart(
             run=run,
             stand=stand,

@@ -76,7 +76,8 @@ router = APIRouter(include_in_schema=False, dependencies=[Depends(require_page_r
 login_router = APIRouter(include_in_schema=False)
 #: Forms of this site only.
 SameOrigin = Depends(same_origin)
-#: The largest login form read, bytes.
+#: The largest login (or logout) form read, bytes: a longer body is refused 413 before it is
+#: read (:func:`rigserver.api.app.body_limit`).
 LOGIN_BODY_BYTES = 4096
 
 PAGE_SIZE = 50
@@ -229,9 +230,7 @@ def login_form(
 async def login(request: Request, services: ServicesDep, lang: Lang | None = None) -> Response:
     """The login form posted (``key``, ``next``): a session and back to ``next``, or the form
     again (401) if the key is unknown or may not read."""
-    body = await request.body()
-    if len(body) > LOGIN_BODY_BYTES:
-        raise ApiProblem(413, "Login form too large", f"send at most {LOGIN_BODY_BYTES} bytes")
+    body = await request.body()  # at most LOGIN_BODY_BYTES (rigserver.api.app.body_limit)
     form = parse_qs(body.decode("utf-8", "replace"), max_num_fields=4)
     key, next_page = form.get("key", [""])[0].strip(), _local(form.get("next", ["/"])[0])
     found = services.keyring.find(key) if key else None

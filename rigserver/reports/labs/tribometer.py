@@ -5,7 +5,6 @@ volumes and specific wear rates, the Hertz contact."""
 from __future__ import annotations
 
 import numpy as np
-from matplotlib.colors import Normalize
 
 from rigserver.reports import blocks
 from rigserver.reports.context import Context, LabReport
@@ -14,7 +13,7 @@ from rigserver.reports.formatting import fmt, html_symbol
 from rigserver.reports.i18n import Messages
 from rigserver.reports.labs import iso_profile
 from rigserver.reports.plots import axes, decorate, to_svg
-from schemas.labels import RESULTS, TABLES
+from schemas.labels import RESULTS, TABLES, WEAR_SUBSCRIPTS
 from schemas.results import PinOnDiscResults, ReciprocatingResults, WearEstimate
 from schemas.stands import MEASUREMENTS
 
@@ -37,7 +36,7 @@ def build(ctx: Context, v: Results) -> LabReport:
     ]
     if v.rows:
         fields = [
-            ("rows", "n", "w.rows"),
+            ("rows", "", "w.rows"),
             ("duration", "t", "w.duration"),
             ("sliding_distance", "L", "t.distance"),
             ("laps", "n_L", "t.laps"),
@@ -101,7 +100,11 @@ def build(ctx: Context, v: Results) -> LabReport:
             blocks.quantities(t, t(key), estimate, fields, labels=labels, prefix=f"{name}.")
         )
         spread += blocks.uncertainties(
-            t, estimate, [("specific_wear_rate", "k", key)], labels=labels, prefix=f"{name}."
+            t,
+            estimate,
+            [("specific_wear_rate", f"k_{{{WEAR_SUBSCRIPTS[name]}}}", f"t.k.{name}")],
+            labels=labels,
+            prefix=f"{name}.",
         )
     if v.disc_track is not None:
         track_iso = iso_profile.track_table(t, v.disc_track.iso, labels, "disc_track.iso.")
@@ -119,13 +122,18 @@ def build(ctx: Context, v: Results) -> LabReport:
 
 
 def _wear_fields(name: str) -> list[tuple[str, str, str]]:
+    sub = WEAR_SUBSCRIPTS[name]
     first = {
-        "disc_track": [("traces", "n", "t.traces"), ("track_area", "A", "w.track_area")],
+        "disc_track": [("traces", "n_p", "t.traces"), ("track_area", "A", "w.track_area")],
         "disc_mass": [("mass_loss", "Δm", "t.mass_loss"), ("density", "ρ", "t.density")],
         "pin_scar": [("scar_diameter", "d", "t.scar"), ("height_loss", "Δh", "t.height_loss")],
         "pin_mass": [("mass_loss", "Δm", "t.mass_loss"), ("density", "ρ", "t.density")],
     }[name]
-    return [*first, ("volume", "V", "t.volume"), ("specific_wear_rate", "k", "t.k")]
+    return [
+        *first,
+        ("volume", f"V_{{{sub}}}", f"t.v.{name}"),
+        ("specific_wear_rate", f"k_{{{sub}}}", f"t.k.{name}"),
+    ]
 
 
 def _friction_svg(t: Messages, v: Results) -> str:
@@ -151,28 +159,28 @@ def _friction_svg(t: Messages, v: Results) -> str:
 
 
 def _map_svg(t: Messages, v: PinOnDiscResults) -> str:
-    """μ over the lap (rows) and the angular position on the disc (columns)."""
+    """μ over the angular position on the disc, a line per row of laps of the map: the
+    first, two between and the last (the running-in's and the steady state's tracks)."""
     assert v.friction_map is not None
     m = v.friction_map
-    values = np.array([[np.nan if c is None else c for c in row] for row in m.values], dtype=float)
-    fig, (ax,) = axes(height=3.2)
-    step = 360.0 / len(m.angle)
-    lap_step = m.lap[1] - m.lap[0] if len(m.lap) > 1 else 1.0
-    finite = values[np.isfinite(values)]
-    norm = Normalize(float(finite.min()), float(finite.max())) if finite.size else None
-    mesh = ax.pcolormesh(
-        np.r_[np.asarray(m.angle) - step / 2, m.angle[-1] + step / 2],
-        np.r_[np.asarray(m.lap) - lap_step / 2, m.lap[-1] + lap_step / 2],
-        np.ma.masked_invalid(values),
-        cmap="viridis",
-        norm=norm,
-        shading="flat",
+    fig, (ax,) = axes(height=3.0)
+    rows = len(m.lap)
+    step = m.lap[1] - m.lap[0] if rows > 1 else 1.0
+    for i in sorted({0, rows // 3, (2 * rows) // 3, rows - 1}):
+        values = np.array([np.nan if c is None else c for c in m.values[i]], dtype=float)
+        first = m.lap[i] - step / 2
+        ax.plot(
+            m.angle,
+            values,
+            linewidth=0.9,
+            label=t("t.laps_range", first=fmt(first), last=fmt(first + step)),
+        )
+    decorate(
+        ax,
+        xlabel=blocks.axis(t, "θ", "deg"),
+        ylabel=blocks.axis(t, "μ"),
+        legend_outside=True,
     )
-    bar = fig.colorbar(mesh, ax=ax, label=blocks.axis(t, "μ"))
-    if bar.solids is not None:
-        bar.solids.set_rasterized(False)  # vectors, as every plot of the reports
-    decorate(ax, xlabel=blocks.axis(t, "θ", "deg"), ylabel=t("t.lap_axis"))
-    ax.grid(False)  # the cells are the picture
     return to_svg(fig)
 
 
@@ -187,7 +195,7 @@ def _loops_svg(t: Messages, v: ReciprocatingResults) -> str:
             linewidth=0.9,
             label=t("t.loop", cycle=loop.cycle + 1),
         )
-    decorate(ax, xlabel=blocks.axis(t, "x", "mm"), ylabel=blocks.axis(t, "μ"))
+    decorate(ax, xlabel=blocks.axis(t, "x_s", "mm"), ylabel=blocks.axis(t, "μ"))
     return to_svg(fig)
 
 

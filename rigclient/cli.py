@@ -43,12 +43,12 @@ from rich.table import Table as RichTable
 
 from rigclient.agent import Agent, Batching, Outcome, constants, run_metadata, stand_of
 from rigclient.client import Client, RunHandle
-from rigclient.errors import RigclientError
+from rigclient.errors import RigclientError, ServerError
 from rigclient.http import Api, RetryPolicy
 from rigclient.imported import Held, digest_key, imported_before
 from rigclient.lock import SpoolLock, held_by
 from rigclient.mapping import StandMap, load_map
-from rigclient.profile import GROUP, read_profile
+from rigclient.profile import GROUP, read_profile, roughness_lines
 from rigclient.spool import RunRecord, Spool, SpoolLimits, amount
 from rigclient.summary import results_tables
 from schemas.runs import RunState
@@ -412,7 +412,20 @@ def _profile(args: argparse.Namespace) -> int:
         code = _finish_up(client, run, args.drain)
         print(run.server_id or run.local_id, flush=True)
         _say(f"{args.file}: {trace.x.size} points, x from {trace.x[0]:g} to {trace.x[-1]:g} mm")
+        if code == 0 and run.server_id is not None:  # delivered and finished: results ready
+            _say_roughness(client, run.server_id)
         return code
+
+
+def _say_roughness(client: Client, run_id: str) -> None:
+    """The roughness the server computed: the manual's and the ISO 21920-2 one."""
+    try:
+        payload = client.results(run_id)
+    except ServerError as exc:
+        _say(f"run {run_id}: its results could not be read ({exc})")
+        return
+    for line in roughness_lines(payload):
+        _say(line)
 
 
 def _status(args: argparse.Namespace) -> int:

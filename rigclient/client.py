@@ -359,6 +359,10 @@ class Client:
             duplicates=state.duplicates,
         )
 
+    def results(self, run_id: str) -> dict[str, Any]:
+        """The server's results of the run ``run_id`` (its id on the server)."""
+        return self._api.results(run_id)
+
     def wait(self, timeout: float | None = None) -> bool:
         """Wait until the server has everything the spool holds; False at ``timeout`` (s) or
         as soon as all that is left is stopped (refused by the server, or damaged)."""

@@ -27,6 +27,7 @@ from rigserver.reports.formatting import (
 )
 from rigserver.reports.i18n import LANGS, Lang, Messages
 from rigserver.reports.run_report import RESULT_MODELS, configuration_rows, particulars_text
+from rigserver.reports.x3p import PROFILE_GROUP, NoProfile, profile_group
 from schemas import labelled
 from schemas.labels import RESULTS, THEORY_VERDICT, Part, theory_outside
 from schemas.quantity import unit_paths
@@ -247,10 +248,20 @@ def run_page(
         test_plan=test_plan,
         configuration=configuration,
         results=Markup(results_html(run=run, payload=payload, lang=lang)),
+        profile_x3p=_has_profile(stand),
         notes=notes or StudentNotes(),
         may_write=may_write,
         conclusions_limit=CONCLUSIONS_LIMIT,
     )
+
+
+def _has_profile(stand: Stand) -> bool:
+    """Whether the stand traces a profile that ``profile.x3p`` can give."""
+    try:
+        profile_group(stand.groups, PROFILE_GROUP)
+    except NoProfile:
+        return False
+    return True
 
 
 def decimal_sign_of(lang: Lang) -> str:

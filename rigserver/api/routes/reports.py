@@ -13,6 +13,7 @@ from fastapi.responses import FileResponse, HTMLResponse, Response
 from starlette.background import BackgroundTask
 
 from rigserver.api.deps import ReadAccess, Services, ServicesDep
+from rigserver.api.problems import ApiProblem
 from rigserver.api.report_answers import (
     caller_key,
     file_answer,
@@ -27,6 +28,7 @@ from rigserver.api.routes.runs import load_run
 from rigserver.api.run_results import StoredReadings, results_payload
 from rigserver.reports.export import DIALECTS, Dialect, export_zip, results_csv
 from rigserver.reports.i18n import Lang, Messages, language_headers, negotiate
+from rigserver.reports.x3p import PROFILE_GROUP, NoProfile, profile_group, profile_x3p
 from schemas.runs import Run
 from schemas.student_notes import StudentNotes
 
@@ -208,4 +210,34 @@ async def get_export(
         media_type="application/zip",
         filename=f"{run.id}.zip",
         background=BackgroundTask(os.unlink, path),
+    )
+
+
+def _profile_x3p(services: Services, run_id: str, group: str) -> tuple[Run, bytes]:
+    run = load_run(services, run_id)
+    try:
+        chosen = profile_group(services.stand_of(run).groups, group)
+        return run, profile_x3p(run, chosen, StoredReadings(services, run))
+    except NoProfile as exc:
+        raise ApiProblem(404, "No profile", f"run {run.id}: {exc}") from None
+
+
+@router.get(
+    "/profile.x3p",
+    summary="The traced profile as an X3P file (ISO 25178-72), for other surface software",
+    response_class=Response,
+    responses={200: {"content": {"application/x-x3p": {}}}},
+)
+async def get_profile_x3p(
+    run_id: str,
+    services: ServicesDep,
+    group: Annotated[
+        str, Query(description="the channel group of the profile (x, y)", max_length=40)
+    ] = PROFILE_GROUP,
+) -> Response:
+    run, data = await run_in_threadpool(_profile_x3p, services, run_id, group)
+    return Response(
+        data,
+        media_type="application/x-x3p",
+        headers={"Content-Disposition": f'attachment; filename="{run.id}-{group}.x3p"'},
     )

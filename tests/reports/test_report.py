@@ -118,7 +118,7 @@ def test_profilometer_parameters_with_instrument_errors() -> None:
     assert row_of(html, "Complex roughness", "complex parameter (1.9)")[1] == fmt(
         v.complex_parameter
     )
-    assert len(svgs(html)) == 2  # the profile, the bearing curve
+    assert len(svgs(html)) == 3  # the profile, the bearing curve, the ISO filtering
 
 
 # --- lab work 2 ---------------------------------------------------------------------------

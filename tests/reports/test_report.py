@@ -232,15 +232,22 @@ def test_mtos_readings_and_processing_tables() -> None:
     assert t41.column(1) == printed(steps["indicator"][fluid])
     assert t41.column(8) == printed(steps["t5"][fluid])
     t44 = [t for t in tables(html) if t.caption.startswith("Table 4.4.")]
-    assert len(t44) == 2  # the table and its continuation; the theory part follows
+    # the table and its continuation, split in two by the page's width; the theory follows
+    assert len(t44) == 3
     first = [x for x in v.steps if x.regime == "fluid"]
     assert t44[0].column(4) == declared(MTOS["steps[].chi"], [x.chi for x in first])
     assert t44[0].column(9) == printed([x.friction_measured for x in first])
-    assert t44[1].column(2) == printed([x.bearing_characteristic for x in first])
-    theory = table(html, "Table 4.4, end.")
-    assert theory.column(2) == printed([x.friction_theory for x in first])
+    mu1 = MTOS["steps[].viscosity_at"]
+    assert t44[1].column(1) == declared(mu1, [x.viscosity_at["t1"] for x in first])
+    assert t44[1].column(7) == printed([x.bearing_characteristic for x in first])
+    theory = next(t for t in tables(html) if t.caption.startswith("Table 4.4, end."))
+    assert theory.header[1:10] == [
+        "μt/μ0", "A100", "A200", "A300", "A302", "A320", "A311", "V", "Pτ, N"
+    ]  # fmt: skip
+    assert theory.column(8) == printed([x.v_factor for x in first])
+    assert theory.column(11) == printed([x.friction_theory for x in first])
     error = MTOS["steps[].friction_error"]
-    assert theory.column(3) == declared(error, [x.friction_error for x in first])
+    assert theory.column(12) == declared(error, [x.friction_error for x in first])
 
 
 def test_mtos_mixed_friction_against_fluid_friction() -> None:
@@ -249,7 +256,7 @@ def test_mtos_mixed_friction_against_fluid_friction() -> None:
     html = report(StandKind.MTOS)
     fluid = {x.load: x.friction_measured for x in v.steps if x.regime == "fluid"}
     mixed = [x for x in v.steps if x.regime == "mixed"]
-    continued = [t for t in tables(html) if t.caption.startswith("Table 4.5.")][1]
+    continued = [t for t in tables(html) if t.caption.startswith("Table 4.5.")][-1]
     # f_э/f_э1 at the same load, divided here
     assert continued.column(-1) == printed([x.friction_measured / fluid[x.load] for x in mixed])
     assert len(svgs(html)) == 4  # Hersey-Stribeck, trajectory, f(N), Δt(N)

@@ -385,6 +385,14 @@ PROFILOMETER: dict[str, Label] = {
     "levels": Label(N_("depth of the level below the peak line"), "p_i", "", "um", 3),
     "eps": Label(N_("relative depth"), "ε", "1.7", digits=3),
     "tp": Label(N_("relative bearing length"), "t_p", "1.6", digits=3),
+    "bearing_lengths": Label(N_("bearing length of the profile"), "η_p", "1.6", "mm", 3),
+    "outside_subrange": Label(N_("parameters outside the ranges of the subrange")),
+    "rmax_difference": Label(
+        N_("profilometer's Rmax against the profilogram's"), "δ", "1.20", "%", 3, 0, _COMPARISON
+    ),
+    "rz_difference": Label(
+        N_("profilometer's Rz against the profilogram's"), "δ_{Rz}", "1.20", "%", 3, 0, _COMPARISON
+    ),
     **{
         f"fit_{method}.{name}": label
         for method in ("manual", "lsq")

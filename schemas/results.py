@@ -306,6 +306,17 @@ class ProfilometerResults(BaseModel):
     levels: list[float] = quantity([], "m", "p_i, depth below the peak line (table 1.6)")
     eps: list[float] = quantity([], "1", "ε = p/Rmax (1.7)")
     tp: list[float] = quantity([], "1", "t_p = η_p/l (1.6)")
+    bearing_lengths: list[float] = quantity([], "m", "η_p = t_p·l, bearing length (table 1.6)")
+    outside_subrange: list[str] = Field(
+        default_factory=list,
+        description="parameters outside the ranges of the subrange of the base length (1.14)",
+    )
+    rmax_difference: float | None = quantity(
+        None, "%", "δ = (Rmax1 - Rmax2)/Rmax1: profilometer against profilogram (1.20)"
+    )
+    rz_difference: float | None = quantity(
+        None, "%", "δ_Rz = (Rz1 - Rz2)/Rz2: profilometer against profilogram (1.20)"
+    )
     fit_manual: BearingFitResult | None = None
     fit_lsq: BearingFitResult | None = None
     complex_parameter: float | None = quantity(None, "1", "Δ = Rmax/(R·b^(1/ν)) (1.9)")

@@ -334,6 +334,15 @@ MESSAGES: dict[str, str] = {
     "p.mean_line": N_("mean line"),
     "p.peak_line": N_("peak line"),
     "p.valley_line": N_("valley line"),
+    "p.levels": N_("levels p_i of table 1.6"),
+    "p.vs": N_("Profilometer against profilogram (item 10, (1.20))"),
+    "p.instrument": N_("profilometer"),
+    "p.profilogram": N_("profilogram"),
+    "p.difference": N_("difference"),
+    "p.outside": N_(
+        "{names} outside the ranges of the subrange of l = {cutoff} mm (Ra {ra}, Rz and Rmax "
+        "{rz}, Sm {sm} µm): the error limits (1.14) are not stated for them."
+    ),
     "p.measured": N_("measured"),
     "p.c_ra": N_(
         "Ra = {ra} µm measured; Ra = 4.3·√Δ = {ra_delta} µm from the complex parameter "

@@ -277,6 +277,14 @@ MESSAGES: dict[str, str] = {
         "E5 (1.1): R = √(π/2)/ρ_2, ρ_2 the rms curvature of the profile; the print puts the "
         "whole product under the root, which is not a length."
     ),
+    "abbr.e6": N_(
+        "E6 (seed 000, (9)): ∂F/∂q = (1 - φ²)^{{-1/2}}·∂φ/∂q, a product (F = arcsin φ); the "
+        "print has a sum."
+    ),
+    "abbr.e7": N_(
+        "E7 (seed 000, (5)): the left side of the second definition is γ_{{mlk}}, not λ_{{mlk}}."
+    ),
+    "abbr.e8": N_("E8 (seed 000, the final system): the velocity term multiplies ξ'_l, as in (6)."),
     "abbr.e9": N_(
         "E9 (4.21): the manual calls both μω/p̄ and p̄/(μω) S_1; the report uses "
         "S_1 = μ_t·ω/p̄ as (4.21) does."

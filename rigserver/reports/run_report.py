@@ -120,7 +120,7 @@ def _build(
 ABBREVIATIONS: dict[str, str] = {
     "GUM": "abbr.gum",
     "ASTM G99": "abbr.g99",
-    **{f"E{n}": f"abbr.e{n}" for n in (1, 2, 3, 4, 5, 9)},
+    **{f"E{n}": f"abbr.e{n}" for n in range(1, 10)},
 }
 """The abbreviations and the corrections to the manual's printed formulas (docs/models.md)
 a report may cite, each explained once in its appendix."""

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import math
 from datetime import UTC, datetime
+from typing import Any
 
 import numpy as np
 import pytest
@@ -13,6 +14,7 @@ from hypothesis import strategies as st
 
 from rigserver.analysis import analyse
 from rigserver.analysis.series import Member, series_statistics
+from rigsim.batches import SimulatedRun
 from rigsim.stands import simulate
 from rigsim.stands.smts2 import MODES, Mode, Smts2Settings
 from schemas.runs import Run, RunState
@@ -31,12 +33,19 @@ def smts2_run(
     sim = simulate(
         StandKind.SMTS2, Smts2Settings(revolutions=2000.0, friction_steady=friction), seed=seed
     )
+    return _member(index, sim, state)
+
+
+def _member(index: int, sim: SimulatedRun[Any], state: RunState) -> Member:
+    """A simulated SMTs-2 run as a stored run (its test plan kept), analysed as the service
+    would."""
     readings = SimulatedReadings(sim)
     run = Run(
         id=f"20261125T120000Z-{index:08x}",
         stand=StandKind.SMTS2,
         state=state,
         operator="group 1",
+        test_plan=sim.run_create.test_plan,
         configuration=with_overrides(STAND.configuration, sim.run_create.configuration).model_dump(
             mode="json"
         ),
@@ -177,20 +186,7 @@ def test_each_run_shows_its_own_uncertainty_beside_the_spread(
 def _mode_run(index: int, mode: Mode, seed: int) -> Member:
     """A simulated SMTs-2 run of lab work 2's second part, its mode in the test plan."""
     sim = simulate(StandKind.SMTS2, Smts2Settings.for_mode(mode), seed=seed)
-    readings = SimulatedReadings(sim)
-    run = Run(
-        id=f"20261125T120000Z-{index:08x}",
-        stand=StandKind.SMTS2,
-        state=RunState.FINISHED,
-        operator="group 1",
-        test_plan=sim.run_create.test_plan,
-        configuration=with_overrides(STAND.configuration, sim.run_create.configuration).model_dump(
-            mode="json"
-        ),
-        created=MADE,
-        rows={g.name: readings.rows(g.name) for g in STAND.groups},
-    )
-    return Member(run=run, level=None, values=analyse(run, readings).payload["values"])
+    return _member(index, sim, RunState.FINISHED)
 
 
 def test_adhesive_and_oxidative_levels_give_delta_f() -> None:

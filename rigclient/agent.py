@@ -5,13 +5,20 @@ The run is opened through the spool with the map's metadata and constants, and t
 cursor (device, inode, byte offset and line after the last row spooled) is written in the
 transaction of each batch. Started again with the same file, stand, group and spool after a
 crash or a reboot, the agent finds the cursor, goes on with the same run, and reads from the
-first row not yet spooled. A line that cannot be read is reported (file, line, column) and
-kept in the spool as a reject; the rows around it are delivered.
+first row not yet spooled, by the header in effect there.
+
+The file's dialect (:mod:`rigclient.dialect`) is found from its first lines: the preamble
+before the header becomes the run's notes. A line that cannot be read (a cell that is not a
+number, a value outside its channel's limits, a line over 64 KiB) is reported (file, line,
+column, why) and kept in the spool as a reject; the rows around it are delivered. A new
+header line mid-file is recognised: the rows after it are read by its names, or the agent
+stops there, naming the line, when the map cannot place them (never by position across it).
 """
 
 from __future__ import annotations
 
 import getpass
+import re
 import threading
 import time
 from collections.abc import Callable
@@ -20,12 +27,23 @@ from pathlib import Path
 from typing import Any
 
 from rigclient.client import Client, RunHandle
+from rigclient.dialect import (
+    FileSettings,
+    Header,
+    cells,
+    delimiter_of,
+    encoding_of,
+    find_header,
+)
 from rigclient.errors import InputError
-from rigclient.follow import Follower, Line
-from rigclient.mapping import StandMap, unit_factor
-from rigclient.spool import Reject
-from rigclient.table import Table
+from rigclient.follow import MAX_LINE, Follower, Line
+from rigclient.mapping import StandMap, configuration, unit_factor
+from rigclient.spool import Cursor, Reject
+from rigclient.table import Table, sniff
 from schemas.stands import MEASUREMENTS, Stand, StandKind, default_stands
+
+HEAD = 256 << 10  # bytes of a file's start in which its header must be
+NOTES = 5000  # characters of a run's notes (schemas.runs.RunCreate)
 
 
 @dataclass(frozen=True, slots=True)
@@ -76,7 +94,24 @@ def run_metadata(path: Path, stand: str, mapping: StandMap | None, **given: Any)
     meta.setdefault("title", path.name)
     meta.setdefault("operator", getpass.getuser())
     meta["stand"] = stand
+    if isinstance(meta.get("configuration"), dict):
+        where = mapping.source if mapping is not None else ""
+        meta["configuration"] = configuration(stand, meta["configuration"], where=where)
     return meta
+
+
+def with_preamble(metadata: dict[str, Any], preamble: list[str]) -> dict[str, Any]:
+    """The run's metadata with the file's preamble (a vendor's metadata lines) after the
+    notes given, within the notes' length."""
+    lines = [re.sub(r"[ \t]+", " ", t.replace("\x00", "")).strip() for t in preamble]
+    text = "\n".join(t for t in lines if t)
+    if not text:
+        return metadata
+    given = str(metadata.get("notes") or "")
+    notes = f"{given}\n\n{text}" if given else text
+    if len(notes) > NOTES:
+        notes = notes[: NOTES - 1] + "…"
+    return {**metadata, "notes": notes}
 
 
 def constants(stand: Stand, mapping: StandMap | None) -> dict[str, dict[str, list[float]]]:
@@ -106,11 +141,26 @@ def stand_of(kind: str, configuration: dict[str, Any] | None = None) -> Stand:
         raise InputError(f"unknown stand {kind!r}; known: {known}") from None
 
 
+class HeaderChanged(InputError):
+    """A header line mid-file that the map cannot place: the agent stops before it."""
+
+
+@dataclass(slots=True)
+class _Head:
+    """The lines at a file's start until its header is found."""
+
+    lines: list[Line]
+
+    def text(self) -> list[str]:
+        return [line.text for line in self.lines]
+
+
 class Agent:
     """Spools one file as one run of ``stand``'s ``group``.
 
     ``say`` gets the messages for the operator (a refused line, a rotation);
-    ``on_run`` the run's handle once it is opened or found again.
+    ``on_run`` the run's handle once it is opened or found again. ``idempotency_key``
+    opens the run (an imported file's digest), else a fresh key does.
     """
 
     def __init__(
@@ -126,6 +176,7 @@ class Agent:
         say: Callable[[str], None],
         on_run: Callable[[RunHandle], None] = lambda run: None,
         kind: str = "tail",
+        idempotency_key: str | None = None,
     ) -> None:
         self.client = client
         self.path = path
@@ -136,32 +187,129 @@ class Agent:
             raise InputError(f"stand {stand!r} has no channel group {group!r}; known: {known}")
         self.group = decl
         self.mapping = mapping
+        self.settings = mapping.file if mapping is not None else FileSettings()
         self.metadata = metadata
         self.batching = batching
         self.say = say
         self.on_run = on_run
+        self.idempotency_key = idempotency_key
         self.key = f"{kind} {path.resolve()} {stand} {group}"
         self.follower = Follower(path)
+        self.preamble: list[str] = []
+        self._delimiter: str | None = None
+        self._head: _Head | None = _Head([])
         self._rows: list[list[float]] = []
         self._rejects: list[Reject] = []
         self._first = 0.0
         self._mark = (0, 0)  # end offset and number of the last line taken
         self.progress: Callable[[int], None] = lambda done: None  # bytes read so far
 
-    def _table(self, header: str) -> Table:
+    def _table(self, text: str, line: int, width: int | None = None) -> Table:
         table = Table.from_header(
-            header, file=str(self.path), group=self.group, mapping=self.mapping
+            text,
+            file=str(self.path),
+            group=self.group,
+            mapping=self.mapping,
+            line=line,
+            delimiter=self._delimiter,
+            decimal=self.settings.decimal,
+            width=width,
         )
         if table.ignored:
             self.say(f"{self.path}: columns left out: {', '.join(table.ignored)}")
         return table
 
-    def _wait_for_header(self, stop: threading.Event) -> str | None:
+    def _open(self) -> bool:
+        """Open the file once it exists and has a byte past a byte-order mark; its encoding
+        is then known."""
+        if not self.follower.is_open and not self.follower.open():
+            return False
+        head = self.follower.head(64 << 10)
+        encoding = encoding_of(head, self.settings.encoding)
+        if len(head) <= encoding.bom:
+            return False
+        self.follower.encoding = encoding.codec
+        if self.follower.position < encoding.bom:
+            self.follower.open(start=(encoding.bom, 0))
+        return True
+
+    def _header(self, final: bool) -> tuple[Table, list[Line]] | None:
+        """The table of the header among the head's lines (and the lines after it), once
+        one is found; :class:`InputError` past :data:`HEAD` bytes without one."""
+        assert self._head is not None
+        lines = self._head.lines
+        long = next((ln for ln in lines if ln.overlong), None)
+        in_head = [ln for ln in lines if ln.start < HEAD and not ln.overlong]
+        found = find_header([ln.text for ln in in_head], self.settings, final=final)
+        if found is None and not final:
+            found = self._lone_header(in_head)
+        if found is None:
+            if long is not None and final:
+                raise InputError(
+                    f"line {long.number} is over {MAX_LINE >> 10} KiB, and no header with a "
+                    "row under it was found: a header is bounded",
+                    file=str(self.path),
+                )
+            if self.follower.size_read > HEAD:
+                raise InputError(
+                    f"no header and data row in its first {HEAD >> 10} KiB", file=str(self.path)
+                )
+            return None
+        header = in_head[found.index]
+        self._delimiter = found.delimiter
+        rest = [ln for ln in lines[lines.index(header) + 1 :]]
+        width = next((len(cells(ln.text, found.delimiter)) for ln in rest if ln.text.strip()), 0)
+        table = self._table(header.text, header.number, width or None)
+        self.preamble = [ln.text for ln in lines[: lines.index(header)] if not ln.overlong]
+        self._head = None
+        self._mark = (header.end, header.number)
+        return table, rest
+
+    def _lone_header(self, lines: list[Line]) -> Header | None:
+        """A file being written whose first line names the channels: its header (a row
+        has yet to come, but the run opens now)."""
+        given = self.settings.header
+        texts = [ln for ln in lines if ln.text.strip()][:1]
+        if not texts or (given is not None and texts[0].number != given):
+            return None
+        delimiter = delimiter_of(self.settings.delimiter) if self.settings.delimiter else None
+        try:
+            Table.from_header(
+                texts[0].text,
+                file=str(self.path),
+                group=self.group,
+                mapping=self.mapping,
+                delimiter=delimiter,
+            )
+        except InputError:
+            return None
+        return Header(lines.index(texts[0]), delimiter or sniff(texts[0].text))
+
+    def opening(self) -> dict[str, Any]:
+        """The run's opening as :meth:`run` spools it for a finished file (its head is read,
+        then put back)."""
+        try:
+            self._read_head(threading.Event(), follow=False)
+            return with_preamble(self.metadata, self.preamble)
+        finally:
+            self.follower.close()
+            self.follower = Follower(self.path)
+            self._head, self._mark, self._delimiter, self.preamble = _Head([]), (0, 0), None, []
+
+    def _read_head(self, stop: threading.Event, follow: bool) -> tuple[Table, list[Line]] | None:
         while not stop.is_set():
-            if self.follower.is_open or self.follower.open():
-                header = self.follower.header()
-                if header is not None:
-                    return header
+            opened = self._open()
+            if not opened and not follow:
+                why = "an empty file" if self.path.is_file() else "no such file"
+                raise InputError(why, file=str(self.path))
+            if opened:
+                assert self._head is not None
+                self._head.lines += self.follower.lines(final=not follow)
+                found = self._header(final=not follow)
+                if found is not None:
+                    return found
+                if not follow:
+                    raise InputError("no header line", file=str(self.path))
             stop.wait(self.batching.poll)
         return None
 
@@ -169,22 +317,25 @@ class Agent:
         """Spool the file until ``stop`` is set or, ``follow`` false, to its end; then queue
         the run's finish. None if stopped before the file had a header."""
         found = self.client.source(self.key)
-        header = self._wait_for_header(stop)
-        if header is None:
+        try:
+            head = self._read_head(stop, follow)
+        except BaseException:
+            self.follower.close()
+            raise
+        if head is None:
+            self.follower.close()
             return None
-        table = self._table(header)
+        table, pending = head
         if found is not None:
             run, cursor = found
-            self.follower.open(cursor)
-            self._mark = (self.follower.position, self.follower.line)
-            self.say(
-                f"{self.path}: going on with run {run.local_id} from line {self.follower.line + 1}"
-            )
+            table, pending = self._resume(cursor, table, pending)
+            self.say(f"{self.path}: going on with run {run.local_id} from line {self._mark[1] + 1}")
         else:
             run = self.client.open_run(
-                **self.metadata,
+                **with_preamble(self.metadata, self.preamble),
                 constants=constants(self.stand, self.mapping),
-                cursor=self.follower.cursor(self.key, 0, 0),
+                cursor=self.follower.cursor(self.key, *self._mark),
+                idempotency_key=self.idempotency_key,
             )
         try:
             self.on_run(run)  # may stop the agent (a key refused): the run stays spooled
@@ -195,15 +346,16 @@ class Agent:
         idle_since = time.monotonic()
         try:
             while True:
-                change = self.follower.changed() if follow else None
+                change = self.follower.changed() if follow and not pending else None
                 if change is not None:
                     table = self._switch(change, run, table, outcome)
                     idle_since = time.monotonic()
                     continue
-                lines = self.follower.lines(final=not follow)
+                lines = pending or self.follower.lines(final=not follow)
+                pending = []
                 self.progress(self.follower.size_read)
                 for line in lines:
-                    table = self._take(line, table, outcome)
+                    table = self._take(line, table, run, outcome, final=not follow)
                     if len(self._rows) >= self.batching.rows:
                         self._flush(run, table, outcome)
                 now = time.monotonic()
@@ -228,27 +380,95 @@ class Agent:
                     "line yet) was not taken"
                 )
             run.finish()
+            self.client.forget_headers(self.key)
+        except HeaderChanged:
+            self._flush(run, table, outcome)
+            raise
         finally:
             self.follower.close()
         return outcome
 
-    def _take(self, line: Line, table: Table, outcome: Outcome) -> Table:
-        self._mark = (line.end, line.number)
-        if line.number == 1:  # the header of a file (the first, or after a rotation)
-            return self._table(line.text)
+    def _resume(
+        self, cursor: Cursor, table: Table, pending: list[Line]
+    ) -> tuple[Table, list[Line]]:
+        """Go on from ``cursor`` if it is this file's and past its header, by the header in
+        effect there; else from the header (the rows after it were not spooled)."""
+        header_end = self._mark[0]
+        same = (cursor.device, cursor.inode) == (self.follower.device, self.follower.inode)
+        if not same or cursor.position <= header_end:
+            return table, pending
+        self.follower.open(cursor)
+        if not self.follower.resumed(cursor):  # shorter than the cursor: read from its start
+            self.follower.open(start=self._mark)
+            return table, []
+        self._mark = (cursor.position, cursor.line)
+        kept = self.client.header_before(cursor)
+        if kept is not None:
+            table = self._remap(Line(kept[1], kept[0], 0), table)
+        return table, []
+
+    def _remap(self, line: Line, table: Table) -> Table:
+        """The table of a header line met mid-file; :class:`HeaderChanged` if the map
+        cannot place its columns."""
+        try:
+            new = self._table(line.text, line.number)
+        except InputError as exc:
+            reason = str(exc).split(": ", 1)[-1] if exc.file else str(exc)
+            raise HeaderChanged(
+                f"a new header line: {reason}; the rows before it are spooled, the agent "
+                "stops here: fix the map and start it again",
+                file=str(self.path),
+                line=line.number,
+                column=exc.column,
+            ) from None
+        new.last.update(table.last)
+        return new
+
+    def _take(
+        self, line: Line, table: Table, run: RunHandle, outcome: Outcome, *, final: bool
+    ) -> Table:
+        if self._head is not None:  # a new file (rotated): its header first
+            self._head.lines.append(line)
+            found = self._header(final=final)
+            if found is None:
+                return table
+            new, rest = found
+            new.last.update(table.last)
+            for later in rest:
+                new = self._take(later, new, run, outcome, final=final)
+            return new
+        if line.overlong:
+            why = f"a line of {line.overlong} bytes, over {MAX_LINE >> 10} KiB"
+            self._reject(InputError(why, file=str(self.path), line=line.number), line, outcome)
+            return table
         if not line.text.strip() or line.text.lstrip().startswith("#"):
+            self._mark = (line.end, line.number)
             return table
         try:
             values = table.parse(line.text, line.number)
         except InputError as exc:
-            self.say(f"refused: {exc}")
-            self._rejects.append(Reject(str(self.path), line.number, exc.column, str(exc)))
-            outcome.rejected += 1
-            return table
+            if not table.is_header(line.text):
+                self._reject(exc, line, outcome)
+                return table
+            new = self._remap(line, table)
+            self._flush(run, table, outcome)
+            cursor = self.follower.cursor(self.key, line.end, line.number)
+            self.client.keep_header(cursor, line.start, line.text)
+            self.say(f"{self.path}:{line.number}: a new header; the rows after it by its names")
+            self._mark = (line.end, line.number)
+            return new
         if not self._rows:
             self._first = time.monotonic()
         self._rows.append(values)
+        self._mark = (line.end, line.number)
         return table
+
+    def _reject(self, error: InputError, line: Line, outcome: Outcome) -> None:
+        """A line kept in the spool as a reject (with the next batch), and counted."""
+        self.say(f"refused: {error}")
+        self._rejects.append(Reject(str(self.path), line.number, error.column, str(error)))
+        outcome.rejected += 1
+        self._mark = (line.end, line.number)
 
     def _flush(self, run: RunHandle, table: Table, outcome: Outcome) -> None:
         cursor = self.follower.cursor(self.key, *self._mark)
@@ -262,15 +482,19 @@ class Agent:
         self._rows, self._rejects = [], []
 
     def _switch(self, change: str, run: RunHandle, table: Table, outcome: Outcome) -> Table:
-        """The file was rotated (read the old one to its end first) or truncated."""
+        """The file was rotated (read the old one to its end first) or truncated: the new
+        one is read from its start, its header first."""
         if change == "rotated":
             for line in self.follower.lines():
-                table = self._take(line, table, outcome)
+                table = self._take(line, table, run, outcome, final=False)
         self._flush(run, table, outcome)
         if self.follower.partial:
             self.say(f"{self.path}:{self.follower.line + 1}: the old file ended in a partial line")
         self.say(f"{self.path}: the file was {change}; reading the new one from its start")
+        self.client.forget_headers(self.key)
         self.follower.open()
-        self._mark = (0, 0)
+        self._head = _Head([])
+        self._open()
+        self._mark = (self.follower.position, 0)
         run.mark(self.follower.cursor(self.key, *self._mark))
         return table

@@ -4,6 +4,7 @@
 
     rigclient tail FILE --stand smts2 --group friction --map smts2.toml --url URL --key KEY
     rigclient import FILE --stand mtos --group steps --map mtos.toml --url URL --key KEY
+    rigclient import export.txt --map tribometer.toml   # docs/tribometers.md
     rigclient profile trace.x3p --url URL --key KEY
     rigclient status --spool DIR                # what waits, and what retry/drop would do
     rigclient send --url URL --key KEY          # deliver what the spool still holds
@@ -42,11 +43,15 @@ from rich.table import Table as RichTable
 
 from rigclient.agent import Agent, Batching, Outcome, constants, run_metadata, stand_of
 from rigclient.client import Client, RunHandle
-from rigclient.errors import RigclientError
+from rigclient.errors import RigclientError, ServerError
+from rigclient.http import Api, RetryPolicy
+from rigclient.imported import Held, digest_key, imported_before
 from rigclient.lock import SpoolLock, held_by
 from rigclient.mapping import StandMap, load_map
-from rigclient.profile import GROUP, read_profile
+from rigclient.profile import GROUP, read_profile, roughness_lines
 from rigclient.spool import RunRecord, Spool, SpoolLimits, amount
+from rigclient.summary import results_tables
+from schemas.runs import RunState
 
 DEFAULT_SPOOL = Path.home() / ".rigclient" / "spool"
 
@@ -111,6 +116,13 @@ def _parser() -> argparse.ArgumentParser:
                 help="finish the run when the file has not grown for this many seconds",
             )
             cmd.add_argument("--poll", type=float, default=0.2, help="s between looks at it")
+        if name == "import":
+            cmd.add_argument(
+                "--again",
+                action="store_true",
+                help="import a file imported before as a new run (else its digest finds "
+                "the run that holds it)",
+            )
         cmd.add_argument(
             "--id-wait",
             type=float,
@@ -259,6 +271,7 @@ def _finish_up(client: Client, run: RunHandle, drain: float) -> int:
 def _tail(args: argparse.Namespace, *, follow: bool) -> int:
     mapping, stand, group = _file_args(args)
     metadata = run_metadata(args.file, stand, mapping, operator=args.operator, title=args.title)
+    key = None if follow or args.again else digest_key(args.file)
     batching = Batching(
         rows=args.rows,
         seconds=args.seconds,
@@ -277,7 +290,13 @@ def _tail(args: argparse.Namespace, *, follow: bool) -> int:
             say=_say,
             on_run=lambda run: _announce(client, run, args.id_wait),
             kind="tail" if follow else "import",
+            idempotency_key=key,
         )
+        if key is not None:
+            held = imported_before(client, agent, _api(args), key)
+            if held is not None:
+                _say(f"{args.file}: imported before (its content, {key}): {held.describe()}")
+                return _held(args, client, held)
         outcome = agent.run(stop) if follow else _import(client, agent, args.drain, stop)
         if outcome is None:
             _say(f"{args.file}: stopped before the file had a header; no run opened")
@@ -286,7 +305,45 @@ def _tail(args: argparse.Namespace, *, follow: bool) -> int:
             f"{args.file}: {outcome.rows} rows in {outcome.batches} batches spooled, "
             f"{outcome.rejected} lines refused"
         )
-        return _finish_up(client, outcome.run, args.drain if follow else 0.0)
+        code = _finish_up(client, outcome.run, args.drain if follow else 0.0)
+        if not follow and code == 0:
+            _print_results(args, outcome.run.status())
+        return code
+
+
+def _api(args: argparse.Namespace) -> Api:
+    return Api(args.url, args.key, retry=RetryPolicy(attempts=3, deadline=10.0))
+
+
+def _held(args: argparse.Namespace, client: Client, held: Held) -> int:
+    """The run that holds a file imported before: its id, and its results once finished."""
+    if held.run is None:
+        print(held.server_id, flush=True)
+        _print_results(args, None, held.server_id or "")
+        return 1 if held.other_values else 0
+    print(held.run.server_id or held.run.local_id, flush=True)
+    code = _finish_up(client, held.run, args.drain)
+    if code == 0:
+        _print_results(args, held.run.status())
+    return code
+
+
+def _print_results(args: argparse.Namespace, record: RunRecord | None, run_id: str = "") -> None:
+    """The headline results of a finished run (nothing while it is not)."""
+    if record is not None:
+        if not record.finished or record.server_id is None:
+            return
+        run_id = record.server_id
+    console = Console(width=None if sys.stdout.isatty() else 120)
+    with _api(args) as api:
+        try:
+            if api.get_run(run_id).state is not RunState.FINISHED:
+                return
+            results = api.results(run_id)
+        except RigclientError as exc:
+            _say(f"run {run_id}: its results could not be read: {exc}")
+            return
+    console.print(results_tables(results)[0])
 
 
 def _import(client: Client, agent: Agent, drain: float, stop: threading.Event) -> Outcome | None:
@@ -355,7 +412,20 @@ def _profile(args: argparse.Namespace) -> int:
         code = _finish_up(client, run, args.drain)
         print(run.server_id or run.local_id, flush=True)
         _say(f"{args.file}: {trace.x.size} points, x from {trace.x[0]:g} to {trace.x[-1]:g} mm")
+        if code == 0 and run.server_id is not None:  # delivered and finished: results ready
+            _say_roughness(client, run.server_id)
         return code
+
+
+def _say_roughness(client: Client, run_id: str) -> None:
+    """The roughness the server computed: the manual's and the ISO 21920-2 one."""
+    try:
+        payload = client.results(run_id)
+    except ServerError as exc:
+        _say(f"run {run_id}: its results could not be read ({exc})")
+        return
+    for line in roughness_lines(payload):
+        _say(line)
 
 
 def _status(args: argparse.Namespace) -> int:

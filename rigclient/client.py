@@ -280,9 +280,11 @@ class Client:
         notes: str = "",
         constants: Mapping[str, Mapping[str, ArrayLike]] | None = None,
         cursor: Cursor | None = None,
+        idempotency_key: str | None = None,
     ) -> RunHandle:
         """Spool the opening of a run (and its ``constants``: group -> columns, e.g. the
-        masses and zero readings; and the file ``cursor`` it follows); its handle."""
+        masses and zero readings; the file ``cursor`` it follows; the ``idempotency_key``
+        that opens it, else a fresh one); its handle."""
         try:
             body = RunCreate(
                 stand=stand,
@@ -301,7 +303,11 @@ class Client:
         checked = {g: check_columns(decl, g, cols) for g, cols in (constants or {}).items()}
         local_id = self._locked(
             lambda s: s.open_run(
-                body.stand.value, body.model_dump(mode="json"), constants=checked, cursor=cursor
+                body.stand.value,
+                body.model_dump(mode="json"),
+                constants=checked,
+                cursor=cursor,
+                idempotency_key=idempotency_key,
             )
         )
         self._sender.wake.set()
@@ -322,6 +328,22 @@ class Client:
             return None
         return self.run(local_id), cursor
 
+    def run_by_key(self, idempotency_key: str) -> RunHandle | None:
+        """The run the spool opened with ``idempotency_key`` (an imported file's digest)."""
+        local_id = self._locked(lambda s: s.run_by_key(idempotency_key))
+        return None if local_id is None else self.run(local_id)
+
+    def keep_header(self, cursor: Cursor, start: int, text: str) -> None:
+        """A header line met mid-file (:meth:`Spool.keep_header`)."""
+        self._locked(lambda s: s.keep_header(cursor, start, text))
+
+    def header_before(self, cursor: Cursor) -> tuple[int, str] | None:
+        """The header in effect at ``cursor`` if one was met mid-file."""
+        return self._locked(lambda s: s.header_before(cursor))
+
+    def forget_headers(self, key: str) -> None:
+        self._locked(lambda s: s.forget_headers(key))
+
     def undelivered(self, key: str) -> RunHandle | None:
         """A run spooled before from the source ``key`` (e.g. a file imported) whose finish
         is queued and not delivered yet, or None."""
@@ -336,6 +358,10 @@ class Client:
             retries=state.retries,
             duplicates=state.duplicates,
         )
+
+    def results(self, run_id: str) -> dict[str, Any]:
+        """The server's results of the run ``run_id`` (its id on the server)."""
+        return self._api.results(run_id)
 
     def wait(self, timeout: float | None = None) -> bool:
         """Wait until the server has everything the spool holds; False at ``timeout`` (s) or

@@ -16,23 +16,43 @@ the run's metadata. Written by the lab in TOML or JSON::
     "M" = { channel = "friction_moment", factor = 0.01 } # scale divisions -> N*m
     "comment" = ""                                      # a column left out on purpose
 
+    [run.configuration]        # the stand's configuration for this run, units allowed
+    disc_radius = { value = 22.5, unit = "mm" }     # -> 0.0225 m, the field's unit
+
     [measurements]             # constants, posted once when the run opens
     pin_mass_before = 12.3456                       # in the channel's unit (g)
     disc_ra = { value = 0.32, unit = "um" }
 
+    [constants]                # a channel the file lacks: this value in every row
+    load = { value = 0.3, unit = "kN" }
+
+    [file]                     # the file's dialect, where detection is not enough
+    encoding = "cp1251"        # utf-8 (with or without a BOM), cp1251, utf-16 (by its BOM)
+    delimiter = "tab"          # tab, semicolon, comma, spaces
+    decimal = ","              # "," or "."
+    header = 12                # the header's line number; the lines before it: the preamble
+
 A unit is one of the wire's units (``schemas.units``) or one of :data:`FILE_UNITS`; a factor
-multiplies the file's value into the channel's unit.
+multiplies the file's value into the channel's unit. A header cell is found in
+``[columns]`` by its whole text, by its name without the unit, or by either with case,
+blanks and the micro sign's spelling set aside (:func:`name_key`).
 """
 
 from __future__ import annotations
 
 import json
+import math
+import re
 import tomllib
+import unicodedata
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from rigclient.dialect import FileSettings, delimiter_of, encoding_of
 from rigclient.errors import InputError
+from schemas.quantity import unit_paths
+from schemas.stands import CONFIG_MODELS, StandKind
 from schemas.units import UNITS
 
 #: Units that files use and the wire does not: symbol -> (wire unit, factor to it).
@@ -57,12 +77,39 @@ FILE_UNITS: dict[str, tuple[str, float]] = {
     "kg/cm^2": ("at", 1.0),
     "kgf/cm^2": ("at", 1.0),
     "ms": ("s", 1e-3),
+    "sec": ("s", 1.0),
     "h": ("s", 3600.0),
+    "GPa": ("Pa", 1e9),
+    "N/mm^2": ("MPa", 1.0),
+    "N·m": ("N*m", 1.0),
+    "Nm": ("N*m", 1.0),
+    "g/cm^3": ("kg/m^3", 1e3),
+    # Russian exports (ГОСТ 8.417 symbols)
+    "с": ("s", 1.0),
+    "мин": ("min", 1.0),
+    "ч": ("s", 3600.0),
+    "Н": ("N", 1.0),
+    "кН": ("N", 1e3),
+    "Н·м": ("N*m", 1.0),
+    "Н*м": ("N*m", 1.0),
+    "м": ("m", 1.0),
+    "см": ("m", 1e-2),
+    "мм": ("mm", 1.0),
+    "мкм": ("um", 1.0),
+    "г": ("g", 1.0),
+    "мг": ("mg", 1.0),
+    "кг": ("kg", 1.0),
+    "°С": ("degC", 1.0),  # with a Cyrillic С
+    "об/мин": ("rpm", 1.0),
+    "Па": ("Pa", 1.0),
+    "МПа": ("MPa", 1.0),
+    "ГПа": ("Pa", 1e9),
 }
 
 
 def unit_factor(source: str, target: str, *, where: str = "") -> float:
     """The factor that turns a value in ``source`` into ``target`` (same SI unit)."""
+    source = source.strip()
     symbol, scale = FILE_UNITS.get(source, (source, 1.0))
     if symbol not in UNITS:
         known = ", ".join([*UNITS, *FILE_UNITS])
@@ -85,6 +132,13 @@ class ColumnMap:
     factor: float | None = None
 
 
+def name_key(text: str) -> str:
+    """A column's name as it is looked up: NFKC (the micro sign is μ), case folded, blanks
+    and dashes as one ``_`` (``Friction Force`` finds ``friction_force``)."""
+    folded = unicodedata.normalize("NFKC", text).casefold().strip()
+    return re.sub(r"[\s_-]+", "_", folded)
+
+
 @dataclass(frozen=True, slots=True)
 class StandMap:
     """A file's map (see the module's docstring)."""
@@ -94,14 +148,22 @@ class StandMap:
     run: dict[str, Any] = field(default_factory=dict)
     columns: dict[str, ColumnMap] = field(default_factory=dict)
     measurements: dict[str, tuple[float, str | None]] = field(default_factory=dict)
+    constants: dict[str, tuple[float, str | None]] = field(default_factory=dict)
+    file: FileSettings = field(default_factory=FileSettings)
     source: str = ""
 
     def column(self, header: str, name: str) -> ColumnMap | None:
-        """The map of a header cell, by its whole text or by its name without the unit."""
-        return self.columns.get(header) or self.columns.get(name)
+        """The map of a header cell, by its whole text or by its name without the unit
+        (as written, else by :func:`name_key`)."""
+        found = self.columns.get(header) or self.columns.get(name)
+        if found is not None:
+            return found
+        keys = {name_key(k): v for k, v in self.columns.items()}
+        return keys.get(name_key(header)) or keys.get(name_key(name))
 
 
 _RUN_FIELDS = ("operator", "title", "specimen", "test_plan", "configuration", "notes")
+_KEYS = ("stand", "group", "run", "columns", "measurements", "constants", "file")
 
 
 def load_map(path: str | Path) -> StandMap:
@@ -119,12 +181,10 @@ def load_map(path: str | Path) -> StandMap:
         raise InputError(f"not JSON: {exc.msg}", file=where, line=exc.lineno) from None
     if not isinstance(data, dict):
         raise InputError("the map must be a table (an object)", file=where)
-    unknown = sorted(set(data) - {"stand", "group", "run", "columns", "measurements"})
+    unknown = sorted(set(data) - set(_KEYS))
     if unknown:
         raise InputError(
-            f"unknown keys {', '.join(unknown)}; a map has stand, group, run, columns, "
-            "measurements",
-            file=where,
+            f"unknown keys {', '.join(unknown)}; a map has {', '.join(_KEYS)}", file=where
         )
     run = dict(data.get("run", {}))
     extra = sorted(set(run) - set(_RUN_FIELDS))
@@ -136,14 +196,79 @@ def load_map(path: str | Path) -> StandMap:
     measurements = {
         str(k): _constant(v, where, str(k)) for k, v in data.get("measurements", {}).items()
     }
+    constants = {str(k): _constant(v, where, str(k)) for k, v in data.get("constants", {}).items()}
     return StandMap(
         stand=data.get("stand"),
         group=data.get("group"),
         run=run,
         columns=columns,
         measurements=measurements,
+        constants=constants,
+        file=_file(data.get("file", {}), where),
         source=where,
     )
+
+
+def _file(value: Any, where: str) -> FileSettings:
+    if not isinstance(value, dict):
+        raise InputError("[file] must be a table", file=where)
+    extra = sorted(set(value) - {"encoding", "delimiter", "decimal", "header"})
+    if extra:
+        raise InputError(
+            f"[file] has {', '.join(extra)}; it takes encoding, delimiter, decimal, header",
+            file=where,
+        )
+    encoding, delimiter = value.get("encoding"), value.get("delimiter")
+    decimal, header = value.get("decimal"), value.get("header")
+    try:
+        if encoding is not None:
+            encoding = encoding_of(b"", str(encoding)).codec
+        if delimiter is not None:
+            delimiter_of(str(delimiter))
+    except InputError as exc:
+        raise InputError(str(exc), file=where, column="file") from None
+    if decimal not in (None, ".", ","):
+        raise InputError(f'[file] decimal is "." or ",", not {decimal!r}', file=where)
+    if header is not None and (isinstance(header, bool) or not isinstance(header, int)):
+        raise InputError(f"[file] header is a line number, not {header!r}", file=where)
+    if header is not None and header < 1:
+        raise InputError(f"[file] header is a line number from 1, not {header}", file=where)
+    return FileSettings(encoding, None if delimiter is None else str(delimiter), decimal, header)
+
+
+def configuration(kind: str, given: dict[str, Any], *, where: str = "") -> dict[str, Any]:
+    """The map's ``[run.configuration]`` with every ``{value, unit}`` converted to its
+    field's unit (``schemas.stands``: ``disc_radius`` is in m)."""
+    try:
+        model = CONFIG_MODELS[StandKind(kind)]
+    except (ValueError, KeyError):
+        return given
+    units = unit_paths(model)
+    return _converted(given, units, "", where)
+
+
+def _converted(
+    given: dict[str, Any], units: dict[str, str], prefix: str, where: str
+) -> dict[str, Any]:
+    out: dict[str, Any] = {}
+    for key, value in given.items():
+        path = f"{prefix}{key}"
+        if isinstance(value, dict) and "value" in value and set(value) <= {"value", "unit"}:
+            number, unit = _constant(value, where, path)
+            if unit is not None:
+                if path not in units:
+                    raise InputError(
+                        f"configuration {path!r} has no unit to convert {unit!r} to",
+                        file=where,
+                        column=path,
+                    )
+                number *= unit_factor(unit, units[path], where=f"configuration {path}")
+            out[key] = number
+        elif isinstance(value, dict):
+            out[key] = _converted(value, units, f"{path}.", where)
+        else:
+            out[key] = value
+    return out
 
 
 def _column(value: Any, where: str, name: str) -> ColumnMap:
@@ -168,11 +293,17 @@ def _column(value: Any, where: str, name: str) -> ColumnMap:
 
 
 def _constant(value: Any, where: str, name: str) -> tuple[float, str | None]:
-    if isinstance(value, int | float) and not isinstance(value, bool):
+    if isinstance(value, int | float) and not isinstance(value, bool) and math.isfinite(value):
         return float(value), None
-    if isinstance(value, dict) and isinstance(value.get("value"), int | float):
+    number = value.get("value") if isinstance(value, dict) else None
+    if (
+        isinstance(number, int | float)
+        and not isinstance(number, bool)
+        and math.isfinite(number)
+        and set(value) <= {"value", "unit"}
+    ):
         unit = value.get("unit")
-        return float(value["value"]), None if unit is None else str(unit)
+        return float(number), None if unit is None else str(unit)
     raise InputError(
-        'a measurement is a number or {value = ..., unit = "..."}', file=where, column=name
+        'a constant is a finite number or {value = ..., unit = "..."}', file=where, column=name
     )

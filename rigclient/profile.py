@@ -10,8 +10,10 @@ and y in µm.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import sdfio
@@ -21,6 +23,7 @@ from numpy.typing import ArrayLike, NDArray
 from rigclient.errors import InputError
 from rigclient.mapping import StandMap
 from rigclient.table import Table, sniff
+from schemas.labels import PROFILOMETER
 from schemas.stands import StandKind, default_stands
 from schemas.units import UNITS
 
@@ -123,3 +126,43 @@ def _text(path: Path, mapping: StandMap | None) -> Trace:
     table = Table.from_header(header, file=str(path), group=group, mapping=mapping)
     columns = table.columns([table.parse(s, n) for n, s in data])
     return _measured(columns["x"], columns["y"], str(path))
+
+
+_FLAT = str.maketrans("", "", "_{}")
+
+#: The roughness printed after a profile is posted: the manual's, then the ISO 21920-2 one.
+MANUAL_SHOWN = ("ra", "rq", "rz", "rmax", "sm")
+ISO_SHOWN = ("ra", "rq", "rz", "rt", "rsm", "rsk", "rku", "rk", "rpk", "rvk")
+
+
+def roughness_lines(payload: Mapping[str, Any]) -> list[str]:
+    """The manual's roughness and the ISO 21920-2 one (with its filter's settings) of a
+    profilometer run's results, a line each, in the display units of their labels."""
+    values: Mapping[str, Any] = payload.get("values", {})
+    units: Mapping[str, str] = payload.get("units", {})
+
+    def item(path: str) -> str | None:
+        node: Any = values
+        for part in path.split("."):
+            node = node.get(part) if isinstance(node, Mapping) else None
+        if not isinstance(node, int | float) or isinstance(node, bool):
+            return None
+        label = PROFILOMETER[path]
+        unit = "" if label.unit == "1" else " " + UNITS[label.unit].symbol.replace("um", "µm")
+        number = label.shown(float(node), units.get(path, label.unit))
+        symbol = label.symbol.replace("^{ISO}", "").translate(
+            _FLAT
+        )  # as profilometers print them: Ra, RSm, λc
+        return f"{symbol} = {number:.{label.digits}g}{unit}"
+
+    lines = []
+    manual = [found for path in MANUAL_SHOWN if (found := item(path))]
+    if manual:
+        lines.append("manual (lab work 1): " + ", ".join(manual))
+    iso = values.get("iso")
+    if isinstance(iso, Mapping):
+        settings = [found for path in ("iso.lambda_c", "iso.lambda_s") if (found := item(path))]
+        settings += [str(iso.get("lambda_c_source", "")), str(iso.get("ends", ""))]
+        shown = [found for name in ISO_SHOWN if (found := item("iso." + name))]
+        lines.append(f"ISO 21920-2 ({'; '.join(settings)}): " + ", ".join(shown))
+    return lines

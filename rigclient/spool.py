@@ -18,6 +18,9 @@ Tables:
               the last row spooled and its line number, written in the batch's transaction.
 ``rejects``   lines of a file that could not be read (file, line, column, why), kept with the
               run and shown by ``rigclient status``.
+``headers``   the header lines an agent met in a file after its first (a header changed
+              mid-file): where each starts and its text, so that an agent started again
+              reads the rows after the cursor by the header in effect there.
 
 Every writing method is one transaction. sqlite3 errors are translated: a full disk (or a
 file size limit) is :class:`SpoolFull`, other failures :class:`SpoolError`; in both cases
@@ -129,6 +132,18 @@ _ADDED = {
     ),
     "batches": (("checksum", "TEXT"), ("damaged", "TEXT")),
 }
+
+_FILE_SCHEMA = """
+CREATE TABLE IF NOT EXISTS headers (
+    key TEXT NOT NULL,
+    device INTEGER NOT NULL,
+    inode INTEGER NOT NULL,
+    start INTEGER NOT NULL,
+    line INTEGER NOT NULL,
+    text TEXT NOT NULL,
+    PRIMARY KEY (key, device, inode, start)
+);
+"""
 
 
 @dataclass(frozen=True, slots=True)
@@ -357,6 +372,7 @@ class Spool:
             self._db.execute("PRAGMA journal_mode=WAL")
             self._db.execute("PRAGMA synchronous=FULL")
             self._db.executescript(_SCHEMA)
+            self._db.executescript(_FILE_SCHEMA)
         except (OSError, sqlite3.Error) as exc:
             raise _translate(exc, f"open the spool {self.path}") from exc
         self._migrate()
@@ -430,10 +446,13 @@ class Spool:
         *,
         constants: Mapping[str, Mapping[str, ArrayLike]] | None = None,
         cursor: Cursor | None = None,
+        idempotency_key: str | None = None,
     ) -> str:
-        """A new run with a fresh Idempotency-Key, its first batches (``constants``: group ->
-        columns) and the source it follows, in one transaction; its local id."""
+        """A new run with a fresh Idempotency-Key (or ``idempotency_key``: an imported
+        file's digest), its first batches (``constants``: group -> columns) and the source
+        it follows, in one transaction; its local id."""
         local_id = new_local_id()
+        key = idempotency_key or str(uuid.uuid4())
         now = time.time()
         text = json.dumps(dict(body))
         with self._write("open a run in the spool") as db:
@@ -444,7 +463,7 @@ class Spool:
                     local_id,
                     stand,
                     text,
-                    str(uuid.uuid4()),
+                    key,
                     now,
                     None if cursor is None else cursor.key,
                     text_checksum(text),
@@ -814,6 +833,40 @@ class Spool:
         if local_id is not None and not out:
             raise UnknownRun(f"no run {local_id} in the spool {self.path}")
         return out
+
+    def run_by_key(self, idempotency_key: str) -> str | None:
+        """The local id of the run opened with ``idempotency_key``, if the spool has one."""
+        row = self._db.execute(
+            "SELECT local_id FROM runs WHERE idempotency_key = ? ORDER BY created LIMIT 1",
+            (idempotency_key,),
+        ).fetchone()
+        return None if row is None else str(row[0])
+
+    # --- the header lines of followed files (rigclient.agent) ---------------------------
+
+    def keep_header(self, cursor: Cursor, start: int, text: str) -> None:
+        """A header line met in the file of ``cursor`` at byte ``start`` (line
+        ``cursor.line``): the rows after it are read by it."""
+        with self._write("keep a header line") as db:
+            db.execute(
+                "INSERT OR REPLACE INTO headers VALUES (?, ?, ?, ?, ?, ?)",
+                (cursor.key, cursor.device, cursor.inode, start, cursor.line, text),
+            )
+
+    def header_before(self, cursor: Cursor) -> tuple[int, str] | None:
+        """The line number and text of the last header kept before ``cursor``'s position
+        in its file, if any."""
+        row = self._db.execute(
+            "SELECT line, text FROM headers WHERE key = ? AND device = ? AND inode = ? "
+            "AND start < ? ORDER BY start DESC LIMIT 1",
+            (cursor.key, cursor.device, cursor.inode, cursor.position),
+        ).fetchone()
+        return None if row is None else (int(row[0]), str(row[1]))
+
+    def forget_headers(self, key: str) -> None:
+        """The file of ``key`` was rotated, truncated or finished."""
+        with self._write("forget a file's header lines") as db:
+            db.execute("DELETE FROM headers WHERE key = ?", (key,))
 
     def rejects(self, local_id: str) -> list[Reject]:
         rows = self._db.execute(

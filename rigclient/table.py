@@ -1,25 +1,29 @@
-"""A stand's CSV/TSV file read row by row: the header, the units, decimal commas.
+"""A stand's file read row by row: the header, the units, the constants, the checks.
 
-The first line is the header. Its cells name the channels, or the map (:mod:`rigclient.mapping`)
-says which cell is which channel; a unit in the cell (``load [kN]``, ``load (kN)``, and in
-files not separated by commas ``load, kN``) or in the map is converted to the channel's unit.
-The separator is a tab if the header has one, else a semicolon if it has one, else a comma; in
-a file separated by tabs or semicolons a comma in a number is the decimal comma. A line that
-cannot be read is an :class:`InputError` naming the file, the line and the column.
+The header's cells name the channels, or the map (:mod:`rigclient.mapping`) says which cell
+is which channel; a unit in the cell (``load [kN]``, ``Time (s)``, and in files not
+separated by commas ``load, kN``) or in the map is converted to the channel's unit. The
+map's ``[constants]`` give the channels the file lacks (a test setting such as the normal
+load). The dialect (delimiter, decimal mark) is :mod:`rigclient.dialect`'s. A line that
+cannot be read is an :class:`InputError` naming the file, the line and the column; so is a
+value outside its channel's limits or against its order, which the server would refuse
+with the whole batch.
 """
 
 from __future__ import annotations
 
-import csv
+import math
 import re
-from dataclasses import dataclass
+from collections.abc import Mapping
+from dataclasses import dataclass, field
 
 import numpy as np
 from numpy.typing import NDArray
 
+from rigclient.dialect import cells, header_cells, number
 from rigclient.errors import InputError
-from rigclient.mapping import StandMap, unit_factor
-from schemas.channels import ChannelGroup
+from rigclient.mapping import StandMap, name_key, unit_factor
+from schemas.channels import Channel, ChannelGroup, Order
 
 _BRACKETED = re.compile(r"^(?P<name>.*?)\s*(?:\[(?P<a>[^\]]*)\]|\((?P<b>[^)]*)\))$")
 _COMMA = re.compile(r"^(?P<name>[^,]*?)\s*,\s*(?P<unit>[^,]+)$")
@@ -27,18 +31,14 @@ _COMMA = re.compile(r"^(?P<name>[^,]*?)\s*,\s*(?P<unit>[^,]+)$")
 
 def split_header(cell: str, delimiter: str) -> tuple[str, str | None]:
     """A header cell as (name, unit or None): ``load [kN]``, ``load (kN)``, ``load, kN``."""
+    cell = cell.strip()
     found = _BRACKETED.match(cell)
     if found:
         return found["name"].strip(), (found["a"] or found["b"] or "").strip() or None
     found = _COMMA.match(cell) if delimiter != "," else None
     if found:
         return found["name"].strip(), found["unit"].strip()
-    return cell.strip(), None
-
-
-def sniff(header: str) -> str:
-    """The separator of a file from its header line."""
-    return "\t" if "\t" in header else ";" if ";" in header else ","
+    return cell, None
 
 
 @dataclass(frozen=True, slots=True)
@@ -51,19 +51,26 @@ class Field:
     factor: float
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(slots=True)
 class Table:
-    """How the rows of one file become a group's columns."""
+    """How the rows of one file (from one header line on) become a group's columns."""
 
     file: str
     delimiter: str
+    decimal: str | None
     fields: tuple[Field, ...]
     width: int
     ignored: tuple[str, ...]
+    constants: dict[str, float]
+    group: ChannelGroup
+    names: frozenset[str] = frozenset()  # the header's names (name_key), to know it again
+    last: dict[str, float] = field(default_factory=dict)  # ordered channels' last values
+    _checks: dict[str, Channel] = field(default_factory=dict)
+    _rules: list[_Rule] = field(default_factory=list)
 
-    @property
-    def decimal_comma(self) -> bool:
-        return self.delimiter != ","
+    def __post_init__(self) -> None:
+        self._checks = {c.name: c for c in self.group.channels}
+        self._rules = [_rule(self._checks[f.channel]) for f in self.fields]
 
     @property
     def channels(self) -> tuple[str, ...]:
@@ -71,22 +78,34 @@ class Table:
 
     @classmethod
     def from_header(
-        cls, header: str, *, file: str, group: ChannelGroup, mapping: StandMap | None
+        cls,
+        header: str,
+        *,
+        file: str,
+        group: ChannelGroup,
+        mapping: StandMap | None,
+        line: int = 1,
+        delimiter: str | None = None,
+        decimal: str | None = None,
+        width: int | None = None,
     ) -> Table:
-        """Read the header line against the group's channels and the map."""
-        delimiter = sniff(header)
-        cells = _cells(header.lstrip("\ufeff"), delimiter)
+        """Read the header line (number ``line``) against the group's channels and the map;
+        ``width``: the cells of the rows under it, if known."""
+        delimiter = delimiter or sniff(header)
+        found = header_cells(header.lstrip("\ufeff"), delimiter, width)
         units = {c.name: c.unit for c in group.channels}
+        keys = {name_key(c): c for c in units}
         listed = mapping is not None and bool(mapping.columns)
         fields: list[Field] = []
         ignored: list[str] = []
-        for index, cell in enumerate(cells):
+        for index, raw in enumerate(found):
+            cell = raw.strip()
             name, unit = split_header(cell, delimiter)
             mapped = mapping.column(cell, name) if mapping is not None else None
             if mapped is not None:
                 channel = mapped.channel
-            elif name in units:
-                channel = name
+            elif name_key(name) in keys:
+                channel = keys[name_key(name)]
             elif listed or not cell:
                 ignored.append(cell)
                 continue
@@ -95,7 +114,7 @@ class Table:
                     f"{cell!r} is not a channel of {group.name!r} ({', '.join(units)}); "
                     "name it in the map's [columns]",
                     file=file,
-                    line=1,
+                    line=line,
                     column=cell,
                 )
             if not channel:
@@ -106,59 +125,183 @@ class Table:
                     f"the map sends it to {channel!r}, not a channel of {group.name!r} "
                     f"({', '.join(units)})",
                     file=file,
-                    line=1,
+                    line=line,
                     column=cell,
                 )
             if mapped is not None and mapped.factor is not None:
                 factor = mapped.factor
             else:
                 source = (mapped.unit if mapped is not None else None) or unit
-                factor = 1.0 if source is None else unit_factor(source, units[channel], where=cell)
+                try:
+                    factor = 1.0 if source is None else unit_factor(source, units[channel])
+                except InputError as exc:
+                    message = str(exc).split(": ", 1)[-1]
+                    raise InputError(message, file=file, line=line, column=cell) from None
             fields.append(Field(index, cell, channel, factor))
+        constants = _constants(mapping, units, file)
         seen = [f.channel for f in fields]
         twice = sorted({c for c in seen if seen.count(c) > 1})
         if twice:
-            raise InputError(f"two columns feed {', '.join(twice)}", file=file, line=1)
-        missing = [c for c in units if c not in seen]
-        if group.aligned and missing:
+            raise InputError(f"two columns feed {', '.join(twice)}", file=file, line=line)
+        both = sorted(set(seen) & set(constants))
+        if both:
+            raise InputError(
+                f"{', '.join(both)}: both a column and a constant of the map's [constants]",
+                file=file,
+                line=line,
+            )
+        missing = [c for c in units if c not in seen and c not in constants]
+        if group.required:  # a tribometer: time and μ, or time, F_t and F_N
+            lacks = group.missing([*seen, *constants])
+            if lacks is not None:
+                raise InputError(
+                    f"{lacks} (the header has {', '.join(c.strip() for c in found)}); name them "
+                    "in the map's [columns], or give them in its [constants]",
+                    file=file,
+                    line=line,
+                )
+        elif group.aligned and missing:
             raise InputError(
                 f"no column for {', '.join(missing)} of {group.name!r} (the header has "
-                f"{', '.join(cells)}); name them in the map's [columns]",
+                f"{', '.join(c.strip() for c in found)}); name them in the map's [columns], "
+                "or give them in its [constants]",
                 file=file,
-                line=1,
+                line=line,
             )
         if not fields:
-            raise InputError(f"no column feeds a channel of {group.name!r}", file=file, line=1)
-        return cls(file, delimiter, tuple(fields), len(cells), tuple(ignored))
+            raise InputError(f"no column feeds a channel of {group.name!r}", file=file, line=line)
+        names = frozenset(name_key(split_header(c, delimiter)[0]) for c in found if c.strip())
+        return cls(
+            file,
+            delimiter,
+            decimal,
+            tuple(fields),
+            len(found),
+            tuple(ignored),
+            constants,
+            group,
+            names,
+        )
 
     def parse(self, text: str, line: int) -> list[float]:
-        """One data line as the channels' values, in the order of :attr:`channels`."""
-        cells = _cells(text, self.delimiter)
-        if len(cells) < self.width:
+        """One data line as the channels' values, in the order of :attr:`channels`: each a
+        number within its channel's limits and order (:class:`InputError` names the cell)."""
+        try:
+            found = cells(text, self.delimiter)
+        except InputError as exc:
+            raise InputError(str(exc), file=self.file, line=line) from None
+        if len(found) < self.width:
             raise InputError(
-                f"{len(cells)} cells where the header has {self.width}",
+                f"{len(found)} cells where the header has {self.width}",
                 file=self.file,
                 line=line,
-                column=self.fields[-1].header if len(cells) <= self.fields[-1].index else "",
+                column=self.fields[-1].header if len(found) <= self.fields[-1].index else "",
             )
         values = []
-        for f in self.fields:
-            cell = cells[f.index].strip()
-            number = cell.replace(",", ".") if self.decimal_comma else cell
+        for f, (low, high, nominal, tolerance, integer, order) in zip(
+            self.fields, self._rules, strict=True
+        ):
             try:
-                value = float(number)
-            except ValueError:
+                value = number(found[f.index], self.decimal) * f.factor
+            except ValueError as exc:
+                raise InputError(str(exc), file=self.file, line=line, column=f.header) from None
+            if (
+                not (low <= value <= high and math.isfinite(value))  # a factor's overflow
+                or (nominal and not any(abs(value - v) <= tolerance * abs(v) for v in nominal))
+                or (integer and value != round(value))
+            ):
+                channel = self._checks[f.channel]
                 raise InputError(
-                    f"{cell!r} is not a number", file=self.file, line=line, column=f.header
-                ) from None
-            values.append(value * f.factor)
+                    f"{value:g} {channel.unit} is outside the limit of {f.channel}: "
+                    f"{channel.limit.describe(channel.unit)}",
+                    file=self.file,
+                    line=line,
+                    column=f.header,
+                )
+            if order is not Order.ANY:
+                self._in_order(f, order, value, line)
+            values.append(value)
+        for f, rule, value in zip(self.fields, self._rules, values, strict=True):
+            if rule[-1] is not Order.ANY:
+                self.last[f.channel] = value
         return values
 
+    def _in_order(self, f: Field, order: Order, value: float, line: int) -> None:
+        last = self.last.get(f.channel)
+        if last is not None and (
+            (order is Order.INCREASING and value <= last)
+            or (order is Order.NON_DECREASING and value < last)
+        ):
+            unit = self._checks[f.channel].unit
+            raise InputError(
+                f"{f.channel} = {value:g} {unit} after {last:g}: it must be "
+                f"{order.value.replace('_', '-')}",
+                file=self.file,
+                line=line,
+                column=f.header,
+            )
+
+    def is_header(self, text: str) -> bool:
+        """Whether a line that is not a row is a header: two or more cells, each a word
+        (not a number of any spelling), and a name this header or the group knows, or as
+        many cells as this header."""
+        try:
+            found = [c.strip() for c in header_cells(text, self.delimiter) if c.strip()]
+        except InputError:
+            return False
+        if len(found) < 2 or not all(_word(c) for c in found):
+            return False
+        names = {name_key(split_header(c, self.delimiter)[0]) for c in found}
+        known = self.names | {name_key(c.name) for c in self.group.channels}
+        return bool(names & known) or len(found) == self.width
+
     def columns(self, rows: list[list[float]]) -> dict[str, NDArray[np.float64]]:
-        """Rows from :meth:`parse` as the group's columns."""
+        """Rows from :meth:`parse` as the group's columns (the constants repeated)."""
         array = np.asarray(rows, dtype=np.float64).reshape(len(rows), len(self.fields))
-        return {f.channel: array[:, k].copy() for k, f in enumerate(self.fields)}
+        out = {f.channel: array[:, k].copy() for k, f in enumerate(self.fields)}
+        for name, value in self.constants.items():
+            out[name] = np.full(len(rows), value)
+        return out
 
 
-def _cells(text: str, delimiter: str) -> list[str]:
-    return next(csv.reader([text.rstrip("\r\n")], delimiter=delimiter), [])
+#: A channel's limit and order as plain numbers: low, high, nominal, tolerance, integer,
+#: order (the check of one value without numpy).
+_Rule = tuple[float, float, tuple[float, ...], float, bool, Order]
+
+
+def _rule(channel: Channel) -> _Rule:
+    limit = channel.limit
+    low = -math.inf if limit.low is None else limit.low
+    high = math.inf if limit.high is None else limit.high
+    return (low, high, limit.nominal or (), limit.tolerance, limit.integer, channel.order)
+
+
+def _word(cell: str) -> bool:
+    """A cell that holds a letter and that Python's ``float`` does not take (``nan``,
+    ``inf``, ``3_05``, other scripts' digits are numbers of a spelling, not names)."""
+    try:
+        float(cell.replace(",", "."))
+    except ValueError:
+        return any(ch.isalpha() for ch in cell)
+    return False
+
+
+def _constants(mapping: StandMap | None, units: Mapping[str, str], file: str) -> dict[str, float]:
+    if mapping is None:
+        return {}
+    out = {}
+    for name, (value, unit) in mapping.constants.items():
+        if name not in units:
+            raise InputError(
+                f"{name!r} of [constants] is not a channel ({', '.join(units)})",
+                file=mapping.source or file,
+                column=name,
+            )
+        factor = 1.0 if unit is None else unit_factor(unit, units[name], where=name)
+        out[name] = value * factor
+    return out
+
+
+def sniff(header: str) -> str:
+    """The separator of a header line alone: tab, semicolon, comma, else runs of spaces."""
+    return next((d for d in ("\t", ";", ",") if d in header), " ")

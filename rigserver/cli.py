@@ -31,6 +31,8 @@ from rigserver.storage import HDF5Store, PostgresStore, RunStore, StorageError
 from rigserver.storage.check import check_data_dir
 from rigserver.storage.hsds_settings import HsdsSettings
 from rigserver.storage.migrate import MigrationMismatch, migrate
+from rigserver.storage.notes import NotesStore, SqliteNotes
+from rigserver.storage.notes_postgres import PostgresNotes
 from rigserver.storage.series import SeriesStore, SqliteSeries
 from rigserver.storage.series_postgres import PostgresSeries
 from schemas.stands import configure_stands
@@ -106,6 +108,7 @@ def build_app(settings: Settings) -> FastAPI:
     settings.data_dir.mkdir(parents=True, exist_ok=True)
     store: RunStore
     series: SeriesStore
+    notes: NotesStore
     if settings.hsds_endpoint and not settings.database_url:
         raise ValueError("hsds_endpoint needs database_url: HSDS holds a cluster's arrays")
     if settings.database_url:
@@ -116,10 +119,12 @@ def build_app(settings: Settings) -> FastAPI:
             hsds_reads=settings.hsds_reads,
         )
         series = PostgresSeries(settings.database_url)
+        notes = PostgresNotes(settings.database_url)
     else:
         store = HDF5Store(settings.data_dir, synchronous=settings.synchronous)  # type: ignore[arg-type]
         series = SqliteSeries(settings.data_dir / "series.sqlite")
-    return create_app(settings, store, keys, configure_stands(overrides), series)
+        notes = SqliteNotes(settings.data_dir / "notes.sqlite")
+    return create_app(settings, store, keys, configure_stands(overrides), series, notes)
 
 
 def _hsds(settings: Settings) -> HsdsSettings | None:

@@ -85,6 +85,82 @@ _MEASURED, _THEORY, _COMPARISON = Part.MEASURED, Part.THEORY, Part.COMPARISON
 _NOISE_UM = 1e-3  # µm: below a nanometre is the arithmetic's noise, not a displacement
 _NOISE_PI = 1e-4  # dimensionless pressures and eccentricity ratios
 
+#: How λc of an ISO roughness result was chosen, in words (the values of ``lambda_c_source``).
+ISO_LAMBDA_C_SOURCE = {
+    "given": N_("given in the configuration"),
+    "ra": N_("by Ra, table of ISO 21920-3"),
+    "rz": N_("by Rz, table of ISO 21920-3"),
+    "rsm": N_("by RSm, table of ISO 21920-3"),
+}
+
+#: How the filter's end effects were handled, in words (the values of ``ends``).
+ISO_ENDS = {
+    "discarded": N_("λc/2 discarded at each end"),
+    "corrected": N_("kept, corrected by renormalised weights (ISO 16610-28)"),
+}
+
+#: The ISO analysis' remarks (rigserver.core.iso_roughness.REMARKS) as notes of the results.
+ISO_REMARKS = {
+    "resampled": N_(
+        "ISO roughness: the trace is not uniformly sampled; it was interpolated onto its "
+        "median step"
+    ),
+    "no_rsm": N_("ISO roughness: λc not chosen by the RSm table, the profile has no RSm"),
+    "capped": N_(
+        "ISO roughness: the table's λc is longer than the trace; the longest λc it holds is used"
+    ),
+    "unsettled": N_(
+        "ISO roughness: the choice of λc by the table does not settle; the last one is kept"
+    ),
+    "short": N_(
+        "ISO roughness: the trace is shorter than 2λc, so its ends are kept (corrected by "
+        "renormalised weights, ISO 16610-28) instead of discarded"
+    ),
+    "few_sections": N_(
+        "ISO roughness: fewer sections of λc than the standard's five (a trace of 6λc gives five)"
+    ),
+    "coarse_step": N_("ISO roughness: the sampling step is longer than λs/5 (ISO 3274)"),
+}
+
+
+def _iso(prefix: str) -> dict[str, Label]:
+    """The labels of an ISO 21920-2 roughness result (:class:`schemas.results.IsoRoughnessResult`)
+    under ``prefix`` (``"iso."``, ``"disc_wear.iso."``)."""
+    iso = "ISO 21920-2"
+    found = {
+        "lambda_c": Label(N_("cut-off λc of the roughness filter"), "λ_c", "ISO 16610-21", "mm"),
+        "lambda_s": Label(N_("cut-off λs of the short-wave filter"), "λ_s", "ISO 16610-21", "um"),
+        "lambda_c_source": Label(N_("how λc was chosen")),
+        "ends": Label(N_("end effects of the filter")),
+        "sections": Label(
+            N_("sections in the evaluation length"), "n_{sc}", "ISO 21920-3", digits=9
+        ),
+        "evaluation_length": Label(N_("evaluation length"), "l_e", "ISO 21920-3", "mm"),
+        "ra": Label(
+            N_("arithmetic mean height of the roughness profile"), "R_a^{ISO}", iso, "um", 3
+        ),
+        "rq": Label(
+            N_("root-mean-square height of the roughness profile"), "R_q^{ISO}", iso, "um", 3
+        ),
+        "rsk": Label(N_("skewness of the roughness profile"), "R_sk^{ISO}", iso, digits=3),
+        "rku": Label(N_("kurtosis of the roughness profile"), "R_ku^{ISO}", iso, digits=3),
+        "rp": Label(N_("maximum peak height, mean over the sections"), "R_p^{ISO}", iso, "um", 3),
+        "rv": Label(N_("maximum pit depth, mean over the sections"), "R_v^{ISO}", iso, "um", 3),
+        "rz": Label(N_("maximum height, mean over the sections"), "R_z^{ISO}", iso, "um", 3),
+        "rt": Label(N_("total height of the roughness profile"), "R_t^{ISO}", iso, "um", 3),
+        "rsm": Label(N_("mean width of the profile elements"), "R_{Sm}^{ISO}", iso, "mm", 3),
+        "rdq": Label(N_("root-mean-square slope"), "R_{Δq}^{ISO}", iso, digits=3),
+        "rk": Label(N_("core height"), "R_k", "ISO 13565-2", "um", 3),
+        "rpk": Label(N_("reduced peak height"), "R_{pk}", "ISO 13565-2", "um", 3),
+        "rvk": Label(N_("reduced valley depth"), "R_{vk}", "ISO 13565-2", "um", 3),
+        "mr1": Label(N_("material ratio at the top of the core"), "M_{r1}", "ISO 13565-2", "%", 3),
+        "mr2": Label(
+            N_("material ratio at the bottom of the core"), "M_{r2}", "ISO 13565-2", "%", 3
+        ),
+    }
+    return {prefix + name: label for name, label in found.items()}
+
+
 SMTS2: dict[str, Label] = {
     "rows": Label(N_("rows analysed"), digits=9),
     "duration": Label(N_("duration of the record"), "τ", unit="s"),
@@ -128,6 +204,7 @@ SMTS2: dict[str, Label] = {
     "disc_wear.specific_wear_rate": Label(
         N_("specific wear rate of the disc"), "k_2", "ASTM G99", "mm^3/(N*m)"
     ),
+    **_iso("disc_wear.iso."),
     "theoretical.contact": Label(N_("contact mode"), "", "2.7", part=_THEORY),
     "theoretical.fatigue_t": Label(N_("fatigue parameter"), "t", "2.1", part=_THEORY),
     "theoretical.contour_pressure": Label(
@@ -411,6 +488,7 @@ PROFILOMETER: dict[str, Label] = {
     "complex_parameter_equilibrium": Label(
         N_("complex parameter of the equilibrium roughness"), "Δ_T", "1.11", part=_COMPARISON
     ),
+    **_iso("iso."),
 }
 
 
@@ -505,6 +583,7 @@ TRIBOMETER: dict[str, Label] = {
         N_("worn volume of the disc, from the track"),
         N_("specific wear rate of the disc, from the track"),
     ),
+    **_iso("disc_track.iso."),
     "disc_mass.mass_loss": Label(N_("mass loss of the disc"), "Δm", unit="mg"),
     "disc_mass.density": Label(N_("density of the disc"), "ρ", unit="kg/m^3"),
     **_wear_labels(
@@ -717,6 +796,8 @@ WORDS: tuple[str, ...] = (
     N_("ball"),
     N_("flat_pin"),
     N_("none"),
+    *ISO_LAMBDA_C_SOURCE.values(),
+    *ISO_ENDS.values(),
 )
 """The words results, test plans and configurations hold as values (regimes, contact
 modes, methods, the instrument)."""

@@ -24,6 +24,36 @@ class Series(BaseModel):
     y_max: list[float] = Field(description="largest value in each block")
 
 
+# --- roughness as the standards define it (ISO 21920-2, ISO 16610-21) --------------------
+
+
+class IsoRoughnessResult(BaseModel):
+    """The ISO 21920-2 parameters of a profile's roughness profile (ISO 16610-21 Gaussian
+    filter), beside the manual's; ``docs/roughness.md`` compares the two methods."""
+
+    lambda_c: float = quantity(..., "m", "λc, cut-off of the Gaussian roughness filter")
+    lambda_s: float = quantity(..., "m", "λs, cut-off of the short-wave filter (0: none)")
+    lambda_c_source: str = Field(description="how λc was chosen: given, or by a table")
+    ends: str = Field(description="how the filter's end effects were handled")
+    sections: int = quantity(..., "1", "sections of length λc in the evaluation length")
+    evaluation_length: float = quantity(..., "m", "evaluation length")
+    ra: float = quantity(..., "m", "Ra, arithmetic mean height (ISO 4287 4.2.1)")
+    rq: float = quantity(..., "m", "Rq, root-mean-square height (ISO 4287 4.2.2)")
+    rsk: float = quantity(..., "1", "Rsk, skewness (ISO 4287 4.2.3)")
+    rku: float = quantity(..., "1", "Rku, kurtosis (ISO 4287 4.2.4)")
+    rp: float = quantity(..., "m", "Rp, maximum peak height, mean over the sections")
+    rv: float = quantity(..., "m", "Rv, maximum pit depth, mean over the sections")
+    rz: float = quantity(..., "m", "Rz, maximum height, mean over the sections")
+    rt: float = quantity(..., "m", "Rt, total height over the evaluation length")
+    rsm: float | None = quantity(None, "m", "RSm, mean width of the profile elements")
+    rdq: float = quantity(..., "1", "RΔq, root-mean-square slope")
+    rk: float = quantity(..., "m", "Rk, core height (ISO 13565-2)")
+    rpk: float = quantity(..., "m", "Rpk, reduced peak height (ISO 13565-2)")
+    rvk: float = quantity(..., "m", "Rvk, reduced valley depth (ISO 13565-2)")
+    mr1: float = quantity(..., "%", "Mr1, material ratio at the top of the core")
+    mr2: float = quantity(..., "%", "Mr2, material ratio at the bottom of the core")
+
+
 # --- SMTs-2 -----------------------------------------------------------------------------
 
 
@@ -53,6 +83,9 @@ class DiscWearResult(BaseModel):
     track_area: float = quantity(..., "m^2", "cross-section area of the wear track")
     volume: float = quantity(..., "m^3", "V = area × 2π r2, the disc's worn volume")
     specific_wear_rate: float = quantity(..., "m^2/N", "k = V/(F·L) of the disc, m³/(N·m)")
+    iso: IsoRoughnessResult | None = Field(
+        default=None, description="ISO roughness across the track (its form filtered out)"
+    )
 
 
 class TheoreticalWearResult(BaseModel):
@@ -324,6 +357,9 @@ class ProfilometerResults(BaseModel):
     complex_parameter_equilibrium: float | None = quantity(
         None, "1", "Δ_T for the configured material and load (1.11)"
     )
+    iso: IsoRoughnessResult | None = Field(
+        default=None, description="ISO 21920-2 parameters of the filtered roughness profile"
+    )
     pending: list[str] = Field(default_factory=list)
     notes: list[str] = Field(default_factory=list)
 
@@ -351,6 +387,9 @@ class TrackWear(WearEstimate):
     traces: int = Field(description="profiles across the track averaged")
     track_area: float = quantity(..., "m^2", "A, mean cross-section area of the track")
     track_area_std: float | None = quantity(None, "m^2", "s(A) over the traces")
+    iso: IsoRoughnessResult | None = Field(
+        default=None, description="ISO roughness of the first trace (the track's form filtered out)"
+    )
 
 
 class ScarWear(WearEstimate):

@@ -202,6 +202,12 @@ class ProfilometerConfig(_Config):
     levels: int = quantity(
         10, "1", "strips between the peak line and the mean line (table 1.6, >= 10)", ge=6
     )
+    lambda_c: float = quantity(
+        0.0, "m", "λc of the ISO roughness filter (0: by the ISO 21920-3 table)", ge=0
+    )
+    lambda_s: float = quantity(
+        0.0, "m", "λs of the ISO short-wave filter (0: by the ISO 21920-3 table)", ge=0
+    )
 
 
 # --- commercial tribometers: pin- or ball-on-disc (ASTM G99, ISO 20808), reciprocating

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from rigserver.analysis.iso import iso_result
 from rigserver.analysis.readings import Readings
 from rigserver.analysis.uncertainty import estimate, from_limit
 from rigserver.core import roughness
@@ -28,6 +29,9 @@ def analyse(run: Run, readings: Readings) -> ProfilometerResults:
         return result
     x = trace["x"] * _M_PER_MM
     y = trace["y"] * _M_PER_UM
+    result.iso = iso_result(
+        x, y, lambda_c=c.lambda_c or None, lambda_s=c.lambda_s or None, notes=result.notes
+    )
     try:
         params = roughness.profile_parameters(x=x, y=y)
     except ModelInputError as exc:

@@ -20,6 +20,7 @@ from schemas.results import (
     AdequacyResult,
     DiscWearResult,
     ExperimentalWearResult,
+    IsoRoughnessResult,
     SensitivityPoint,
     Smts2Results,
     TheoreticalWearResult,
@@ -141,7 +142,9 @@ def analyse(run: Run, readings: Readings, profiles: Profiles | None = None) -> S
         )
     track = (profiles or Profiles()).traces.get("disc")
     if track is not None and revolutions > 0:
-        result.disc_wear = _disc_wear(run, config, result, track)
+        traced = (profiles or Profiles()).found.get("disc")
+        iso = None if traced is None else traced.iso
+        result.disc_wear = _disc_wear(run, config, result, track, iso)
     if "disc_ra" in m:
         _theoretical(config, result, m["disc_ra"] * _M_PER_UM)
     else:
@@ -289,9 +292,14 @@ def _wear_uncertainty(
 
 
 def _disc_wear(
-    run: Run, config: Smts2Config, result: Smts2Results, track: Readings
+    run: Run,
+    config: Smts2Config,
+    result: Smts2Results,
+    track: Readings,
+    iso: IsoRoughnessResult | None,
 ) -> DiscWearResult | None:
-    """The disc's worn volume: the track's cross-section (a profile across it) × 2π r2."""
+    """The disc's worn volume: the track's cross-section (a profile across it) × 2π r2; with
+    the ISO roughness across the track (the profilometer run's, its form filtered out)."""
     trace = track.read("profile")
     try:
         area = wear.wear_track_area(x=trace["x"] * _M_PER_MM, y=trace["y"] * _M_PER_UM)
@@ -304,4 +312,5 @@ def _disc_wear(
         track_area=area,
         volume=volume,
         specific_wear_rate=volume / (result.mean_load * result.sliding_distance),
+        iso=iso,
     )

@@ -16,6 +16,7 @@ import numpy as np
 from numpy.typing import NDArray
 from uncertainties import UFloat, wrap
 
+from rigserver.analysis.iso import iso_result
 from rigserver.analysis.readings import Readings
 from rigserver.analysis.references import Profiles
 from rigserver.analysis.running_in import blocks_of, running_in
@@ -27,6 +28,7 @@ from schemas.messages import N_
 from schemas.results import (
     FrictionLoop,
     HertzResult,
+    IsoRoughnessResult,
     LapMapResult,
     MassWear,
     PinOnDiscResults,
@@ -304,6 +306,7 @@ def _track(
     acc = config.accuracy
     cols = readings.read(TRACK)
     areas = []
+    iso: IsoRoughnessResult | None = None
     for trace in np.unique(cols["trace"]):
         chosen = cols["trace"] == trace
         order = np.argsort(cols["x"][chosen], kind="stable")
@@ -316,6 +319,15 @@ def _track(
             )
         except ModelInputError as exc:
             result.notes.append(f"trace {trace:g} across the track left out: {exc}")
+            continue
+        if iso is None:  # the roughness across the track, of its first trace
+            iso = iso_result(
+                cols["x"][chosen][order] * _M_PER_MM,
+                cols["z"][chosen][order] * _M_PER_UM,
+                lambda_c=None,
+                lambda_s=None,
+                notes=result.notes,
+            )
     if not areas:
         return None
     mean = float(np.mean(areas))
@@ -333,6 +345,7 @@ def _track(
         traces=len(areas),
         track_area=mean,
         track_area_std=spread,
+        iso=iso,
         **_rate(volume, load, distance),
     )
 

@@ -30,11 +30,13 @@ from rigserver.api.routes import (
     results,
     runs,
 )
+from rigserver.api.routes import notes as notes_routes
 from rigserver.api.routes import series as series_routes
 from rigserver.api.routes import stands as stand_routes
 from rigserver.api.routes.pages import LOGIN_BODY_BYTES
 from rigserver.api.settings import Settings
 from rigserver.storage.base import RunStore
+from rigserver.storage.notes import NotesStore, SqliteNotes
 from rigserver.storage.series import SeriesStore, SqliteSeries
 from schemas.readings import ReadingBatch
 from schemas.stands import Stand, StandKind
@@ -46,6 +48,7 @@ API_ROUTERS = (
     readings.router,
     stand_routes.router,
     runs.router,
+    notes_routes.router,
     results.router,
     models.router,
     reports.router,
@@ -90,11 +93,14 @@ def create_app(
     keys: list[ApiKey],
     stands: dict[StandKind, Stand],
     series: SeriesStore | None = None,
+    notes: NotesStore | None = None,
 ) -> FastAPI:
     """Build the service. Nothing is built at import time; the stores are closed on shutdown.
 
-    Without a series store the series live in memory (tests, and stores without a disk)."""
+    Without a series store (a notes store) the series (the student's words) live in memory
+    (tests, and stores without a disk)."""
     series_store = series if series is not None else SqliteSeries(":memory:")
+    notes_store = notes if notes is not None else SqliteNotes(":memory:")
 
     @asynccontextmanager
     async def lifespan(app: FastAPI) -> AsyncIterator[None]:
@@ -103,6 +109,7 @@ def create_app(
         app.state.services.reports.close()
         store.close()
         series_store.close()
+        notes_store.close()
 
     app = FastAPI(
         title="rig",
@@ -121,6 +128,7 @@ def create_app(
         stands=stands,
         keyring=Keyring(keys),
         series=series_store,
+        notes=notes_store,
     )
     problems.install(app)
     for router in API_ROUTERS:

@@ -25,6 +25,7 @@ from rigserver.api.results_cache import ResultsCache
 from rigserver.api.sessions import COOKIE, Sessions
 from rigserver.api.settings import Settings
 from rigserver.storage.base import RunStore
+from rigserver.storage.notes import NotesStore, SqliteNotes
 from rigserver.storage.series import SeriesStore
 from schemas.runs import Run
 from schemas.stands import Stand, StandKind
@@ -42,6 +43,8 @@ class Services:
     stands: dict[StandKind, Stand]
     keyring: Keyring
     series: SeriesStore
+    #: the student's own words on runs (rigserver.storage.notes)
+    notes: NotesStore = field(default_factory=lambda: SqliteNotes(":memory:"))
     sessions: Sessions = field(default_factory=Sessions)
     run_locks: defaultdict[str, threading.Lock] = field(
         default_factory=lambda: defaultdict(threading.Lock)

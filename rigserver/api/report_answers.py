@@ -16,8 +16,9 @@ from rigserver.api.problems import ApiProblem
 from rigserver.api.report_files import ReportFile
 from rigserver.api.report_jobs import Job, RunReportJob
 from rigserver.api.run_results import StoredReadings
-from rigserver.reports.i18n import LANGS
+from rigserver.reports.i18n import LANGS, Lang
 from schemas.runs import Run, RunState
+from schemas.student_notes import StudentNotes
 
 
 def caller_key(request: Request, services: Services) -> str:
@@ -37,23 +38,48 @@ def targets(target: ReportFile) -> dict[str, ReportFile]:
     }
 
 
+def run_target(
+    services: Services, run: Run, lang: Lang, fmt: str
+) -> tuple[ReportFile, StudentNotes]:
+    """Where the run's report in ``lang`` and ``fmt`` is kept, named by the run and the
+    student's words on it as they are now, and the words (for its job)."""
+    notes = services.notes.get(run.id)
+    return services.report_files.run_report(run, lang, fmt, notes), notes
+
+
 def run_job(
-    services: Services, run: Run, values: Mapping[str, object], target: ReportFile
+    services: Services,
+    run: Run,
+    values: Mapping[str, object],
+    target: ReportFile,
+    notes: StudentNotes,
 ) -> tuple[RunReportJob, bool]:
-    """The job of ``target``, the report of ``run``, and whether it renders in this process
-    (an open run, whose readings only the store has)."""
+    """The job of ``target``, the report of ``run`` with the student's ``notes``, and
+    whether it renders in this process (an open run, whose readings only the store has)."""
     lang = target.lang
     files = {fmt: t.path for fmt, t in targets(target).items()}
     stand = services.stand_of(run)
     if run.state is RunState.OPEN:
         return (
             RunReportJob(
-                run, stand, dict(values), lang, files, readings=StoredReadings(services, run)
+                run,
+                stand,
+                dict(values),
+                lang,
+                files,
+                readings=StoredReadings(services, run),
+                notes=notes,
             ),
             True,
         )
     return RunReportJob(
-        run, stand, dict(values), lang, files, run_file=services.store.run_file(run.id)
+        run,
+        stand,
+        dict(values),
+        lang,
+        files,
+        run_file=services.store.run_file(run.id),
+        notes=notes,
     ), False
 
 
@@ -95,10 +121,10 @@ def render_finished(services: Services, run_id: str, values: Mapping[str, object
     PDF), where the pool has room; the first download renders what was not."""
     run = services.store.get_run(run_id)
     for lang in LANGS:
-        target = services.report_files.run_report(run, lang, "pdf")
+        target, notes = run_target(services, run, lang, "pdf")
         if target.path.exists():
             continue
-        job, in_process = run_job(services, run, values, target)
+        job, in_process = run_job(services, run, values, target, notes)
         future = services.reports.render_later(str(target.path), job, in_process=in_process)
         if future is not None:
             future.add_done_callback(partial(_prune_after, target))

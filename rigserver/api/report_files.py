@@ -2,10 +2,11 @@
 
 A report is a function of the run (its metadata, state and readings version: the catalogue
 entry, whose batch count grows with every batch stored, a late measurement included), the
-language, the format, and the code and templates that render it. The file of a report is
-named by the digest of all of these, so a changed run, a new member of a series or a new
-deployment names a new file, and the old one is never served again: nothing here knows what
-a report contains. The digest is also the answer's ``ETag``.
+student's own words on it (their version, :mod:`rigserver.storage.notes`), the language,
+the format, and the code and templates that render it. The file of a report is named by
+the digest of all of these, so a changed run, new words, a new member of a series or a new
+deployment names a new file, and the old one is never served again: nothing here knows
+what a report contains. The digest is also the answer's ``ETag``.
 
 Where: ``<data_dir>/reports/<run|series>/<id>/<lang>-<digest>.<html|pdf>``, beside the
 ``runs/`` of the embedded store. A cluster's workers materialise run files into their
@@ -27,6 +28,7 @@ import schemas
 from rigserver.reports.i18n import Lang
 from schemas.runs import Run
 from schemas.series import Series
+from schemas.student_notes import StudentNotes
 
 #: Formats and their media types.
 MEDIA_TYPES = {"html": "text/html; charset=utf-8", "pdf": "application/pdf"}
@@ -52,6 +54,12 @@ def run_version(run: Run) -> str:
     """What a run's report shows of the run: its catalogue entry (metadata, state, results'
     headline, batches and rows per group)."""
     return run.model_dump_json()
+
+
+def notes_version(notes: StudentNotes) -> str:
+    """What a run's report shows of the student's words: the words, their version and who
+    wrote them when (a new version is a new report, even with the same words)."""
+    return notes.model_dump_json()
 
 
 def series_version(series: Series, runs: Iterable[Run]) -> str:
@@ -98,8 +106,12 @@ class ReportFiles:
         self.root = root
         self._salt = salt
 
-    def run_report(self, run: Run, lang: Lang, fmt: str) -> ReportFile:
-        return self._file("run", run.id, run_version(run), lang, fmt)
+    def run_report(
+        self, run: Run, lang: Lang, fmt: str, notes: StudentNotes | None = None
+    ) -> ReportFile:
+        """The run's report; with the student's ``notes`` on it (None: never written)."""
+        version = run_version(run) + notes_version(notes or StudentNotes())
+        return self._file("run", run.id, version, lang, fmt)
 
     def series_report(
         self, series: Series, runs: Iterable[Run], lang: Lang, fmt: str

@@ -31,6 +31,7 @@ from rigserver.storage.runfile import RunFile
 from schemas.runs import Run
 from schemas.series import SeriesDetail
 from schemas.stands import MEASUREMENTS, Stand
+from schemas.student_notes import StudentNotes
 
 #: The loggers of the PDF renderer and its font library: their warnings about the report's
 #: CSS and fonts ("Ignored `stroke: ...`", "Anchor defined twice", "Step 5 - Creating
@@ -87,6 +88,8 @@ class RunReportJob:
     #: the final file of an ended run; None: ``readings`` (an open run, this process only)
     run_file: Path | None = None
     readings: Readings | None = field(default=None, compare=False)
+    #: the student's own words on the run (rigserver.storage.notes)
+    notes: StudentNotes | None = None
 
     def render(self) -> None:
         with ExitStack() as stack:
@@ -101,6 +104,7 @@ class RunReportJob:
                 readings=readings,
                 lang=self.lang,
                 made=datetime.now(UTC),
+                notes=self.notes,
             )
             html = render_report(report)
         write_targets(html, self.targets)

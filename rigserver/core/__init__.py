@@ -7,6 +7,9 @@ web: the service, the reports and the simulated stands all call this package.
 Modules, one per lab work or idea:
 
 - :mod:`rigserver.core.roughness`: lab work 1, the ABRIS-PM7 profilometer.
+- :mod:`rigserver.core.profile_filter`: the ISO 16610-21 Gaussian profile filter (λs, λc).
+- :mod:`rigserver.core.iso_roughness`: the ISO 21920-2 parameters and the ISO 13565-2 Rk
+  family of a trace, beside the manual's method.
 - :mod:`rigserver.core.wear`: lab work 2, the SMTs-2 friction and wear machine.
 - :mod:`rigserver.core.bearing`: labs 3 and 4, asymptotic journal-bearing theory.
 - :mod:`rigserver.core.stands`: processing of the slide-bearing and MTOS readings.

@@ -55,6 +55,7 @@ AXES: dict[str, str] = {
     "Π": N_("dimensionless pressure"),
     "Π_e": N_("measured dimensionless pressure"),
     "z = Z/R": N_("axial coordinate"),
+    "Z": N_("roughness profile"),
 }
 """The quantity each plotted symbol stands for, named on the axis beside the symbol."""
 

@@ -230,6 +230,10 @@ MESSAGES: dict[str, str] = {
     "ended": N_("Ended"),
     "rows": N_("Rows stored"),
     "notes": N_("Notes"),
+    "group": N_("Group"),
+    "students": N_("Students"),
+    "conclusions.computed": N_("Computed from the measurements:"),
+    "conclusions.students": N_("The students' conclusions:"),
     "state.open": N_("open"),
     "state.finished": N_("finished"),
     "state.aborted": N_("aborted"),
@@ -582,5 +586,27 @@ MESSAGES: dict[str, str] = {
         "The fatigue-wear theory (2.1) is outside its range for this test, so (2.15) is not "
         "judged: {reasons}."
     ),
+    # the ISO roughness beside the manual's (issue 23; rigserver/reports/labs/iso_profile.py)
+    "iso.section": N_("Roughness as ISO 21920-2 defines it (Gaussian filter, ISO 16610-21)"),
+    "iso.explain": N_(
+        "The manual measures the profile from its least-squares mean line over the whole "
+        "trace, unfiltered, so Ra = {ra} µm holds the waviness too. ISO 21920-2 measures the "
+        "roughness profile from the Gaussian mean line of cut-off λc = {lambda_c} mm "
+        "(λs = {lambda_s} µm), which takes the waviness out: Ra = {ra_iso} µm, the value a "
+        "profilometer's own software reports with these settings."
+    ),
+    "iso.compare": N_("The manual's parameters beside the ISO 21920-2 ones"),
+    "iso.col_manual": N_("lab manual"),
+    "iso.col_iso": N_("ISO 21920-2"),
+    "iso.params": N_("ISO 21920-2 parameters of the roughness profile and the filter's settings"),
+    "iso.fig": N_(
+        "The profile with the manual's least-squares mean line and the Gaussian mean line "
+        "(λc); below, the roughness profile and the sections of the evaluation length"
+    ),
+    "iso.ls_line": N_("least-squares mean line (manual)"),
+    "iso.gauss_line": N_("Gaussian mean line, λc (ISO)"),
+    "iso.roughness": N_("roughness profile"),
+    "iso.evaluation": N_("evaluation length"),
+    "iso.track": N_("Roughness across the track, ISO 21920-2 (the track's form filtered out)"),
 }
 """The texts of the code by key: English, the message ids of the catalogs."""

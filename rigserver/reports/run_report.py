@@ -8,7 +8,7 @@ from collections.abc import Callable, Mapping, Sequence
 from datetime import datetime
 from typing import Any
 
-from markupsafe import escape
+from markupsafe import Markup, escape
 from pydantic import BaseModel
 
 from rigserver.analysis import Readings
@@ -31,6 +31,7 @@ from schemas.results import (
 )
 from schemas.runs import Run, RunState
 from schemas.stands import CONFIG_MODELS, Stand, StandKind
+from schemas.student_notes import StudentNotes
 
 RESULT_MODELS: dict[StandKind, type[BaseModel]] = {
     StandKind.SMTS2: Smts2Results,
@@ -59,6 +60,7 @@ def build_report(
     readings: Readings,
     lang: Lang,
     made: datetime,
+    notes: StudentNotes | None = None,
 ) -> Report:
     """The report of ``run`` in ``lang``.
 
@@ -74,9 +76,12 @@ def build_report(
         ``"en"`` or ``"ru"``.
     made
         When the report is made (printed in the footer), UTC.
+    notes
+        The student's own words on the run: the group and the students are printed at the
+        top, the conclusions beside the computed ones, as written.
     """
     with number_locale(lang):
-        return _build(run, stand, values, readings, Messages(lang), made)
+        return _build(run, stand, values, readings, Messages(lang), made, notes or StudentNotes())
 
 
 def _build(
@@ -86,6 +91,7 @@ def _build(
     readings: Readings,
     t: Messages,
     made: datetime,
+    notes: StudentNotes,
 ) -> Report:
     kind = run.stand.value
     model = RESULT_MODELS[run.stand].model_validate(values)
@@ -95,8 +101,9 @@ def _build(
         first.append(Paragraph(t("open_warning")))
     first.append(_configuration(t, run))
     sections = [Section(t("sec.input"), first), *lab.sections]
-    if lab.conclusions:
-        sections.append(Section(t("sec.conclusions"), [Items(lab.conclusions)]))
+    conclusions = _conclusions(t, lab.conclusions, notes.conclusions)
+    if conclusions:
+        sections.append(Section(t("sec.conclusions"), conclusions))
     for key, items in (("sec.pending", model.pending), ("sec.notes", model.notes)):  # type: ignore[attr-defined]
         if items:  # the analysis' words, printed as they are (x_zero is not x subscript zero)
             sections.append(Section(t(key), [Items([escape(t.gettext(item)) for item in items])]))
@@ -114,7 +121,7 @@ def _build(
         subtitle=t("stand." + kind),
         aim_label=t("aim"),
         aim=t("aim." + kind),
-        particulars=_particulars(t, run, stand),
+        particulars=_particulars(t, run, stand, notes),
         sections=sections,
         footer=t("footer", run=run.id, time=f"{made:%Y-%m-%d %H:%M}"),
     )
@@ -195,13 +202,36 @@ def particulars_text(t: Messages, mapping: Mapping[str, Any]) -> str:
     return "; ".join(parts)
 
 
-def _particulars(t: Messages, run: Run, stand: Stand) -> list[tuple[str, str]]:
+def _conclusions(t: Messages, computed: Sequence[Text], words: str) -> list[Paragraph | Items]:
+    """The computed verdicts, and after them the students' own conclusions as they wrote
+    them (escaped; blank lines part paragraphs, line breaks stay)."""
+    if not words.strip():
+        return [Items(computed)] if computed else []
+    blocks: list[Paragraph | Items] = []
+    if computed:
+        blocks += [Paragraph(_strong(t("conclusions.computed"))), Items(computed)]
+    blocks.append(Paragraph(_strong(t("conclusions.students"))))
+    for part in re.split(r"\n\s*\n", words.strip()):
+        lines = [escape(line) for line in part.strip().splitlines()]
+        blocks.append(Paragraph(Markup("<br>").join(lines)))
+    return blocks
+
+
+def _strong(text: str) -> Markup:
+    return Markup("<strong>%s</strong>") % text
+
+
+def _particulars(t: Messages, run: Run, stand: Stand, notes: StudentNotes) -> list[tuple[str, str]]:
     rows = [
         (t("run"), run.id),
         (t("stand"), t("stand." + run.stand.value)),
         (t("state"), t("state." + run.state.value)),
         (t("operator"), run.operator),
     ]
+    if notes.group:
+        rows.append((t("group"), notes.group))
+    if notes.students:
+        rows.append((t("students"), ", ".join(notes.students)))
     if run.title:
         rows.append((t("run_title"), run.title))
     if run.specimen:

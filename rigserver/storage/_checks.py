@@ -82,7 +82,8 @@ def reopened(existing: Run, run: Run, key: str) -> Run:
     if existing.model_dump(include=_OPENED_WITH) != run.model_dump(include=_OPENED_WITH):
         raise KeyReused(
             f"the Idempotency-Key {key[:80]!r} opened run {existing.id} with other values; "
-            "a new run needs a new key"
+            "a new run needs a new key",
+            existing.id,
         )
     return existing
 

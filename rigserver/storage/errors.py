@@ -38,7 +38,14 @@ class RunExists(StorageError):
 
 
 class KeyReused(StorageError):
-    pass
+    """``run_id``: the run the key opened (its owner may learn it: the key is theirs)."""
+
+    def __init__(self, message: str, run_id: str = "") -> None:
+        super().__init__(message, run_id)
+        self.run_id = run_id
+
+    def __str__(self) -> str:
+        return str(self.args[0])
 
 
 class RunNotOpen(StorageError):

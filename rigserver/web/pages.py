@@ -27,11 +27,13 @@ from rigserver.reports.formatting import (
 )
 from rigserver.reports.i18n import LANGS, Lang, Messages
 from rigserver.reports.run_report import RESULT_MODELS, configuration_rows, particulars_text
+from rigserver.reports.x3p import PROFILE_GROUP, NoProfile, profile_group
 from schemas import labelled
 from schemas.labels import RESULTS, THEORY_VERDICT, Part, theory_outside
 from schemas.quantity import unit_paths
 from schemas.runs import Run, RunPage, RunState
 from schemas.stands import Stand, StandKind
+from schemas.student_notes import CONCLUSIONS_LIMIT, StudentNotes
 
 API = "/api/v1"
 
@@ -200,9 +202,12 @@ def run_page(
     payload: Mapping[str, Any],
     lang: Lang,
     signed_in: bool = False,
+    notes: StudentNotes | None = None,
+    may_write: bool = False,
 ) -> str:
     """A run: its particulars, the live chart of its record, its results (``payload``, as
-    ``/results`` answers), the downloads."""
+    ``/results`` answers), the downloads, the student's ``notes`` on it, and the form that
+    writes them for the caller who ``may_write`` them (its stand's write scope)."""
     t = Messages(lang)
     record = next(g for g in stand.groups if g.aligned)
     x, y = LIVE_AXES.get(stand.kind, (record.channels[0].name, record.channels[-1].name))
@@ -243,7 +248,20 @@ def run_page(
         test_plan=test_plan,
         configuration=configuration,
         results=Markup(results_html(run=run, payload=payload, lang=lang)),
+        profile_x3p=_has_profile(stand),
+        notes=notes or StudentNotes(),
+        may_write=may_write,
+        conclusions_limit=CONCLUSIONS_LIMIT,
     )
+
+
+def _has_profile(stand: Stand) -> bool:
+    """Whether the stand traces a profile that ``profile.x3p`` can give."""
+    try:
+        profile_group(stand.groups, PROFILE_GROUP)
+    except NoProfile:
+        return False
+    return True
 
 
 def decimal_sign_of(lang: Lang) -> str:

@@ -48,3 +48,14 @@ def make_run(kind: StandKind, **config: object) -> Run:
         configuration=base,
         created=datetime(2026, 11, 22, tzinfo=UTC),
     )
+
+
+def friction_record(n: int = 100) -> dict[str, list[float]]:
+    """An SMTs-2 friction record: 300 N, 980 rpm, 2.7 N·m, the counter 0 -> 9 hundreds."""
+    return {
+        "time": [float(i) for i in range(n)],
+        "load": [300.0] * n,
+        "speed": [980.0] * n,
+        "friction_moment": [2.7] * n,
+        "revolutions": [float(i // 10) for i in range(n)],
+    }

@@ -13,7 +13,7 @@ from rigsim.stands import mtos, profilometer
 from schemas.results import MtosResults
 from schemas.runs import Run
 from schemas.stands import StandKind
-from tests.analysis.conftest import FakeReadings, make_run
+from tests.analysis.conftest import FakeReadings, friction_record, make_run
 from tests.reports.simulated import SimulatedReadings, analysed
 
 
@@ -66,14 +66,7 @@ def test_disc_wear_from_a_profile_across_the_track() -> None:
     groove_um = np.where(np.abs(x_mm - 2.0) < 1.0, 5.0 * (1.0 - (x_mm - 2.0) ** 2), 0.0)
     trace = FakeReadings({"profile": {"x": list(x_mm), "y": list(1.0 - groove_um)}}, {})
     profile_run = make_run(StandKind.PROFILOMETER)
-    n = 100
-    record = {
-        "time": [float(i) for i in range(n)],
-        "load": [300.0] * n,
-        "speed": [980.0] * n,
-        "friction_moment": [2.7] * n,
-        "revolutions": [float(i // 10) for i in range(n)],
-    }
+    record = friction_record()
     weighings = {"pin_mass_before": 12.25, "pin_mass_after": 12.2}
     run = _named(make_run(StandKind.SMTS2), disc_profile_run="P-1")
     v = analyse(

@@ -287,5 +287,7 @@ def test_a_retried_opening_with_its_key_gets_the_same_run(client: TestClient) ->
     other = client.post(f"{API}/runs", json={**body, "operator": "Petrov"}, headers=headers)
     assert other.status_code == 409
     assert other.json()["title"] == "Idempotency-Key reused"
+    # the key is the caller's: the answer names the run it opened (rigclient import says it)
+    assert f"opened run {first.json()['id']} with other values" in other.json()["detail"]
     plain = client.post(f"{API}/runs", json=body, headers=auth(WRITER))
     assert plain.status_code == 201 and plain.json()["id"] != first.json()["id"]

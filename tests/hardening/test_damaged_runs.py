@@ -66,6 +66,7 @@ _RUN_ROUTES = [
     ("GET", API + "/runs/{id}/results.csv"),
     ("GET", API + "/runs/{id}/report.html"),
     ("GET", API + "/runs/{id}/export.zip"),
+    ("GET", API + "/runs/{id}/profile.x3p"),
     ("GET", API + "/runs/{id}/live"),
     ("GET", "/runs/{id}"),
     ("POST", API + "/runs/{id}/readings"),

@@ -122,7 +122,7 @@ def test_profilometer_parameters_with_instrument_errors() -> None:
     assert row_of(html, "Complex roughness", "complex parameter (1.9)")[1] == fmt(
         v.complex_parameter
     )
-    assert len(svgs(html)) == 2  # the profile, the bearing curve
+    assert len(svgs(html)) == 3  # the profile, the bearing curve, the ISO filtering
 
 
 def test_profilometer_against_profilogram_and_the_subrange() -> None:

@@ -6,40 +6,18 @@ import csv
 import io
 import json
 import zipfile
-from collections.abc import Iterator
 from datetime import datetime
-from pathlib import Path
 
 import numpy as np
 import pytest
 from fastapi.testclient import TestClient
 
-from rigserver.api.app import create_app
-from rigserver.api.auth import ApiKey
-from rigserver.api.settings import Settings
-from rigserver.storage import MemoryStore
 from schemas.labels import SMTS2
-from schemas.stands import StandKind, configure_stands
-from tests.api.conftest import KEYS, READER, WRITER, auth
-from tests.reports.simulated import post, simulated
+from schemas.stands import StandKind
+from tests.api.conftest import READER, auth
+from tests.reports.simulated import simulated
 
 API = "/api/v1"
-
-
-@pytest.fixture(scope="module")
-def served(tmp_path_factory: pytest.TempPathFactory) -> Iterator[tuple[TestClient, dict[str, str]]]:
-    """The service with finished SMTs-2 and MTOS runs and an open slide-bearing run."""
-    settings = Settings(data_dir=Path(tmp_path_factory.mktemp("data")))
-    app = create_app(
-        settings, MemoryStore(), [ApiKey.model_validate(k) for k in KEYS], configure_stands()
-    )
-    with TestClient(app, raise_server_exceptions=False) as client:
-        ids = {
-            "smts2": post(client, simulated(StandKind.SMTS2).sim, WRITER),
-            "open": post(client, simulated(StandKind.SLIDE_BEARING).sim, WRITER, finish=False),
-            "mtos": post(client, simulated(StandKind.MTOS).sim, WRITER),
-        }
-        yield client, ids
 
 
 def test_report_html_in_english_and_russian(served: tuple[TestClient, dict[str, str]]) -> None:

@@ -12,10 +12,12 @@ import httpx
 import numpy as np
 import pytest
 
-from rigclient import Client, RetryPolicy
-from rigclient.agent import Agent, Batching, Outcome
+from rigclient import Client, InputError, RetryPolicy, RunHandle
+from rigclient.agent import Agent, Batching, HeaderChanged, Outcome
+from rigclient.mapping import ColumnMap, StandMap
 from rigclient.spool import Spool
 from tests.rigclient.fake import FakeServer
+from tests.rigclient.importing import import_file
 
 HEADER = "time [s];load [kN];speed [rpm];friction_moment [N*m];revolutions [100 rev]\n"
 TIMEOUT = 20.0
@@ -40,7 +42,14 @@ def wait_for(condition: Callable[[], bool], timeout: float = TIMEOUT) -> None:
 class Running:
     """An agent in a thread, on the file ``path``, posting to ``server`` through ``spool``."""
 
-    def __init__(self, server: FakeServer, path: Path, spool: Path, idle: float = 0.8) -> None:
+    def __init__(
+        self,
+        server: FakeServer,
+        path: Path,
+        spool: Path,
+        idle: float = 0.8,
+        mapping: StandMap | None = None,
+    ) -> None:
         self.client = Client(
             "http://rig.test",
             "key",
@@ -54,18 +63,22 @@ class Running:
             path,
             stand="smts2",
             group="friction",
-            mapping=None,
+            mapping=mapping,
             metadata={"stand": "smts2", "operator": "Ivanova", "title": path.name},
             batching=Batching(rows=4, seconds=0.1, finish_after_idle=idle, poll=0.02),
             say=self.said.append,
         )
         self.stop = threading.Event()
         self.outcome: Outcome | None = None
+        self.error: BaseException | None = None
         self.thread = threading.Thread(target=self._run, daemon=True)
         self.thread.start()
 
     def _run(self) -> None:
-        self.outcome = self.agent.run(self.stop)
+        try:
+            self.outcome = self.agent.run(self.stop)
+        except (InputError, Crash) as exc:
+            self.error = exc
 
     def join(self) -> Outcome:
         self.thread.join(TIMEOUT)
@@ -74,6 +87,10 @@ class Running:
         self.client.close()
         assert self.outcome is not None
         return self.outcome
+
+
+class Crash(Exception):
+    """The agent's process ends here (as a kill would end it)."""
 
 
 @pytest.fixture
@@ -147,3 +164,114 @@ def test_rows_are_batched_by_count_and_by_time(server: FakeServer, tmp_path: Pat
     sizes = [len(server.stored[s]["time"]) for s in sorted(server.stored)]
     assert sizes == [4, 4, 1]
     np.testing.assert_allclose(stored_times(server), np.arange(9) * 0.5)
+
+
+SWAPPED = "time [s];speed [rpm];load [kN];revolutions [100 rev];friction_moment [N*m]\n"
+
+
+def swapped_row(k: int) -> str:
+    """Row k under :data:`SWAPPED`: the same values, the columns in another order."""
+    return f"{k * 0.5:.1f};1000;0,3;{k // 10};{2.9 + 0.001 * k:.3f}\n".replace(".", ",")
+
+
+def test_a_header_changed_mid_file_is_read_by_its_names(server: FakeServer, tmp_path: Path) -> None:
+    """Issue 22, item 2: load and speed swap places mid-file; neither is stored swapped."""
+    path = tmp_path / "smts2.csv"
+    text = HEADER + "".join(row(k) for k in range(6)) + SWAPPED
+    write(path, text + "".join(swapped_row(k) for k in range(6, 12)), "w")
+    agent = Running(server, path, tmp_path / "spool")
+    outcome = agent.join()
+    assert stored_times(server) == [k * 0.5 for k in range(12)]
+    loads = [v for s in sorted(server.stored) for v in server.stored[s]["load"]]
+    speeds = [v for s in sorted(server.stored) for v in server.stored[s]["speed"]]
+    assert loads == pytest.approx([300.0] * 12) and speeds == [1000.0] * 12
+    assert outcome.rejected == 0
+    assert any(f"{path}:8: a new header" in s for s in agent.said)
+
+
+def test_a_header_the_map_cannot_place_stops_the_agent_there(
+    server: FakeServer, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The rows before it are delivered, the agent stops naming the line; started again
+    with a map that places it, it goes on from that line, and a restart after a crash reads
+    the rows after the cursor by the header in effect there (kept in the spool)."""
+    path = tmp_path / "smts2.csv"
+    other = "time [s];speed [rpm];Last [kN];revolutions [100 rev];friction_moment [N*m]\n"
+    write(path, HEADER + "".join(row(k) for k in range(5)) + other, "w")
+    write(path, "".join(swapped_row(k) for k in range(5, 9)))
+    stopped = Running(server, path, tmp_path / "spool")
+    stopped.thread.join(TIMEOUT)
+    assert stopped.outcome is None and isinstance(stopped.error, HeaderChanged)
+    assert str(stopped.error).startswith(f"{path}:7, column 'Last [kN]': a new header line")
+    assert stopped.client.wait(TIMEOUT)
+    stopped.client.close()
+    assert stored_times(server) == [k * 0.5 for k in range(5)] and server.state == "open"
+    # the map places "Last" now; a crash (the finish never queued) after the file's end
+    mapping = StandMap(columns={"Last": ColumnMap("load", "kN")})
+    monkeypatch.setattr(RunHandle, "finish", lambda self: (_ for _ in ()).throw(Crash()))
+    crashed = Running(server, path, tmp_path / "spool", mapping=mapping)
+    crashed.thread.join(TIMEOUT)
+    assert isinstance(crashed.error, Crash)
+    assert crashed.client.wait(TIMEOUT)
+    crashed.client.close()
+    monkeypatch.undo()
+    write(path, "".join(swapped_row(k) for k in range(9, 12)))
+    again = Running(server, path, tmp_path / "spool", mapping=mapping)
+    again.join()
+    assert stored_times(server) == [k * 0.5 for k in range(12)]
+    loads = [v for s in sorted(server.stored) for v in server.stored[s]["load"]]
+    assert loads == pytest.approx([300.0] * 12) and server.state == "finished"
+    assert any("going on with run" in s for s in again.said)
+
+
+POISON = {
+    "a cell of 200 KiB": "1,0;" + "9" * (200 << 10) + ";1000;2,9;0\n",
+    "nan": "1,0;nan;1000;2,9;0\n",
+    "inf": "1,0;0,3;inf;2,9;0\n",
+    "1e400": "1,0;0,3;1000;1e400;0\n",
+    "3_05": "1,0;3_05;1000;2,9;0\n",
+    "Arabic-Indic digits": "1,0;0,3;١٠٠٠;2,9;0\n",
+    "full-width digits": "1,0;0,3;１０００;2,9;0\n",
+    "outside the load's limits": "1,0;-0,3;1000;2,9;0\n",
+    "a time that goes back": "0,1;0,3;1000;2,9;0\n",
+}
+
+
+def test_poison_lines_are_kept_as_rejects_and_the_run_goes_on(
+    server: FakeServer, tmp_path: Path
+) -> None:
+    """Issue 22, item 3: each poison line is refused by file, line and column, kept in the
+    spool with its reason; every good row around them is delivered once, in order."""
+    path = tmp_path / "smts2.csv"
+    lines = [HEADER, row(0), row(1)] + list(POISON.values()) + [row(k) for k in range(2, 6)]
+    write(path, "".join(lines), "w")
+    agent = Running(server, path, tmp_path / "spool")
+    outcome = agent.join()
+    assert stored_times(server) == [k * 0.5 for k in range(6)]
+    assert outcome.rejected == len(POISON) and server.state == "finished"
+    with Spool(tmp_path / "spool") as spool:
+        rejects = spool.rejects(outcome.run.local_id)
+    assert [r.line for r in rejects] == list(range(4, 4 + len(POISON)))
+    columns = [r.column for r in rejects]
+    load, speed, moment = "load [kN]", "speed [rpm]", "friction_moment [N*m]"
+    assert columns == ["", load, speed, moment, load, speed, speed, load, "time [s]"]
+    assert "over 64 KiB" in rejects[0].message and "beyond the range" in rejects[3].message
+    assert "outside the limit of load" in rejects[7].message
+    assert "must be increasing" in rejects[8].message
+
+
+@pytest.mark.parametrize("how", ["CR alone", "a header over 64 KiB", "an empty file"])
+def test_import_ends_whatever_the_file_holds(tmp_path: Path, how: str) -> None:
+    """CR-only line ends are lines; a header past the bound, or no header, is an error at
+    once (the import used to wait for ever)."""
+    path = tmp_path / "f.csv"
+    if how == "CR alone":
+        path.write_bytes((HEADER + "".join(row(k) for k in range(5))).replace("\n", "\r").encode())
+        got = import_file(path, tmp_path / "spool")
+        assert got.columns["time"] == [k * 0.5 for k in range(5)]
+        return
+    text = "" if how == "an empty file" else "time;" + "x" * (70 << 10) + "\n" + row(0)
+    path.write_text(text, encoding="utf-8")
+    why = "an empty file" if how == "an empty file" else "line 1 is over 64 KiB"
+    with pytest.raises(InputError, match=why):
+        import_file(path, tmp_path / "spool")

@@ -13,9 +13,11 @@ import sdfio
 import x3pio
 
 from rigclient.errors import InputError
-from rigclient.profile import read_profile
+from rigclient.profile import read_profile, roughness_lines
 from rigserver.core.roughness import profile_parameters
+from schemas.stands import StandKind
 from tests.api.conftest import READER, WRITER, Server, auth
+from tests.reports.simulated import simulated
 from tests.rigclient.conftest import AgentProcess
 
 A_UM = 1.5  # amplitude, µm
@@ -100,3 +102,22 @@ def test_the_profile_command_posts_a_profilometer_run(
     ).json()
     x, y = sine()
     assert results["values"]["ra"] == pytest.approx(ra_um(x, y) * 1e-6, rel=1e-6)
+    # the server's ISO roughness beside the manual's, as the command printed them: the
+    # sine (λ = 0.1 mm) of Ra 0.95 µm picks λc = 0.8 mm, which passes it whole
+    iso = results["values"]["iso"]
+    assert (iso["lambda_c"], iso["lambda_s"]) == (0.8e-3, 2.5e-6)
+    assert iso["ra"] == pytest.approx(2 * A_UM / np.pi * 1e-6, rel=2e-3)
+    said = (tmp_path / "agent.log").read_text(encoding="utf-8")
+    assert roughness_lines(results)[1] in said and "manual (lab work 1): Ra = " in said
+
+
+def test_the_roughness_lines_name_the_filter() -> None:
+    payload = simulated(StandKind.PROFILOMETER).result.payload
+    v = payload["values"]
+    manual, iso = roughness_lines(payload)
+    assert manual.startswith(f"manual (lab work 1): Ra = {v['ra'] * 1e6:.3g} µm, Rq = ")
+    assert iso.startswith(
+        "ISO 21920-2 (λc = 0.8 mm; λs = 2.5 µm; by Ra, table of ISO 21920-3; kept, corrected "
+        f"by renormalised weights (ISO 16610-28)): Ra = {v['iso']['ra'] * 1e6:.3g} µm, "
+    )
+    assert ", Rk = " in iso and ", Rpk = " in iso and ", RSm = " in iso

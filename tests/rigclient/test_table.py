@@ -9,12 +9,13 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from rigclient.agent import constants
+from rigclient.agent import constants, run_metadata
+from rigclient.dialect import FileSettings
 from rigclient.errors import InputError
 from rigclient.mapping import load_map, unit_factor
 from rigclient.table import Table, split_header
 from schemas.channels import ChannelGroup
-from schemas.stands import StandKind, default_stands
+from schemas.stands import StandKind, default_stands, with_overrides
 
 
 def _friction() -> ChannelGroup:
@@ -67,7 +68,7 @@ def test_unit_factors() -> None:
 def test_a_header_naming_the_channels_needs_no_map() -> None:
     header = "time [s];load [kN];speed [rpm];friction_moment [N*m];revolutions [100 rev]\n"
     table = Table.from_header(header, file="f.csv", group=FRICTION, mapping=None)
-    assert table.delimiter == ";" and table.decimal_comma
+    assert table.delimiter == ";"
     row = table.parse("0,5;0,3;1000;2,95;0\n", line=2)
     assert row == pytest.approx([0.5, 300.0, 1000.0, 2.95, 0.0])
 
@@ -134,11 +135,17 @@ def test_columns_keep_the_rows_in_order() -> None:
 
 
 def test_the_readmes_maps_read_a_file_of_their_stand(tmp_path: Path) -> None:
-    """Each map in the README's "Connect a real stand" section is a valid map: a header of
-    its columns (and the channels it leaves to the header) reads, its constants convert."""
-    readme = (Path(__file__).parents[2] / "README.md").read_text(encoding="utf-8")
-    blocks = re.findall(r"```toml\n(.*?)```", readme, flags=re.S)
-    assert len(blocks) == 4
+    """Each map in the README's "Connect a real stand" section and in docs/tribometers.md
+    is a valid map: a header of its columns (and the channels it leaves to the header or
+    gives as constants) reads, its constants and configuration convert."""
+    root = Path(__file__).parents[2]
+    blocks = []
+    for page, count in (("README.md", 4), ("docs/tribometers.md", 6)):
+        text = (root / page).read_text(encoding="utf-8")
+        found = re.findall(r"```toml\n(.*?)```", text, flags=re.S)
+        found = [b for b in found if "group = " in b or page == "README.md"]  # whole maps
+        assert len(found) == count, page
+        blocks += found
     seen = set()
     for k, block in enumerate(blocks):
         path = tmp_path / f"map{k}.toml"
@@ -147,11 +154,93 @@ def test_the_readmes_maps_read_a_file_of_their_stand(tmp_path: Path) -> None:
         stand = default_stands()[StandKind(mapping.stand or "profilometer")]
         group = stand.group(mapping.group or "profile")
         assert group is not None
-        mapped = {c.channel for c in mapping.columns.values()}
-        header = [*mapping.columns, *(c.name for c in group.channels if c.name not in mapped)]
+        given = {c.channel for c in mapping.columns.values()} | set(mapping.constants)
+        header = [*mapping.columns, *(c.name for c in group.channels if c.name not in given)]
         table = Table.from_header(";".join(header), file=str(path), group=group, mapping=mapping)
-        assert sorted(table.channels) == sorted(c.name for c in group.channels)
+        assert sorted([*table.channels, *table.constants]) == sorted(c.name for c in group.channels)
         constants(stand, mapping)
+        meta = run_metadata(path, stand.kind.value, mapping, operator="Kim")
+        with_overrides(stand.configuration, meta.get("configuration", {}))
         seen.add(stand.kind)
-    # the lab's four stands; the tribometers' maps are in docs/tribometers.md
-    assert seen == set(StandKind) - {StandKind.PIN_ON_DISC, StandKind.RECIPROCATING}
+    assert seen == set(StandKind)
+
+
+def test_constants_fill_a_channel_the_file_lacks_in_its_unit(tmp_path: Path) -> None:
+    """Issue 26: a test setting (the normal load) is not a column; the map gives it."""
+    path = tmp_path / "m.toml"
+    path.write_text('[constants]\nload = { value = 30.591, unit = "kgf" }\n', encoding="utf-8")
+    table = Table.from_header(
+        "time;speed;friction_moment;revolutions", file="f", group=FRICTION, mapping=load_map(path)
+    )
+    columns = table.columns([table.parse("0,5;1000;2,9;0", 2), table.parse("1;1000;3;0", 3)])
+    assert columns["load"] == pytest.approx([30.591 * 9.80665] * 2)  # kgf -> N, CGPM 1901
+
+
+@pytest.mark.parametrize(
+    ("constant", "why"),
+    [
+        ('load = { value = 3, unit = "furlong" }', "unknown unit 'furlong'"),
+        ('load = { value = 3, unit = "mm" }', "a value in 'mm' cannot be a 'N' channel"),
+        ('torque = { value = 3, unit = "N" }', "'torque' of \\[constants\\] is not a channel"),
+        ('time = { value = 3, unit = "s" }', "time: both a column and a constant"),
+    ],
+)
+def test_constants_that_cannot_be_are_named(tmp_path: Path, constant: str, why: str) -> None:
+    path = tmp_path / "m.toml"
+    path.write_text(f"[constants]\n{constant}\n", encoding="utf-8")
+    with pytest.raises(InputError, match=why):
+        Table.from_header(
+            "time;speed;friction_moment;revolutions",
+            file="f",
+            group=FRICTION,
+            mapping=load_map(path),
+        )
+
+
+def test_the_runs_configuration_takes_units(tmp_path: Path) -> None:
+    path = tmp_path / "m.toml"
+    path.write_text(
+        "[run.configuration]\n"
+        'disc_radius = { value = 22.5, unit = "mm" }\n'
+        'pin = { youngs_modulus = { value = 210, unit = "GPa" }, name = "45" }\n'
+        "steady_fraction = 0.4\n",
+        encoding="utf-8",
+    )
+    meta = run_metadata(Path("f.csv"), "smts2", load_map(path), operator="Kim")
+    assert meta["configuration"] == {
+        "disc_radius": pytest.approx(0.0225),
+        "pin": {"youngs_modulus": pytest.approx(2.1e11), "name": "45"},
+        "steady_fraction": 0.4,
+    }
+    path.write_text('[run.configuration]\ndisc_radius = { value = 2, unit = "N" }\n', "utf-8")
+    with pytest.raises(InputError, match=r"configuration disc_radius.*'N' cannot be a 'm'"):
+        run_metadata(Path("f.csv"), "smts2", load_map(path))
+
+
+def test_the_files_dialect_in_the_map(tmp_path: Path) -> None:
+    path = tmp_path / "m.toml"
+    path.write_text(
+        '[file]\nencoding = "windows-1251"\ndelimiter = "spaces"\ndecimal = ","\nheader = 3\n',
+        encoding="utf-8",
+    )
+    assert load_map(path).file == FileSettings("cp1251", "spaces", ",", 3)
+    for bad, why in [
+        ('encoding = "latin-9"', "unknown encoding 'latin-9'"),
+        ('encoding = "koi8-r"', "encoding 'koi8-r' is not one of"),
+        ('delimiter = "pipe"', "unknown delimiter 'pipe'"),
+        ('decimal = ";"', 'decimal is "." or ","'),
+        ("header = 0", "a line number from 1"),
+        ("quote = true", r"\[file\] has quote"),
+    ]:
+        path.write_text(f"[file]\n{bad}\n", encoding="utf-8")
+        with pytest.raises(InputError, match=why):
+            load_map(path)
+
+
+def test_header_names_are_found_whatever_their_spelling() -> None:
+    """Stray blanks, case, the micro sign and Russian units: ``Friction Moment [N*m]``
+    finds ``friction_moment``; ``Время, с`` is in s."""
+    header = " Time [s] \tLoad, кН\tSPEED (rpm)\tFriction Moment [Н*м]\tRevolutions [100 rev]"
+    table = Table.from_header(header, file="f", group=FRICTION, mapping=None)
+    assert table.channels == ("time", "load", "speed", "friction_moment", "revolutions")
+    assert table.parse("1,5\t0,3\t1000\t2,9\t0", 2) == pytest.approx([1.5, 300, 1000, 2.9, 0])

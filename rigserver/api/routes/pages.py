@@ -10,12 +10,16 @@ from typing import Annotated, TypeVar
 from urllib.parse import parse_qs, urlencode, urlsplit
 
 from fastapi import APIRouter, Depends, FastAPI, Query, Request, Response
+from fastapi.concurrency import run_in_threadpool
+from fastapi.exceptions import RequestValidationError
 from fastapi.responses import HTMLResponse, RedirectResponse
 from fastapi.staticfiles import StaticFiles
+from pydantic import ValidationError
 
-from rigserver.api.auth import READ
+from rigserver.api.auth import READ, ApiKey, write_scope
 from rigserver.api.deps import Services, ServicesDep, caller_of, require_scope
 from rigserver.api.problems import ApiProblem
+from rigserver.api.routes.notes import write_notes
 from rigserver.api.routes.runs import load_run
 from rigserver.api.routes.series import series_view
 from rigserver.api.run_results import results_payload
@@ -27,6 +31,7 @@ from rigserver.web.series_pages import series_list_page, series_page
 from schemas.channels import Violation
 from schemas.runs import RunQuery, RunState
 from schemas.stands import StandKind
+from schemas.student_notes import StudentNotesWrite
 from schemas.wire import Text
 
 
@@ -170,12 +175,15 @@ def run(
 ) -> HTMLResponse:
     chosen = negotiate(lang, request.headers.get("accept-language"))
     found = load_run(services, run_id)
+    writer = _writer(request, services)
     html = run_page(
         run=found,
         stand=services.stand_of(found),
         payload=results_payload(services, found),
         lang=chosen,
         signed_in=_signed_in(request, services),
+        notes=services.notes.get(found.id),
+        may_write=writer is not None and writer.allows(write_scope(found.stand.value)),
     )
     return HTMLResponse(html, headers=language_headers(chosen))
 
@@ -214,6 +222,64 @@ def series(
         signed_in=_signed_in(request, services),
     )
     return HTMLResponse(html, headers=language_headers(chosen))
+
+
+@login_router.post("/runs/{run_id}/notes", dependencies=[SameOrigin])
+async def run_notes(
+    run_id: str, request: Request, services: ServicesDep, lang: Lang | None = None
+) -> Response:
+    """The run page's form of the student's words (``group``, ``students`` one per line,
+    ``conclusions``), posted by a session whose key may write the run's stand: stored, and
+    back to the page. Without a session: the login page; 422 for words the API refuses."""
+    writer = _writer(request, services)
+    if writer is None:
+        raise _LoginFirst(f"/runs/{run_id}")
+    body = await request.body()  # at most ANONYMOUS_BODY_BYTES (rigserver.api.app.body_limit)
+    words = _notes_form(body)
+    await run_in_threadpool(write_notes, services, run_id, words, writer)
+    query = f"?{urlencode({'lang': lang})}" if lang else ""
+    return RedirectResponse(f"/runs/{run_id}{query}#notes", status_code=303)
+
+
+def _notes_form(body: bytes) -> StudentNotesWrite:
+    """The words of the form's body (URL-encoded UTF-8); 422 naming the field refused."""
+    try:
+        form = parse_qs(
+            body.decode("ascii"),
+            keep_blank_values=True,
+            strict_parsing=bool(body),
+            encoding="utf-8",
+            errors="strict",
+            max_num_fields=len(_NOTES_FIELDS),
+        )
+    except ValueError as exc:  # UnicodeDecodeError too
+        raise ApiProblem(
+            422, "Invalid form", f"the form is not URL-encoded UTF-8 with its fields: {exc}"
+        ) from None
+    unknown = sorted(set(form) - set(_NOTES_FIELDS))
+    if unknown:
+        raise ApiProblem(422, "Invalid form", f"unknown field {unknown[0][:40]!r}")
+    fields: dict[str, str | list[str]] = {name: values[-1] for name, values in form.items()}
+    students = form.get("students", [""])[-1]
+    fields["students"] = [name for name in students.splitlines() if name.strip()]
+    try:
+        return StudentNotesWrite.model_validate(fields)
+    except ValidationError as exc:
+        raise RequestValidationError(exc.errors()) from None
+
+
+#: The fields of the run page's form of the student's words.
+_NOTES_FIELDS = ("group", "students", "conclusions")
+
+
+def _writer(request: Request, services: Services) -> ApiKey | None:
+    """The key of the request's Authorization header, else of its session, all its scopes
+    (only this site's pages and forms are answered with it)."""
+    caller = caller_of(request, services)
+    token = request.cookies.get(COOKIE)
+    if request.headers.get("authorization") or token is None:
+        return caller
+    return services.sessions.key(token)
 
 
 @login_router.get("/login", response_class=HTMLResponse)

@@ -13,14 +13,24 @@ from fastapi.responses import FileResponse, HTMLResponse, Response
 from starlette.background import BackgroundTask
 
 from rigserver.api.deps import ReadAccess, Services, ServicesDep
-from rigserver.api.report_answers import caller_key, file_answer, kept, rendered, run_job
+from rigserver.api.problems import ApiProblem
+from rigserver.api.report_answers import (
+    caller_key,
+    file_answer,
+    kept,
+    rendered,
+    run_job,
+    run_target,
+)
 from rigserver.api.report_files import ReportFile
 from rigserver.api.report_jobs import RunReportJob
 from rigserver.api.routes.runs import load_run
 from rigserver.api.run_results import StoredReadings, results_payload
 from rigserver.reports.export import DIALECTS, Dialect, export_zip, results_csv
 from rigserver.reports.i18n import Lang, Messages, language_headers, negotiate
+from rigserver.reports.x3p import PROFILE_GROUP, NoProfile, profile_group, profile_x3p
 from schemas.runs import Run
+from schemas.student_notes import StudentNotes
 
 router = APIRouter(prefix="/runs/{run_id}", tags=["reports"], dependencies=[ReadAccess])
 
@@ -34,25 +44,29 @@ def _language(request: Request, lang: Lang | None) -> Lang:
     return negotiate(lang, request.headers.get("accept-language"))
 
 
-def _prepare(services: Services, run_id: str, lang: Lang, fmt: str) -> tuple[Run, ReportFile]:
+def _prepare(
+    services: Services, run_id: str, lang: Lang, fmt: str
+) -> tuple[Run, ReportFile, StudentNotes]:
     run = load_run(services, run_id)
-    return run, services.report_files.run_report(run, lang, fmt)
+    return run, *run_target(services, run, lang, fmt)
 
 
-def _job(services: Services, run: Run, target: ReportFile) -> tuple[RunReportJob, bool]:
-    return run_job(services, run, results_payload(services, run)["values"], target)
+def _job(
+    services: Services, run: Run, target: ReportFile, notes: StudentNotes
+) -> tuple[RunReportJob, bool]:
+    return run_job(services, run, results_payload(services, run)["values"], target, notes)
 
 
 async def _report(
     request: Request, services: Services, run_id: str, lang: Lang, fmt: str
 ) -> tuple[Run, Response]:
     """The run's report in ``fmt``: its file, rendered first if this version has none."""
-    run, target = await run_in_threadpool(_prepare, services, run_id, lang, fmt)
+    run, target, notes = await run_in_threadpool(_prepare, services, run_id, lang, fmt)
     headers = language_headers(lang)
     if fmt == "pdf":
         headers["Content-Disposition"] = f'attachment; filename="{run.id}-report-{lang}.pdf"'
     if not target.path.exists() and not target.matches(request.headers.get("if-none-match")):
-        job, in_process = await run_in_threadpool(_job, services, run, target)
+        job, in_process = await run_in_threadpool(_job, services, run, target, notes)
         future = services.reports.render(
             str(target.path), caller_key(request, services), job, in_process=in_process
         )
@@ -62,12 +76,13 @@ async def _report(
 
 def report_bytes(services: Services, run: Run, lang: Lang, key: str) -> dict[str, bytes]:
     """The run's report in ``lang``, ``html`` and ``pdf``: kept, or rendered on the pool."""
-    target = services.report_files.run_report(run, lang, "pdf")
-    return kept(services, target, lambda: _job(services, run, target), key)
+    target, notes = run_target(services, run, lang, "pdf")
+    return kept(services, target, lambda: _job(services, run, target, notes), key)
 
 
 _RENDERED = (
-    "Rendered once per version of the run (its readings, state and results), language and "
+    "Rendered once per version of the run (its readings, state, results and the student's "
+    "words), language and "
     "deployment, then kept: the answer carries an ETag, and If-None-Match with it is "
     "answered 304. 503 with Retry-After while the server renders as many reports as it "
     "may, or this key's share of them."
@@ -195,4 +210,34 @@ async def get_export(
         media_type="application/zip",
         filename=f"{run.id}.zip",
         background=BackgroundTask(os.unlink, path),
+    )
+
+
+def _profile_x3p(services: Services, run_id: str, group: str) -> tuple[Run, bytes]:
+    run = load_run(services, run_id)
+    try:
+        chosen = profile_group(services.stand_of(run).groups, group)
+        return run, profile_x3p(run, chosen, StoredReadings(services, run))
+    except NoProfile as exc:
+        raise ApiProblem(404, "No profile", f"run {run.id}: {exc}") from None
+
+
+@router.get(
+    "/profile.x3p",
+    summary="The traced profile as an X3P file (ISO 25178-72), for other surface software",
+    response_class=Response,
+    responses={200: {"content": {"application/x-x3p": {}}}},
+)
+async def get_profile_x3p(
+    run_id: str,
+    services: ServicesDep,
+    group: Annotated[
+        str, Query(description="the channel group of the profile (x, y)", max_length=40)
+    ] = PROFILE_GROUP,
+) -> Response:
+    run, data = await run_in_threadpool(_profile_x3p, services, run_id, group)
+    return Response(
+        data,
+        media_type="application/x-x3p",
+        headers={"Content-Disposition": f'attachment; filename="{run.id}-{group}.x3p"'},
     )

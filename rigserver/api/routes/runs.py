@@ -101,12 +101,12 @@ def create_run(
     )
     try:
         stored = services.store.create_run(run, owned_key(caller, idempotency_key))
-    except KeyReused:
+    except KeyReused as exc:
         raise ApiProblem(
             409,
             "Idempotency-Key reused",
-            f"the Idempotency-Key {idempotency_key!r} opened another run with other values; "
-            "a new run needs a new key",
+            f"the Idempotency-Key {idempotency_key!r} opened run {exc.run_id} with other "
+            "values; a new run needs a new key",
         ) from None
     if stored.id != run.id:
         response.status_code = status.HTTP_200_OK

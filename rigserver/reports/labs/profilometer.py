@@ -15,6 +15,7 @@ from rigserver.reports.document import Block, Figure, Section, Table, Text
 from rigserver.reports.downsample import min_max
 from rigserver.reports.formatting import DASH, fmt, html_symbol, shown, with_uncertainty
 from rigserver.reports.i18n import Messages
+from rigserver.reports.labs import iso_profile
 from rigserver.reports.plots import axes, decorate, to_svg
 from schemas.labels import PROFILOMETER
 from schemas.quantity import units_of
@@ -87,13 +88,20 @@ def build(ctx: Context, v: ProfilometerResults) -> LabReport:
     )
     if spread and v.ra_expanded is not None:
         processed.append(blocks.uncertainty_table(t, spread))
-    return LabReport(
-        sections=[
-            Section(t("sec.measured"), measured),
-            Section(t("sec.processed"), processed),
-        ],
-        conclusions=_conclusions(t, v),
+    sections = [Section(t("sec.measured"), measured), Section(t("sec.processed"), processed)]
+    iso = iso_profile.profilometer_section(
+        t, v, _trace_m(ctx) if ctx.readings.rows(GROUP) else None
     )
+    if iso is not None:
+        sections.append(iso)
+    return LabReport(sections=sections, conclusions=_conclusions(t, v))
+
+
+def _trace_m(ctx: Context) -> dict[str, NDArray[np.float64]]:
+    """The trace in metres."""
+    trace = ctx.readings.read(GROUP, ["x", "y"])
+    units = {c.name: c.unit for c in ctx.group(GROUP).channels}
+    return {name: trace[name] * UNITS[units[name]].factor for name in ("x", "y")}
 
 
 def _profile_svg(ctx: Context, v: ProfilometerResults) -> str:

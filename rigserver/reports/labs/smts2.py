@@ -14,6 +14,7 @@ from rigserver.reports.context import Context, LabReport
 from rigserver.reports.document import Block, Figure, Section, Table, Text
 from rigserver.reports.formatting import fmt, html_symbol, tex, with_uncertainty
 from rigserver.reports.i18n import Messages
+from rigserver.reports.labs import iso_profile
 from rigserver.reports.plots import axes, decorate, to_svg
 from schemas.labels import SMTS2
 from schemas.results import Smts2Results
@@ -99,6 +100,9 @@ def build(ctx: Context, v: Smts2Results) -> LabReport:
                 prefix="disc_wear.",
             )
         )
+        track_iso = iso_profile.track_table(t, v.disc_wear.iso, SMTS2, "disc_wear.iso.")
+        if track_iso is not None:
+            processed.append(track_iso)
     if v.theoretical is not None:
         theory = blocks.quantities(
             t,

@@ -11,6 +11,7 @@ from rigserver.reports.context import Context, LabReport
 from rigserver.reports.document import Block, Figure, Section, Text
 from rigserver.reports.formatting import fmt, html_symbol
 from rigserver.reports.i18n import Messages
+from rigserver.reports.labs import iso_profile
 from rigserver.reports.plots import axes, decorate, to_svg
 from schemas.labels import RESULTS, TABLES, WEAR_SUBSCRIPTS
 from schemas.results import PinOnDiscResults, ReciprocatingResults, WearEstimate
@@ -105,6 +106,10 @@ def build(ctx: Context, v: Results) -> LabReport:
             labels=labels,
             prefix=f"{name}.",
         )
+    if v.disc_track is not None:
+        track_iso = iso_profile.track_table(t, v.disc_track.iso, labels, "disc_track.iso.")
+        if track_iso is not None:
+            processed.append(track_iso)
     if v.rows:
         processed.append(blocks.uncertainty_table(t, spread))
     return LabReport(

@@ -1,0 +1,79 @@
+"""A file imported once: its content's digest finds the run that holds it.
+
+The digest (SHA-256 of the file's bytes) is the Idempotency-Key of the run's opening,
+``sha256:<hex>``. The spool finds a run opened with it; a spool that has none (a fresh one,
+another PC of the same API key) asks the server with the opening itself: a run opened
+before with this key is answered 200 (the run), or 409 naming it when it was opened with
+other values (another map, title or operator); 201 opens the run now, and the spool's own
+opening with the same key is then answered with it. Out of reach, the server is asked by
+the spooled opening later, and answers the same.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import re
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+from rigclient.client import Client, RunHandle
+from rigclient.errors import InputError, ServerRefused
+from rigclient.http import Api, TryLater
+from schemas.runs import RUN_ID_PATTERN, Run, RunCreate
+
+if TYPE_CHECKING:
+    from rigclient.agent import Agent
+
+_RUN_ID = re.compile(RUN_ID_PATTERN.strip("^$"))
+
+
+def digest_key(path: Path) -> str:
+    """The Idempotency-Key of a file's content: ``sha256:`` and its hex digest."""
+    digest = hashlib.sha256()
+    try:
+        with path.open("rb") as f:
+            while chunk := f.read(1 << 20):
+                digest.update(chunk)
+    except OSError as exc:
+        raise InputError(f"cannot read it: {exc.strerror}", file=str(path)) from None
+    return f"sha256:{digest.hexdigest()}"
+
+
+@dataclass(frozen=True, slots=True)
+class Held:
+    """The run that holds a file's content: in the spool (``run``), or on the server only
+    (``server_id``); ``other_values``: it was opened with another map, title or operator."""
+
+    run: RunHandle | None
+    server_id: str | None
+    other_values: bool = False
+
+    def describe(self) -> str:
+        if self.run is not None:
+            return f"run {self.run.server_id or self.run.local_id} (in the spool)"
+        if self.other_values:
+            return (
+                f"run {self.server_id} on the server, opened with other values (another map, "
+                "title or operator); --again imports it as a new run"
+            )
+        return f"run {self.server_id} on the server"
+
+
+def imported_before(client: Client, agent: Agent, api: Api, key: str) -> Held | None:
+    """The run that holds the file of ``agent`` (whose content is ``key``), or None: a new
+    file, an import cut short (it goes on), or a server out of reach (asked later)."""
+    local = client.run_by_key(key)
+    if local is not None:
+        return None if client.source(agent.key) is not None else Held(local, local.server_id)
+    body = RunCreate.model_validate(agent.opening())
+    try:
+        answer = api.attempt("POST", "/runs", **Api.opening(body, key))
+    except ServerRefused as exc:
+        found = _RUN_ID.search(exc.problem.detail) if exc.problem.status == 409 else None
+        if found is None:
+            raise
+        return Held(None, found.group(), other_values=True)
+    if isinstance(answer, TryLater) or answer.status_code != 200:
+        return None
+    return Held(None, Run.model_validate(answer.json()).id)

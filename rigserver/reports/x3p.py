@@ -1,0 +1,69 @@
+"""A run's profile as an X3P file (ISO 25178-72, the profile form of ISO 5436-2), which
+MountainsMap, Gwyddion, surfalize and the instruments' own software open.
+
+The heights in metres on an incremental x axis (the trace's sampling step); a trace not
+uniformly sampled is interpolated linearly onto its median step, and the file's comment says
+so. The record names the operator, the instrument and the run.
+"""
+
+from __future__ import annotations
+
+import io
+from typing import Any
+
+import numpy as np
+import x3pio
+
+from rigserver.analysis import Readings
+from rigserver.core.profile_filter import uniform_step
+from schemas.channels import ChannelGroup
+from schemas.runs import Run
+from schemas.units import UNITS
+
+#: The group a profile is traced into by default (the profilometer's).
+PROFILE_GROUP = "profile"
+
+
+class NoProfile(LookupError):
+    """The run's stand has no profile group (channels x and y), or nothing was traced yet."""
+
+
+def profile_group(groups: tuple[ChannelGroup, ...] | list[ChannelGroup], name: str) -> ChannelGroup:
+    """The aligned group ``name`` with channels x and y in lengths, else :class:`NoProfile`."""
+    for group in groups:
+        if group.name != name:
+            continue
+        units = {c.name: c.unit for c in group.channels}
+        lengths = {"x", "y"} <= set(units) and all(UNITS[units[c]].si == "m" for c in "xy")
+        if group.aligned and lengths:
+            return group
+        break
+    raise NoProfile(f"the stand has no profile group {name!r} with channels x and y in lengths")
+
+
+def profile_x3p(run: Run, group: ChannelGroup, readings: Readings) -> bytes:
+    """The traced profile of ``group`` as the bytes of an X3P file."""
+    if readings.rows(group.name) < 2:
+        raise NoProfile(f"run {run.id} has fewer than two points in {group.name!r}")
+    trace = readings.read(group.name, ["x", "y"])
+    units = {c.name: c.unit for c in group.channels}
+    x = np.asarray(trace["x"], dtype=np.float64) * UNITS[units["x"]].factor
+    z = np.asarray(trace["y"], dtype=np.float64) * UNITS[units["y"]].factor
+    comment = f"rig run {run.id}, group {group.name}; x from {x[0]:.9g} m"
+    step = uniform_step(x)
+    if step is None:
+        step = float(np.median(np.diff(x)))
+        grid = x[0] + step * np.arange(int(np.floor((x[-1] - x[0]) / step + 1e-9)) + 1)
+        z = np.interp(grid, x, z)
+        comment += f"; not uniformly sampled, interpolated linearly onto a step of {step:.6g} m"
+    if run.title:
+        comment += f"; {run.title}"
+    instrument: Any = run.configuration.get("instrument", "")
+    metadata = x3pio.Metadata(
+        creator=run.operator,
+        instrument=x3pio.Instrument(model=str(instrument), version="rig"),
+        comment=comment,
+    )
+    out = io.BytesIO()
+    x3pio.write(out, z, x_scale=step, metadata=metadata)
+    return out.getvalue()

@@ -1,0 +1,120 @@
+"""The student's own words on runs (:class:`~schemas.student_notes.StudentNotes`), every
+version kept: who wrote it (the API key's name) and when.
+
+The run stores keep what a stand measured and never change a run's metadata afterwards, so
+the words live in a small store of their own beside the series: ``notes.sqlite`` in the data
+directory (WAL mode), or in memory for tests; a cluster keeps them in its PostgreSQL
+database (:mod:`.notes_postgres`). One table::
+
+    notes(run_id, version, body, author, written)   body: the words as JSON; version 1, 2, ...
+
+The latest version of a run is its words; the older ones are its history.
+"""
+
+from __future__ import annotations
+
+import sqlite3
+import threading
+from collections.abc import Sequence
+from datetime import datetime
+from pathlib import Path
+from typing import Any, Protocol
+
+from rigserver.storage._time import as_utc, iso, now
+from rigserver.storage.errors import StorageUnavailable
+from schemas.student_notes import StudentNotes, StudentNotesWrite
+
+_SCHEMA = """
+CREATE TABLE IF NOT EXISTS notes (
+    run_id TEXT NOT NULL,
+    version INTEGER NOT NULL,
+    body TEXT NOT NULL,
+    author TEXT NOT NULL,
+    written TEXT NOT NULL,
+    PRIMARY KEY (run_id, version)
+);
+"""
+
+
+class NotesStore(Protocol):
+    def get(self, run_id: str) -> StudentNotes:
+        """The run's words as last written (empty, version 0, if never)."""
+        ...
+
+    def put(self, run_id: str, notes: StudentNotesWrite, *, by: str) -> StudentNotes:
+        """Store a new version of the run's words, written by ``by``."""
+        ...
+
+    def history(self, run_id: str) -> list[StudentNotes]:
+        """Every version of the run's words, the first first."""
+        ...
+
+    def close(self) -> None: ...
+
+
+class SqliteNotes:
+    """The words in one SQLite database (``path``), or in memory (``":memory:"``)."""
+
+    def __init__(self, path: Path | str) -> None:
+        try:
+            self._db = sqlite3.connect(str(path), isolation_level=None, check_same_thread=False)
+            self._db.execute("PRAGMA journal_mode=WAL")
+            self._db.executescript(_SCHEMA)
+        except sqlite3.Error as exc:
+            raise StorageUnavailable(f"cannot open the notes database: {exc}") from exc
+        self._lock = threading.Lock()
+
+    def get(self, run_id: str) -> StudentNotes:
+        with self._lock:
+            row = self._db.execute(
+                "SELECT version, body, author, written FROM notes WHERE run_id = ? "
+                "ORDER BY version DESC LIMIT 1",
+                (run_id,),
+            ).fetchone()
+        return notes_of(row)
+
+    def put(self, run_id: str, notes: StudentNotesWrite, *, by: str) -> StudentNotes:
+        written = now()
+        with self._lock:
+            # IMMEDIATE: the write lock from the read of the last version to the insert
+            self._db.execute("BEGIN IMMEDIATE")
+            try:
+                (last,) = self._db.execute(
+                    "SELECT COALESCE(MAX(version), 0) FROM notes WHERE run_id = ?", (run_id,)
+                ).fetchone()
+                self._db.execute(
+                    "INSERT INTO notes VALUES (?, ?, ?, ?, ?)",
+                    (run_id, last + 1, notes.model_dump_json(), by, iso(written)),
+                )
+            except BaseException:
+                self._db.execute("ROLLBACK")
+                raise
+            self._db.execute("COMMIT")
+        return notes_of((last + 1, notes.model_dump_json(), by, iso(written)))
+
+    def history(self, run_id: str) -> list[StudentNotes]:
+        with self._lock:
+            rows = self._db.execute(
+                "SELECT version, body, author, written FROM notes WHERE run_id = ? "
+                "ORDER BY version",
+                (run_id,),
+            ).fetchall()
+        return [notes_of(row) for row in rows]
+
+    def close(self) -> None:
+        with self._lock:
+            self._db.close()
+
+
+def notes_of(row: Sequence[Any] | None) -> StudentNotes:
+    """The words of a row ``(version, body, author, written)``; empty without one."""
+    if row is None:
+        return StudentNotes()
+    version, body, by, written = row
+    words = StudentNotesWrite.model_validate_json(body)
+    return StudentNotes(
+        **words.model_dump(),
+        version=version,
+        by=by,
+        written=as_utc(datetime.fromisoformat(written)),
+    )

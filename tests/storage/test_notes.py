@@ -1,0 +1,71 @@
+"""The store of the student's own words, embedded (SQLite) and in the cluster's PostgreSQL:
+the same behaviour, every version kept with who wrote it and when."""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from datetime import UTC, datetime
+from pathlib import Path
+
+import psycopg
+import pytest
+
+from rigserver.storage.notes import NotesStore, SqliteNotes
+from rigserver.storage.notes_postgres import PostgresNotes
+from schemas.student_notes import StudentNotesWrite
+from tests.postgres import postgres_server, postgres_url  # noqa: F401 (fixtures)
+
+RUN_A = "20261125T120000Z-0000000a"
+RUN_B = "20261125T120000Z-0000000b"
+FIRST = StudentNotesWrite(
+    group="MT-31", students=["А. Иванова", "B. Petrov"], conclusions="f ≈ 0,4"
+)
+SECOND = StudentNotesWrite(group="MT-31", students=["А. Иванова"], conclusions="wear <\n\nx & y")
+
+
+@pytest.fixture(params=["sqlite", "postgres"])
+def notes(request: pytest.FixtureRequest, tmp_path: Path) -> Iterator[NotesStore]:
+    if request.param == "sqlite":
+        store: NotesStore = SqliteNotes(tmp_path / "notes.sqlite")
+    else:
+        url = request.getfixturevalue("postgres_url")
+        with psycopg.connect(url, autocommit=True) as conn:
+            conn.execute("DROP TABLE IF EXISTS rig_notes")
+        store = PostgresNotes(url)
+    yield store
+    store.close()
+
+
+def test_a_run_without_words_has_the_empty_version_0(notes: NotesStore) -> None:
+    found = notes.get(RUN_A)
+    assert found.version == 0 and found.empty and found.by is None and found.written is None
+    assert notes.history(RUN_A) == []
+
+
+def test_each_write_is_a_new_version_with_its_author(notes: NotesStore) -> None:
+    before = datetime.now(UTC)
+    one = notes.put(RUN_A, FIRST, by="lab PC")
+    two = notes.put(RUN_A, SECOND, by="instructor")
+    assert (one.version, one.by, two.version, two.by) == (1, "lab PC", 2, "instructor")
+    assert one.written is not None and before <= one.written <= datetime.now(UTC)
+    got = notes.get(RUN_A)
+    assert got == two
+    assert (
+        StudentNotesWrite.model_validate(
+            got.model_dump(include={"group", "students", "conclusions"})
+        )
+        == SECOND
+    )
+    assert notes.history(RUN_A) == [one, two]
+    assert notes.get(RUN_B).version == 0  # another run's words are its own
+
+
+def test_the_words_outlive_the_database_connection(tmp_path: Path) -> None:
+    store = SqliteNotes(tmp_path / "notes.sqlite")
+    written = store.put(RUN_A, FIRST, by="lab PC")
+    store.close()
+    again = SqliteNotes(tmp_path / "notes.sqlite")
+    try:
+        assert again.get(RUN_A) == written
+    finally:
+        again.close()

@@ -354,8 +354,23 @@ MTOS: dict[str, Label] = {
     "steps[].viscosity": Label(N_("oil viscosity"), "μ_t", "4.18", "Pa*s"),
     "steps[].bearing_characteristic": Label(N_("bearing characteristic"), "S_1", "4.21, E9"),
     "steps[].temperature_rise": Label(N_("temperature rise of the oil"), "Δt", "4.19", "degC", 3),
+    "steps[].viscosity_at": Label(N_("oil viscosity at the thermocouple"), "μ_i", "4.17", "Pa*s"),
+    "steps[].bearing_characteristic_inverse": Label(
+        N_("inverse bearing characteristic"), "S_1^{-1}", "4.21, E9"
+    ),
     "steps[].h_min": Label(N_("film thickness"), "h_min", "", "um", 4, _NOISE_UM),
     "steps[].film": Label(N_("film (against the critical thickness)")),
+    "steps[].viscosity_ratio": Label(
+        N_("relative viscosity, μ0 at 50 °C"), "μ_t/μ_0", "4.4", part=_THEORY
+    ),
+    "steps[].a1_00": Label(N_("short-bearing integral A1^00"), "A_1^{00}", "4.5", part=_THEORY),
+    "steps[].a2_00": Label(N_("short-bearing integral A2^00"), "A_2^{00}", "4.5", part=_THEORY),
+    "steps[].a3_00": Label(N_("short-bearing integral A3^00"), "A_3^{00}", "4.5", part=_THEORY),
+    "steps[].a3_02": Label(N_("short-bearing integral A3^02"), "A_3^{02}", "4.5", part=_THEORY),
+    "steps[].a3_20": Label(N_("short-bearing integral A3^20"), "A_3^{20}", "4.5", part=_THEORY),
+    "steps[].a3_11": Label(N_("short-bearing integral A3^11"), "A_3^{11}", "4.5", part=_THEORY),
+    "steps[].v_factor": Label(N_("dimensionless tangential film force"), "V", "4.4", part=_THEORY),
+    "steps[].tangential_force": Label(N_("tangential film force"), "P_τ", "4.2", "N", part=_THEORY),
     "steps[].friction_theory": Label(
         N_("friction coefficient, fluid film theory"), "f_T", "4.10", part=_THEORY
     ),
@@ -447,6 +462,14 @@ PROFILOMETER: dict[str, Label] = {
     "levels": Label(N_("depth of the level below the peak line"), "p_i", "", "um", 3),
     "eps": Label(N_("relative depth"), "ε", "1.7", digits=3),
     "tp": Label(N_("relative bearing length"), "t_p", "1.6", digits=3),
+    "bearing_lengths": Label(N_("bearing length of the profile"), "η_p", "1.6", "mm", 3),
+    "outside_subrange": Label(N_("parameters outside the ranges of the subrange")),
+    "rmax_difference": Label(
+        N_("profilometer's Rmax against the profilogram's"), "δ", "1.20", "%", 3, 0, _COMPARISON
+    ),
+    "rz_difference": Label(
+        N_("profilometer's Rz against the profilogram's"), "δ_{Rz}", "1.20", "%", 3, 0, _COMPARISON
+    ),
     **{
         f"fit_{method}.{name}": label
         for method in ("manual", "lsq")

@@ -254,6 +254,21 @@ class MtosStep(BaseModel):
     viscosity: float = quantity(..., "Pa*s", "μ_t = (μ3 + μ4 + μ5)/3 (4.18)")
     bearing_characteristic: float = quantity(..., "1", "S1 = μ_t·ω/p̄, p̄ = N/(BD) (4.21, E9)")
     temperature_rise: dict[str, float] = quantity(..., "degC", "Δt_i = t_i - t1 (4.19, E4)")
+    viscosity_at: dict[str, float] = quantity({}, "Pa*s", "μ_i = A·exp(α·t_i), i = 1..5 (4.17)")
+    bearing_characteristic_inverse: float | None = quantity(
+        None, "1", "S1⁻¹ = p̄/(μ_t·ω) (table 4.4)"
+    )
+    viscosity_ratio: float | None = quantity(
+        None, "1", "μ_t/μ0, μ0 = μ at 50 °C (table 4.4, note), fluid film only"
+    )
+    a1_00: float | None = quantity(None, "1", "A1^00 = π/√(1 - χ²) (4.5)")
+    a2_00: float | None = quantity(None, "1", "A2^00 = A1^00/(1 - χ²) (4.5)")
+    a3_00: float | None = quantity(None, "1", "A3^00 = (3A2^00 - A1^00)/(2(1 - χ²)) (4.5)")
+    a3_02: float | None = quantity(None, "1", "A3^02 = (A1^00 - 2A2^00 + A3^00)/χ² (4.5)")
+    a3_20: float | None = quantity(None, "1", "A3^20 = A3^00 - A3^02 (4.5)")
+    a3_11: float | None = quantity(None, "1", "A3^11 = -2χ/(1 - χ²)² (table 4.4)")
+    v_factor: float | None = quantity(None, "1", "V = -χ·a²·(μ_t/μ0)·A3^20·ω/ω0 (4.4)")
+    tangential_force: float | None = quantity(None, "N", "P_τ = P*·V (4.2)-(4.3)")
     friction_theory: float | None = quantity(None, "1", "f_T (4.10), fluid film only")
     friction_error: float | None = quantity(None, "%", "Δf = (f_э - f_T)/f_э")
     friction_finite: float | None = quantity(
@@ -324,6 +339,17 @@ class ProfilometerResults(BaseModel):
     levels: list[float] = quantity([], "m", "p_i, depth below the peak line (table 1.6)")
     eps: list[float] = quantity([], "1", "ε = p/Rmax (1.7)")
     tp: list[float] = quantity([], "1", "t_p = η_p/l (1.6)")
+    bearing_lengths: list[float] = quantity([], "m", "η_p = t_p·l, bearing length (table 1.6)")
+    outside_subrange: list[str] = Field(
+        default_factory=list,
+        description="parameters outside the ranges of the subrange of the base length (1.14)",
+    )
+    rmax_difference: float | None = quantity(
+        None, "%", "δ = (Rmax1 - Rmax2)/Rmax1: profilometer against profilogram (1.20)"
+    )
+    rz_difference: float | None = quantity(
+        None, "%", "δ_Rz = (Rz1 - Rz2)/Rz2: profilometer against profilogram (1.20)"
+    )
     fit_manual: BearingFitResult | None = None
     fit_lsq: BearingFitResult | None = None
     complex_parameter: float | None = quantity(None, "1", "Δ = Rmax/(R·b^(1/ν)) (1.9)")

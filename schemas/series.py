@@ -11,6 +11,7 @@ from typing import Annotated, Literal
 
 from pydantic import BaseModel, ConfigDict, Field, StringConstraints, model_validator
 
+from schemas.quantity import quantity
 from schemas.runs import RunId, RunState
 from schemas.stands import StandKind
 from schemas.wire import Text
@@ -203,6 +204,15 @@ class SeriesRun(BaseModel):
     values: dict[str, float | None]
 
 
+class AdhesiveOxidative(BaseModel):
+    """Lab work 2's adhesive and oxidative runs compared (2.16): a series whose two levels
+    are the adhesive and the oxidative mode, by level name or the runs' test plan."""
+
+    f_adhesive: float = quantity(..., "1", "f_a, mean steady friction of the adhesive runs")
+    f_oxidative: float = quantity(..., "1", "f_ok, mean steady friction of the oxidative runs")
+    difference: float = quantity(..., "%", "Δf = (f_a - f_ok)/f_a (2.16)")
+
+
 class SeriesDetail(Series):
     """A series with its runs and the statistics of every headline result."""
 
@@ -216,4 +226,7 @@ class SeriesDetail(Series):
     )
     missing: list[str] = Field(
         default_factory=list, description="member runs that could not be read, and why"
+    )
+    adhesive_oxidative: AdhesiveOxidative | None = Field(
+        None, description="SMTs-2: f_a, f_ok and Δf (2.16) when the levels are the two modes"
     )

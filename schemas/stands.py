@@ -486,6 +486,8 @@ PROFILOMETER_GROUPS = (
                 "upper limit of the Ra sub-range (1.14)",
                 Limit(nominal=(0.4, 3.2, 12.5)),
             ),
+            _c("rz_instrument", "um", "Rz1, the profilometer's reading (1.20)", Limit(low=0.0)),
+            _c("rmax_instrument", "um", "Rmax1, the profilometer's reading (1.20)", Limit(low=0.0)),
         ),
     ),
 )

@@ -28,6 +28,11 @@ _M_PER_MM = UNITS["mm"].factor
 _N_PER_M = UNITS["N/mm"].factor
 #: The finite bearing's figures by (χ, B/D), shared by every run's results.
 FINITE = FiniteBearingSteps()
+#: μ0 = μ at this temperature, °C, and ω0, 1/s, of (4.3) (the note to table 4.4; lab 4).
+REFERENCE_T = 50.0
+REFERENCE_OMEGA = 100.0
+#: The integrals (4.5) table 4.4 lists, by their field names in the results.
+INTEGRALS = ("a1_00", "a2_00", "a3_00", "a3_02", "a3_20", "a3_11")
 #: Load steps of a run whose finite bearing (3.1) is solved, about 10 ms each (the manual's
 #: run has 12): the bound of one results computation; later steps leave it empty, noted.
 MAX_FINITE_STEPS = 500
@@ -92,6 +97,11 @@ def analyse(run: Run, readings: Readings, profiles: Profiles | None = None) -> M
     rises = {
         f"t{k}": stands.temperature_rise(t=rows[f"t{k}"], t_in=rows["t1"]) for k in (2, 3, 4, 5)
     }
+    mu_at = {
+        f"t{k}": stands.viscosity(t=rows[f"t{k}"], A=c.viscosity.A, alpha=c.viscosity.alpha)
+        for k in (1, 2, 3, 4, 5)
+    }
+    mu_50 = float(stands.viscosity(t=REFERENCE_T, A=c.viscosity.A, alpha=c.viscosity.alpha))
     acc = c.accuracy
     x_zero = uncertainty.from_limit(m["x_zero"] * _M_PER_UM, acc.displacement * _M_PER_UM)
     y_zero = uncertainty.from_limit(m["y_zero"] * _M_PER_UM, acc.displacement * _M_PER_UM)
@@ -120,6 +130,7 @@ def analyse(run: Run, readings: Readings, profiles: Profiles | None = None) -> M
             angle = 0.0
             result.notes.append(f"step {i}: journal centred, the angle (4.12) is undefined")
         f_theory = f_error = None
+        table44: dict[str, float] = {}
         f_finite, load_finite = (
             _finite(c, float(ecc.chi[i]), float(oil.mean[i]), float(load[i]))
             if i < MAX_FINITE_STEPS
@@ -137,6 +148,7 @@ def analyse(run: Run, readings: Readings, profiles: Profiles | None = None) -> M
                     load=load[i],
                 )
                 f_theory = float(f_t)
+                table44 = _table_4_4(c, float(ecc.chi[i]), float(oil.mean[i]), mu_50)
                 f_error = float(
                     stands.relative_error_percent(
                         reference=measured.coefficient[i], other=f_t
@@ -182,6 +194,9 @@ def analyse(run: Run, readings: Readings, profiles: Profiles | None = None) -> M
                 viscosity=float(oil.mean[i]),
                 bearing_characteristic=float(s1[i]),
                 temperature_rise={k: float(v[i]) for k, v in rises.items()},
+                viscosity_at={k: float(v[i]) for k, v in mu_at.items()},
+                bearing_characteristic_inverse=float(1.0 / s1[i]) if s1[i] > 0 else None,
+                **table44,
                 friction_theory=f_theory,
                 friction_error=None if f_error is None or np.isnan(f_error) else f_error,
                 friction_finite=f_finite,
@@ -197,6 +212,28 @@ def analyse(run: Run, readings: Readings, profiles: Profiles | None = None) -> M
     result.friction_fluid = float(np.mean(fluid)) if fluid else None
     result.h_min_smallest = float(np.min(h_min))
     return result
+
+
+def _table_4_4(c: MtosConfig, chi: float, viscosity: float, mu_50: float) -> dict[str, float]:
+    """The last part of table 4.4 at one fluid-film step: μ_t/μ0, the integrals (4.5), V
+    (4.4) and P_τ = P*·V (4.2)-(4.3), with μ0 = μ at 50 °C and ω0 = 100 1/s (the manual's)."""
+    integrals = bearing.short_bearing_integrals(chi=chi)
+    moment = bearing.friction_moment_theoretical(
+        chi=chi,
+        omega=c.omega,
+        viscosity=viscosity,
+        bearing_radius=c.diameter / 2.0,
+        width=c.width,
+        clearance=c.clearance,
+        reference_viscosity=mu_50,
+        reference_omega=REFERENCE_OMEGA,
+    )
+    return {
+        "viscosity_ratio": viscosity / mu_50,
+        **{name: float(getattr(integrals, name)) for name in INTEGRALS},
+        "v_factor": float(moment.v),
+        "tangential_force": float(moment.tangential_force),
+    }
 
 
 def _finite(

@@ -54,6 +54,21 @@ def analyse(run: Run, readings: Readings) -> ProfilometerResults:
         )
     except ModelInputError as exc:
         result.notes.append(f"instrument error not given: {exc}")
+    sub = roughness.subrange_of_base_length(params.base_length)
+    if sub is not None:
+        result.outside_subrange = list(roughness.outside_subrange(parameters=params, subrange=sub))
+    m = readings.measurements()
+    if "rz_instrument" in m and "rmax_instrument" in m:
+        try:
+            found = roughness.profilogram_discrepancy(
+                rmax_instrument=m["rmax_instrument"] * _M_PER_UM,
+                rmax_profilogram=params.rmax,
+                rz_instrument=m["rz_instrument"] * _M_PER_UM,
+                rz_profilogram=params.rz,
+            )
+            result.rmax_difference, result.rz_difference = found.rmax, found.rz
+        except ModelInputError as exc:
+            result.notes.append(f"(1.20) not computed: {exc}")
     # Table 1.6: strips of equal depth from the peak line down to the mean line.
     line = roughness.mean_line(x=x, y=y)
     peak = float(np.max(y - (line.slope * x + line.intercept)))
@@ -64,6 +79,7 @@ def analyse(run: Run, readings: Readings) -> ProfilometerResults:
         curve.eps.tolist(),
         curve.tp.tolist(),
     )
+    result.bearing_lengths = (curve.tp * params.base_length).tolist()  # η_p = t_p·l (1.6)
     for method in ("manual", "lsq"):
         fit = roughness.fit_bearing_curve(eps=curve.eps, tp=curve.tp, method=method)
         model = BearingFitResult(

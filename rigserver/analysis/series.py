@@ -16,7 +16,7 @@ from typing import Any
 
 from pydantic import BaseModel
 
-from rigserver.core import statistics
+from rigserver.core import statistics, wear
 from schemas.labels import RESULTS, WEAR_SUBSCRIPTS, Label, round_to
 from schemas.quantity import description_paths, unit_paths
 from schemas.results import (
@@ -29,6 +29,7 @@ from schemas.results import (
 )
 from schemas.runs import Run, RunState
 from schemas.series import (
+    AdhesiveOxidative,
     ComparisonResult,
     GrubbsResult,
     LevelSummary,
@@ -171,6 +172,44 @@ def series_statistics(
         open_runs=sum(m.run.state is RunState.OPEN for m in members),
         missing=missing,
         identical=identical_runs(rows),
+        adhesive_oxidative=adhesive_oxidative(counted) if stand is StandKind.SMTS2 else None,
+    )
+
+
+#: The two modes of lab work 2's second part, (2.16).
+_MODES = ("adhesive", "oxidative")
+
+
+def _mode(member: Member) -> str | None:
+    """A run's mode: its level's name if it is one of the modes, else its test plan's."""
+    level = (member.level or "").strip().lower()
+    if level in _MODES:
+        return level
+    planned = member.run.test_plan.get("mode") if member.run.test_plan else None
+    return planned if planned in _MODES else None
+
+
+def adhesive_oxidative(members: Sequence[Member]) -> AdhesiveOxidative | None:
+    """f_a, f_ok (the levels' mean steady friction) and Δf (2.16), when the series' runs
+    fall into two levels, one of each mode; None otherwise."""
+    by_level: dict[str, set[str | None]] = {}
+    friction: dict[str, list[float]] = {}
+    for m in members:
+        mode = _mode(m)
+        by_level.setdefault(m.level or "", set()).add(mode)
+        f = _number(m.values, "friction_steady")
+        if mode is not None and f is not None:
+            friction.setdefault(mode, []).append(f)
+    modes = [next(iter(found)) for found in by_level.values() if len(found) == 1]
+    if len(by_level) != 2 or sorted(m or "" for m in modes) != list(_MODES):
+        return None
+    if any(not friction.get(mode) for mode in _MODES):
+        return None
+    f_a, f_ok = (float(sum(friction[k]) / len(friction[k])) for k in _MODES)
+    return AdhesiveOxidative(
+        f_adhesive=f_a,
+        f_oxidative=f_ok,
+        difference=wear.adhesive_oxidative_difference(f_adhesive=f_a, f_oxidative=f_ok),
     )
 
 

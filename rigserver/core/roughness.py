@@ -802,6 +802,73 @@ def instrument_error(
     )
 
 
+def subrange_of_base_length(base_length: float) -> ProfilometerSubrange | None:
+    """The ABRIS-PM7 subrange whose cutoff is the traced base length (within 1 %), if any."""
+    for sub in ABRIS_PM7_SUBRANGES:
+        if abs(base_length - sub.cutoff) <= 0.01 * sub.cutoff:
+            return sub
+    return None
+
+
+def outside_subrange(
+    *, parameters: ProfileParameters, subrange: ProfilometerSubrange
+) -> tuple[str, ...]:
+    """The parameters (``"Ra"``, ``"Rz"``, ``"Rmax"``, ``"Sm"``) outside the ranges of
+    ``subrange``, for which the error limits (1.14) are not stated.
+
+    References
+    ----------
+    Lab manual, lab work 1, ABRIS-PM7 technical data, item 1 (the subranges' ranges).
+    """
+    checks = (
+        ("Ra", parameters.ra, subrange.ra_min, subrange.ra_max),
+        ("Rz", parameters.rz, subrange.rz_min, subrange.rz_max),
+        ("Rmax", parameters.rmax, subrange.rz_min, subrange.rz_max),
+        ("Sm", parameters.sm, subrange.sm_min, subrange.sm_max),
+    )
+    return tuple(name for name, value, low, high in checks if not low <= value <= high)
+
+
+@dataclass(frozen=True, slots=True)
+class ProfilogramDiscrepancy:
+    """The profilometer's readings against the profilogram's values (1.20), in %.
+
+    Attributes
+    ----------
+    rmax : float
+        δ = (Rmax1 - Rmax2)/Rmax1·100 %.
+    rz : float
+        δ_Rz = (Rz1 - Rz2)/Rz2·100 %.
+    """
+
+    rmax: float
+    rz: float
+
+
+def profilogram_discrepancy(
+    *, rmax_instrument: float, rmax_profilogram: float, rz_instrument: float, rz_profilogram: float
+) -> ProfilogramDiscrepancy:
+    """Differences of the profilometer's Rmax, Rz from the profilogram's (1.20).
+
+    .. math:: δ = \\frac{R_{max1} - R_{max2}}{R_{max1}}\\,100\\ \\%,\\quad
+              δ_{Rz} = \\frac{Rz_1 - Rz_2}{Rz_2}\\,100\\ \\%
+
+    Index 1: the profilometer's reading (procedure item 1); 2: from the profilogram (items
+    4-5). The denominators are as printed: Rmax1 in δ, Rz2 in δ_Rz.
+
+    References
+    ----------
+    Lab manual, lab work 1, procedure item 10, (1.20).
+    """
+    r1 = positive("rmax_instrument", rmax_instrument)
+    r2 = positive("rmax_profilogram", rmax_profilogram)
+    z1 = positive("rz_instrument", rz_instrument)
+    z2 = positive("rz_profilogram", rz_profilogram)
+    return ProfilogramDiscrepancy(
+        rmax=float((r1 - r2) / r1 * 100.0), rz=float((z1 - z2) / z2 * 100.0)
+    )
+
+
 def bearing_ratio_error(*, tp: ArrayLike) -> NDArray[np.float64]:
     """Limit of the profilometer's basic error of t_p (1.14).
 

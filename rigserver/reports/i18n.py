@@ -253,6 +253,7 @@ MESSAGES: dict[str, str] = {
     ),
     "caption.measurements": N_("Single measurements"),
     "table.continued": N_("{caption} (continued)"),
+    "sec.formulas": N_("Formulas used, by the manual's equation numbers"),
     "sec.abbreviations": N_("Abbreviations and corrections to the printed formulas"),
     "abbr.gum": N_(
         "GUM: the Guide to the expression of uncertainty in measurement (JCGM 100:2008): "
@@ -281,6 +282,14 @@ MESSAGES: dict[str, str] = {
         "E5 (1.1): R = √(π/2)/ρ_2, ρ_2 the rms curvature of the profile; the print puts the "
         "whole product under the root, which is not a length."
     ),
+    "abbr.e6": N_(
+        "E6 (seed 000, (9)): ∂F/∂q = (1 - φ²)^{{-1/2}}·∂φ/∂q, a product (F = arcsin φ); the "
+        "print has a sum."
+    ),
+    "abbr.e7": N_(
+        "E7 (seed 000, (5)): the left side of the second definition is γ_{{mlk}}, not λ_{{mlk}}."
+    ),
+    "abbr.e8": N_("E8 (seed 000, the final system): the velocity term multiplies ξ'_l, as in (6)."),
     "abbr.e9": N_(
         "E9 (4.21): the manual calls both μω/p̄ and p̄/(μω) S_1; the report uses "
         "S_1 = μ_t·ω/p̄ as (4.21) does."
@@ -338,6 +347,15 @@ MESSAGES: dict[str, str] = {
     "p.mean_line": N_("mean line"),
     "p.peak_line": N_("peak line"),
     "p.valley_line": N_("valley line"),
+    "p.levels": N_("levels p_i of table 1.6"),
+    "p.vs": N_("Profilometer against profilogram (item 10, (1.20))"),
+    "p.instrument": N_("profilometer"),
+    "p.profilogram": N_("profilogram"),
+    "p.difference": N_("difference"),
+    "p.outside": N_(
+        "{names} outside the ranges of the subrange of l = {cutoff} mm (Ra {ra}, Rz and Rmax "
+        "{rz}, Sm {sm} µm): the error limits (1.14) are not stated for them."
+    ),
     "p.measured": N_("measured"),
     "p.c_ra": N_(
         "Ra = {ra} µm measured; Ra = 4.3·√Δ = {ra_delta} µm from the complex parameter "

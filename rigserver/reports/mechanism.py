@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from rigserver.reports.formatting import html_symbol
+from rigserver.reports.i18n import Messages
 from rigserver.reports.plots import lines
 from rigserver.reports.render import render
 from schemas.mechanism import DynamicErrorsRequest, DynamicErrorsResponse
@@ -35,8 +37,11 @@ def mechanism_report(request: DynamicErrorsRequest, result: DynamicErrorsRespons
         {"joint": name, "rad": result.max_abs[k], "arcmin": result.max_abs[k] * arcmin}
         for k, name in enumerate(JOINTS)
     ]
+    t = Messages("en")
+    corrections = [html_symbol(t(f"abbr.e{n}")) for n in (6, 7, 8)]
     return render(
         "mechanism.html",
+        corrections=corrections,
         request=request,
         result=result,
         programme=programme,

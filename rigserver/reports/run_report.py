@@ -12,7 +12,7 @@ from markupsafe import Markup, escape
 from pydantic import BaseModel
 
 from rigserver.analysis import Readings
-from rigserver.reports import layout
+from rigserver.reports import equations, layout
 from rigserver.reports.context import Context, LabReport
 from rigserver.reports.document import Items, Paragraph, Report, Section, Table, Text
 from rigserver.reports.formatting import fmt, html_symbol, number_locale, value_text
@@ -107,6 +107,9 @@ def _build(
     for key, items in (("sec.pending", model.pending), ("sec.notes", model.notes)):  # type: ignore[attr-defined]
         if items:  # the analysis' words, printed as they are (x_zero is not x subscript zero)
             sections.append(Section(t(key), [Items([escape(t.gettext(item)) for item in items])]))
+    used = formulas(t, sections)
+    if used:
+        sections.append(Section(t("sec.formulas"), [Items(used)]))
     explained = abbreviations(t, sections)
     if explained:
         sections.append(Section(t("sec.abbreviations"), [Items(explained)]))
@@ -127,16 +130,30 @@ def _build(
 ABBREVIATIONS: dict[str, str] = {
     "GUM": "abbr.gum",
     "ASTM G99": "abbr.g99",
-    **{f"E{n}": f"abbr.e{n}" for n in (1, 2, 3, 4, 5, 9)},
+    **{f"E{n}": f"abbr.e{n}" for n in range(1, 10)},
 }
 """The abbreviations and the corrections to the manual's printed formulas (docs/models.md)
 a report may cite, each explained once in its appendix."""
 _CITED = re.compile(r"GUM|ASTM G99|(?<=\()E[1-9]\b|(?<=, )E[1-9]\b")
 
 
-def abbreviations(t: Messages, sections: Sequence[Section]) -> list[Text]:
-    """The explanations of the abbreviations and corrections (E1-E9) the sections cite, in
-    the order of :data:`ABBREVIATIONS`."""
+def formulas(t: Messages, sections: Sequence[Section]) -> list[Text]:
+    """The formulas the sections cite by the manual's equation numbers, in the manual's
+    order: ``(1.3) R_a = (1/l)·∫|y| dx``, the symbols in the report's language."""
+    found: list[Text] = []
+    for number in equations.cited(_texts(sections)):
+        formula = equations.EQUATIONS[number]
+        for symbol in dict.fromkeys(equations.symbols_of(formula)):
+            formula = formula.replace(symbol, t.symbol(symbol))
+        formula = formula.replace("{um}", t.unit("um"))
+        if t.lang == "ru":  # a decimal comma, as the page's numbers
+            formula = re.sub(r"(\d)\.(\d)", r"\1,\2", formula)
+        found.append(html_symbol(f"({number}) {formula}"))
+    return found
+
+
+def _texts(sections: Sequence[Section]) -> str:
+    """All the words of the sections' tables, lists and captions, as one text."""
     texts: list[str] = []
     for section in sections:
         for block in section.blocks:
@@ -147,7 +164,13 @@ def abbreviations(t: Messages, sections: Sequence[Section]) -> list[Text]:
                 texts += [str(item) for item in block.items]
             else:
                 texts.append(str(getattr(block, "caption", "") or getattr(block, "text", "")))
-    cited = set(_CITED.findall(" ".join(texts)))
+    return " ".join(texts)
+
+
+def abbreviations(t: Messages, sections: Sequence[Section]) -> list[Text]:
+    """The explanations of the abbreviations and corrections (E1-E9) the sections cite, in
+    the order of :data:`ABBREVIATIONS`."""
+    cited = set(_CITED.findall(_texts(sections)))
     return [html_symbol(t(key)) for code, key in ABBREVIATIONS.items() if code in cited]
 
 

@@ -70,6 +70,11 @@ TEXT: dict[str, str] = {
     ),
     "identical": N_("Identical data"),
     "identical_runs": N_("the runs {runs} have identical results, to the last digit: copied data?"),
+    "adhesive_oxidative": N_("Adhesive and oxidative friction (2.16)"),
+    "adhesive_oxidative_values": N_(
+        "f_a = {f_a} (adhesive runs), f_ok = {f_ok} (oxidative runs), "
+        "Δf = (f_a − f_ok)/f_a·100 % = {df} %"
+    ),
     "test": N_("Test"),
     "welch": N_("Welch's t"),
     "anova": N_("one-way ANOVA, F"),

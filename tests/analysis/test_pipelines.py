@@ -125,6 +125,50 @@ def test_mtos_tables_by_hand() -> None:
     assert res.h_min_smallest == pytest.approx(h0 - e.max(), rel=1e-9)
 
 
+def test_mtos_table_4_4_last_part_by_hand() -> None:
+    """μ1…μ5 (4.17), S1⁻¹, μ_t/μ0 with μ0 = μ at 50 °C, A1^00…A3^11 (4.5), V (4.4) and
+    P_τ = P*·V (4.2)-(4.3) of table 4.4, from the closed forms: A3^20 = π/(2(1 - χ²)^1.5),
+    A3^11 = -2χ/(1 - χ²)², and P_τ = -μωR·B³·πχ/(4h0²(1 - χ²)^1.5) (Ocvirk, E3)."""
+    h0, D, B, w, load, e = 100e-6, 0.050, 0.040, 157.0, 1000.0, 40e-6
+    ex = e / math.sqrt(2)
+    x = -(h0 * math.cos(math.pi / 4) - ex) * 1e6  # (4.11), the journal on the diagonal
+    temps = {"t1": 30.0, "t2": 38.0, "t3": 45.0, "t4": 46.0, "t5": 47.0}
+    rows = {
+        "load": [load],
+        "indicator": [0.08],
+        "x": [x],
+        "y": [x],
+        **{k: [v] for k, v in temps.items()},
+        "regime": [1.0],
+    }
+    res = analyse(
+        make_run(StandKind.MTOS), FakeReadings({"steps": rows}, {"x_zero": 0.0, "y_zero": 0.0})
+    ).values
+    step = res.steps[0]
+    mu = {k: 0.0773 * math.exp(-0.0485 * t) for k, t in temps.items()}  # (4.17)
+    assert step.viscosity_at == pytest.approx(mu, rel=1e-12)
+    mu_t = (mu["t3"] + mu["t4"] + mu["t5"]) / 3  # (4.18)
+    assert step.bearing_characteristic_inverse == pytest.approx(load / (B * D * mu_t * w))
+    mu0 = 0.0773 * math.exp(-0.0485 * 50.0)
+    assert step.viscosity_ratio == pytest.approx(mu_t / mu0, rel=1e-12)
+    chi, R = e / h0, D / 2
+    one = 1 - chi**2
+    a1 = math.pi / math.sqrt(one)
+    a2 = a1 / one
+    a3 = (3 * a2 - a1) / (2 * one)
+    assert [step.a1_00, step.a2_00, step.a3_00] == pytest.approx([a1, a2, a3], rel=1e-9)
+    assert step.a3_02 == pytest.approx((a1 - 2 * a2 + a3) / chi**2, rel=1e-9)  # as printed
+    assert step.a3_20 == pytest.approx(math.pi / (2 * one**1.5), rel=1e-9)
+    assert step.a3_11 == pytest.approx(-2 * chi / one**2, rel=1e-9)
+    a = B / (2 * R)  # E3
+    v = -chi * a**2 * (mu_t / mu0) * (math.pi / (2 * one**1.5)) * (w / 100.0)  # (4.4)
+    assert step.v_factor == pytest.approx(v, rel=1e-9)
+    ocvirk = -mu_t * w * R * B**3 * math.pi * chi / (4 * h0**2 * one**1.5)
+    assert step.tangential_force == pytest.approx(ocvirk, rel=1e-9)
+    p_star = 2 * B * R * mu0 * 100.0 / (h0 / R) ** 2  # (4.3)
+    assert step.tangential_force == pytest.approx(p_star * v, rel=1e-9)  # (4.2)
+
+
 def test_profilometer_sine_trace() -> None:
     A, lam, n_per = 1.0, 50.0, 200  # μm, μm, samples per period
     periods = 20

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import math
 from datetime import UTC, datetime
+from typing import Any
 
 import numpy as np
 import pytest
@@ -13,8 +14,9 @@ from hypothesis import strategies as st
 
 from rigserver.analysis import analyse
 from rigserver.analysis.series import Member, series_statistics
+from rigsim.batches import SimulatedRun
 from rigsim.stands import simulate
-from rigsim.stands.smts2 import Smts2Settings
+from rigsim.stands.smts2 import MODES, Mode, Smts2Settings
 from schemas.runs import Run, RunState
 from schemas.series import ResultStatistics, Series, SeriesPurpose
 from schemas.stands import StandKind, default_stands, with_overrides
@@ -31,12 +33,19 @@ def smts2_run(
     sim = simulate(
         StandKind.SMTS2, Smts2Settings(revolutions=2000.0, friction_steady=friction), seed=seed
     )
+    return _member(index, sim, state)
+
+
+def _member(index: int, sim: SimulatedRun[Any], state: RunState) -> Member:
+    """A simulated SMTs-2 run as a stored run (its test plan kept), analysed as the service
+    would."""
     readings = SimulatedReadings(sim)
     run = Run(
         id=f"20261125T120000Z-{index:08x}",
         stand=StandKind.SMTS2,
         state=state,
         operator="group 1",
+        test_plan=sim.run_create.test_plan,
         configuration=with_overrides(STAND.configuration, sim.run_create.configuration).model_dump(
             mode="json"
         ),
@@ -172,3 +181,34 @@ def test_each_run_shows_its_own_uncertainty_beside_the_spread(
     detail = series_statistics(repeatability([member]), [member], [])
     found = next(s for s in detail.statistics if s.key == key)
     assert expected is not None and found.values[0].uncertainty == expected
+
+
+def _mode_run(index: int, mode: Mode, seed: int) -> Member:
+    """A simulated SMTs-2 run of lab work 2's second part, its mode in the test plan."""
+    sim = simulate(StandKind.SMTS2, Smts2Settings.for_mode(mode), seed=seed)
+    return _member(index, sim, RunState.FINISHED)
+
+
+def test_adhesive_and_oxidative_levels_give_delta_f() -> None:
+    """A comparison whose levels are the two modes: f_a, f_ok the levels' mean steady f and
+    Δf = (f_a - f_ok)/f_a·100 % (2.16), recomputed here from the runs' own results."""
+    runs = [(_mode_run(i, mode, seed=400 + i), mode) for i, mode in enumerate(MODES[1:] * 2)]
+    members = [Member(m.run, f"pin {mode}", m.values) for m, mode in runs]  # the plan's mode
+    series = Series(
+        id="s-000000000003",
+        name="adhesive and oxidative",
+        purpose=SeriesPurpose.COMPARISON,
+        factor="mode",
+        created=MADE,
+    )
+    found = series_statistics(series, members, []).adhesive_oxidative
+    assert found is not None
+    f = {mode: [m.values["friction_steady"] for m, k in runs if k == mode] for mode in MODES[1:]}
+    f_a, f_ok = (sum(v) / len(v) for v in f.values())
+    assert found.f_adhesive == pytest.approx(f_a, rel=1e-12)
+    assert found.f_oxidative == pytest.approx(f_ok, rel=1e-12)
+    assert found.difference == pytest.approx((f_a - f_ok) / f_a * 100, rel=1e-12)
+    # the simulator's modes: f ≈ 0.55 adhesive, 0.3 oxidative (the manual's ordering)
+    assert found.difference > 0
+    one_level = [Member(m.run, "all", m.values) for m, _ in runs]
+    assert series_statistics(series, one_level, []).adhesive_oxidative is None

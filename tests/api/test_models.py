@@ -67,6 +67,8 @@ def test_mechanism_dynamic_errors_and_report(client: TestClient) -> None:
     assert page.status_code == 200
     assert page.text.count("<svg") == 2
     assert "arcmin" in page.text
+    # the corrections to seed 000's printed formulas the computation uses (docs/models.md)
+    assert all(f"<li>E{n} (seed 000" in page.text for n in (6, 7, 8))
 
 
 def test_mechanism_bad_input_names_the_field(client: TestClient) -> None:

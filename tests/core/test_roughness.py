@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -459,6 +460,32 @@ def _measured(ra_um: float) -> roughness.ProfileParameters:
         asperity_radius=1e-4,
         base_length=0.8e-3,
     )
+
+
+def test_sm_outside_the_subrange_of_the_base_length_is_flagged() -> None:
+    # The manual's technical data item 1: with l = 0.8 mm, Sm must lie in 8-80 μm; a trace
+    # with Sm = 84.6 μm (issue 27) leaves it, Ra = 1 μm, Rz = 5 μm, Rmax = 6 μm do not.
+    sub = roughness.subrange_of_base_length(0.8e-3)
+    assert sub is not None and sub.cutoff == pytest.approx(0.8e-3)
+    inside = _measured(1.0)
+    assert roughness.outside_subrange(parameters=inside, subrange=sub) == ()
+    wide = dataclasses.replace(inside, sm=84.6e-6)
+    assert roughness.outside_subrange(parameters=wide, subrange=sub) == ("Sm",)
+    assert roughness.subrange_of_base_length(1.0e-3) is None  # not a cutoff of the ABRIS-PM7
+
+
+def test_profilogram_discrepancy_as_printed() -> None:
+    # (1.20): δ = (Rmax1 - Rmax2)/Rmax1·100 = (5 - 4)/5·100 = 20 %,
+    # δ_Rz = (Rz1 - Rz2)/Rz2·100 = (4 - 5)/5·100 = -20 % (the printed denominators differ)
+    found = roughness.profilogram_discrepancy(
+        rmax_instrument=5e-6, rmax_profilogram=4e-6, rz_instrument=4e-6, rz_profilogram=5e-6
+    )
+    assert found.rmax == pytest.approx(20.0, rel=1e-12)
+    assert found.rz == pytest.approx(-20.0, rel=1e-12)
+    with pytest.raises(ModelInputError, match="rz_profilogram"):
+        roughness.profilogram_discrepancy(
+            rmax_instrument=5e-6, rmax_profilogram=4e-6, rz_instrument=4e-6, rz_profilogram=0.0
+        )
 
 
 def test_instrument_error_subrange_by_ra() -> None:

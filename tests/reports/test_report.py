@@ -81,8 +81,12 @@ def test_profilometer_tables_1_6_to_1_8() -> None:
     t16 = table(html, "Table 1.6.")
     assert t16.rows[0][:1] == ["pi, µm"]  # depths in µm, not metres
     assert t16.rows[0][1:] == declared(PROFILOMETER["levels"], v.levels, 1e6)
-    assert t16.rows[1][1:] == declared(PROFILOMETER["tp"], v.tp)
-    assert t16.rows[2][1:] == declared(PROFILOMETER["eps"], v.eps)
+    # η_p = t_p·l (table 1.6), recomputed here from t_p and the base length, in mm
+    assert t16.rows[1][1:] == declared(
+        PROFILOMETER["bearing_lengths"], [tp * (v.base_length or 0.0) for tp in v.tp], 1e3
+    )
+    assert t16.rows[2][1:] == declared(PROFILOMETER["tp"], v.tp)
+    assert t16.rows[3][1:] == declared(PROFILOMETER["eps"], v.eps)
     manual = row_of(html, "Table 1.7.", "three pairs of levels (1.16)-(1.19)")
     assert manual == [
         *printed(v.fit_manual.nu_partial),
@@ -119,6 +123,27 @@ def test_profilometer_parameters_with_instrument_errors() -> None:
         v.complex_parameter
     )
     assert len(svgs(html)) == 3  # the profile, the bearing curve, the ISO filtering
+
+
+def test_profilometer_against_profilogram_and_the_subrange() -> None:
+    """Item 10: the instrument's Rmax, Rz against the trace's, (1.20) recomputed here; and
+    a parameter outside its subrange's range flagged under the parameters."""
+    s = simulated(StandKind.PROFILOMETER)
+    v = s.result.values
+    assert isinstance(v, ProfilometerResults) and v.rmax is not None and v.rz is not None
+    m = s.sim.columns("measurements")
+    rmax1, rz1 = float(m["rmax_instrument"][0]), float(m["rz_instrument"][0])
+    rmax2, rz2 = v.rmax * 1e6, v.rz * 1e6
+    assert v.rmax_difference == pytest.approx((rmax1 - rmax2) / rmax1 * 100, rel=1e-6, abs=1e-9)
+    assert v.rz_difference == pytest.approx((rz1 - rz2) / rz2 * 100, rel=1e-6, abs=1e-9)
+    html = report(StandKind.PROFILOMETER)
+    vs = table(html, "Profilometer against profilogram")
+    assert [r[0] for r in vs.rows] == ["Rmax", "Rz"]
+    assert vs.rows[0][1] == fmt(rmax1)
+    sm = v.sm or 0.0
+    flagged = not 8e-6 <= sm <= 80e-6  # the 0.8 mm subrange's Sm range (technical data)
+    assert ("Sm" in v.outside_subrange) == flagged
+    assert ("outside the ranges of the subrange" in html) == bool(v.outside_subrange)
 
 
 # --- lab work 2 ---------------------------------------------------------------------------
@@ -232,15 +257,22 @@ def test_mtos_readings_and_processing_tables() -> None:
     assert t41.column(1) == printed(steps["indicator"][fluid])
     assert t41.column(8) == printed(steps["t5"][fluid])
     t44 = [t for t in tables(html) if t.caption.startswith("Table 4.4.")]
-    assert len(t44) == 2  # the table and its continuation; the theory part follows
+    # the table and its continuation, split in two by the page's width; the theory follows
+    assert len(t44) == 3
     first = [x for x in v.steps if x.regime == "fluid"]
     assert t44[0].column(4) == declared(MTOS["steps[].chi"], [x.chi for x in first])
     assert t44[0].column(9) == printed([x.friction_measured for x in first])
-    assert t44[1].column(2) == printed([x.bearing_characteristic for x in first])
-    theory = table(html, "Table 4.4, end.")
-    assert theory.column(2) == printed([x.friction_theory for x in first])
+    mu1 = MTOS["steps[].viscosity_at"]
+    assert t44[1].column(1) == declared(mu1, [x.viscosity_at["t1"] for x in first])
+    assert t44[1].column(7) == printed([x.bearing_characteristic for x in first])
+    theory = next(t for t in tables(html) if t.caption.startswith("Table 4.4, end."))
+    assert theory.header[1:10] == [
+        "μt/μ0", "A100", "A200", "A300", "A302", "A320", "A311", "V", "Pτ, N"
+    ]  # fmt: skip
+    assert theory.column(8) == printed([x.v_factor for x in first])
+    assert theory.column(11) == printed([x.friction_theory for x in first])
     error = MTOS["steps[].friction_error"]
-    assert theory.column(3) == declared(error, [x.friction_error for x in first])
+    assert theory.column(12) == declared(error, [x.friction_error for x in first])
 
 
 def test_mtos_mixed_friction_against_fluid_friction() -> None:
@@ -249,7 +281,7 @@ def test_mtos_mixed_friction_against_fluid_friction() -> None:
     html = report(StandKind.MTOS)
     fluid = {x.load: x.friction_measured for x in v.steps if x.regime == "fluid"}
     mixed = [x for x in v.steps if x.regime == "mixed"]
-    continued = [t for t in tables(html) if t.caption.startswith("Table 4.5.")][1]
+    continued = [t for t in tables(html) if t.caption.startswith("Table 4.5.")][-1]
     # f_э/f_э1 at the same load, divided here
     assert continued.column(-1) == printed([x.friction_measured / fluid[x.load] for x in mixed])
     assert len(svgs(html)) == 4  # Hersey-Stribeck, trajectory, f(N), Δt(N)

@@ -55,3 +55,34 @@ def test_series_report_of_every_stand(kind: StandKind, lang: str) -> None:
     assert found[3].header[0] == header[0]  # the spread against the instruments
     comparison = found[4]
     assert {row[1] for row in comparison.rows if row[1] in ("A", "B")} == {"A", "B"}
+
+
+@pytest.mark.parametrize("lang", ["en", "ru"])
+def test_series_of_the_adhesive_and_oxidative_modes_prints_delta_f(lang: str) -> None:
+    """Levels named by the two modes of lab work 2: the report prints f_a, f_ok and Δf
+    (2.16), Δf recomputed here from the f printed for the two runs."""
+    run = simulated(StandKind.SMTS2)
+    f = run.result.payload["values"]["friction_steady"]
+    members = [
+        Member(
+            run=run.run.model_copy(update={"id": f"20261125T120000Z-0000001{i}"}),
+            level=level,
+            values={**run.result.payload["values"], "friction_steady": value},
+        )
+        for i, (level, value) in enumerate((("Adhesive", f), ("oxidative", f / 2)))
+    ]
+    series = Series(
+        id="s-00000000000b", name="n", purpose=SeriesPurpose.COMPARISON, factor="mode", created=MADE
+    )
+    detail = series_statistics(series, members, [])
+    assert detail.adhesive_oxidative is not None
+    assert detail.adhesive_oxidative.difference == pytest.approx(50.0, rel=1e-12)  # f_ok = f_a/2
+    context = series_context(
+        detail,
+        values={m.run.id: m.values for m in members},
+        readings={m.run.id: run.readings for m in members},
+        lang=lang,
+    )
+    html = render_series_report(context, made=MADE)
+    assert "= 50 %" in html  # fmt(50.0)
+    assert ("Adhesive and oxidative friction (2.16)" in html) == (lang == "en")

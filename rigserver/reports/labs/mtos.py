@@ -27,6 +27,8 @@ REGIMES = ("fluid", "mixed", "boundary")
 """The three experiments in the manual's order: 1 fluid film, 2 mixed, 3 boundary."""
 MARKERS = {"fluid": "o", "mixed": "s", "boundary": "^"}
 RISES = ("t2", "t3", "t4", "t5")
+VISCOSITIES = ("t1", *RISES)
+"""μ1…μ5 of table 4.4 (4.17), by the thermocouple each is read at."""
 
 
 def build(ctx: Context, v: MtosResults) -> LabReport:
@@ -150,10 +152,19 @@ def _processed_tables(
     )
     rises = RISES if regime == "fluid" else RISES[1:]
     rise = MTOS["steps[].temperature_rise"]
+    at = MTOS["steps[].viscosity_at"]
+    thermocouples = [k for k in VISCOSITIES if any(k in s.viscosity_at for s in steps)]
     fields = [
         field("load", "N"),
+        *(
+            blocks.field(
+                t, at, f"μ_{k[1]}", u["viscosity_at"], [s.viscosity_at.get(k) for s in steps]
+            )
+            for k in thermocouples
+        ),
         field("viscosity", "μ_t"),
         field("bearing_characteristic", "S_1"),
+        field("bearing_characteristic_inverse", "S_1^{-1}"),
         *(
             blocks.field(
                 t,
@@ -193,6 +204,15 @@ def _processed_tables(
         steps,
         [
             ("load", "N"),
+            ("viscosity_ratio", "μ_t/μ_0"),
+            ("a1_00", "A_1^{00}"),
+            ("a2_00", "A_2^{00}"),
+            ("a3_00", "A_3^{00}"),
+            ("a3_02", "A_3^{02}"),
+            ("a3_20", "A_3^{20}"),
+            ("a3_11", "A_3^{11}"),
+            ("v_factor", "V"),
+            ("tangential_force", "P_τ"),
             ("friction_measured", "f_e"),
             ("friction_theory", "f_T"),
             ("friction_error", "Δf"),

@@ -2,7 +2,10 @@
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
+from markupsafe import Markup
 from numpy.typing import NDArray
 
 from rigserver.core import roughness, stands
@@ -21,6 +24,8 @@ from schemas.stands import MEASUREMENTS
 from schemas.units import UNITS
 
 GROUP = "profile"
+#: The symbols of the parameters :func:`roughness.outside_subrange` names.
+_SYMBOLS = {"Ra": "R_a", "Rz": "R_z", "Rmax": "R_max", "Sm": "S_m"}
 #: Columns the profile is decimated to for drawing (min-max keeps every peak and valley).
 DRAWN_COLUMNS = 700
 
@@ -33,24 +38,27 @@ def build(ctx: Context, v: ProfilometerResults) -> LabReport:
     if ctx.readings.rows(GROUP):
         measured.append(Figure(t("p.fig_profile"), _profile_svg(ctx, v)))
     if v.ra is not None:
-        measured.append(
-            blocks.quantities(
-                t,
-                t("p.params"),
-                v,
-                [
-                    ("base_length", "l", "p.base_length"),
-                    ("ra", "R_a", "p.ra"),
-                    ("rq", "R_q", "p.rq"),
-                    ("rz", "R_z", "p.rz"),
-                    ("rmax", "R_max", "p.rmax"),
-                    ("sm", "S_m", "p.sm"),
-                    ("asperity_radius", "R", "p.r"),
-                ],
-                errors={"ra": v.ra_error, "rz": v.rz_error, "rmax": v.rmax_error, "sm": v.sm_error},
-                labels=PROFILOMETER,
-            )
+        params = blocks.quantities(
+            t,
+            t("p.params"),
+            v,
+            [
+                ("base_length", "l", "p.base_length"),
+                ("ra", "R_a", "p.ra"),
+                ("rq", "R_q", "p.rq"),
+                ("rz", "R_z", "p.rz"),
+                ("rmax", "R_max", "p.rmax"),
+                ("sm", "S_m", "p.sm"),
+                ("asperity_radius", "R", "p.r"),
+            ],
+            errors={"ra": v.ra_error, "rz": v.rz_error, "rmax": v.rmax_error, "sm": v.sm_error},
+            labels=PROFILOMETER,
         )
+        if v.outside_subrange and v.base_length is not None:
+            params = dataclasses.replace(params, note=_outside(t, v))
+        measured.append(params)
+    if v.rmax_difference is not None:
+        measured.append(_against_profilogram(ctx, v))
     processed: list[Block] = []
     if v.tp:
         processed.append(_table_1_6(t, v))
@@ -118,6 +126,16 @@ def _profile_svg(ctx: Context, v: ProfilometerResults) -> str:
             (float(deviation.min()) / fy, "p.valley_line", "--"),
         ):
             ax.plot(ends, base + offset, style, linewidth=1.0, label=t(key))
+        peak = float(deviation.max()) / fy
+        for number, depth in enumerate(v.levels):  # the sections of table 1.6, p_i below it
+            ax.plot(
+                ends,
+                base + peak - depth / fy,
+                ":",
+                linewidth=0.6,
+                color="C3",
+                label=t("p.levels") if number == 0 else None,
+            )
     decorate(
         ax,
         xlabel=blocks.axis(t, "x", units["x"]),
@@ -127,6 +145,58 @@ def _profile_svg(ctx: Context, v: ProfilometerResults) -> str:
     return to_svg(fig)
 
 
+def _outside(t: Messages, v: ProfilometerResults) -> Text:
+    """The parameters outside the ranges of the subrange of the base length, flagged."""
+    assert v.base_length is not None
+    sub = roughness.subrange_of_base_length(v.base_length)
+    assert sub is not None
+    um = 1.0 / UNITS["um"].factor
+
+    def span(low: float, high: float) -> str:
+        return f"{fmt(low * um)}–{fmt(high * um)}"
+
+    return html_symbol(
+        t(
+            "p.outside",
+            names=", ".join(t.symbol(_SYMBOLS[n]) for n in v.outside_subrange),
+            cutoff=fmt(sub.cutoff / UNITS["mm"].factor),
+            ra=span(sub.ra_min, sub.ra_max),
+            rz=span(sub.rz_min, sub.rz_max),
+            sm=span(sub.sm_min, sub.sm_max),
+        )
+    )
+
+
+def _against_profilogram(ctx: Context, v: ProfilometerResults) -> Table:
+    """Item 10: the profilometer's Rmax, Rz against the profilogram's, δ and δ_Rz (1.20)."""
+    t = ctx.t
+    m = ctx.readings.measurements()
+    rows: list[list[Text]] = []
+    for name, field, symbol in (
+        ("rmax", "rmax_difference", "δ"),
+        ("rz", "rz_difference", "δ_{Rz}"),
+    ):
+        label = PROFILOMETER[name]
+        difference = PROFILOMETER[field]
+        rows.append(
+            [
+                html_symbol(t.symbol(label.symbol)),
+                fmt(m[f"{name}_instrument"]),
+                shown(label, getattr(v, name), "m"),
+                html_symbol(t.symbol(symbol))
+                + Markup(" = ")
+                + shown(difference, getattr(v, field), "%"),
+            ]
+        )
+    head: list[Text] = [
+        t("col.quantity"),
+        blocks.header(t, t("p.instrument"), "um"),
+        blocks.header(t, t("p.profilogram"), "um"),
+        blocks.header(t, t("p.difference"), "%"),
+    ]
+    return Table(caption=html_symbol(t("p.vs")), header=head, rows=rows, labels=1)
+
+
 def _levels_table(t: Messages, caption: Text, rows: list[list[Text]], count: int) -> Table:
     head: list[Text] = [t("col.level"), *(str(i) for i in range(1, count + 1))]
     return Table(caption=caption, header=head, rows=rows, labels=1)
@@ -134,7 +204,12 @@ def _levels_table(t: Messages, caption: Text, rows: list[list[Text]], count: int
 
 def _table_1_6(t: Messages, v: ProfilometerResults) -> Table:
     units = units_of(ProfilometerResults)
-    fields = (("levels", "p_i"), ("tp", "t_p = η_p/l"), ("eps", "ε = p_i/R_max"))
+    fields = (
+        ("levels", "p_i"),
+        ("bearing_lengths", "η_p"),
+        ("tp", "t_p = η_p/l"),
+        ("eps", "ε = p_i/R_max"),
+    )
     rows: list[list[Text]] = []
     for name, symbol in fields:  # µm for the depths, as the manual's table 1.6
         head, cells = blocks.field(t, PROFILOMETER[name], symbol, units[name], getattr(v, name))

@@ -17,6 +17,7 @@ from rigserver.api.report_files import ReportFile
 from rigserver.api.report_jobs import Job, RunReportJob
 from rigserver.api.run_results import StoredReadings
 from rigserver.reports.i18n import LANGS, Lang
+from rigserver.storage.errors import RunDamaged
 from schemas.runs import Run, RunState
 from schemas.student_notes import StudentNotes
 
@@ -105,9 +106,12 @@ def file_answer(request: Request, target: ReportFile, headers: Mapping[str, str]
 
 
 async def rendered(future: Future[None], target: ReportFile) -> None:
-    """Wait for a render; a failure is a 500 that says so (logged once by the pool)."""
+    """Wait for a render; a damaged run file is a 409, any other failure a 500 that says
+    so (logged once by the pool)."""
     try:
         await asyncio.wrap_future(future)
+    except RunDamaged:
+        raise  # 409, as every route of a damaged run answers
     except Exception as exc:
         raise ApiProblem(
             500, "Report not rendered", f"rendering the report failed: {type(exc).__name__}"

@@ -27,6 +27,7 @@ from rigserver.reports.i18n import Lang
 from rigserver.reports.pdf import html_to_pdf
 from rigserver.reports.run_report import build_report, render_report
 from rigserver.reports.series_report import render_series_report, series_context
+from rigserver.storage.errors import RunDamaged
 from rigserver.storage.runfile import RunFile
 from schemas.runs import Run
 from schemas.series import SeriesDetail
@@ -54,7 +55,12 @@ class FileReadings:
     """A run's readings from its HDF5 file (read-only, opened once per render)."""
 
     def __init__(self, path: Path, stack: ExitStack) -> None:
-        self._file = stack.enter_context(RunFile.open(path, writable=False))
+        try:
+            self._file = stack.enter_context(RunFile.open(path, writable=False))
+        except OSError as exc:  # missing or not HDF5: the run's routes answer 409 for it
+            raise RunDamaged(
+                f"run {path.stem} is damaged: its file {path.name} cannot be read ({exc})"
+            ) from None
 
     def rows(self, group: str) -> int:
         return self._file.rows(group)

@@ -23,22 +23,13 @@ from schemas.labels import MTOS, PROFILOMETER, SLIDE_BEARING, Label
 from schemas.results import MtosResults, ProfilometerResults, SlideBearingResults, Smts2Results
 from schemas.runs import RunState
 from schemas.stands import StandKind
+from tests.reports.rendered import run_html
 from tests.reports.simulated import MADE, Simulated, simulated, table, tables
 
 
 @lru_cache
 def report(kind: StandKind, lang: Lang = "en") -> str:
-    s = simulated(kind)
-    return render_report(
-        build_report(
-            run=s.run,
-            stand=s.stand,
-            values=s.result.payload["values"],
-            readings=s.readings,
-            lang=lang,
-            made=MADE,
-        )
-    )
+    return run_html(kind, lang)
 
 
 def printed(values: list[float] | list[float | None] | np.ndarray) -> list[str]:

@@ -28,9 +28,11 @@ def _unit(label: Label) -> str:
     return "" if label.unit == "1" else UNITS[label.unit].symbol.replace("um", "µm")
 
 
-def results_tables(results: Mapping[str, Any]) -> list[Table]:
+def results_tables(results: Mapping[str, Any], width: int = 100) -> list[Table]:
     """The single results in the declared order with their labels, in the display units
-    (:mod:`schemas.labels`: µm, mg, mm³), then one table per per-row table (steps, ...)."""
+    (:mod:`schemas.labels`: µm, mg, mm³), then one table per per-row table (steps, ...),
+    printed in parts of at most ``width`` characters, each part led by the table's first
+    column (the load of a step), as the report splits its wide tables."""
     kind = StandKind(results["stand"])
     main = Table(title=f"results ({kind.value})")
     main.add_column("quantity")
@@ -45,20 +47,46 @@ def results_tables(results: Mapping[str, Any]) -> list[Table]:
         main.add_row(_name(e.label), plain_symbol(e.label.symbol), value, _unit(e.label))
     tables = [main]
     for found in labelled.row_tables(kind, results):
-        table = Table(title=found.table.caption)
+        heads = []
         for c in found.columns:
             unit = _unit(c.label)
             head = plain_symbol(c.symbol) or c.label.text
-            table.add_column(f"{head} [{unit}]" if unit else head, justify="right")
-        for row in found.rows:
-            table.add_row(
-                *(
-                    _shown(c.label, cell, c.stored)
-                    for c, cell in zip(found.columns, row, strict=True)
-                )
-            )
-        tables.append(table)
+            heads.append(f"{head} [{unit}]" if unit else head)
+        cells = [
+            [_shown(c.label, cell, c.stored) for c, cell in zip(found.columns, row, strict=True)]
+            for row in found.rows
+        ]
+        parts = _parts(
+            [max([len(h)] + [len(r[i]) for r in cells]) for i, h in enumerate(heads)], width
+        )
+        for number, part in enumerate(parts, 1):
+            title = found.table.caption
+            if len(parts) > 1:
+                title += f" ({number}/{len(parts)})"
+            table = Table(title=title)
+            for i in part:
+                table.add_column(heads[i], justify="right")
+            for row in cells:
+                table.add_row(*(row[i] for i in part))
+            tables.append(table)
     return tables
+
+
+def _parts(widths: list[int], width: int) -> list[list[int]]:
+    """The columns (by index) of each part of a table whose columns need ``widths``
+    characters: as many as fit in ``width`` (3 characters of rule and padding each), the
+    first column repeated at the head of every part."""
+    parts: list[list[int]] = []
+    part = [0]
+    used = widths[0] + 4
+    for i in range(1, len(widths)):
+        if len(part) > 1 and used + widths[i] + 3 > width:
+            parts.append(part)
+            part, used = [0], widths[0] + 4
+        part.append(i)
+        used += widths[i] + 3
+    parts.append(part)
+    return parts
 
 
 def _name(label: Label) -> str:

@@ -56,7 +56,7 @@ def _entries_table(name: str, entries: tuple[Any, ...]) -> Table:
 
 
 def print_results(console: Console, results: Mapping[str, Any], truth: Any = None) -> None:
-    for table in results_tables(results):
+    for table in results_tables(results, console.width):
         console.print(table)
     if truth is not None:
         for table in truth_tables(truth):

@@ -29,7 +29,7 @@ class Entry:
 @dataclass(frozen=True, slots=True)
 class Column:
     """A column of a per-row table; ``key`` names the entry of a result that is a mapping
-    (the MTOS temperature rises ``t2``..``t5``)."""
+    (the MTOS temperature rises ``t2``..``t5``, the viscosities at the thermocouples)."""
 
     path: str
     label: Label
@@ -40,7 +40,10 @@ class Column:
     def symbol(self) -> str:
         if self.key is None:
             return self.label.symbol
-        return f"{self.label.symbol}_{{{self.key.lstrip('t')}}}"
+        index = self.key.lstrip("t")
+        if self.label.symbol.endswith("_i"):  # the running index takes the entry's (μ_i: μ_1)
+            return f"{self.label.symbol[:-1]}{{{index}}}"
+        return f"{self.label.symbol}_{{{index}}}"
 
 
 @dataclass(frozen=True, slots=True)

@@ -96,6 +96,7 @@ def test_russian_pages_speak_russian(server: Server, tmp_path: Path) -> None:
                         continue
                     text = page.inner_text("body")
                     left = latin_words(text, typed, allowed)
+                    (tmp_path / f"{name}.txt").write_text(text)
                     assert not left, (name, left)
                     if name.startswith("run-") and name != "run-open":
                         assert "Пока испытание идёт" not in text

@@ -253,7 +253,6 @@ MESSAGES: dict[str, str] = {
     ),
     "caption.measurements": N_("Single measurements"),
     "table.continued": N_("{caption} (continued)"),
-    "sec.formulas": N_("Formulas used, by the manual's equation numbers"),
     "sec.abbreviations": N_("Abbreviations and corrections to the printed formulas"),
     "abbr.gum": N_(
         "GUM: the Guide to the expression of uncertainty in measurement (JCGM 100:2008): "

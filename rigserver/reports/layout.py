@@ -121,6 +121,7 @@ def split(table: Table, continued: str, width: float = COLUMN_MM) -> list[Table]
                 header=[table.header[i] for i in columns],
                 rows=[[row[i] for i in columns if i < len(row)] for row in table.rows],
                 note=table.note if number == len(parts) - 1 else "",
+                formulas=table.formulas if number == 0 else "",
             )
         )
     return found

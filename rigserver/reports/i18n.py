@@ -502,7 +502,6 @@ MESSAGES: dict[str, str] = {
     "m.h_min_smallest": N_("smallest film thickness of the run"),
     "m.friction_fluid": N_("mean measured friction coefficient, fluid film (4.16)"),
     "m.processed": N_("Table 4.{table}. Processing, experiment {n} ({regime})"),
-    "m.continued": N_("continued"),
     "m.theory": N_(
         "Table 4.4, end. Theory (4.1)-(4.10) and the finite bearing (3.1) beside the experiment"
     ),

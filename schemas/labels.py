@@ -796,6 +796,8 @@ WORDS: tuple[str, ...] = (
     N_("ball"),
     N_("flat_pin"),
     N_("none"),
+    N_("profilograph-profilometer"),
+    N_("profilograph"),
     *ISO_LAMBDA_C_SOURCE.values(),
     *ISO_ENDS.values(),
 )

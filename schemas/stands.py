@@ -191,7 +191,24 @@ class MtosConfig(_Config):
 
 
 class ProfilometerConfig(_Config):
+    """The profilograph-profilometer and its settings for the run; the magnifications are
+    the nominal ones of the instrument's data in the manual's lab 1 (vertical 200 … 100 000,
+    horizontal 20 … 500, each of those also ×2 and ×4)."""
+
     instrument: Text = "ABRIS-PM7"
+    mode: Literal["profilograph-profilometer", "profilograph"] = Field(
+        default="profilograph-profilometer",
+        description=N_(
+            "mode of measurement: profilograph-profilometer (the parameters, the filtered "
+            "profile) or profilograph (the profilogram only, unfiltered)"
+        ),
+    )
+    vertical_magnification: float = quantity(
+        2000.0, "1", "vertical magnification of the profilogram", gt=0
+    )
+    horizontal_magnification: float = quantity(
+        100.0, "1", "horizontal magnification of the profilogram", gt=0
+    )
     stylus_radius: float = quantity(10e-6, "m", "radius of the stylus tip", gt=0)
     step: float = quantity(0.5e-6, "m", "sampling step along the trace", gt=0)
     poisson: float = quantity(0.27, "1", "μ of the specimen, for Δ_T (1.12)", ge=0, lt=0.5)

@@ -23,6 +23,8 @@ class Table:
     The first ``labels`` columns hold names (left-aligned, wrapped), the others numbers.
     A table wider than the page is printed in parts (:mod:`rigserver.reports.layout`), each
     repeating the first ``keys`` columns (default: the name columns, else the first).
+    ``formulas`` is printed under the caption of the first part (the formulas its caption,
+    header or values cite first, :func:`rigserver.reports.equations.beside`).
     """
 
     kind: ClassVar[str] = "table"
@@ -32,6 +34,7 @@ class Table:
     labels: int = 0
     note: Text = ""
     keys: int = 0
+    formulas: Text = ""
 
 
 @dataclass(frozen=True, slots=True)

@@ -253,7 +253,6 @@ MESSAGES: dict[str, str] = {
     ),
     "caption.measurements": N_("Single measurements"),
     "table.continued": N_("{caption} (continued)"),
-    "sec.formulas": N_("Formulas used, by the manual's equation numbers"),
     "sec.abbreviations": N_("Abbreviations and corrections to the printed formulas"),
     "abbr.gum": N_(
         "GUM: the Guide to the expression of uncertainty in measurement (JCGM 100:2008): "
@@ -283,13 +282,33 @@ MESSAGES: dict[str, str] = {
         "whole product under the root, which is not a length."
     ),
     "abbr.e6": N_(
-        "E6 (seed 000, (9)): ∂F/∂q = (1 - φ²)^{{-1/2}}·∂φ/∂q, a product (F = arcsin φ); the "
-        "print has a sum."
+        "E6 (the article, (9)): ∂F/∂q = (1 - φ²)^{{-1/2}}·∂φ/∂q, a product (F = arcsin φ); "
+        "the print has a sum."
     ),
     "abbr.e7": N_(
-        "E7 (seed 000, (5)): the left side of the second definition is γ_{{mlk}}, not λ_{{mlk}}."
+        "E7 (the article, (5)): the left side of the second definition is γ_{{mlk}}, not λ_{{mlk}}."
     ),
-    "abbr.e8": N_("E8 (seed 000, the final system): the velocity term multiplies ξ'_l, as in (6)."),
+    "abbr.e8": N_(
+        "E8 (the article, the final system): the velocity term multiplies ξ'_l, as in (6)."
+    ),
+    "mech.title": N_("Dynamic errors of the lever mechanism"),
+    "mech.article": N_("Estimation of dynamic errors of a lever mechanism"),
+    "mech.move": N_(
+        "Three-link arm with two ball-screw drives, as in the article «{article}»; move from "
+        "q = ({start}) {rad} to q = ({end}) {rad} in {duration} {s}, {profile} velocity "
+        "profile; solver {method} ({evaluations} evaluations of the right-hand side)."
+    ),
+    "mech.failed": N_("The solver failed: {message}"),
+    "mech.trapezoidal": N_("trapezoidal"),
+    "mech.quintic": N_("quintic"),
+    "mech.programme": N_("Programmed motion"),
+    "mech.errors": N_("Dynamic errors"),
+    "mech.shoulder": N_("shoulder q1"),
+    "mech.forearm": N_("forearm q2"),
+    "mech.gripper": N_("gripper q3"),
+    "mech.joint": N_("Joint"),
+    "mech.arcmin": N_("arcmin"),
+    "mech.corrections": N_("Corrections to the article's printed formulas"),
     "abbr.e9": N_(
         "E9 (4.21): the manual calls both μω/p̄ and p̄/(μω) S_1; the report uses "
         "S_1 = μ_t·ω/p̄ as (4.21) does."
@@ -483,7 +502,6 @@ MESSAGES: dict[str, str] = {
     "m.h_min_smallest": N_("smallest film thickness of the run"),
     "m.friction_fluid": N_("mean measured friction coefficient, fluid film (4.16)"),
     "m.processed": N_("Table 4.{table}. Processing, experiment {n} ({regime})"),
-    "m.continued": N_("continued"),
     "m.theory": N_(
         "Table 4.4, end. Theory (4.1)-(4.10) and the finite bearing (3.1) beside the experiment"
     ),

@@ -92,7 +92,8 @@ def column_widths(table: Table) -> list[float]:
 def split(table: Table, continued: str, width: float = COLUMN_MM) -> list[Table]:
     """``table`` as parts no wider than ``width`` (mm), each repeating the key columns
     (``table.keys``, else its name columns, else the first); the captions of the parts after
-    the first say they continue it (``continued`` holds ``{caption}``)."""
+    the first say they continue it (``continued`` holds ``{caption}``), once: a table that
+    is itself a continuation keeps its caption."""
     widths = column_widths(table)
     if sum(widths) <= width or len(widths) < 2:
         return [table]
@@ -109,6 +110,9 @@ def split(table: Table, continued: str, width: float = COLUMN_MM) -> list[Table]
         used += widths[i]
     if len(parts) == 1:
         return [table]
+    # a part of a table printed in parts already (the manual's 4.4) keeps its caption
+    later = Markup(continued).format(caption="")
+    again = str(table.caption).endswith(str(later))
     found = []
     for number, chosen in enumerate(parts):
         columns = [*range(keys), *chosen]
@@ -116,11 +120,12 @@ def split(table: Table, continued: str, width: float = COLUMN_MM) -> list[Table]
             dataclasses.replace(
                 table,
                 caption=table.caption
-                if number == 0
+                if number == 0 or again
                 else Markup(continued).format(caption=table.caption),
                 header=[table.header[i] for i in columns],
                 rows=[[row[i] for i in columns if i < len(row)] for row in table.rows],
                 note=table.note if number == len(parts) - 1 else "",
+                formulas=table.formulas if number == 0 else "",
             )
         )
     return found

@@ -107,12 +107,10 @@ def _build(
     for key, items in (("sec.pending", model.pending), ("sec.notes", model.notes)):  # type: ignore[attr-defined]
         if items:  # the analysis' words, printed as they are (x_zero is not x subscript zero)
             sections.append(Section(t(key), [Items([escape(t.gettext(item)) for item in items])]))
-    used = formulas(t, sections)
-    if used:
-        sections.append(Section(t("sec.formulas"), [Items(used)]))
     explained = abbreviations(t, sections)
     if explained:
         sections.append(Section(t("sec.abbreviations"), [Items(explained)]))
+    sections = equations.beside(t, sections)
     return Report(
         lang=t.lang,
         title=t("title." + kind)
@@ -135,21 +133,6 @@ ABBREVIATIONS: dict[str, str] = {
 """The abbreviations and the corrections to the manual's printed formulas (docs/models.md)
 a report may cite, each explained once in its appendix."""
 _CITED = re.compile(r"GUM|ASTM G99|(?<=\()E[1-9]\b|(?<=, )E[1-9]\b")
-
-
-def formulas(t: Messages, sections: Sequence[Section]) -> list[Text]:
-    """The formulas the sections cite by the manual's equation numbers, in the manual's
-    order: ``(1.3) R_a = (1/l)·∫|y| dx``, the symbols in the report's language."""
-    found: list[Text] = []
-    for number in equations.cited(_texts(sections)):
-        formula = equations.EQUATIONS[number]
-        for symbol in dict.fromkeys(equations.symbols_of(formula)):
-            formula = formula.replace(symbol, t.symbol(symbol))
-        formula = formula.replace("{um}", t.unit("um"))
-        if t.lang == "ru":  # a decimal comma, as the page's numbers
-            formula = re.sub(r"(\d)\.(\d)", r"\1,\2", formula)
-        found.append(html_symbol(f"({number}) {formula}"))
-    return found
 
 
 def _texts(sections: Sequence[Section]) -> str:

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import re
 
 import pytest
 from fastapi.testclient import TestClient
@@ -67,8 +68,18 @@ def test_mechanism_dynamic_errors_and_report(client: TestClient) -> None:
     assert page.status_code == 200
     assert page.text.count("<svg") == 2
     assert "arcmin" in page.text
-    # the corrections to seed 000's printed formulas the computation uses (docs/models.md)
-    assert all(f"<li>E{n} (seed 000" in page.text for n in (6, 7, 8))
+    # the corrections to the article's printed formulas the computation uses (docs/models.md)
+    assert all(f"<li>E{n} (the article" in page.text for n in (6, 7, 8))
+    assert "seed" not in page.text and page.headers["content-language"] == "en"
+    russian = client.post(f"{API}/mechanism/report.html?lang=ru", json=body, headers=auth(READER))
+    assert russian.status_code == 200 and russian.headers["content-language"] == "ru"
+    assert '<html lang="ru">' in russian.text and "угл. мин" in russian.text
+    assert all(f"<li>E{n} (статья" in russian.text for n in (6, 7, 8))
+    assert "Динамические ошибки рычажного механизма" in russian.text
+    words = re.sub(r"<(svg|style)\b.*?</\1>|<[^>]+>", " ", russian.text, flags=re.S)
+    # no English word on the Russian page but the solver's name and the maths (arcsin, max,
+    # the indices mlk of the article's γ_mlk)
+    assert set(re.findall(r"\b[A-Za-z]{3,}\b", words)) <= {"LSODA", "arcsin", "max", "mlk"}
 
 
 def test_mechanism_bad_input_names_the_field(client: TestClient) -> None:

@@ -123,6 +123,7 @@ class _Tables(HTMLParser):
         super().__init__()
         self.tables: list[HtmlTable] = []
         self._caption: str | None = None
+        self._captioned = ""
         self._table: HtmlTable | None = None
         self._row: list[str] | None = None
         self._cell: list[str] | None = None
@@ -132,17 +133,21 @@ class _Tables(HTMLParser):
         if tag == "p" and ("class", "caption") in attrs:
             self._caption = ""
         elif tag == "table":
-            self._table = HtmlTable(caption=(self._caption or "").strip())
-            self._caption = None
+            self._table = HtmlTable(caption=self._captioned.strip())
+            self._captioned = ""
         elif tag == "thead":
             self._in_head = True
         elif tag == "tr" and self._table is not None:
             self._row = []
         elif tag in ("td", "th") and self._row is not None:
             self._cell = []
+        elif tag == "br" and self._cell is not None:  # a formula under a row's name
+            self._cell.append("\n")
 
     def handle_endtag(self, tag: str) -> None:
-        if tag in ("td", "th") and self._row is not None and self._cell is not None:
+        if tag == "p" and self._caption is not None:  # the caption ends with its paragraph
+            self._captioned, self._caption = self._caption, None
+        elif tag in ("td", "th") and self._row is not None and self._cell is not None:
             self._row.append("".join(self._cell).strip())
             self._cell = None
         elif tag == "tr" and self._table is not None and self._row is not None:

@@ -7,7 +7,9 @@ from __future__ import annotations
 
 import pytest
 
+from rigserver.reports.document import Table
 from rigserver.reports.i18n import LANGS, Lang
+from rigserver.reports.layout import split
 from schemas.stands import StandKind
 from tests.reports.rendered import Rendered, run_report, series_report, squeezed
 from tests.reports.simulated import tables
@@ -51,3 +53,18 @@ def test_every_table_cell_is_in_the_pdf(which: str, kind: StandKind, lang: Lang)
         f"{report.name}: {len(missing)} of {len(cells)} table cells are not in the PDF:\n"
         + "\n".join(f"  {caption[:50]!r}: {cell!r}" for caption, cell in missing[:20])
     )
+
+
+def test_a_table_in_parts_says_continued_once() -> None:
+    # thirty columns of 8-digit numbers are far wider than the A4 column
+    head = [f"x{i}" for i in range(30)]
+    rows = [[f"{i}.1234567" for i in range(30)]]
+    continued = "{caption} (continued)"
+    fresh = split(Table(caption="Table 4.4", header=head, rows=rows), continued)
+    assert len(fresh) > 1
+    assert [str(p.caption) for p in fresh] == ["Table 4.4"] + ["Table 4.4 (continued)"] * (
+        len(fresh) - 1
+    )
+    # a part the lab prints as a continuation already (the manual's table 4.4) keeps its caption
+    again = split(Table(caption="Table 4.4 (continued)", header=head, rows=rows), continued)
+    assert {str(p.caption) for p in again} == {"Table 4.4 (continued)"}

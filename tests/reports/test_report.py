@@ -50,8 +50,9 @@ def declared(label: Label, values: Sequence[float | None], factor: float = 1.0) 
 
 
 def row_of(html: str, caption: str, name: str) -> list[str]:
-    """The cells after the first of the row whose first cell is ``name``."""
-    rows = [r for r in table(html, caption).rows if r[0] == name]
+    """The cells after the first of the row whose first cell is ``name`` (its first line:
+    the formula of an equation it cites first is under it)."""
+    rows = [r for r in table(html, caption).rows if r[0].split("\n")[0] == name]
     assert len(rows) == 1, f"{len(rows)} rows named {name!r} under {caption!r}"
     return rows[0][1:]
 
@@ -62,6 +63,46 @@ def svgs(html: str) -> list[str]:
 
 
 # --- lab work 1 ---------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("lang", "words"),
+    [
+        ("en", ("mode of measurement:", "profilograph", "vertical magnification", "horizontal")),
+        ("ru", ("режим измерения:", "профилограф", "вертикальное увеличение", "горизонтальное")),
+    ],
+)
+def test_profilometer_report_prints_the_mode_and_the_magnifications(
+    lang: Lang, words: tuple[str, str, str, str]
+) -> None:
+    # lab 1's report names "the modes of measurement" and "the horizontal and vertical
+    # magnification" (the manual's list of what the report contains); a run's own settings,
+    # a nominal vertical magnification of the instrument's data (200 … 100 000)
+    mode_row, mode, vertical, horizontal = words
+    s = simulated(StandKind.PROFILOMETER)
+    settings = {"mode": "profilograph", "vertical_magnification": 5000.0}
+    run = s.run.model_copy(update={"configuration": {**s.run.configuration, **settings}})
+    html = render_report(
+        build_report(
+            run=run,
+            stand=s.stand,
+            values=s.result.payload["values"],
+            readings=s.readings,
+            lang=lang,
+            made=MADE,
+        )
+    )
+    caption = "Stand configuration" if lang == "en" else "Конфигурация стенда"
+    rows = table(html, caption).rows
+
+    def value(start: str) -> list[str]:
+        found = [r[1:] for r in rows if r[0].startswith(start)]
+        assert len(found) == 1, f"{len(found)} rows named {start!r}"
+        return found[0]
+
+    assert value(mode_row) == [mode, ""]
+    assert value(vertical) == ["5000", ""]
+    assert value(horizontal) == ["100", ""]  # the default of the configuration
 
 
 def test_profilometer_tables_1_6_to_1_8() -> None:
@@ -334,7 +375,7 @@ def test_input_data_print_the_configuration_with_units() -> None:
     s: Simulated = simulated(StandKind.SLIDE_BEARING)
     html = report(StandKind.SLIDE_BEARING)
     config = table(html, "Stand configuration of this run")
-    rows = {r[0]: r[1:] for r in config.rows}
+    rows = {r[0].split("\n")[0]: r[1:] for r in config.rows}  # the names, not the formulas
     # in the display unit of the results (µm for clearances, schemas.labels.CONFIGURATION)
     clearance_um = s.run.configuration["clearance"] * 1e6
     assert rows["h0, radial clearance (3.17)"] == [fmt(clearance_um), "µm"]
@@ -357,7 +398,8 @@ def test_the_russian_report_has_no_tex_and_no_english(kind: StandKind) -> None:
     # the names of standards and methods stay as they are: ASTM G99, ISO 20808, GUM (JCGM 100),
     # PELT
     names = {"ASTM", "GUM", "JCGM", "ISO", "PELT"}
-    assert words <= {"Rmax", "max", "min", "rev", "exp", "pmax", "rig", "UTC", *names}, words
+    maths = {"exp", "sin", "cos"}  # the functions of the formulas printed beside the quantities
+    assert words <= {"Rmax", "max", "min", "rev", "pmax", "rig", "UTC", *maths, *names}, words
 
 
 def test_headline_results_carry_their_expanded_uncertainty() -> None:

@@ -5,13 +5,14 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from fastapi import APIRouter
+from fastapi import APIRouter, Request
 from fastapi.concurrency import run_in_threadpool
 from fastapi.responses import HTMLResponse
 
 from rigserver.api.deps import ReadAccess
 from rigserver.api.strict_json import StrictJsonRoute
 from rigserver.core import arm, bearing, mechanism, roughness, wear
+from rigserver.reports.i18n import Lang, language_headers, negotiate
 from rigserver.reports.mechanism import mechanism_report
 from schemas.calculators import (
     BearingFrictionInput,
@@ -87,7 +88,7 @@ def _dynamic_errors(body: DynamicErrorsRequest) -> DynamicErrorsResponse:
 
 @router.post(
     "/mechanism/dynamic-errors",
-    summary="Dynamic errors of the lever mechanism's programmed move (seed 000, (4)-(18))",
+    summary="Dynamic errors of the lever mechanism's programmed move (the article, (4)-(18))",
     description="The three-link arm with two ball-screw drives follows a point-to-point move; "
     "the answer is ξ_k(t) of each joint and its largest modulus. Takes a few seconds.",
 )
@@ -100,7 +101,11 @@ async def dynamic_errors(body: DynamicErrorsRequest) -> DynamicErrorsResponse:
     summary="The same computation as an HTML report with the plots",
     response_class=HTMLResponse,
 )
-async def dynamic_errors_report(body: DynamicErrorsRequest) -> HTMLResponse:
+async def dynamic_errors_report(
+    body: DynamicErrorsRequest, request: Request, lang: Lang | None = None
+) -> HTMLResponse:
+    """In ``?lang=`` or the best language of ``Accept-Language`` (else English)."""
+    chosen = negotiate(lang, request.headers.get("accept-language"))
     result = await run_in_threadpool(_dynamic_errors, body)
-    page = await run_in_threadpool(mechanism_report, body, result)
-    return HTMLResponse(page)
+    page = await run_in_threadpool(mechanism_report, body, result, chosen)
+    return HTMLResponse(page, headers=language_headers(chosen))

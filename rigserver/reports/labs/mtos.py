@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 
 import numpy as np
@@ -194,7 +195,7 @@ def _processed_tables(
             [s.friction_measured / fluid[s.load] if s.load in fluid else None for s in steps]
         )
         note = html_symbol(t("m.ratio_note"))
-    second = blocks.columns(f"{caption}, {t('m.continued')}", head, data, note=note)
+    second = blocks.columns(t("table.continued", caption=caption), head, data, note=note)
     if regime != "fluid":
         return [first, second]
     finite = t("m.f_finite")
@@ -252,7 +253,7 @@ def _stribeck_svg(t: Messages, v: MtosResults, config: MtosConfig) -> str:
         ax.annotate(
             tex(t("m.h_min_mark", h=shown(MTOS["steps[].h_min"], config.clearance - worst.e, "m"))),
             xy=(worst.bearing_characteristic, worst.friction_measured),
-            xytext=(0.35, 0.85),
+            xytext=(0.03, 0.06),  # the low-S_1, low-f corner: no regime's points lie there
             textcoords="axes fraction",
             fontsize=8,
             arrowprops={"arrowstyle": "->", "linewidth": 0.8},
@@ -294,7 +295,7 @@ def _trajectory_svg(t: Messages, v: MtosResults, config: MtosConfig) -> str:
             ax.plot(
                 *_smooth(x, y), "-", color=f"C{number}", linewidth=0.8, label=t("regime." + regime)
             )
-            for s in steps if regime == "fluid" else ():
+            for s in _labelled(steps, 0.12 * config.clearance) if regime == "fluid" else ():
                 ax.annotate(
                     fmt(s.load),
                     (s.e_x * scale, s.e_y * scale),
@@ -310,6 +311,22 @@ def _trajectory_svg(t: Messages, v: MtosResults, config: MtosConfig) -> str:
         legend_outside=True,
     )
     return to_svg(fig)
+
+
+def _labelled(steps: Sequence[MtosStep], gap: float) -> list[MtosStep]:
+    """The steps (in load order) whose load is written beside the point: the lightest, the
+    heaviest, and between them each at least ``gap`` (m) from the last one written, so that
+    no two labels overlap where the journal centre hardly moves."""
+    chosen: list[MtosStep] = []
+    for step in steps:
+        if not chosen or math.hypot(step.e_x - chosen[-1].e_x, step.e_y - chosen[-1].e_y) >= gap:
+            chosen.append(step)
+    last = steps[-1] if steps else None
+    if last is not None and chosen[-1] is not last:
+        if len(chosen) > 1:
+            chosen.pop()  # the heaviest load is written, the one too close before it is not
+        chosen.append(last)
+    return chosen
 
 
 def _smooth(x: NDArray[np.float64], y: NDArray[np.float64]) -> tuple[NDArray[np.float64], ...]:

@@ -252,7 +252,7 @@ MESSAGES: dict[str, str] = {
         "Stand configuration of this run: calibration, geometry, materials"
     ),
     "caption.measurements": N_("Single measurements"),
-    "table.continued": N_("{caption} (continued)"),
+    "table.part": N_("{caption} (part {part} of {parts})"),
     "sec.abbreviations": N_("Abbreviations and corrections to the printed formulas"),
     "abbr.gum": N_(
         "GUM: the Guide to the expression of uncertainty in measurement (JCGM 100:2008): "
@@ -486,7 +486,8 @@ MESSAGES: dict[str, str] = {
     "b.long": N_("long bearing Π_∞ (3.15)"),
     "b.finite": N_("finite bearing (3.1)"),
     "b.c_chi": N_(
-        "Mean eccentricity ratio χ_mean = {chi}; the largest pressure {p} {unit} at φ = {phi}°."
+        "Mean eccentricity ratio χ_mean = {chi}; the largest pressure, {p} {unit}, is at "
+        "φ = {phi}°."
     ),
     "b.c_errors": N_(
         "Mean |ΔΠ_0| = {short} % (short bearing), mean |ΔΠ_∞| = {long} % (long bearing) over "
@@ -503,7 +504,7 @@ MESSAGES: dict[str, str] = {
     "m.friction_fluid": N_("mean measured friction coefficient, fluid film (4.16)"),
     "m.processed": N_("Table 4.{table}. Processing, experiment {n} ({regime})"),
     "m.theory": N_(
-        "Table 4.4, end. Theory (4.1)-(4.10) and the finite bearing (3.1) beside the experiment"
+        "Table 4.4. Theory (4.1)-(4.10) and the finite bearing (3.1) beside the experiment"
     ),
     "m.ratio_note": N_("f_e/f_e1: against experiment 1 at the same load."),
     "m.fig_stribeck": N_("Hersey-Stribeck diagram: f against S_1 = μ_t·ω/p̄ (4.21, E9)"),

@@ -160,7 +160,7 @@ def abbreviations(t: Messages, sections: Sequence[Section]) -> list[Text]:
 def render_report(report: Report) -> str:
     """The report as a standalone HTML page (A4 print styles, inline SVG plots); tables wider
     than the page's column are printed in parts (:func:`rigserver.reports.layout.fit`)."""
-    fitted = layout.fit(report, translations(report.lang).gettext(MESSAGES["table.continued"]))
+    fitted = layout.fit(report, translations(report.lang).gettext(MESSAGES["table.part"]))
     return render("report.html", report=fitted)
 
 

@@ -271,7 +271,9 @@ def configuration_rows(t: Messages, run: Run) -> list[tuple[Text, str, str]]:
                 unit = display.unit
             else:
                 shown = value_text(value)
-            unit_text = t.unit(str(unit)) if unit is not None and unit != "1" else ""
+            number = isinstance(value, int | float) and not isinstance(value, bool)
+            # a number without a unit is dimensionless ("—", as the results print it)
+            unit_text = t.unit(str(unit or "1")) if number or unit not in (None, "1") else ""
             rows.append((html_symbol(words), shown, unit_text))
 
     walk(CONFIG_MODELS[run.stand], run.configuration, "", "")

@@ -103,7 +103,7 @@ LEAD_CLASSES = {"caption", "formulas"}
 def _stranded(document: Any) -> list[str]:
     """Awkward page breaks: a heading, a table's caption or formulas as the last line of a
     page (its content on the next), a figure's caption as the first (its plot on the one
-    before)."""
+    before), a page of nothing but the footer ("Made by rig ...")."""
     from weasyprint.formatting_structure.boxes import LineBox, MarginBox
 
     found: list[str] = []
@@ -116,6 +116,8 @@ def _stranded(document: Any) -> list[str]:
         classes = set((last.element.get("class") or "").split()) if last.element else set()
         if last.element_tag in LEADS or (last.element_tag == "p" and classes & LEAD_CLASSES):
             found.append(f"page {number} ends with <{last.element_tag}> {_line_text(last)!r}")
+        if all(line.element_tag == "footer" for line in lines):
+            found.append(f"page {number} holds only the footer {_line_text(first)!r}")
         if first.element_tag == "figcaption" and number > 1:
             found.append(f"page {number} starts with a figure's caption {_line_text(first)!r}")
     return found

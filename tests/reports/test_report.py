@@ -101,8 +101,9 @@ def test_profilometer_report_prints_the_mode_and_the_magnifications(
         return found[0]
 
     assert value(mode_row) == [mode, ""]
-    assert value(vertical) == ["5000", ""]
-    assert value(horizontal) == ["100", ""]  # the default of the configuration
+    # a magnification is a number without a unit: dimensionless, "—" as in the results
+    assert value(vertical) == ["5000", "—"]
+    assert value(horizontal) == ["100", "—"]  # the default of the configuration
 
 
 def test_profilometer_tables_1_6_to_1_8() -> None:

@@ -601,6 +601,10 @@ MESSAGES: dict[str, str] = {
         "and is μ = {mu} (s = {std}) after it; over the whole record μ̄ = {mean}."
     ),
     "t.c_wear": N_("{what}: k = {k} mm³/(N·m)."),
+    "t.c_gain": N_(
+        "{what}: k = {k} mm³/(N·m), below zero: the specimen gained, material was "
+        "transferred onto it; its wear is not measured this way."
+    ),
     "w.c_outside": N_(
         "The fatigue-wear theory (2.1) is outside its range for this test, so (2.15) is not "
         "judged: {reasons}."

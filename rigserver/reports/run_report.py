@@ -15,7 +15,7 @@ from rigserver.analysis import Readings
 from rigserver.reports import equations, layout
 from rigserver.reports.context import Context, LabReport
 from rigserver.reports.document import Items, Paragraph, Report, Section, Table, Text
-from rigserver.reports.formatting import fmt, html_symbol, number_locale, value_text
+from rigserver.reports.formatting import fmt, html_symbol, number_locale, value_text, with_unit
 from rigserver.reports.i18n import MESSAGES, Lang, Messages, translations
 from rigserver.reports.labs import mtos, profilometer, slide_bearing, smts2, tribometer
 from rigserver.reports.render import render
@@ -180,8 +180,8 @@ def particulars_text(t: Messages, mapping: Mapping[str, Any]) -> str:
             shown = t.gettext(value)
         else:
             shown = value_text(value)
-        unit = "" if label.unit == "1" else f" {t.unit(label.unit)}"
-        parts.append(f"{words}: {shown}{unit}")
+        unit = "" if label.unit == "1" else t.unit(label.unit)
+        parts.append(f"{words}: {with_unit(shown, unit)}")
     return "; ".join(parts)
 
 

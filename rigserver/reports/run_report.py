@@ -231,9 +231,10 @@ def _particulars(t: Messages, run: Run, stand: Stand, notes: StudentNotes) -> li
 
 
 def _rows_text(t: Messages, run: Run, stand: Stand) -> str:
-    """The rows stored per channel group, each group by its name in ``t``'s language."""
+    """The rows stored per channel group, each group by its name in ``t``'s language: a
+    count, printed whole (64001, not 6.4·10⁴)."""
     names = {g.name: t.gettext(g.long_name) for g in stand.groups}
-    return "; ".join(f"{names.get(g, g)}: {fmt(n)}" for g, n in run.rows.items())
+    return "; ".join(f"{names.get(g, g)}: {n}" for g, n in run.rows.items())
 
 
 def _configuration(t: Messages, run: Run) -> Table:

@@ -470,3 +470,13 @@ def test_with_uncertainty_rounds_to_two_figures_of_u() -> None:
     assert with_uncertainty(0.40123, 0.0118) == "0.401 ± 0.012 (k = 2)"
     assert with_uncertainty(3.833e-8, 9.5e-10) == "(3.833 ± 0.095)·10⁻⁸ (k = 2)"
     assert with_uncertainty(0.4, None) == "0.4"
+
+
+@pytest.mark.parametrize("kind", [StandKind.PIN_ON_DISC, StandKind.RECIPROCATING])
+def test_the_rows_stored_are_printed_whole(kind: StandKind) -> None:
+    """Tens of thousands of rows: the count as stored (64001), not rounded (6.4·10⁴)."""
+    s = simulated(kind)
+    html = report(kind)
+    assert max(s.run.rows.values()) >= 10_000  # more digits than fmt's four
+    for rows in s.run.rows.values():
+        assert f": {rows}" in html

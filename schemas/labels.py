@@ -182,10 +182,10 @@ SMTS2: dict[str, Label] = {
     "experimental.sliding_distance": Label(N_("sliding distance"), "L", "2.12", "m"),
     "experimental.intensity": Label(N_("experimental wear intensity"), "I_{h,exp}", "2.13"),
     "experimental.intensity_uncertainty": Label(
-        N_("standard uncertainty of the wear intensity"), "u(I_h)", "GUM"
+        N_("standard uncertainty of the wear intensity"), "u(I_{h,exp})", "GUM"
     ),
     "experimental.intensity_expanded": Label(
-        N_("expanded uncertainty of the wear intensity (k = 2)"), "U(I_h)", "GUM"
+        N_("expanded uncertainty of the wear intensity (k = 2)"), "U(I_{h,exp})", "GUM"
     ),
     "experimental.specific_wear_rate": Label(
         N_("specific wear rate of the pin, V/(F·L)"), "k", "ASTM G99", "mm^3/(N*m)"
@@ -774,6 +774,11 @@ CONFIGURATION: dict[str, Label] = {
     "bush_rq": _UM,
     "stylus_radius": _UM,
     "step": _UM,
+    "tip_diameter": _MM,
+    "track_radius": _MM,
+    "stroke_length": _MM,
+    "accuracy.scar": _UM,
+    "accuracy.height": _UM,
 }
 """The display unit of a stand's configuration fields, by field name (``accuracy.<name>``
 for the instruments' accuracies), as the results print them: mm for the geometry, µm for

@@ -182,16 +182,16 @@ class SlideBearingRow(BaseModel):
     e: float = quantity(..., "m", "e (3.16)")
     chi: float = quantity(..., "1", "χ = e/h0 (3.17)")
     attitude: float = quantity(..., "deg", "ψ = atan2(e_y, e_x) - (135° - φ_limb)")
-    pi_measured: float = quantity(..., "1", "Π_э (3.18)")
-    pi_short: float | None = quantity(None, "1", "Π0 at z = 0, χ_ср (3.10)")
-    pi_long: float | None = quantity(None, "1", "Π∞ at χ_ср (3.15)")
+    pi_measured: float = quantity(..., "1", "Π_e (3.18)")
+    pi_short: float | None = quantity(None, "1", "Π0 at z = 0, χ_mean (3.10)")
+    pi_long: float | None = quantity(None, "1", "Π∞ at χ_mean (3.15)")
     pi_finite: float | None = quantity(
         None,
         "1",
-        "Π of the finite bearing (3.1) with the Reynolds condition, z = 0, χ_ср, at φ_мод + φ_r",
+        "Π of the finite bearing (3.1) with the Reynolds condition, z = 0, χ_mean, at φ_mod + φ_r",
     )
-    error_short: float | None = quantity(None, "%", "(Π0 - Π_э)/Π0 (3.26)")
-    error_long: float | None = quantity(None, "%", "(Π∞ - Π_э)/Π∞ (3.27)")
+    error_short: float | None = quantity(None, "%", "(Π0 - Π_e)/Π0 (3.26)")
+    error_long: float | None = quantity(None, "%", "(Π∞ - Π_e)/Π∞ (3.27)")
 
 
 class AxialPoint(BaseModel):
@@ -212,9 +212,11 @@ class SlideBearingResults(BaseModel):
     temperature: float | None = quantity(None, "degC", "t = (t1 + t2)/2 (3.21)")
     viscosity: float | None = quantity(None, "Pa*s", "μ_t (3.21)")
     mu_bar: float | None = quantity(None, "1", "μ̄ = μ_t/μ0 (3.22)")
-    chi_mean: float | None = quantity(None, "1", "χ_ср (3.23)")
-    chi_mean_uncertainty: float | None = quantity(None, "1", "u(χ_ср), standard uncertainty (GUM)")
-    chi_mean_expanded: float | None = quantity(None, "1", "U(χ_ср) = 2u, expanded (k = 2)")
+    chi_mean: float | None = quantity(None, "1", "χ_mean (3.23)")
+    chi_mean_uncertainty: float | None = quantity(
+        None, "1", "u(χ_mean), standard uncertainty (GUM)"
+    )
+    chi_mean_expanded: float | None = quantity(None, "1", "U(χ_mean) = 2u, expanded (k = 2)")
     attitude_angle: float | None = quantity(
         None, "deg", "ψ, mean over the rows, from the load line to the line of centres"
     )
@@ -248,9 +250,9 @@ class MtosStep(BaseModel):
     spring_force: float = quantity(..., "N", "F = k·Δl (4.13)")
     friction_moment: float = quantity(..., "N*m", "M_tr = F·l1 (4.14)")
     friction_force: float = quantity(..., "N", "F_tr = M_tr/l2 (4.15)")
-    friction_measured: float = quantity(..., "1", "f_э = F_tr/N (4.16)")
-    friction_measured_uncertainty: float | None = quantity(None, "1", "u(f_э), standard (GUM)")
-    friction_measured_expanded: float | None = quantity(None, "1", "U(f_э) = 2u, expanded (k = 2)")
+    friction_measured: float = quantity(..., "1", "f_e = F_tr/N (4.16)")
+    friction_measured_uncertainty: float | None = quantity(None, "1", "u(f_e), standard (GUM)")
+    friction_measured_expanded: float | None = quantity(None, "1", "U(f_e) = 2u, expanded (k = 2)")
     viscosity: float = quantity(..., "Pa*s", "μ_t = (μ3 + μ4 + μ5)/3 (4.18)")
     bearing_characteristic: float = quantity(..., "1", "S1 = μ_t·ω/p̄, p̄ = N/(BD) (4.21, E9)")
     temperature_rise: dict[str, float] = quantity(..., "degC", "Δt_i = t_i - t1 (4.19, E4)")
@@ -270,7 +272,7 @@ class MtosStep(BaseModel):
     v_factor: float | None = quantity(None, "1", "V = -χ·a²·(μ_t/μ0)·A3^20·ω/ω0 (4.4)")
     tangential_force: float | None = quantity(None, "N", "P_τ = P*·V (4.2)-(4.3)")
     friction_theory: float | None = quantity(None, "1", "f_T (4.10), fluid film only")
-    friction_error: float | None = quantity(None, "%", "Δf = (f_э - f_T)/f_э")
+    friction_error: float | None = quantity(None, "%", "Δf = (f_e - f_T)/f_e")
     friction_finite: float | None = quantity(
         None, "1", "f of the finite bearing (3.1) at the measured χ, full-film shear as (4.1)"
     )
@@ -278,7 +280,9 @@ class MtosStep(BaseModel):
         None, "N", "load the finite bearing carries at the measured χ (compare with N)"
     )
     h_min: float = quantity(..., "m", "h_min = h0 - e")
-    film: Literal["fluid", "mixed"] = Field(description="h_min against h_min^crit (seed 001)")
+    film: Literal["fluid", "mixed"] = Field(
+        description="h_min against h_min,cr (2.104) of the film-thickness excerpt (docs/models.md)"
+    )
     film_parameter: float = quantity(..., "1", "Λ = h_min/√(Rq_journal² + Rq_bush²)")
     film_lambda: Literal["full film", "mixed", "boundary"] = Field(
         description="regime by Λ: < 1 boundary, 1-3 mixed, > 3 full film (Hamrock et al.)"
@@ -288,9 +292,11 @@ class MtosStep(BaseModel):
 class MtosResults(BaseModel):
     stand: Literal["mtos"] = "mtos"
     rows: int
-    h_crit: float = quantity(..., "m", "h_min^crit, sum of the five terms (seed 001)")
+    h_crit: float = quantity(
+        ..., "m", "h_min,cr, sum of the five terms (2.105) of the film-thickness excerpt"
+    )
     half_width: float = quantity(..., "1", "a = B/(2R) = B/D (corrected E3)")
-    friction_fluid: float | None = quantity(None, "1", "mean f_э of the fluid-film steps")
+    friction_fluid: float | None = quantity(None, "1", "mean f_e of the fluid-film steps")
     h_min_smallest: float | None = quantity(None, "m", "smallest h_min of the run")
     journal_rq: float = quantity(..., "m", "Rq of the journal used for Λ")
     bush_rq: float = quantity(..., "m", "Rq of the bush used for Λ")
@@ -313,7 +319,7 @@ class BearingFitResult(BaseModel):
     method: Literal["manual", "lsq"]
     b: float = quantity(..., "1", "b of t_p = b·ε^ν (1.8)")
     nu: float = quantity(..., "1", "ν of t_p = b·ε^ν (1.8)")
-    residuals: list[float] = quantity(..., "1", "t_pэ - t_pт per level (table 1.8)")
+    residuals: list[float] = quantity(..., "1", "t_p,e - t_p,t per level (table 1.8)")
     nu_partial: list[float] = quantity(..., "1", "ν_1,3, ν_2,5, ν_3,6 (1.16), manual method")
     b_partial: list[float] = quantity(..., "1", "b_1, b_3, b_5 (1.18), manual method")
 

@@ -116,8 +116,10 @@ def create_app(
         version="0.1.0",
         summary="Data acquisition and analysis for tribology test stands",
         description="Lab PCs post readings of the SMTs-2, slide-bearing, MTOS and ABRIS-PM7 "
-        "stands; the service stores each run in HDF5 and computes what the lab manual asks "
-        "for. Errors are application/problem+json naming the field, the value and the limit.",
+        "stands and of the pin-on-disc and reciprocating tribometers; the service stores each "
+        "run in HDF5 and computes what the lab manual (and ASTM G99, G133, ISO 20808 for the "
+        "tribometers) asks for. Errors are application/problem+json naming the field, the "
+        "value and the limit.",
         lifespan=lifespan,
         docs_url=None,  # served by api_docs, without a CDN
         redoc_url=None,

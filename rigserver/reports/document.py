@@ -24,7 +24,9 @@ class Table:
     A table wider than the page is printed in parts (:mod:`rigserver.reports.layout`), each
     repeating the first ``keys`` columns (default: the name columns, else the first).
     ``formulas`` is printed under the caption of the first part (the formulas its caption,
-    header or values cite first, :func:`rigserver.reports.equations.beside`).
+    header or values cite first, :func:`rigserver.reports.equations.beside`). Tables in a
+    row with the same ``part_of`` are the parts of one printed table (the manual's 4.4 in
+    three), their captions numbered ``(part 2 of 3)``.
     """
 
     kind: ClassVar[str] = "table"
@@ -35,6 +37,7 @@ class Table:
     note: Text = ""
     keys: int = 0
     formulas: Text = ""
+    part_of: str = ""
 
 
 @dataclass(frozen=True, slots=True)

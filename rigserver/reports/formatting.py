@@ -95,6 +95,17 @@ def shown(label: Label, value: float | None, stored: str) -> str:
     return fmt(label.shown(value, stored), label.digits)
 
 
+#: Units written against their number (an angle: ``320°``), not after a space (``23 °C``).
+CLOSED_UNITS = ("°", "′", "″")
+
+
+def with_unit(number: str, unit: str) -> str:
+    """A number and its printed unit: ``7.1 at``, ``320°``; the number alone without one."""
+    if not unit:
+        return number
+    return f"{number}{unit}" if unit in CLOSED_UNITS else f"{number} {unit}"
+
+
 def value_text(value: Any) -> str:
     """A free-form value (specimen, test plan, configuration): numbers by :func:`fmt`,
     lists joined by commas, words as they are."""

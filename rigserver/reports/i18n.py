@@ -252,7 +252,7 @@ MESSAGES: dict[str, str] = {
         "Stand configuration of this run: calibration, geometry, materials"
     ),
     "caption.measurements": N_("Single measurements"),
-    "table.continued": N_("{caption} (continued)"),
+    "table.part": N_("{caption} (part {part} of {parts})"),
     "sec.abbreviations": N_("Abbreviations and corrections to the printed formulas"),
     "abbr.gum": N_(
         "GUM: the Guide to the expression of uncertainty in measurement (JCGM 100:2008): "
@@ -409,9 +409,9 @@ MESSAGES: dict[str, str] = {
     "w.pc": N_("contour pressure (2.3)"),
     "w.aa": N_("nominal area (2.5)"),
     "w.ac": N_("contour area (2.4)"),
-    "w.eta_c": N_("A_c/A_a"),
+    "w.eta_c": N_("ratio of the contour to the nominal area"),
     "w.delta": N_("complex parameter of the disc (2.6, E2)"),
-    "w.rmax_r": N_("Rmax/R"),
+    "w.rmax_r": N_("ratio of the peak height to the radius"),
     "w.C": N_("C of (2.1)"),
     "w.beta": N_("β = 1/(1 + 2ν)"),
     "w.k_nu": N_("k_ν of (2.1)"),
@@ -486,7 +486,8 @@ MESSAGES: dict[str, str] = {
     "b.long": N_("long bearing Π_∞ (3.15)"),
     "b.finite": N_("finite bearing (3.1)"),
     "b.c_chi": N_(
-        "Mean eccentricity ratio χ_mean = {chi}; the largest pressure {p} {unit} at φ = {phi}°."
+        "Mean eccentricity ratio χ_mean = {chi}; the largest pressure, {p} {unit}, is at "
+        "φ = {phi}°."
     ),
     "b.c_errors": N_(
         "Mean |ΔΠ_0| = {short} % (short bearing), mean |ΔΠ_∞| = {long} % (long bearing) over "
@@ -503,7 +504,7 @@ MESSAGES: dict[str, str] = {
     "m.friction_fluid": N_("mean measured friction coefficient, fluid film (4.16)"),
     "m.processed": N_("Table 4.{table}. Processing, experiment {n} ({regime})"),
     "m.theory": N_(
-        "Table 4.4, end. Theory (4.1)-(4.10) and the finite bearing (3.1) beside the experiment"
+        "Table 4.4. Theory (4.1)-(4.10) and the finite bearing (3.1) beside the experiment"
     ),
     "m.ratio_note": N_("f_e/f_e1: against experiment 1 at the same load."),
     "m.fig_stribeck": N_("Hersey-Stribeck diagram: f against S_1 = μ_t·ω/p̄ (4.21, E9)"),
@@ -546,7 +547,7 @@ MESSAGES: dict[str, str] = {
     "w.pr": N_("real-contact pressure"),
     "w.hb": N_("hardness of the pin HB"),
     "w.sigma": N_("asperity stress k_f·p_r"),
-    "w.sigma0": N_("fatigue strength σ0"),
+    "w.sigma0": N_("fatigue strength of the pin"),
     "w.cycles": N_("cycles to failure per asperity"),
     "w.kf_plastic": N_("k_f^n of the plastic branch"),
     "w.sensitivity": N_("Sensitivity of I_h (2.1) to t and σ0/σ_B"),
@@ -600,6 +601,10 @@ MESSAGES: dict[str, str] = {
         "and is μ = {mu} (s = {std}) after it; over the whole record μ̄ = {mean}."
     ),
     "t.c_wear": N_("{what}: k = {k} mm³/(N·m)."),
+    "t.c_gain": N_(
+        "{what}: k = {k} mm³/(N·m), below zero: the specimen gained, material was "
+        "transferred onto it; its wear is not measured this way."
+    ),
     "w.c_outside": N_(
         "The fatigue-wear theory (2.1) is outside its range for this test, so (2.15) is not "
         "judged: {reasons}."

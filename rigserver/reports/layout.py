@@ -89,58 +89,98 @@ def column_widths(table: Table) -> list[float]:
     return widths
 
 
-def split(table: Table, continued: str, width: float = COLUMN_MM) -> list[Table]:
+def _parts(widths: Sequence[float], fixed: float, most: float) -> list[list[int]]:
+    """The columns after the key columns in order, filled into parts no wider than ``most``
+    (the first part holding a column too wide for ``most`` alone keeps it)."""
+    parts: list[list[int]] = [[]]
+    used = fixed
+    for i, width in enumerate(widths):
+        if parts[-1] and used + width > most:
+            parts.append([])
+            used = fixed
+        parts[-1].append(i)
+        used += width
+    return parts
+
+
+def split(table: Table, width: float = COLUMN_MM) -> list[Table]:
     """``table`` as parts no wider than ``width`` (mm), each repeating the key columns
-    (``table.keys``, else its name columns, else the first); the captions of the parts after
-    the first say they continue it (``continued`` holds ``{caption}``), once: a table that
-    is itself a continuation keeps its caption."""
+    (``table.keys``, else its name columns, else the first). The parts are as few as the
+    width allows and as even as they can be (no part left with a single column), and
+    share ``part_of`` (the table's, else its caption): :func:`fit` numbers them."""
     widths = column_widths(table)
     if sum(widths) <= width or len(widths) < 2:
         return [table]
     keys = table.keys or table.labels or 1
     keys = min(keys, len(widths) - 1)
     fixed = sum(widths[:keys])
-    parts: list[list[int]] = [[]]
-    used = fixed
-    for i in range(keys, len(widths)):
-        if parts[-1] and used + widths[i] > width:
-            parts.append([])
-            used = fixed
-        parts[-1].append(i)
-        used += widths[i]
-    if len(parts) == 1:
+    rest = widths[keys:]
+    count = len(_parts(rest, fixed, width))
+    if count == 1:
         return [table]
-    # a part of a table printed in parts already (the manual's 4.4) keeps its caption
-    later = Markup(continued).format(caption="")
-    again = str(table.caption).endswith(str(later))
+    # the narrowest parts in as many: the least width at which the columns still fill
+    # ``count`` parts (bisected; filling in order is optimal for a given width)
+    low, high = fixed + max(rest), width
+    while high - low > 0.5:
+        middle = (low + high) / 2
+        low, high = (middle, high) if len(_parts(rest, fixed, middle)) > count else (low, middle)
+    parts = _parts(rest, fixed, high)
+    part_of = table.part_of or str(table.caption)
     found = []
     for number, chosen in enumerate(parts):
-        columns = [*range(keys), *chosen]
+        columns = [*range(keys), *(keys + i for i in chosen)]
         found.append(
             dataclasses.replace(
                 table,
-                caption=table.caption
-                if number == 0 or again
-                else Markup(continued).format(caption=table.caption),
                 header=[table.header[i] for i in columns],
                 rows=[[row[i] for i in columns if i < len(row)] for row in table.rows],
                 note=table.note if number == len(parts) - 1 else "",
                 formulas=table.formulas if number == 0 else "",
+                part_of=part_of,
             )
         )
     return found
 
 
-def fit(report: Report, continued: str) -> Report:
-    """``report`` with every table split to the column's width."""
+def numbered(blocks: Sequence[object], part: str) -> list[object]:
+    """``blocks`` with the captions of a table printed in parts numbered: the tables in a
+    row that share ``part_of`` read ``… (part 2 of 3)`` (``part`` holds ``{caption}``,
+    ``{part}`` and ``{parts}``)."""
+    runs: list[list[object]] = []
+    for block in blocks:
+        key = block.part_of if isinstance(block, Table) else ""
+        previous = runs[-1][-1] if runs else None
+        if key and isinstance(previous, Table) and previous.part_of == key:
+            runs[-1].append(block)
+        else:
+            runs.append([block])
+    out: list[object] = []
+    for run in runs:
+        if len(run) == 1:
+            out.extend(run)
+            continue
+        out.extend(
+            dataclasses.replace(
+                table,
+                caption=Markup(part).format(caption=table.caption, part=n, parts=len(run)),
+            )
+            for n, table in enumerate(run, start=1)
+            if isinstance(table, Table)
+        )
+    return out
+
+
+def fit(report: Report, part: str) -> Report:
+    """``report`` with every table split to the column's width, the parts of a table
+    numbered (:func:`numbered`)."""
 
     def blocks(section: Section) -> Section:
         out: list[object] = []
         for block in section.blocks:
-            out.extend(split(block, continued) if isinstance(block, Table) else [block])
-        return dataclasses.replace(section, blocks=out)  # type: ignore[arg-type]
+            out.extend(split(block) if isinstance(block, Table) else [block])
+        return dataclasses.replace(section, blocks=numbered(out, part))  # type: ignore[arg-type]
 
     return dataclasses.replace(report, sections=[blocks(s) for s in report.sections])
 
 
-__all__: Sequence[str] = ["COLUMN_MM", "column_widths", "fit", "split", "text_mm"]
+__all__: Sequence[str] = ["COLUMN_MM", "column_widths", "fit", "numbered", "split", "text_mm"]

@@ -151,16 +151,11 @@ def lines(
     ylabel: str,
     title: str = "",
 ) -> str:
-    """One axes with several labelled lines, as SVG."""
+    """One axes with several labelled lines (labels in matplotlib's text already), as SVG;
+    ticks in the language's decimal sign (:func:`decorate`)."""
     fig = Figure(figsize=(WIDTH, 3.2))
     ax = fig.subplots()
     for label, y in series:
-        ax.plot(x, y, label=label, linewidth=1.2)
-    ax.set_xlabel(xlabel)
-    ax.set_ylabel(ylabel)
-    if title:
-        ax.set_title(title)
-    ax.grid(True, linewidth=0.3)
-    if len(series) > 1:
-        ax.legend(fontsize=8)
+        ax.plot(x, y, label=label if len(series) > 1 else None, linewidth=1.2)
+    decorate(ax, xlabel=xlabel, ylabel=ylabel, title=title, labels_drawn_as_given=True)
     return to_svg(fig)

@@ -15,7 +15,7 @@ from rigserver.analysis import Readings
 from rigserver.reports import equations, layout
 from rigserver.reports.context import Context, LabReport
 from rigserver.reports.document import Items, Paragraph, Report, Section, Table, Text
-from rigserver.reports.formatting import fmt, html_symbol, number_locale, value_text
+from rigserver.reports.formatting import fmt, html_symbol, number_locale, value_text, with_unit
 from rigserver.reports.i18n import MESSAGES, Lang, Messages, translations
 from rigserver.reports.labs import mtos, profilometer, slide_bearing, smts2, tribometer
 from rigserver.reports.render import render
@@ -160,7 +160,7 @@ def abbreviations(t: Messages, sections: Sequence[Section]) -> list[Text]:
 def render_report(report: Report) -> str:
     """The report as a standalone HTML page (A4 print styles, inline SVG plots); tables wider
     than the page's column are printed in parts (:func:`rigserver.reports.layout.fit`)."""
-    fitted = layout.fit(report, translations(report.lang).gettext(MESSAGES["table.continued"]))
+    fitted = layout.fit(report, translations(report.lang).gettext(MESSAGES["table.part"]))
     return render("report.html", report=fitted)
 
 
@@ -180,8 +180,8 @@ def particulars_text(t: Messages, mapping: Mapping[str, Any]) -> str:
             shown = t.gettext(value)
         else:
             shown = value_text(value)
-        unit = "" if label.unit == "1" else f" {t.unit(label.unit)}"
-        parts.append(f"{words}: {shown}{unit}")
+        unit = "" if label.unit == "1" else t.unit(label.unit)
+        parts.append(f"{words}: {with_unit(shown, unit)}")
     return "; ".join(parts)
 
 
@@ -231,9 +231,10 @@ def _particulars(t: Messages, run: Run, stand: Stand, notes: StudentNotes) -> li
 
 
 def _rows_text(t: Messages, run: Run, stand: Stand) -> str:
-    """The rows stored per channel group, each group by its name in ``t``'s language."""
+    """The rows stored per channel group, each group by its name in ``t``'s language: a
+    count, printed whole (64001, not 6.4·10⁴)."""
     names = {g.name: t.gettext(g.long_name) for g in stand.groups}
-    return "; ".join(f"{names.get(g, g)}: {fmt(n)}" for g, n in run.rows.items())
+    return "; ".join(f"{names.get(g, g)}: {n}" for g, n in run.rows.items())
 
 
 def _configuration(t: Messages, run: Run) -> Table:
@@ -271,7 +272,9 @@ def configuration_rows(t: Messages, run: Run) -> list[tuple[Text, str, str]]:
                 unit = display.unit
             else:
                 shown = value_text(value)
-            unit_text = t.unit(str(unit)) if unit is not None and unit != "1" else ""
+            number = isinstance(value, int | float) and not isinstance(value, bool)
+            # a number without a unit is dimensionless ("—", as the results print it)
+            unit_text = t.unit(str(unit or "1")) if number or unit not in (None, "1") else ""
             rows.append((html_symbol(words), shown, unit_text))
 
     walk(CONFIG_MODELS[run.stand], run.configuration, "", "")

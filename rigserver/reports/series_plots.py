@@ -89,13 +89,17 @@ def overlay(
     markers: bool = False,
     paired: bool = False,
 ) -> str:
-    """One axes: the runs of each level in the level's colour, its mean and ±s band (SVG).
+    """One axes: the runs of each level in the level's colour, its mean and ±s band (SVG);
+    a series of one level draws each run in its own colour and the mean in black (runs of
+    one colour and their mean would not tell apart on a noisy record).
 
     ``paired``: the runs' points pair up by position (load steps): each run is drawn as
     points, the level's mean as points with ±s bars (no interpolation across steps)."""
     fig, (ax,) = axes(height=3.4)
+    alone = len(levels) == 1
     for i, (level, curves) in enumerate(levels.items()):
-        colour = COLOURS[i % len(COLOURS)]
+        colour = "black" if alone else COLOURS[i % len(COLOURS)]
+        runs = [COLOURS[n % len(COLOURS)] if alone else colour for n in range(len(curves))]
         shown = plot_text(level)
         name = f"{shown}: {tex(mean_label)}" if level else tex(mean_label)
         if paired:
@@ -104,7 +108,7 @@ def overlay(
                     curve.x,
                     curve.y,
                     MARKS[number % len(MARKS)],
-                    color=colour,
+                    color=runs[number],
                     markersize=3,
                     alpha=0.7,
                     label=run_label(curve.label),
@@ -130,7 +134,7 @@ def overlay(
             ax.plot(
                 x,
                 y,
-                color=colour,
+                color=runs[number],
                 linewidth=0.8,
                 alpha=0.8,
                 linestyle=STYLES[number % len(STYLES)],

@@ -167,8 +167,10 @@ def series_context(
     the profiles of the profilometer)."""
     t = text(lang)
     m = Messages(lang)
-    rows = [_statistics_row(detail.stand, s, m) for s in detail.statistics]
     with number_locale(lang):
+        rows = [
+            _statistics_row(detail.stand, s, m, _step(m, s.key, values)) for s in detail.statistics
+        ]
         plots = _plots(detail, values, readings, t, m)
     purpose = (
         t("comparison", factor=detail.factor or "")
@@ -202,11 +204,25 @@ def render_series_body(context: Mapping[str, Any]) -> Markup:
         return Markup(render("series_body.html", as_images=True, **context))
 
 
+def _step(m: Messages, key: str, values: Mapping[str, Mapping[str, Any] | None]) -> str:
+    """``, step 3, N = 1500 N`` of a per-step result (``steps[2].chi``), as the run report's
+    uncertainty table names the step: its load from the first run that has the step."""
+    if _PER_STEP not in key:
+        return ""
+    index = int(key.partition("[")[2].partition("]")[0])
+    for found in values.values():
+        steps = (found or {}).get("steps") or []
+        if index < len(steps) and steps[index].get("load") is not None:
+            return m("u.step", i=index + 1, load=fmt(steps[index]["load"]))
+    return ""
+
+
 def _statistics_row(
-    stand: StandKind | None, stats: ResultStatistics, m: Messages
+    stand: StandKind | None, stats: ResultStatistics, m: Messages, step: str
 ) -> dict[str, Any]:
-    """A headline result as the tables print it: its label's words, symbol and display unit
-    (schemas.labels), and a formatter of its values (and spreads) in that unit."""
+    """A headline result as the tables print it: its label's words (and ``step``, the load
+    step a per-step result belongs to), symbol and display unit (schemas.labels), and a
+    formatter of its values (and spreads) in that unit."""
     label = label_of(stand, stats.key) if stand else None
     if label is None:
         label = Label(stats.description, stats.symbol, unit=stats.unit)  # type: ignore[arg-type]
@@ -218,7 +234,7 @@ def _statistics_row(
     return {
         "stats": stats,
         "symbol": m.symbol(stats.symbol),
-        "name": results_view.name(m, label),
+        "name": results_view.name(m, label) + step,
         "unit": results_view.unit(m, label),
         "show": show,
         "own_uncertainty": float(np.mean(own)) if own else None,

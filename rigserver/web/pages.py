@@ -24,6 +24,7 @@ from rigserver.reports.formatting import (
     number_locale,
     plain_text,
     shown,
+    with_unit,
 )
 from rigserver.reports.i18n import LANGS, Lang, Messages
 from rigserver.reports.run_report import RESULT_MODELS, configuration_rows, particulars_text
@@ -100,7 +101,7 @@ def key_results(t: Messages, run: Run) -> Markup:
         text = shown(label, value, units.get(path, label.unit))
         unit = results_view.unit(t, label)
         name = html_symbol(t.symbol(label.symbol) or t.gettext(label.text))
-        part = Markup("{} = {}").format(name, f"{text} {unit}" if unit else text)
+        part = Markup("{} = {}").format(name, with_unit(text, unit))
         if outside and label.part is Part.THEORY:
             part += Markup(' <em class="outside">({})</em>').format(t("theory_outside"))
         parts.append(part)

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import io
 import json
+import re
 from collections.abc import Iterator
 from typing import Any
 
@@ -57,6 +58,28 @@ def examples(document: dict[str, Any], media: dict[str, Any]) -> list[dict[str, 
 
 def test_the_document_validates(client: TestClient) -> None:
     validate(client.get("/openapi.json").json())
+
+
+def texts(node: Any) -> Iterator[str]:
+    """Every description, summary and title of the document (what the API docs page prints)."""
+    if isinstance(node, dict):
+        for key, value in node.items():
+            if key in ("description", "summary", "title") and isinstance(value, str):
+                yield value
+            else:
+                yield from texts(value)
+    elif isinstance(node, list):
+        for value in node:
+            yield from texts(value)
+
+
+def test_the_api_docs_speak_english_and_name_their_sources(client: TestClient) -> None:
+    """The English API docs: no Cyrillic subscript (f_e, χ_mean, not f_э, χ_ср) and a source
+    named by its title, never by a seed number."""
+    found = list(texts(client.get("/openapi.json").json()))
+    assert len(found) > 100
+    wrong = [t for t in found if re.search(r"[А-Яа-яЁё]|\bseed\b", t, re.IGNORECASE)]
+    assert not wrong, wrong[:10]
 
 
 def test_every_ref_resolves(client: TestClient) -> None:

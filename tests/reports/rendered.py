@@ -54,6 +54,7 @@ class Rendered:
     pages: int
     outside: list[Box]
     figures: list[Figure] = field(default_factory=list)
+    stranded: list[str] = field(default_factory=list)
 
     @property
     def text(self) -> str:
@@ -94,12 +95,45 @@ def _outside(document: Any) -> list[Box]:
     return found
 
 
+#: What leads into the content after it: a heading, a table's caption or its formulas.
+LEADS = {"h1", "h2", "h3"}
+LEAD_CLASSES = {"caption", "formulas"}
+
+
+def _stranded(document: Any) -> list[str]:
+    """Awkward page breaks: a heading, a table's caption or formulas as the last line of a
+    page (its content on the next), a figure's caption as the first (its plot on the one
+    before), a page of nothing but the footer ("Made by rig ...")."""
+    from weasyprint.formatting_structure.boxes import LineBox, MarginBox
+
+    found: list[str] = []
+    for number, page in enumerate(document.pages, start=1):
+        roots = [c for c in page._page_box.children if not isinstance(c, MarginBox)]
+        lines = [d for root in roots for d in root.descendants() if isinstance(d, LineBox)]
+        if not lines:
+            continue
+        last, first = lines[-1], lines[0]
+        classes = set((last.element.get("class") or "").split()) if last.element else set()
+        if last.element_tag in LEADS or (last.element_tag == "p" and classes & LEAD_CLASSES):
+            found.append(f"page {number} ends with <{last.element_tag}> {_line_text(last)!r}")
+        if all(line.element_tag == "footer" for line in lines):
+            found.append(f"page {number} holds only the footer {_line_text(first)!r}")
+        if first.element_tag == "figcaption" and number > 1:
+            found.append(f"page {number} starts with a figure's caption {_line_text(first)!r}")
+    return found
+
+
+def _line_text(line: Any) -> str:
+    return "".join(getattr(d, "text", "") or "" for d in line.descendants())[:60]
+
+
 def laid_out(name: str, html: str, figures: list[Figure]) -> Rendered:
     from weasyprint import HTML
 
     document = HTML(string=html).render()
     pdf: bytes = document.write_pdf()
-    return Rendered(name, html, pdf, len(document.pages), _outside(document), figures)
+    pages = len(document.pages)
+    return Rendered(name, html, pdf, pages, _outside(document), figures, _stranded(document))
 
 
 @lru_cache(maxsize=64)

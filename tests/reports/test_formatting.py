@@ -8,7 +8,14 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from rigserver.reports.formatting import fmt, html_symbol, number_locale, shown, tex
+from rigserver.reports.formatting import (
+    fmt,
+    html_symbol,
+    number_locale,
+    shown,
+    tex,
+    with_unit,
+)
 from rigserver.reports.i18n import Messages
 from rigserver.reports.run_report import particulars_text
 from schemas.labels import MTOS, PROFILOMETER, SLIDE_BEARING, round_to
@@ -57,6 +64,9 @@ def test_free_form_values() -> None:
     )
     with number_locale("ru"):
         assert particulars_text(Messages("ru"), {"load_N": 300.5}) == "нагрузка: 300,5 Н"
+    # an angle's degree sign stands against its number, a temperature's after a space
+    assert particulars_text(Messages("en"), {"limb_step_deg": 10}) == "step of the limb: 10°"
+    assert with_unit("23", "°C") == "23 °C" and with_unit("0.5", "") == "0.5"
 
 
 def test_russian_numbers_take_a_decimal_comma() -> None:

@@ -5,11 +5,14 @@ rendered once per language and shared by the assertions (``tests/reports/rendere
 
 from __future__ import annotations
 
+import re
+from dataclasses import replace
+
 import pytest
 
 from rigserver.reports.document import Table
 from rigserver.reports.i18n import LANGS, Lang
-from rigserver.reports.layout import split
+from rigserver.reports.layout import numbered, split
 from schemas.stands import StandKind
 from tests.reports.rendered import Rendered, run_report, series_report, squeezed
 from tests.reports.simulated import tables
@@ -37,6 +40,14 @@ def test_no_box_leaves_the_page(which: str, kind: StandKind, lang: Lang) -> None
 
 
 @pytest.mark.parametrize(("which", "kind", "lang"), cases())
+def test_no_heading_ends_a_page_and_no_caption_leaves_its_figure(
+    which: str, kind: StandKind, lang: Lang
+) -> None:
+    report = rendered(which, kind, lang)
+    assert not report.stranded, f"{report.name}: " + "; ".join(report.stranded)
+
+
+@pytest.mark.parametrize(("which", "kind", "lang"), cases())
 def test_every_table_cell_is_in_the_pdf(which: str, kind: StandKind, lang: Lang) -> None:
     report = rendered(which, kind, lang)
     text = squeezed(report.text)
@@ -55,16 +66,33 @@ def test_every_table_cell_is_in_the_pdf(which: str, kind: StandKind, lang: Lang)
     )
 
 
-def test_a_table_in_parts_says_continued_once() -> None:
-    # thirty columns of 8-digit numbers are far wider than the A4 column
-    head = [f"x{i}" for i in range(30)]
-    rows = [[f"{i}.1234567" for i in range(30)]]
-    continued = "{caption} (continued)"
-    fresh = split(Table(caption="Table 4.4", header=head, rows=rows), continued)
-    assert len(fresh) > 1
-    assert [str(p.caption) for p in fresh] == ["Table 4.4"] + ["Table 4.4 (continued)"] * (
-        len(fresh) - 1
-    )
-    # a part the lab prints as a continuation already (the manual's table 4.4) keeps its caption
-    again = split(Table(caption="Table 4.4 (continued)", header=head, rows=rows), continued)
-    assert {str(p.caption) for p in again} == {"Table 4.4 (continued)"}
+def test_a_table_in_parts_is_numbered_and_evenly_cut() -> None:
+    # seventeen columns of 8-digit numbers: two parts, the greedy cut would leave one column
+    head = [f"x{i}" for i in range(17)]
+    rows = [[f"{i}.1234567" for i in range(17)]]
+    parts = split(Table(caption="Table 4.4", header=head, rows=rows))
+    assert len(parts) == 2
+    widths = [len(p.header) - 1 for p in parts]  # less the key column each repeats
+    assert sum(widths) == 16 and max(widths) - min(widths) <= 1, widths
+    # the pieces a lab prints as one table number on with the parts the layout cut
+    theory = Table(caption="Table 4.4. Theory", header=head[:3], rows=[rows[0][:3]])
+    pieces = [*parts, replace(theory, part_of="Table 4.4")]
+    captions = [str(b.caption) for b in numbered(pieces, "{caption} (part {part} of {parts})")]
+    assert captions == [
+        "Table 4.4 (part 1 of 3)",
+        "Table 4.4 (part 2 of 3)",
+        "Table 4.4. Theory (part 3 of 3)",
+    ]
+    # a table in one part keeps its caption
+    alone = numbered([theory, *parts[:1]], "{caption} (part {part} of {parts})")
+    assert [str(b.caption) for b in alone] == ["Table 4.4. Theory", "Table 4.4"]
+
+
+@pytest.mark.parametrize("kind", list(StandKind))
+@pytest.mark.parametrize("lang", LANGS)
+def test_no_caption_says_continued_or_end(kind: StandKind, lang: Lang) -> None:
+    """A table in parts reads "(part 2 of 3)", never "…, end. … (continued)"."""
+    for table in tables(run_report(kind, lang).html):
+        assert not re.search(r"continued|продолжение|, end\b|Окончание", table.caption), (
+            table.caption
+        )

@@ -24,7 +24,7 @@ from schemas.results import MtosResults, ProfilometerResults, SlideBearingResult
 from schemas.runs import RunState
 from schemas.stands import StandKind
 from tests.reports.rendered import run_html
-from tests.reports.simulated import MADE, Simulated, simulated, table, tables
+from tests.reports.simulated import MADE, HtmlTable, Simulated, simulated, table, tables
 
 
 @lru_cache
@@ -101,8 +101,9 @@ def test_profilometer_report_prints_the_mode_and_the_magnifications(
         return found[0]
 
     assert value(mode_row) == [mode, ""]
-    assert value(vertical) == ["5000", ""]
-    assert value(horizontal) == ["100", ""]  # the default of the configuration
+    # a magnification is a number without a unit: dimensionless, "—" as in the results
+    assert value(vertical) == ["5000", "—"]
+    assert value(horizontal) == ["100", "—"]  # the default of the configuration
 
 
 def test_profilometer_tables_1_6_to_1_8() -> None:
@@ -288,16 +289,20 @@ def test_mtos_readings_and_processing_tables() -> None:
     assert t41.column(0) == printed(steps["load"][fluid])
     assert t41.column(1) == printed(steps["indicator"][fluid])
     assert t41.column(8) == printed(steps["t5"][fluid])
-    t44 = [t for t in tables(html) if t.caption.startswith("Table 4.4.")]
-    # the table and its continuation, split in two by the page's width; the theory follows
-    assert len(t44) == 3
+    t44 = [t for t in tables(html) if t.caption.startswith("Table 4.4. Processing")]
+    # the table and its continuation in three parts by the page's width; the theory follows
+    # in two: one printed table in five numbered parts
+    assert [t.caption[-13:] for t in t44] == [f"(part {n} of 5)" for n in (1, 2, 3)]
+    processing = joined(t44)
     first = [x for x in v.steps if x.regime == "fluid"]
-    assert t44[0].column(4) == declared(MTOS["steps[].chi"], [x.chi for x in first])
-    assert t44[0].column(9) == printed([x.friction_measured for x in first])
+    assert processing.column(4) == declared(MTOS["steps[].chi"], [x.chi for x in first])
+    assert processing.column(9) == printed([x.friction_measured for x in first])
     mu1 = MTOS["steps[].viscosity_at"]
-    assert t44[1].column(1) == declared(mu1, [x.viscosity_at["t1"] for x in first])
-    assert t44[1].column(7) == printed([x.bearing_characteristic for x in first])
-    theory = next(t for t in tables(html) if t.caption.startswith("Table 4.4, end."))
+    assert processing.column(10) == declared(mu1, [x.viscosity_at["t1"] for x in first])
+    assert processing.column(16) == printed([x.bearing_characteristic for x in first])
+    parts = [t for t in tables(html) if t.caption.startswith("Table 4.4. Theory")]
+    assert [t.caption[-13:] for t in parts] == ["(part 4 of 5)", "(part 5 of 5)"]
+    theory = joined(parts)
     assert theory.header[1:10] == [
         "μt/μ0", "A100", "A200", "A300", "A302", "A320", "A311", "V", "Pτ, N"
     ]  # fmt: skip
@@ -305,6 +310,39 @@ def test_mtos_readings_and_processing_tables() -> None:
     assert theory.column(11) == printed([x.friction_theory for x in first])
     error = MTOS["steps[].friction_error"]
     assert theory.column(12) == declared(error, [x.friction_error for x in first])
+
+
+def joined(parts: list[HtmlTable]) -> HtmlTable:
+    """The parts of a table printed in parts as one table, the key columns each part
+    repeats (the leading header cells they share) once."""
+    whole = HtmlTable(parts[0].caption, list(parts[0].header), [list(r) for r in parts[0].rows])
+    for part in parts[1:]:
+        keys = next(
+            i for i, (a, b) in enumerate(zip(whole.header, part.header, strict=False)) if a != b
+        )
+        whole.header += part.header[keys:]
+        for row, more in zip(whole.rows, part.rows, strict=True):
+            row += more[keys:]
+    return whole
+
+
+PART = re.compile(r"\((?:part|часть) (\d+) (?:of|из) (\d+)\)$")
+
+
+def whole_tables(html: str) -> list[HtmlTable]:
+    """The report's tables, each printed in parts joined (:func:`joined`)."""
+    found: list[HtmlTable] = []
+    parts: list[HtmlTable] = []
+    for one in tables(html):
+        numbered = PART.search(one.caption)
+        if numbered is None:
+            found.append(one)
+            continue
+        parts.append(one)
+        if numbered[1] == numbered[2]:
+            found.append(joined(parts))
+            parts = []
+    return found
 
 
 def test_mtos_mixed_friction_against_fluid_friction() -> None:
@@ -332,7 +370,7 @@ def test_the_russian_report_prints_the_same_numbers(kind: StandKind) -> None:
     else:
         assert f"Лабораторная работа № {lab_work}." in ru
     assert "Исходные данные" in ru and "Input data" not in ru
-    english, russian = tables(en), tables(ru)
+    english, russian = whole_tables(en), whole_tables(ru)
     assert len(english) == len(russian)
     for a, b in zip(english, russian, strict=True):
         # the same numbers, with a decimal comma in Russian
@@ -432,3 +470,13 @@ def test_with_uncertainty_rounds_to_two_figures_of_u() -> None:
     assert with_uncertainty(0.40123, 0.0118) == "0.401 ± 0.012 (k = 2)"
     assert with_uncertainty(3.833e-8, 9.5e-10) == "(3.833 ± 0.095)·10⁻⁸ (k = 2)"
     assert with_uncertainty(0.4, None) == "0.4"
+
+
+@pytest.mark.parametrize("kind", [StandKind.PIN_ON_DISC, StandKind.RECIPROCATING])
+def test_the_rows_stored_are_printed_whole(kind: StandKind) -> None:
+    """Tens of thousands of rows: the count as stored (64001), not rounded (6.4·10⁴)."""
+    s = simulated(kind)
+    html = report(kind)
+    assert max(s.run.rows.values()) >= 10_000  # more digits than fmt's four
+    for rows in s.run.rows.values():
+        assert f": {rows}" in html

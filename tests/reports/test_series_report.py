@@ -7,9 +7,12 @@ from datetime import UTC, datetime
 import pytest
 
 from rigserver.analysis.series import Member, series_statistics
+from rigserver.reports.formatting import fmt
+from rigserver.reports.i18n import Lang
 from rigserver.reports.series_report import render_series_report, series_context
 from schemas.series import Series, SeriesPurpose
 from schemas.stands import StandKind
+from tests.reports.rendered import series_report
 from tests.reports.simulated import simulated, tables
 
 MADE = datetime(2026, 11, 25, 12, 0, tzinfo=UTC)
@@ -86,3 +89,17 @@ def test_series_of_the_adhesive_and_oxidative_modes_prints_delta_f(lang: str) ->
     html = render_series_report(context, made=MADE)
     assert "= 50 %" in html  # fmt(50.0)
     assert ("Adhesive and oxidative friction (2.16)" in html) == (lang == "en")
+
+
+@pytest.mark.parametrize(("lang", "step"), [("en", "step"), ("ru", "шаг")])
+def test_a_per_step_result_names_its_step_and_load(lang: Lang, step: str) -> None:
+    """f_e,3 of an MTOS series reads "…, step 3, N = 1500 N", as the run report's
+    uncertainty table names the step: the load each numbered step was run at."""
+    steps = simulated(StandKind.MTOS).result.payload["values"]["steps"]
+    statistics = tables(series_report(StandKind.MTOS, lang).html)[2]
+    named = [row[0] for row in statistics.rows if f", {step} " in row[0]]
+    assert len(named) >= 2 * len(steps)  # f_e and χ of every step at least
+    for i, one in enumerate(steps, start=1):
+        load = fmt(one["load"]).replace(".", ",") if lang == "ru" else fmt(one["load"])
+        unit = "N" if lang == "en" else "Н"
+        assert any(name.endswith(f", {step} {i}, N = {load} {unit}") for name in named), i

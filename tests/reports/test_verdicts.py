@@ -75,3 +75,20 @@ def test_abbreviations_and_corrections_are_explained_once() -> None:
         appendix = html.split("<h2>")[-1]
         assert "GUM" in appendix and "ASTM G99" in appendix and "E2 (2.6)" in appendix
         assert appendix.count("E2 (2.6)") == 1
+
+
+def test_a_specimen_that_gained_mass_is_said_so_not_worn() -> None:
+    """The simulated reciprocating run's ball weighs 0.02 mg more after the test: its wear
+    rate from the mass is below zero, and the conclusion says why; the disc's is not."""
+    v = simulated(StandKind.RECIPROCATING).result.values
+    gained = v.pin_mass  # type: ignore[union-attr]
+    assert gained is not None and gained.specific_wear_rate < 0
+    for lang, title, words in (
+        ("en", "Conclusions", "the specimen gained"),
+        ("ru", "Выводы", "образец прибавил"),
+    ):
+        html = run_report(StandKind.RECIPROCATING, lang).html  # type: ignore[arg-type]
+        (conclusions,) = [s for s in html.split("<h2>") if s.startswith(title)]
+        said = [line for line in conclusions.split("<li>") if words in line]
+        assert len(said) == 1, conclusions
+        assert "-5" in said[0]  # the ball's k from its mass, not the disc's

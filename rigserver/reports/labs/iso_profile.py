@@ -55,7 +55,7 @@ def parameters_table(
                 html_symbol(results_view.name(t, label)),
                 html_symbol(label.symbol),
                 results_view.value(t, label, value, units.get(name, label.unit)),
-                results_view.unit(t, label),
+                t.unit(label.unit),
             ]
         )
     head: list[Text] = [t("col.quantity"), t("col.symbol"), t("col.value"), t("col.unit")]
@@ -126,6 +126,7 @@ def _figure_svg(t: Messages, x: Any, y: Any, iso: IsoRoughnessResult) -> str:
     decorate(
         top, xlabel=blocks.axis(t, "x", "mm"), ylabel=blocks.axis(t, "y", "um"), legend_outside=True
     )
+    top.set_xlabel("")  # the x axis is shared: named once, under the lower plot
     decorate(
         bottom,
         xlabel=blocks.axis(t, "x", "mm"),

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Sequence
 
@@ -195,9 +196,9 @@ def _processed_tables(
             [s.friction_measured / fluid[s.load] if s.load in fluid else None for s in steps]
         )
         note = html_symbol(t("m.ratio_note"))
-    second = blocks.columns(t("table.continued", caption=caption), head, data, note=note)
+    second = blocks.columns(caption, head, data, note=note)
     if regime != "fluid":
-        return [first, second]
+        return _parts_of(caption, first, second)
     finite = t("m.f_finite")
     third = blocks.result_table(
         t,
@@ -223,7 +224,13 @@ def _processed_tables(
         model=MtosStep,
         labels=labels,
     )
-    return [first, second, third]
+    return _parts_of(caption, first, second, third)
+
+
+def _parts_of(caption: str, *tables: Table) -> list[Table]:
+    """The pieces of one printed table (the manual's 4.4-4.6): their captions numbered as
+    its parts when the report is laid out (:func:`rigserver.reports.layout.numbered`)."""
+    return [dataclasses.replace(table, part_of=caption) for table in tables]
 
 
 def _plot_measured(ax: Axes, t: Messages, v: MtosResults, x: str, line: str = "") -> None:

@@ -5,7 +5,6 @@ from __future__ import annotations
 import dataclasses
 
 import numpy as np
-from markupsafe import Markup
 
 from rigserver.analysis.streaming import BlockSeries
 from rigserver.core import wear
@@ -188,12 +187,13 @@ def _validity(t: Messages, v: Smts2Results) -> Table:
 
 
 def _sensitivity(t: Messages, v: Smts2Results) -> Table:
-    one = t.unit("1")
+    # the theory's intensity, as the theory table names it; dimensionless columns name
+    # their symbol only, as every table's header does (blocks.header)
     head: list[Text] = [
         html_symbol("t"),
         html_symbol("σ_0/σ_B"),
-        Markup("{} [{}]").format(html_symbol("I_h"), one),
-        Markup("{} [{}]").format(html_symbol("n"), one),
+        html_symbol(t.symbol("I_{h,th}")),
+        html_symbol("n"),
     ]
     rows: list[list[Text]] = [
         [fmt(p.fatigue_t), fmt(p.strength_ratio), fmt(p.intensity), fmt(p.cycles_to_failure)]

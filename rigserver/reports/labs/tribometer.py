@@ -218,5 +218,7 @@ def _conclusions(t: Messages, v: Results) -> list[Text]:
         estimate: WearEstimate | None = getattr(v, name)
         if estimate is not None:
             rate = estimate.specific_wear_rate / 1e-9  # mm³/(N·m)
-            found.append(html_symbol(t("t.c_wear", what=t(key), k=fmt(rate))))
+            # below zero the specimen gained mass (or volume): said, never a bare negative wear
+            said = "t.c_gain" if rate < 0 else "t.c_wear"
+            found.append(html_symbol(t(said, what=t(key), k=fmt(rate))))
     return found

@@ -81,8 +81,8 @@ def keep_freed_memory() -> bool:
 
 #: The collector's thresholds while serving (CPython's: 700, 10, 10). A request's objects
 #: die young by reference counting, so a young collection finds about the same few live
-#: ones however rarely it runs: every 20 000 allocations instead of 700 it costs a
-#: thirtieth as much (about 3 % of a single reading's post, docs/speed.md).
+#: ones however rarely it runs: run every 20 000 allocations instead of 700, the
+#: collections (2.6 % of a single reading's post in a profile, docs/speed.md) mostly go.
 GC_THRESHOLDS = (20_000, 10, 10)
 
 #: Seconds the requests under way (a live stream, a report) get to end once SIGTERM or

@@ -126,7 +126,7 @@ def create_app(
         docs_url=None,  # served by api_docs, without a CDN
         redoc_url=None,
         # rig sets up no OpenTelemetry; FastAPI's own would ask for its providers on every
-        # request (about 4 % of a single reading's post, docs/speed.md)
+        # request (2.4 % of a single reading's post, docs/speed.md)
         telemetry=NO_TELEMETRY,
     )
     app.state.services = Services(

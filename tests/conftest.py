@@ -12,6 +12,12 @@ from hypothesis import settings
 from tests.api.conftest import KEYS, Server
 from tests.processes import kill_leftovers, leftovers
 
+# A finished run's reports are rendered at its first download, not at once in the background:
+# hundreds of tests finish runs, and rendering each one's four reports was most of the suite's
+# CPU. tests/api/test_report_files.py turns it back on where the background render is the
+# point; the servers the tests start inherit the setting.
+os.environ.setdefault("RIG_REPORTS_ON_FINISH", "false")
+
 settings.register_profile("ci", derandomize=True, print_blob=True)
 if os.environ.get("CI"):
     settings.load_profile("ci")

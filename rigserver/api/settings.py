@@ -94,6 +94,11 @@ class Settings(BaseSettings):
         description="share of the report renders one API key (or one address without a "
         "key) may hold; more of its renders are answered 503",
     )
+    reports_on_finish: bool = Field(
+        default=True,
+        description="render a finished run's reports at once, in the background (off: at "
+        "their first download)",
+    )
     report_processes: bool = Field(
         default=True,
         description="render the reports of ended runs in processes of their own (off: in "

@@ -152,7 +152,7 @@ def test_one_key_beyond_its_share_is_answered_503_and_another_key_gets_its_repor
 def test_finishing_a_run_renders_its_reports_in_the_background(tmp_path: Path) -> None:
     """In the render processes, from the run's final file: both languages, page and PDF,
     before anyone asks; the download is then the file."""
-    with _client(tmp_path) as client:
+    with _client(tmp_path, reports_on_finish=True) as client:
         run_id = post(client, simulated(StandKind.PROFILOMETER).sim, WRITER)
         kept = tmp_path / "reports" / "run" / run_id
         deadline = time.monotonic() + 180

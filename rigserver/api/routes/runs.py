@@ -135,7 +135,7 @@ def _end(run_id: str, services: Services, caller: Any, state: RunState) -> Run:
             results = services.results.for_finish(run, lambda: compute_results(services, run))
             services.store.set_results(run_id, results.payload, results.key_results)
         ended = services.store.end_run(run_id, state)
-    if results is not None:
+    if results is not None and services.settings.reports_on_finish:
         values = results.payload["values"]
         services.reports.soon(
             f"rendering the reports of run {run_id}",

@@ -89,5 +89,13 @@ def _parts(widths: list[int], width: int) -> list[list[int]]:
     return parts
 
 
+def quantity(label: Label, value: Any, stored: str) -> str:
+    """A result on one line as a person reads it: the manual's symbol (else its name), the
+    value in the display unit with the label's digits, and the unit (``Ra = 0.8 µm``)."""
+    unit = _unit(label)
+    name = plain_symbol(label.symbol) or label.text
+    return f"{name} = {_shown(label, value, stored)}" + (f" {unit}" if unit else "")
+
+
 def _name(label: Label) -> str:
     return f"{label.text} ({label.equation})" if label.equation else label.text

@@ -27,6 +27,7 @@ from typing import Any
 import httpx
 from rich.console import Console
 
+from rigclient.summary import quantity
 from rigsim.client import LabClient, RunOutcome
 from rigsim.errors import PortInUse, RigsimError, ServerError, ServerUnavailable
 from rigsim.stands import simulate
@@ -215,22 +216,18 @@ def _pace(speed: float | None) -> str:
 
 
 def _headline(key_results: dict[str, Any], units: dict[str, str], stand: StandKind) -> str:
-    """The key results in SI; a theoretical value outside its theory's range is marked so
-    (schemas.labels.THEORY_VERDICT), never a bare headline."""
-
-    def unit(path: str) -> str:
-        u = units.get(path, "1")
-        return "" if u == "1" else f" {u}"
-
+    """The key results with the manual's symbols, in the display units (µm, MPa), each
+    theoretical value outside its theory's range marked so (schemas.labels.THEORY_VERDICT),
+    never a bare headline."""
     outside = theory_outside(stand, key_results)
     verdict = THEORY_VERDICT.get(stand)
     parts = []
     for k, v in key_results.items():
-        if k == verdict:
-            continue
-        part = f"{k} = {v:.4g}{unit(k)}"
         label = RESULTS[stand].get(k)
-        if outside and label is not None and label.part is Part.THEORY:
+        if k == verdict or label is None:
+            continue
+        part = quantity(label, v, units.get(k, label.unit))
+        if outside and label.part is Part.THEORY:
             part += " (theory outside its range)"
         parts.append(part)
     return ", ".join(parts)

@@ -45,7 +45,8 @@ def test_the_runs_list_and_the_console_mark_a_theory_out_of_range() -> None:
             assert (words in page) == marked, page
             assert "within" not in page  # the verdict marks the values, it is not one
         line = _headline(keys, s.result.payload["units"], KIND)
-        theory = [p for p in line.split(", ") if p.startswith("theoretical.intensity")]
+        assert "experimental" not in line and "theoretical" not in line  # symbols, not keys
+        theory = [p for p in line.split(", ") if p.startswith("Iₕ,ₜₕ = ")]  # I_h,th
         assert theory and ("outside its range" in theory[0]) == marked, line
 
 

@@ -3,8 +3,11 @@
 A stored (uncompressed) member, as ``numpy.savez`` writes it, is read in place: its array
 is a view of the request body (copied only if misaligned), found through the zip
 directory (:mod:`zipfile`) and the ``.npy`` header (:mod:`numpy.lib.format`), once its
-CRC-32 is checked against the bytes there (``zlib.crc32`` over the member, far cheaper
-than ``numpy.load``'s copy of every value). A deflated member is inflated by
+CRC-32 is checked against the bytes there (ISA-L's ``crc32`` from :mod:`isal`, over the
+member: 0.4 ms for 8 MB here against 2 ms for zlib's, and far cheaper than
+``numpy.load``'s copy of every value). Both the CRC and the copy of a misaligned member
+(``numpy.savez`` puts the values off 8-byte boundaries) let other threads run meanwhile:
+the event loop goes on receiving the next body. A deflated member is inflated by
 :mod:`zipfile` (which checks its CRC), at most its declared size. A member whose bytes
 do not match its CRC-32 was damaged on its way: it is refused, never stored.
 
@@ -23,10 +26,10 @@ import io
 import itertools
 import struct
 import zipfile
-import zlib
 from typing import Any, NoReturn
 
 import numpy as np
+from isal import isal_zlib
 from numpy.typing import NDArray
 
 from rigserver.api.problems import ApiProblem
@@ -137,7 +140,7 @@ def _member_array(
     ``body``: a view of ``body`` if stored, else of the member inflated."""
     size = info.file_size
     if info.compress_type == zipfile.ZIP_STORED:
-        crc = zlib.crc32(memoryview(body)[start : start + size])
+        crc = isal_zlib.crc32(memoryview(body)[start : start + size])
         if crc != info.CRC:
             _refuse(
                 info,
@@ -155,9 +158,12 @@ def _member_array(
             _refuse(info, "file_size", f"{size} is more than the member inflates to ({len(body)})")
     dtype, length, at = _npy_header(info, body[start : start + min(size, _NPY_HEAD)])
     values = np.frombuffer(body, dtype=dtype, count=length, offset=start + at)
-    if not values.flags.aligned:  # a copy (a new bytes object's values are aligned)
-        return np.frombuffer(body[start + at : start + size], dtype=dtype)
-    return values
+    if values.flags.aligned:
+        return values
+    aligned = np.empty(length, dtype=dtype)  # NumPy copies bytes without holding the GIL
+    aligned.view(np.uint8)[:] = np.frombuffer(body, np.uint8, length * dtype.itemsize, start + at)
+    aligned.flags.writeable = False  # as the views of the body are: the store keeps it as is
+    return aligned
 
 
 def _npy_header(info: zipfile.ZipInfo, head: bytes) -> tuple[np.dtype[Any], int, int]:

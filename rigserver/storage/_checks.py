@@ -129,10 +129,12 @@ def prepare(group: str, columns: Mapping[str, ArrayLike]) -> Batch:
 
 def _owned(values: ArrayLike) -> NDArray[np.float64]:
     """The values as a contiguous little-endian float64 array that nobody else can change:
-    an array over immutable ``bytes`` (a binary batch's column) as it is, others copied."""
+    a read-only array over immutable ``bytes`` or over memory of its own (a binary batch's
+    column, :mod:`rigserver.api.npz`) as it is, others copied."""
     if (
         isinstance(values, np.ndarray)
-        and isinstance(values.base, bytes)
+        and (isinstance(values.base, bytes) or values.flags.owndata)
+        and not values.flags.writeable
         and values.dtype == np.dtype("<f8")
         and values.flags.c_contiguous
     ):

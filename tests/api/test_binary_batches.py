@@ -14,6 +14,7 @@ import pytest
 from fastapi.testclient import TestClient
 
 from rigserver.api.npz import parse_npz
+from rigserver.storage._checks import prepare
 from schemas.readings import NPZ_MEDIA_TYPE
 from tests.api.conftest import READER, WRITER, auth
 from tests.hardening.conftest import API, friction, hdf5_app, is_problem, open_run
@@ -125,3 +126,22 @@ def test_aligned_columns_are_views_of_the_body_and_others_aligned_copies() -> No
     assert arrays["time"].base is not body
     assert arrays["time"].flags.aligned
     np.testing.assert_array_equal(arrays["time"], np.arange(5.0))
+    # neither can change after it is digested: both read-only, and the store takes them as
+    # they are (no second copy of megabytes), while a writable array is copied
+    assert not arrays["abcdefghij"].flags.writeable and not arrays["time"].flags.writeable
+    batch = prepare("friction", arrays)
+    assert batch.columns["time"] is arrays["time"]
+    assert batch.columns["abcdefghij"] is arrays["abcdefghij"]
+    writable = np.arange(5.0)
+    assert prepare("friction", {"time": writable}).columns["time"] is not writable
+
+
+def test_a_big_endian_member_is_read_by_its_values() -> None:
+    # the aligned copy is of bytes: a '>f8' member keeps its byte order, and so its values
+    values = np.linspace(-3.0, 7.5, 1001).astype(">f8")
+    body = _savez({"time": values, "abcdefghij": np.arange(1001.0)})
+    got = parse_npz(body, 1 << 20)["time"]
+    assert got.base is not body  # the misaligned member: copied
+    assert got.dtype == np.dtype(">f8")
+    np.testing.assert_array_equal(got, np.linspace(-3.0, 7.5, 1001))
+    assert prepare("friction", {"time": got}).columns["time"].dtype == np.dtype("<f8")

@@ -145,3 +145,34 @@ def test_a_big_endian_member_is_read_by_its_values() -> None:
     assert got.dtype == np.dtype(">f8")
     np.testing.assert_array_equal(got, np.linspace(-3.0, 7.5, 1001))
     assert prepare("friction", {"time": got}).columns["time"].dtype == np.dtype("<f8")
+
+
+def test_a_large_batch_is_checked_in_itself_and_from_the_runs_last_values(
+    hdf5_client: TestClient,
+) -> None:
+    # a large batch (stored from a worker thread, not the loop's group commits) is checked
+    # in itself and after the run's last stored values: each refusal names its row (the
+    # time channel must increase: friction row k has time k)
+    run_id = open_run(hdf5_client)
+    url = f"{API}/runs/{run_id}/readings"
+    rows = 10_000  # 400 kB of values: past the loop's small bodies (64 KiB)
+
+    def post(seq: int, columns: dict[str, Any]) -> Any:
+        return hdf5_client.post(
+            f"{url}?seq={seq}&group=friction", content=_savez(columns), headers=NPZ
+        )
+
+    assert post(0, friction(0, rows)).status_code == 201
+    again = post(1, friction(rows - 1, rows))  # starts at the last stored time
+    assert again.status_code == 422, again.text
+    (first,) = [v for v in again.json()["errors"] if v["field"].startswith("columns.time")]
+    assert first["field"] == "columns.time[0]"
+    assert f"the value before it is {rows - 1:g} s" in first["message"]
+    backwards = friction(rows, rows)
+    backwards["time"][5000] = backwards["time"][4999]  # a step of zero inside the batch
+    inside = post(1, backwards)
+    assert inside.status_code == 422, inside.text
+    assert [v["field"] for v in inside.json()["errors"]] == ["columns.time[5000]"]
+    assert post(1, friction(rows, rows)).status_code == 201  # nothing of them was stored
+    run = hdf5_client.get(f"{API}/runs/{run_id}", headers=auth(READER)).json()
+    assert run["rows"]["friction"] == 2 * rows

@@ -91,7 +91,7 @@ def kept(
     version has none (blocks the calling thread: for an export that packs reports)."""
     if not target.path.exists():
         made, in_process = job()
-        services.reports.render(str(target.path), key, made, in_process=in_process).result()
+        services.reports.render(target.render, key, made, in_process=in_process).result()
         for t in targets(target).values():
             t.prune()
     return {fmt: t.path.read_bytes() for fmt, t in targets(target).items()}
@@ -129,7 +129,7 @@ def render_finished(services: Services, run_id: str, values: Mapping[str, object
         if target.path.exists():
             continue
         job, in_process = run_job(services, run, values, target, notes)
-        future = services.reports.render_later(str(target.path), job, in_process=in_process)
+        future = services.reports.render_later(target.render, job, in_process=in_process)
         if future is not None:
             future.add_done_callback(partial(_prune_after, target))
 

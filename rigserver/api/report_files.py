@@ -80,6 +80,12 @@ class ReportFile:
     def media_type(self) -> str:
         return MEDIA_TYPES[self.fmt]
 
+    @property
+    def render(self) -> str:
+        """The name of the render that makes this version in every format (one job writes
+        the page and the PDF): a download of either joins it while it runs."""
+        return str(self.path.with_suffix(""))
+
     def sibling(self, fmt: str) -> ReportFile:
         """The same report in another format."""
         return ReportFile(self.path.with_suffix(f".{fmt}"), self.etag, fmt, self.lang)

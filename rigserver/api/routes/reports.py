@@ -68,7 +68,7 @@ async def _report(
     if not target.path.exists() and not target.matches(request.headers.get("if-none-match")):
         job, in_process = await run_in_threadpool(_job, services, run, target, notes)
         future = services.reports.render(
-            str(target.path), caller_key(request, services), job, in_process=in_process
+            target.render, caller_key(request, services), job, in_process=in_process
         )
         await rendered(future, target)
     return run, file_answer(request, target, headers)

@@ -178,8 +178,8 @@ def test_a_download_joins_the_background_render_of_its_report(
 ) -> None:
     """One render makes a version's page and PDF: asking for the page while the finished
     run's background render of that language runs waits for it, and renders nothing again
-    (a 50-million-reading run's page took 12.8 s behind both languages' renders, 7.8 s
-    alone)."""
+    (a 50-million-reading run's page took 12.8 s behind both languages' renders, 7.5-7.8 s
+    alone: docs/speed.md)."""
     started = threading.Event()
     release = threading.Event()
     built: list[str] = []

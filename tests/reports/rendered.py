@@ -103,11 +103,27 @@ LEAD_CLASSES = {"caption", "formulas"}
 def _stranded(document: Any) -> list[str]:
     """Awkward page breaks: a heading, a table's caption or formulas as the last line of a
     page (its content on the next), a figure's caption as the first (its plot on the one
-    before), a page of nothing but the footer ("Made by rig ...")."""
-    from weasyprint.formatting_structure.boxes import LineBox, MarginBox
+    before), a page of nothing but the footer ("Made by rig ..."), a table that goes on to
+    another page leaving a single row of its body on one."""
+    from weasyprint.formatting_structure.boxes import (
+        LineBox,
+        MarginBox,
+        TableBox,
+        TableRowGroupBox,
+    )
 
     found: list[str] = []
+    rows: dict[int, dict[int, int]] = {}  # table element -> page -> its body rows there
+    names: dict[int, str] = {}
     for number, page in enumerate(document.pages, start=1):
+        for table in page._page_box.descendants():
+            if isinstance(table, TableBox) and table.element is not None:
+                body = [g for g in table.children if isinstance(g, TableRowGroupBox)]
+                count = sum(len(g.children) for g in body if not g.is_header)
+                key = id(table.element)
+                names[key] = table.element.get("id") or "a table"
+                by_page = rows.setdefault(key, {})
+                by_page[number] = by_page.get(number, 0) + count
         roots = [c for c in page._page_box.children if not isinstance(c, MarginBox)]
         lines = [d for root in roots for d in root.descendants() if isinstance(d, LineBox)]
         if not lines:
@@ -120,6 +136,11 @@ def _stranded(document: Any) -> list[str]:
             found.append(f"page {number} holds only the footer {_line_text(first)!r}")
         if first.element_tag == "figcaption" and number > 1:
             found.append(f"page {number} starts with a figure's caption {_line_text(first)!r}")
+    for key, by_page in rows.items():
+        if len(by_page) > 1:
+            for number, count in by_page.items():
+                if count == 1:
+                    found.append(f"{names[key]} leaves a single row on page {number}")
     return found
 
 

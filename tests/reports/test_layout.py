@@ -14,7 +14,7 @@ from rigserver.reports.document import Table
 from rigserver.reports.i18n import LANGS, Lang
 from rigserver.reports.layout import numbered, split
 from schemas.stands import StandKind
-from tests.reports.rendered import Rendered, run_report, series_report, squeezed
+from tests.reports.rendered import Rendered, laid_out, run_report, series_report, squeezed
 from tests.reports.simulated import tables
 
 REPORTS = {"run": run_report, "series": series_report}
@@ -45,6 +45,20 @@ def test_no_heading_ends_a_page_and_no_caption_leaves_its_figure(
 ) -> None:
     report = rendered(which, kind, lang)
     assert not report.stranded, f"{report.name}: " + "; ".join(report.stranded)
+
+
+@pytest.mark.parametrize(("rows", "lone"), [(11, True), (12, False), (10, False)])
+def test_a_table_leaving_one_row_on_a_page_is_found(rows: int, lone: bool) -> None:
+    # pages whose content area is 100 mm high (120 mm less two 10 mm margins) and rows
+    # 10 mm high hold 10 rows each: the 11th row alone goes on to page 2
+    html = (
+        "<style>@page { size: 100mm 120mm; margin: 10mm; } body { margin: 0; }"
+        " table { border-collapse: collapse; } td { height: 10mm; padding: 0; border: 0;"
+        " box-sizing: border-box; }</style>"
+        '<table id="t">' + "<tr><td>x</td></tr>" * rows + "</table>"
+    )
+    found = laid_out("synthetic", html, []).stranded
+    assert found == (["t leaves a single row on page 2"] if lone else []), found
 
 
 @pytest.mark.parametrize(("which", "kind", "lang"), cases())

@@ -15,7 +15,9 @@ version (:mod:`rigserver.api.report_files`); afterwards it is a file, served wit
 pool. Renders in the background (a finished run's reports) take a free place or none.
 
 A failed render is logged in one line, without the renderer's own messages
-(:func:`~rigserver.api.report_jobs.quiet_renderer_logs`).
+(:func:`~rigserver.api.report_jobs.quiet_renderer_logs`). A render process that ends
+abruptly (killed for memory, or by a signal to the whole process group as the server
+stops) breaks its executor for good: the next render starts a new one.
 """
 
 from __future__ import annotations
@@ -26,6 +28,7 @@ import multiprocessing
 import threading
 from collections.abc import Callable
 from concurrent.futures import Executor, Future, ProcessPoolExecutor, ThreadPoolExecutor
+from concurrent.futures.process import BrokenProcessPool
 from dataclasses import dataclass
 
 from rigserver.api.problems import ApiProblem
@@ -117,11 +120,17 @@ class RenderPool:
             flight = self._flights[name] = Future()
             executor = self._executor(in_process)
         try:
-            task = executor.submit(render_job, job)
+            try:
+                task = executor.submit(render_job, job)
+            except BrokenProcessPool:  # its process ended since: a new one takes the job
+                self._drop(executor)
+                with self._lock:
+                    executor = self._executor(in_process)
+                task = executor.submit(render_job, job)
         except BaseException:
             self._release(name, key)
             raise
-        task.add_done_callback(lambda done: self._finished(name, key, done, flight))
+        task.add_done_callback(lambda done: self._finished(name, key, done, flight, executor))
         return flight
 
     def _executor(self, in_process: bool) -> Executor:
@@ -137,14 +146,27 @@ class RenderPool:
             )
         return self._processes
 
-    def _finished(self, name: str, key: str, done: Future[None], flight: Future[None]) -> None:
+    def _finished(
+        self, name: str, key: str, done: Future[None], flight: Future[None], executor: Executor
+    ) -> None:
         self._release(name, key)
         exc = done.exception() if not done.cancelled() else RuntimeError("render cancelled")
         if exc is None:
             flight.set_result(None)
             return
-        log.error("rendering %s failed: %s: %s", name, type(exc).__name__, exc)
+        if isinstance(exc, BrokenProcessPool):
+            self._drop(executor)
+            log.warning("rendering %s stopped: its render process ended abruptly", name)
+        else:
+            log.error("rendering %s failed: %s: %s", name, type(exc).__name__, exc)
         flight.set_exception(exc)
+
+    def _drop(self, executor: Executor) -> None:
+        """Forget a broken process executor: the next render of an ended run starts another."""
+        with self._lock:
+            if self._processes is executor:
+                self._processes = None
+        executor.shutdown(wait=False, cancel_futures=True)
 
     def _release(self, name: str, key: str) -> None:
         with self._lock:

@@ -108,6 +108,8 @@ def create_app(
 
     @asynccontextmanager
     async def lifespan(app: FastAPI) -> AsyncIterator[None]:
+        if settings.reports_on_finish:  # the first run to end renders its reports at once
+            app.state.services.reports.warm_up()
         yield
         app.state.services.results.close()
         app.state.services.reports.close()

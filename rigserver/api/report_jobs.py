@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import logging
 import os
+import signal
 from collections.abc import Iterator, Mapping
 from contextlib import ExitStack
 from dataclasses import dataclass, field
@@ -49,6 +50,15 @@ def quiet_renderer_logs() -> None:
         logger.propagate = False
         if not logger.handlers:
             logger.addHandler(logging.NullHandler())
+
+
+def render_process_started() -> None:
+    """A render process's start: the renderer's messages kept out of the log, and Ctrl-C
+    left to the service (a terminal sends SIGINT to the whole process group; the service
+    stops its render processes as it stops, once the renders under way are done, instead
+    of each printing a traceback)."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    quiet_renderer_logs()
 
 
 class FileReadings:
@@ -146,6 +156,18 @@ Job = RunReportJob | SeriesReportJob
 def render_job(job: Job) -> None:
     """The render pool's task (in its process or thread)."""
     job.render()
+
+
+#: What :func:`warm_up` lays out: a page with a plot's worth of text, no report.
+_BLANK = "<html><body><h1>rig</h1><p>0,1 Н·м</p></body></html>"
+
+
+def warm_up() -> None:
+    """Load what a render needs (Matplotlib, WeasyPrint, the fonts) by laying out a blank
+    page: the render process's first report then does not wait for it (about 2 s)."""
+    import matplotlib.pyplot  # noqa: F401  (the plots' import, as a report makes it)
+
+    html_to_pdf(_BLANK)
 
 
 def write_targets(html: str, targets: Mapping[str, Path]) -> None:

@@ -32,7 +32,13 @@ from concurrent.futures.process import BrokenProcessPool
 from dataclasses import dataclass
 
 from rigserver.api.problems import ApiProblem
-from rigserver.api.report_jobs import Job, quiet_renderer_logs, render_job
+from rigserver.api.report_jobs import (
+    Job,
+    quiet_renderer_logs,
+    render_job,
+    render_process_started,
+    warm_up,
+)
 
 log = logging.getLogger("rigserver")
 
@@ -95,6 +101,20 @@ class RenderPool:
         with contextlib.suppress(RuntimeError):  # the pool is closed: the server stops
             self._threads.submit(run)
 
+    def warm_up(self) -> None:
+        """Start the render process now and load the renderer in it, so that the first
+        report of an ended run does not wait for that (threads need nothing: the service
+        loads the renderer at the first render of an open run)."""
+        if not self._use_processes:
+            return
+        with self._lock:
+            executor = self._executor(in_process=False)
+        try:
+            task = executor.submit(warm_up)
+        except (RuntimeError, BrokenProcessPool):  # closed meanwhile: the server stops
+            return
+        task.add_done_callback(lambda done: self._warmed(done, executor))
+
     def close(self) -> None:
         """Stop taking renders; those under way finish (a process pool's workers exit)."""
         self._threads.shutdown(wait=False, cancel_futures=True)
@@ -142,7 +162,7 @@ class RenderPool:
             self._processes = ProcessPoolExecutor(
                 max_workers=self.workers,
                 mp_context=multiprocessing.get_context("spawn"),
-                initializer=quiet_renderer_logs,
+                initializer=render_process_started,
             )
         return self._processes
 
@@ -160,6 +180,15 @@ class RenderPool:
         else:
             log.error("rendering %s failed: %s: %s", name, type(exc).__name__, exc)
         flight.set_exception(exc)
+
+    def _warmed(self, done: Future[None], executor: Executor) -> None:
+        """A process that ended while warming up (the server stopping) is dropped quietly:
+        the next render starts another; another failure is logged in one line."""
+        exc = done.exception() if not done.cancelled() else None
+        if isinstance(exc, BrokenProcessPool):
+            self._drop(executor)
+        elif exc is not None:
+            log.warning("loading the report renderer failed: %s: %s", type(exc).__name__, exc)
 
     def _drop(self, executor: Executor) -> None:
         """Forget a broken process executor: the next render of an ended run starts another."""

@@ -158,15 +158,13 @@ def render_job(job: Job) -> None:
     job.render()
 
 
-#: What :func:`warm_up` lays out: a page with a plot's worth of text, no report.
+#: What :func:`warm_up` lays out: a heading and a line in Latin and Cyrillic, no report.
 _BLANK = "<html><body><h1>rig</h1><p>0,1 Н·м</p></body></html>"
 
 
 def warm_up() -> None:
-    """Load what a render needs (Matplotlib, WeasyPrint, the fonts) by laying out a blank
-    page: the render process's first report then does not wait for it (about 2 s)."""
-    import matplotlib.pyplot  # noqa: F401  (the plots' import, as a report makes it)
-
+    """Load WeasyPrint and the fonts by laying out a blank page (Matplotlib came with this
+    module's import): the render process's first report then does not wait for them."""
     html_to_pdf(_BLANK)
 
 

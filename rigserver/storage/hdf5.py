@@ -11,7 +11,8 @@ Data directory::
 
 Crash safety. A batch is acknowledged once its journal transaction has committed; only
 then is it handed to the run's HDF5 file (which buffers small batches, see
-:mod:`~rigserver.storage.runfile`; it is never fsynced per batch). For an open run that
+:mod:`~rigserver.storage.runfile`; it is never fsynced per batch), or, for a large batch,
+to the file's backlog, written later (:mod:`~rigserver.storage.backlog`). For an open run that
 file is a view that can always be rebuilt from the journal. ``journal.sqlite`` holds a
 clean-shutdown marker, "0" while a store is open and "1" after :meth:`HDF5Store.close`.
 Opening after an unclean shutdown rebuilds the file of every open run from the journal
@@ -79,6 +80,14 @@ from rigserver.storage._checks import (
 from rigserver.storage._failures import LOW_LEVEL, UNREADABLE, failures_as, translated
 from rigserver.storage._results import CheckedResults, check_results
 from rigserver.storage._time import now
+from rigserver.storage.backlog import (
+    BACKLOG_ROWS,
+    MAX_BACKLOG_BYTES,
+    QUIET_SECONDS,
+    Backlog,
+    Owed,
+    WhenQuiet,
+)
 from rigserver.storage.base import Columns, NewBatch
 from rigserver.storage.errors import (
     RunDamaged,
@@ -100,6 +109,8 @@ log = logging.getLogger(__name__)
 MAX_OPEN_FILES = 32
 #: What reading an opened run file raises when it is corrupt (not: a channel it lacks).
 _CORRUPT: tuple[type[Exception], ...] = (*LOW_LEVEL, KeyError)
+#: What writing a file's backlog and closing it may raise.
+_CLOSING: tuple[type[Exception], ...] = (*LOW_LEVEL, StorageError)
 #: Rows per batch when the readings of an unfinished file are taken back into the journal.
 _IMPORT_ROWS = 1 << 20
 
@@ -115,6 +126,8 @@ class _Live:
     stale: bool = False
     #: the largest seq stored: a batch with a larger one is no retry (no lookup)
     max_seq: int = -1
+    #: batches the open file still owes (only while the file is open and not stale)
+    backlog: Backlog = field(default_factory=Backlog)
 
 
 class HDF5Store:
@@ -128,10 +141,20 @@ class HDF5Store:
         SQLite's ``synchronous`` for the journal: "normal" keeps every acknowledged batch
         through a kill of the process; "full" also through a power loss (one fsync per
         batch).
+    backlog_rows : int
+        Batches of at least this many rows are written to the run file after their
+        acknowledgement (:mod:`~rigserver.storage.backlog`).
     """
 
-    def __init__(self, data_dir: Path, *, synchronous: Synchronous = "normal") -> None:
+    def __init__(
+        self,
+        data_dir: Path,
+        *,
+        synchronous: Synchronous = "normal",
+        backlog_rows: int = BACKLOG_ROWS,
+    ) -> None:
         self.data_dir = Path(data_dir)
+        self._backlog_rows = backlog_rows
         self._runs = self.data_dir / "runs"
         self._snapshots = self.data_dir / "snapshots"
         self._lock = threading.RLock()
@@ -174,6 +197,7 @@ class HDF5Store:
         except BaseException:
             os.close(self._dir_lock)
             raise
+        self._quiet = WhenQuiet(self._write_backlog, quiet=QUIET_SECONDS, name="rig-backlog")
 
     def __enter__(self) -> HDF5Store:
         return self
@@ -318,6 +342,7 @@ class HDF5Store:
         staged: list[_Staged] = []
         saved: dict[str, _Saved] = {}
         prepared = [posted_or_refusal(nb) for nb in batches]  # copies and digests: outside the lock
+        self._quiet.touched()
         with self._lock:
             try:
                 self._check_open()
@@ -399,10 +424,10 @@ class HDF5Store:
         if run_id not in saved:
             saved[run_id] = _Saved.of(live)
         group_rows = live.run.rows.get(group, 0) + batch.rows
-        stored = self._journal.add_batch(run_id, seq, batch, group_rows)
-        if stored is not None:
+        place = self._journal.add_batch(run_id, seq, batch, group_rows)
+        if isinstance(place, StoredBatch):
             try:
-                return retry_receipt(run_id, seq, stored, batch)
+                return retry_receipt(run_id, seq, place, batch)
             except SequenceConflict as exc:
                 return exc
         live.run.rows = {**live.run.rows, group: group_rows}
@@ -410,11 +435,13 @@ class HDF5Store:
         live.max_seq = max(live.max_seq, seq)
         _remember_last(live, batch)
         stored = StoredBatch(group, batch.rows, group_rows, batch.digest)
-        staged.append(_Staged(index, live, seq, padded(decl, batch.columns, batch.rows), stored))
+        columns = padded(decl, batch.columns, batch.rows)
+        staged.append(_Staged(index, live, seq, columns, stored, Owed(group, batch.rows, *place)))
         return None
 
     def _write_staged(self, st: _Staged) -> BatchReceipt | Exception:
-        """Hand a committed batch to its run's file; a failure marks the view stale."""
+        """Hand a committed batch to its run's file, or to the file's backlog if it is
+        large or the file owes earlier ones; a failure marks the view stale."""
         live = st.live
         receipt = stored_receipt(live.run.id, st.seq, st.stored, duplicate=False)
         if live.stale:  # the rebuild from the journal will bring the batch in
@@ -425,7 +452,14 @@ class HDF5Store:
         )
         try:
             rf = self._files.get(live.run.id) or self._view(live, doing)
-            rf.append(st.stored.group, st.columns, st.stored.rows)
+            if live.backlog or st.stored.rows >= self._backlog_rows:
+                live.backlog.add(st.owed)
+                while live.backlog.bytes > MAX_BACKLOG_BYTES:
+                    self._pay(live, rf, 1)
+                if live.backlog:
+                    self._quiet.wanted()
+            else:
+                rf.append(st.stored.group, st.columns, st.stored.rows)
         except LOW_LEVEL as exc:
             self._spoil(live)
             return translated(exc, doing)
@@ -608,6 +642,7 @@ class HDF5Store:
 
     def close(self) -> None:
         """Write and close every open file, mark the shutdown clean, release the directory."""
+        self._quiet.close()
         with self._lock:
             if self._closed:
                 return
@@ -679,6 +714,7 @@ class HDF5Store:
         with self._spoiling(live, doing):
             if live.stale:
                 self._close_file(run_id)
+                live.backlog.clear()
                 self._rebuild(live.run, final=False)
                 live.stale = False
             rf = self._files.get(run_id)
@@ -689,7 +725,43 @@ class HDF5Store:
                 rf = self._keep_open(run_id, RunFile.open(path, writable=True))
             else:
                 self._files.move_to_end(run_id)
+            if live.backlog:
+                self._pay(live, rf, len(live.backlog.owed))
             return rf
+
+    def _pay(self, live: _Live, rf: RunFile, count: int) -> None:
+        """Write the ``count`` oldest batches of the run's backlog to its file; if that
+        fails, the view is stale (the rebuild from the journal brings them in)."""
+        owed = live.backlog.take(count)
+        payloads = self._journal.read_payloads(live.run.id, [(o.at, o.size) for o in owed])
+        try:
+            for o, columns in zip(owed, payloads, strict=True):
+                decl = channel_group(live.run.stand, o.group)
+                rf.append(o.group, padded(decl, columns, o.rows), o.rows)
+        except BaseException:
+            self._spoil(live)
+            raise
+
+    def _write_backlog(self) -> bool:
+        """One batch of the backlog of the first open run that has one (the store is quiet:
+        :class:`WhenQuiet`); True if any is left."""
+        with self._lock:
+            if self._closed:
+                return False
+            owing = [live for live in self._live.values() if live.backlog and not live.stale]
+            if not owing:
+                return False
+            live = owing[0]
+            rf = self._files.get(live.run.id)
+            try:
+                if rf is None:  # not expected: a file is closed only with its backlog written
+                    raise StorageUnavailable(f"the file of run {live.run.id} is not open")
+                with self._spoiling(live, f"writing the backlog of run {live.run.id}"):
+                    self._pay(live, rf, 1)
+            except StorageError as exc:
+                log.warning("%s; the file will be rebuilt from the journal", exc)
+                self._spoil(live)
+            return len(owing) > 1 or bool(live.backlog)
 
     @contextmanager
     def _spoiling(self, live: _Live, doing: str) -> Iterator[None]:
@@ -707,22 +779,29 @@ class HDF5Store:
         return rf
 
     def _close_file(self, run_id: str) -> bool:
-        """Close the run's file if open; False (and the view stale) if that failed."""
+        """Write the run's backlog and close its file if open; False (and the view stale)
+        if that failed."""
         rf = self._files.pop(run_id, None)
         if rf is None:
             return True
+        live = self._live.get(run_id)
         try:
-            rf.close()
-        except LOW_LEVEL as exc:
+            try:
+                if live is not None and live.backlog and not live.stale:
+                    self._pay(live, rf, len(live.backlog.owed))
+            finally:
+                rf.close()
+        except _CLOSING as exc:
             log.warning("closing the file of run %s failed (%s); it will be rebuilt", run_id, exc)
-            live = self._live.get(run_id)
             if live is not None:
                 live.stale = True
+                live.backlog.clear()
             return False
         return True
 
     def _spoil(self, live: _Live) -> None:
         live.stale = True
+        live.backlog.clear()  # the rebuild from the journal brings every batch in
         self._close_file(live.run.id)
 
     def _rebuild(self, run: Run, *, final: bool) -> None:
@@ -852,6 +931,8 @@ class _Staged:
     seq: int
     columns: dict[str, NDArray[np.float64]]
     stored: StoredBatch
+    #: its place in the payload file, should it join the backlog
+    owed: Owed
 
 
 def _damaged(run_id: str, path: Path, exc: Exception) -> RunDamaged:

@@ -433,11 +433,14 @@ class Journal:
         if self._db.in_transaction:
             self._db.execute("ROLLBACK")
 
-    def add_batch(self, run_id: str, seq: int, batch: Batch, group_rows: int) -> StoredBatch | None:
+    def add_batch(
+        self, run_id: str, seq: int, batch: Batch, group_rows: int
+    ) -> StoredBatch | tuple[int, int]:
         """Add a batch to the transaction opened by :meth:`begin`; its readings are
         appended to the run's payload file.
 
-        Returns ``None``, or the batch stored before under ``seq`` (then nothing changes).
+        Returns where they are in it (``at``, ``size``), or the batch stored before under
+        ``seq`` (then nothing changes).
         """
         if not self._db.in_transaction:  # e.g. SQLite rolled the group back after a failure
             raise sqlite3.OperationalError("a batch is added inside a transaction only")
@@ -451,10 +454,13 @@ class Journal:
                 (run_id, seq, batch.group, batch.rows, group_rows, batch.digest, at, size),
             )
         except sqlite3.IntegrityError:
-            return self.stored_batch(run_id, seq)
+            stored = self.stored_batch(run_id, seq)
+            if stored is None:  # not the (run_id, seq) taken
+                raise
+            return stored
         self._dirty.add(run_id)
         self._payloads.append(run_id, parts, size)
-        return None
+        return at, size
 
     def _committed_end(self, run_id: str) -> int:
         """The end of the run's last committed batch in its payload file (0 if none)."""
@@ -475,11 +481,17 @@ class Journal:
         order = self._db.execute(
             "SELECT grp, at, size FROM batches WHERE run_id = ? ORDER BY n", (run_id,)
         ).fetchall()
-        if not order:
-            return
         places = [(at, size) for _, at, size in order]
-        for (group, _, _), data in zip(order, self._payloads.read(run_id, places), strict=True):
-            yield group, decode(data)
+        for (group, _, _), columns in zip(order, self.read_payloads(run_id, places), strict=True):
+            yield group, columns
+
+    def read_payloads(
+        self, run_id: str, places: list[tuple[int, int]]
+    ) -> Iterator[dict[str, NDArray[np.float64]]]:
+        """The columns of the run's batches at ``places`` (``add_batch``'s), in order."""
+        if places:
+            for data in self._payloads.read(run_id, places):
+                yield decode(data)
 
 
 class _Checkpointer:

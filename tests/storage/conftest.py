@@ -51,16 +51,20 @@ def friction(start: int, n: int) -> dict[str, NDArray[np.float64]]:
 
 
 def open_store(deployment: str, tmp_path: Path, request: pytest.FixtureRequest) -> RunStore:
-    """A store of the deployment: "memory", "hdf5" (embedded) or "postgres" (cluster)."""
+    """A store of the deployment: "memory", "hdf5" (embedded), "hdf5-backlog" (embedded,
+    every batch written to its run file after its acknowledgement) or "postgres"
+    (cluster)."""
     if deployment == "memory":
         return MemoryStore()
     if deployment == "hdf5":
         return HDF5Store(tmp_path / "data")
+    if deployment == "hdf5-backlog":
+        return HDF5Store(tmp_path / "data", backlog_rows=1)
     url = request.getfixturevalue("postgres_url")
     return PostgresStore(url, files_dir=tmp_path / "files")
 
 
-@pytest.fixture(params=["memory", "hdf5", "postgres"])
+@pytest.fixture(params=["memory", "hdf5", "hdf5-backlog", "postgres"])
 def store(request: pytest.FixtureRequest, tmp_path: Path) -> Iterator[RunStore]:
     s = open_store(request.param, tmp_path, request)
     yield s

@@ -1,7 +1,9 @@
 """Append to a store until killed, printing what was acknowledged (for test_crash.py).
 
 Usage: ``python crash_writer.py STORE RUN_ID FIRST_SEQ FILES_DIR``, STORE a data directory
-(HDF5Store) or a ``postgresql:`` URL (PostgresStore, its run files in FILES_DIR). Prints
+(HDF5Store), ``backlog:`` and a data directory (HDF5Store writing batches of 1 000 rows or
+more to the run file after their acknowledgement) or a ``postgresql:`` URL
+(PostgresStore, its run files in FILES_DIR). Prints
 ``ready`` once the store is open, ``ack SEQ`` after each batch of RUN_ID is acknowledged,
 and ``ended RUN_ID`` after a side run (created, two batches, results, finished) is ended;
 one side run every 40 seqs.
@@ -36,10 +38,12 @@ def batch_of(seq: int) -> tuple[str, dict[str, NDArray[np.float64]]]:
 
 
 def open_store(target: str, files_dir: Path) -> RunStore:
-    """The store at ``target``: a ``postgresql:`` URL (run files in ``files_dir``) or a
-    data directory."""
+    """The store at ``target``: a ``postgresql:`` URL (run files in ``files_dir``), or a
+    data directory (after ``backlog:``, large batches go to the run file's backlog)."""
     if target.startswith("postgresql:"):
         return PostgresStore(target, files_dir=files_dir)
+    if target.startswith("backlog:"):
+        return HDF5Store(Path(target.removeprefix("backlog:")), backlog_rows=1_000)
     return HDF5Store(Path(target))
 
 

@@ -60,12 +60,14 @@ def _kill_while_writing(
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("deployment", ["hdf5", "postgres"])
+@pytest.mark.parametrize("deployment", ["hdf5", "hdf5-backlog", "postgres"])
 def test_kill_9_at_random_moments_loses_nothing_acknowledged(
     deployment: str, tmp_path: Path, request: pytest.FixtureRequest
 ) -> None:
     rng = random.Random(20240301)
-    target = str(tmp_path) if deployment == "hdf5" else str(request.getfixturevalue("postgres_url"))
+    target = {"hdf5": str(tmp_path), "hdf5-backlog": f"backlog:{tmp_path}"}.get(deployment) or str(
+        request.getfixturevalue("postgres_url")
+    )
     files_dir = tmp_path / "files"
     store = open_store(target, files_dir)
     with closing(store):
@@ -101,7 +103,11 @@ def test_kill_9_at_random_moments_loses_nothing_acknowledged(
         # every run file opens with plain h5py and holds what the catalogue says (the
         # embedded store's files themselves; the cluster's as materialised from the journal)
         files = {
-            r.id: tmp_path / "runs" / f"{r.id}.h5" if deployment == "hdf5" else store.run_file(r.id)
+            r.id: (
+                tmp_path / "runs" / f"{r.id}.h5"
+                if deployment.startswith("hdf5")
+                else store.run_file(r.id)
+            )
             for r in runs
         }
     assert ended <= {r.id for r in runs}

@@ -3,18 +3,21 @@
 A batch is durable once the journal has it (:mod:`~rigserver.storage.journal`); the run
 file is a view of the journal. A large batch (:data:`BACKLOG_ROWS` rows or more, which the
 file would write at once) is acknowledged as soon as the journal has it, and its place in
-the journal's payload file joins the run's backlog. The backlog is written to the file, the
-oldest batch first:
+the journal's payload file joins the run's backlog; so do the run's later batches while
+the backlog is not empty (the file keeps the journal's order). The backlog is written to
+the file, the oldest batch first, read back from the journal :data:`PIECE_ROWS` rows at a
+time:
 
 - before anything uses the file: a read, results, a snapshot, the end of the run, closing
   the file;
 - when the store has taken no batch for :data:`QUIET_SECONDS` (:class:`WhenQuiet`);
-- past :data:`MAX_BACKLOG_BYTES` of a run, one old batch for each new one.
+- at once when it passes :data:`MAX_BACKLOG_BYTES`: the run is then a steady stream, not a
+  burst, and its batches are written as they come until the store is next quiet.
 
 So a burst of large batches costs the journal's write per batch while it lasts and the run
-file's write after it, where raw h5py would write once: a store that takes large batches
-without pause writes both per batch, as it did before the backlog. Whatever waits on the
-file (a read, the end of a run) waits at most for :data:`MAX_BACKLOG_BYTES` to be written.
+file's write after it, where a steady stream costs both per batch. Whatever waits on the
+file (a read, the end of a run, the post that passes the bound) waits at most for
+:data:`MAX_BACKLOG_BYTES` to be written.
 """
 
 from __future__ import annotations
@@ -31,6 +34,8 @@ BACKLOG_ROWS = 65_536
 #: The most one run's file may owe, in bytes of the journal's payload (about half a second of
 #: HDF5 writing on the project's machine).
 MAX_BACKLOG_BYTES = 256 << 20
+#: Rows of a piece of a batch read back from the journal (five channels: 5 MiB).
+PIECE_ROWS = 131_072
 #: Seconds without a new batch after which the backlog is written.
 QUIET_SECONDS = 0.5
 

@@ -83,6 +83,7 @@ from rigserver.storage._time import now
 from rigserver.storage.backlog import (
     BACKLOG_ROWS,
     MAX_BACKLOG_BYTES,
+    PIECE_ROWS,
     QUIET_SECONDS,
     Backlog,
     Owed,
@@ -128,6 +129,8 @@ class _Live:
     max_seq: int = -1
     #: batches the open file still owes (only while the file is open and not stale)
     backlog: Backlog = field(default_factory=Backlog)
+    #: the backlog went past its bound: batches are written at once until the store is quiet
+    direct: bool = False
 
 
 class HDF5Store:
@@ -452,14 +455,14 @@ class HDF5Store:
         )
         try:
             rf = self._files.get(live.run.id) or self._view(live, doing)
-            if live.backlog or st.stored.rows >= self._backlog_rows:
-                live.backlog.add(st.owed)
-                while live.backlog.bytes > MAX_BACKLOG_BYTES:
-                    self._pay(live, rf, 1)
-                if live.backlog:
-                    self._quiet.wanted()
-            else:
+            if live.direct or not (live.backlog or st.stored.rows >= self._backlog_rows):
                 rf.append(st.stored.group, st.columns, st.stored.rows)
+            else:
+                live.backlog.add(st.owed)
+                if live.backlog.bytes > MAX_BACKLOG_BYTES:  # no burst: a steady stream
+                    self._pay(live, rf, len(live.backlog.owed))
+                    live.direct = True
+                self._quiet.wanted()
         except LOW_LEVEL as exc:
             self._spoil(live)
             return translated(exc, doing)
@@ -730,14 +733,15 @@ class HDF5Store:
             return rf
 
     def _pay(self, live: _Live, rf: RunFile, count: int) -> None:
-        """Write the ``count`` oldest batches of the run's backlog to its file; if that
-        fails, the view is stale (the rebuild from the journal brings them in)."""
-        owed = live.backlog.take(count)
-        payloads = self._journal.read_payloads(live.run.id, [(o.at, o.size) for o in owed])
+        """Write the ``count`` oldest batches of the run's backlog to its file, read back
+        from the journal a piece at a time; if that fails, the view is stale (the rebuild
+        from the journal brings them in)."""
         try:
-            for o, columns in zip(owed, payloads, strict=True):
+            for o in live.backlog.take(count):
                 decl = channel_group(live.run.stand, o.group)
-                rf.append(o.group, padded(decl, columns, o.rows), o.rows)
+                for piece in self._journal.payload_pieces(live.run.id, o.at, o.size, PIECE_ROWS):
+                    rows = max(len(v) for v in piece.values())
+                    rf.append(o.group, padded(decl, piece, rows), rows)
         except BaseException:
             self._spoil(live)
             raise
@@ -748,6 +752,8 @@ class HDF5Store:
         with self._lock:
             if self._closed:
                 return False
+            for live in self._live.values():
+                live.direct = False  # whatever stream made it so has paused
             owing = [live for live in self._live.values() if live.backlog and not live.stale]
             if not owing:
                 return False

@@ -481,17 +481,18 @@ class Journal:
         order = self._db.execute(
             "SELECT grp, at, size FROM batches WHERE run_id = ? ORDER BY n", (run_id,)
         ).fetchall()
+        if not order:
+            return
         places = [(at, size) for _, at, size in order]
-        for (group, _, _), columns in zip(order, self.read_payloads(run_id, places), strict=True):
-            yield group, columns
+        for (group, _, _), data in zip(order, self._payloads.read(run_id, places), strict=True):
+            yield group, decode(data)
 
-    def read_payloads(
-        self, run_id: str, places: list[tuple[int, int]]
+    def payload_pieces(
+        self, run_id: str, at: int, size: int, rows: int
     ) -> Iterator[dict[str, NDArray[np.float64]]]:
-        """The columns of the run's batches at ``places`` (``add_batch``'s), in order."""
-        if places:
-            for data in self._payloads.read(run_id, places):
-                yield decode(data)
+        """The columns of the run's batch at (``at``, ``size``) (``add_batch``'s place), in
+        pieces of at most ``rows`` rows."""
+        return self._payloads.pieces(run_id, at, size, rows)
 
 
 class _Checkpointer:

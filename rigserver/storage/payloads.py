@@ -37,6 +37,8 @@ PREPARE_STEP = 1 << 20
 #: The most a file is prepared past its end.
 PREPARE_MAX = 64 << 20
 _IOV_MAX = 512
+#: Bytes read first of a batch in pieces: enough for the header of any stand's group.
+_HEAD_BYTES = 4096
 _HEADER = struct.Struct("<I")
 _COLUMN = struct.Struct("<HQ")
 
@@ -54,17 +56,26 @@ def encode(columns: dict[str, NDArray[np.float64]]) -> list[bytes | memoryview]:
 
 def decode(data: bytes) -> dict[str, NDArray[np.float64]]:
     """The columns :func:`encode` laid out, as read-only views of ``data``."""
-    (count,) = _HEADER.unpack_from(data, 0)
+    out: dict[str, NDArray[np.float64]] = {}
+    for name, rows, at in _layout(data):
+        out[name] = np.frombuffer(data, dtype="<f8", count=rows, offset=at)
+    return out
+
+
+def _layout(head: bytes) -> list[tuple[str, int, int]]:
+    """(name, rows, where its values start) of each column, from the first bytes of an
+    encoded batch (``struct.error`` if ``head`` is shorter than the header)."""
+    (count,) = _HEADER.unpack_from(head, 0)
     at = _HEADER.size
     names: list[tuple[str, int]] = []
     for _ in range(count):
-        size, rows = _COLUMN.unpack_from(data, at)
+        size, rows = _COLUMN.unpack_from(head, at)
         at += _COLUMN.size
-        names.append((data[at : at + size].decode(), rows))
+        names.append((head[at : at + size].decode(), rows))
         at += size
-    out: dict[str, NDArray[np.float64]] = {}
+    out = []
     for name, rows in names:
-        out[name] = np.frombuffer(data, dtype="<f8", count=rows, offset=at)
+        out.append((name, rows, at))
         at += 8 * rows
     return out
 
@@ -144,6 +155,37 @@ class PayloadFiles:
                 if len(data) != size:
                     raise StorageUnavailable(f"{path} is cut short at byte {at + len(data)}")
                 yield data
+        finally:
+            os.close(fd)
+
+    def pieces(
+        self, run_id: str, at: int, size: int, rows: int
+    ) -> Iterator[dict[str, NDArray[np.float64]]]:
+        """The batch at (``at``, ``size``) in pieces of at most ``rows`` rows (a column
+        shorter than the batch's longest ends early), read one piece at a time."""
+        path = self._path(run_id)
+        try:
+            fd = os.open(path, os.O_RDONLY)
+        except FileNotFoundError:
+            raise StorageUnavailable(
+                f"the readings of run {run_id} are no longer in the journal ({path} is missing)"
+            ) from None
+        try:
+            head = os.pread(fd, min(size, _HEAD_BYTES), at)
+            try:
+                layout = _layout(head)
+            except struct.error:  # names longer than _HEAD_BYTES: the whole batch at once
+                layout = _layout(os.pread(fd, size, at))
+            longest = max((n for _, n, _ in layout), default=0)
+            for start in range(0, longest, rows):
+                piece: dict[str, NDArray[np.float64]] = {}
+                for name, count, offset in layout:
+                    n = max(0, min(count, start + rows) - start)
+                    data = os.pread(fd, 8 * n, at + offset + 8 * start) if n else b""
+                    if len(data) != 8 * n:
+                        raise StorageUnavailable(f"{path} is cut short in run {run_id}'s batch")
+                    piece[name] = np.frombuffer(data, dtype="<f8")
+                yield piece
         finally:
             os.close(fd)
 

@@ -93,17 +93,39 @@ def test_the_backlog_is_written_once_the_store_is_quiet(
 
 
 @pytest.mark.usefixtures("quiet_never")
-def test_a_run_owes_at_most_the_bound_oldest_written_first(
+def test_past_the_bound_the_backlog_is_written_and_then_each_batch_at_once(
     store: HDF5Store, writes: _Writes, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     one = sum(memoryview(p).nbytes for p in encode(friction(0, LARGE)))  # a batch's payload
     monkeypatch.setattr(hdf5_module, "MAX_BACKLOG_BYTES", 2 * one + one // 2)  # two fit
     run = store.create_run(make_run())
-    store.append(run.id, 0, "friction", friction(0, LARGE))
-    for seq in range(1, 5):
+    for seq in range(2):
         store.append(run.id, seq, "friction", friction(seq * LARGE, LARGE))
-        owed = seq + 1 - len(writes.firsts)
-        assert owed == 2, f"after batch {seq} the file owes {owed} batches"
+    assert writes.firsts == []
+    store.append(run.id, 2, "friction", friction(2 * LARGE, LARGE))  # three do not
+    assert writes.firsts == [_time(k * LARGE, 1)[0] for k in range(3)]
+    store.append(run.id, 3, "friction", friction(3 * LARGE, LARGE))  # a stream: at once
+    assert writes.firsts == [_time(k * LARGE, 1)[0] for k in range(4)]
+
+
+@pytest.mark.usefixtures("quiet_never")
+def test_after_a_quiet_a_large_batch_joins_the_backlog_again(
+    store: HDF5Store, writes: _Writes, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    one = sum(memoryview(p).nbytes for p in encode(friction(0, LARGE)))
+    monkeypatch.setattr(hdf5_module, "MAX_BACKLOG_BYTES", one // 2)  # none fits
+    run = store.create_run(make_run())
+    store.append(run.id, 0, "friction", friction(0, LARGE))  # past the bound: written
+    assert len(writes.firsts) == 1
+    monkeypatch.setattr(hdf5_module, "MAX_BACKLOG_BYTES", 2 * one)
+    store.append(run.id, 1, "friction", friction(LARGE, LARGE))  # the stream goes on
+    assert len(writes.firsts) == 2
+    store._write_backlog()  # what the store's thread does once it is quiet: the stream is over
+    store.append(run.id, 2, "friction", friction(2 * LARGE, LARGE))
+    assert len(writes.firsts) == 2  # in the backlog
+    np.testing.assert_array_equal(
+        store.read(run.id, "friction", ["time"])["time"], _time(0, 3 * LARGE)
+    )
     assert writes.firsts == [_time(k * LARGE, 1)[0] for k in range(3)]
 
 

@@ -190,3 +190,32 @@ def test_dropping_a_file_while_it_is_prepared(preparing: PayloadFiles, tmp_path:
     time.sleep(0.3)
     assert os.fstat(other).st_size == 0  # the preparer wrote to no reused descriptor
     os.close(other)
+
+
+@settings(max_examples=40, deadline=None)
+@given(
+    lengths=st.lists(st.integers(0, 40), min_size=1, max_size=4),
+    rows=st.integers(1, 50),
+    before=st.integers(0, 100),
+)
+def test_a_batch_read_in_pieces_is_the_batch(
+    lengths: list[int], rows: int, before: int, tmp_path_factory: pytest.TempPathFactory
+) -> None:
+    """Pieces of ``rows`` rows, each column cut at its own length, put end to end, are the
+    columns as written, whatever precedes the batch in the file."""
+    files = _opened(tmp_path_factory.mktemp("pieces"), prepare=False)
+    try:
+        rng = np.random.default_rng(len(lengths) * 1000 + rows)
+        columns = {f"c{k}": rng.normal(size=n) for k, n in enumerate(lengths)}
+        files.append("run", [bytes(before)], before)
+        parts = encode(columns)
+        size = sum(memoryview(p).nbytes for p in parts)
+        files.append("run", parts, size)
+        pieces = list(files.pieces("run", before, size, rows))
+        assert len(pieces) == -(-max(lengths) // rows)  # ceil: one per `rows` of the longest
+        for name, values in columns.items():
+            got = np.concatenate([p[name] for p in pieces]) if pieces else np.zeros(0)
+            np.testing.assert_array_equal(got, values)
+            assert all(len(p[name]) <= rows for p in pieces)
+    finally:
+        files.close()

@@ -34,8 +34,9 @@ BACKLOG_ROWS = 65_536
 #: The most one run's file may owe, in bytes of the journal's payload (about half a second of
 #: HDF5 writing on the project's machine).
 MAX_BACKLOG_BYTES = 256 << 20
-#: Rows of a piece of a batch read back from the journal (five channels: 5 MiB).
-PIECE_ROWS = 131_072
+#: Rows of a piece of a batch read back from the journal (five channels: 2.5 MiB); a
+#: multiple of the run files' chunks (:data:`rigserver.storage.runfile.STREAM_CHUNK_ROWS`).
+PIECE_ROWS = 65_536
 #: Seconds without a new batch after which the backlog is written.
 QUIET_SECONDS = 0.5
 

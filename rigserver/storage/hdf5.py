@@ -739,9 +739,14 @@ class HDF5Store:
         try:
             for o in live.backlog.take(count):
                 decl = channel_group(live.run.stand, o.group)
-                for piece in self._journal.payload_pieces(live.run.id, o.at, o.size, PIECE_ROWS):
+                # pieces that end where the file's chunks do: HDF5 writes whole chunks as
+                # they are, without holding them in its chunk cache
+                first = PIECE_ROWS - rf.rows(o.group) % PIECE_ROWS
+                pieces = self._journal.payload_pieces(live.run.id, o.at, o.size, PIECE_ROWS, first)
+                for piece in pieces:
                     rows = max(len(v) for v in piece.values())
                     rf.append(o.group, padded(decl, piece, rows), rows)
+                    rf.write_pending()  # the piece's buffers are read into again
         except BaseException:
             self._spoil(live)
             raise

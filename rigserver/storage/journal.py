@@ -488,11 +488,11 @@ class Journal:
             yield group, decode(data)
 
     def payload_pieces(
-        self, run_id: str, at: int, size: int, rows: int
+        self, run_id: str, at: int, size: int, rows: int, first: int | None = None
     ) -> Iterator[dict[str, NDArray[np.float64]]]:
         """The columns of the run's batch at (``at``, ``size``) (``add_batch``'s place), in
-        pieces of at most ``rows`` rows."""
-        return self._payloads.pieces(run_id, at, size, rows)
+        pieces of ``first`` rows, then ``rows`` (:meth:`PayloadFiles.pieces`)."""
+        return self._payloads.pieces(run_id, at, size, rows, first)
 
 
 class _Checkpointer:

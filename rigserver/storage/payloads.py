@@ -18,6 +18,7 @@ costs at most that much disk per open run until the run's file is final.
 from __future__ import annotations
 
 import logging
+import mmap
 import os
 import struct
 import threading
@@ -159,10 +160,12 @@ class PayloadFiles:
             os.close(fd)
 
     def pieces(
-        self, run_id: str, at: int, size: int, rows: int
+        self, run_id: str, at: int, size: int, rows: int, first: int | None = None
     ) -> Iterator[dict[str, NDArray[np.float64]]]:
-        """The batch at (``at``, ``size``) in pieces of at most ``rows`` rows (a column
-        shorter than the batch's longest ends early), read one piece at a time."""
+        """The batch at (``at``, ``size``) in pieces of ``first`` rows (default ``rows``,
+        at most ``rows``), then ``rows`` (a column shorter than the batch's longest ends
+        early), read one piece at a time into the same buffers: a piece is valid until the
+        next is asked for."""
         path = self._path(run_id)
         try:
             fd = os.open(path, os.O_RDONLY)
@@ -177,14 +180,16 @@ class PayloadFiles:
             except struct.error:  # names longer than _HEAD_BYTES: the whole batch at once
                 layout = _layout(os.pread(fd, size, at))
             longest = max((n for _, n, _ in layout), default=0)
-            for start in range(0, longest, rows):
+            buffers = _buffers({name: min(rows, count) for name, count, _ in layout})
+            starts = [0, *range(min(rows, first or rows), longest, rows)]
+            for start, stop in zip(starts, [*starts[1:], longest], strict=True):
                 piece: dict[str, NDArray[np.float64]] = {}
                 for name, count, offset in layout:
-                    n = max(0, min(count, start + rows) - start)
-                    data = os.pread(fd, 8 * n, at + offset + 8 * start) if n else b""
-                    if len(data) != 8 * n:
+                    n = max(0, min(count, stop) - start)
+                    values = buffers[name][:n]
+                    if n and os.preadv(fd, [values.data], at + offset + 8 * start) != 8 * n:
                         raise StorageUnavailable(f"{path} is cut short in run {run_id}'s batch")
-                    piece[name] = np.frombuffer(data, dtype="<f8")
+                    piece[name] = values
                 yield piece
         finally:
             os.close(fd)
@@ -284,6 +289,18 @@ class _Preparer:
                 else:
                     file.ready = max(file.ready, start + done)
                 self._cond.notify_all()
+
+
+def _buffers(lengths: dict[str, int]) -> dict[str, NDArray[np.float64]]:
+    """Arrays of the lengths in one anonymous mapping of their own, given back to the system
+    when the last of them goes (malloc, as ``rigserver serve`` sets it up, keeps what it
+    frees: the memory of a backlog written once would stay with the process)."""
+    mapping = mmap.mmap(-1, max(1, 8 * sum(lengths.values())))
+    out, at = {}, 0
+    for name, n in lengths.items():
+        out[name] = np.frombuffer(mapping, "<f8", n, at)
+        at += 8 * n
+    return out
 
 
 def _write_all(fd: int, parts: Sequence[bytes | memoryview], at: int) -> None:

@@ -192,17 +192,22 @@ def test_dropping_a_file_while_it_is_prepared(preparing: PayloadFiles, tmp_path:
     os.close(other)
 
 
-@settings(max_examples=40, deadline=None)
+@settings(max_examples=60, deadline=None)
 @given(
     lengths=st.lists(st.integers(0, 40), min_size=1, max_size=4),
     rows=st.integers(1, 50),
+    first=st.none() | st.integers(1, 50),
     before=st.integers(0, 100),
 )
 def test_a_batch_read_in_pieces_is_the_batch(
-    lengths: list[int], rows: int, before: int, tmp_path_factory: pytest.TempPathFactory
+    lengths: list[int],
+    rows: int,
+    first: int | None,
+    before: int,
+    tmp_path_factory: pytest.TempPathFactory,
 ) -> None:
-    """Pieces of ``rows`` rows, each column cut at its own length, put end to end, are the
-    columns as written, whatever precedes the batch in the file."""
+    """Pieces of ``first`` rows, then ``rows`` (each column cut at its own length), put
+    end to end, are the columns as written, whatever precedes the batch in the file."""
     files = _opened(tmp_path_factory.mktemp("pieces"), prepare=False)
     try:
         rng = np.random.default_rng(len(lengths) * 1000 + rows)
@@ -211,11 +216,16 @@ def test_a_batch_read_in_pieces_is_the_batch(
         parts = encode(columns)
         size = sum(memoryview(p).nbytes for p in parts)
         files.append("run", parts, size)
-        pieces = list(files.pieces("run", before, size, rows))
-        assert len(pieces) == -(-max(lengths) // rows)  # ceil: one per `rows` of the longest
+        read = files.pieces("run", before, size, rows, first)
+        pieces = [{n: v.copy() for n, v in p.items()} for p in read]  # each read over the last
+        longest = max(lengths)
+        spans = [max(len(v) for v in p.values()) for p in pieces]
+        assert sum(spans) == longest
+        head = min(first or rows, rows)
+        assert spans[0] == min(head, longest)  # then whole pieces of `rows`, the last cut
+        assert all(span == rows for span in spans[1:-1])
+        assert all(0 < span <= rows for span in spans[1:])
         for name, values in columns.items():
-            got = np.concatenate([p[name] for p in pieces]) if pieces else np.zeros(0)
-            np.testing.assert_array_equal(got, values)
-            assert all(len(p[name]) <= rows for p in pieces)
+            np.testing.assert_array_equal(np.concatenate([p[name] for p in pieces]), values)
     finally:
         files.close()

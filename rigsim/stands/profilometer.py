@@ -173,6 +173,10 @@ def _correlated(n: int, beta_samples: float, rng: np.random.Generator) -> FloatA
     return np.asarray((noise - noise.mean()) / noise.std(), dtype=np.float64)
 
 
+#: Profiles drawn at most for one trace (:func:`simulate`).
+_DRAWS = 20
+
+
 def simulate(
     settings: ProfilometerSettings | None = None, seed: int = 0
 ) -> SimulatedRun[ProfilometerTruth]:
@@ -182,13 +186,20 @@ def simulate(
     step = s.configuration.step
     n = int(np.floor(s.length / step + 1e-9)) + 1
     x = np.arange(n) * step
-    exceed = 1.0 - ndtr(_correlated(n, s.correlation_length / step, rng))
-    shape = -depth_of_material_ratio(exceed, nu=s.nu, b=s.b)
-    try:
-        y = shape * (s.ra / roughness.profile_parameters(x=x, y=shape).ra)
-        params = roughness.profile_parameters(x=x, y=y)
-    except ModelInputError as exc:
-        raise SettingsError(f"the generated profile has no roughness parameters: {exc}") from exc
+    # A trace too short for its correlation length may cross its mean line too seldom for
+    # Sm (a few seeds in a hundred at the shortest base length): such a draw is not a
+    # surface the instrument could evaluate, and the next one is taken.
+    for _ in range(_DRAWS):
+        exceed = 1.0 - ndtr(_correlated(n, s.correlation_length / step, rng))
+        shape = -depth_of_material_ratio(exceed, nu=s.nu, b=s.b)
+        try:
+            y = shape * (s.ra / roughness.profile_parameters(x=x, y=shape).ra)
+            params = roughness.profile_parameters(x=x, y=y)
+            break
+        except ModelInputError as exc:
+            failure = exc
+    else:
+        raise SettingsError(f"the generated profile has no roughness parameters: {failure}")
     gauge = s.instruments.gauge
     trace = {
         "x": np.round(x / _M_PER_MM, 9),

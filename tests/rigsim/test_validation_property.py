@@ -40,9 +40,10 @@ def _problems(run: SimulatedRun[Any]) -> list[str]:
 def smts2_settings(draw: st.DrawFn) -> smts2.Smts2Settings:
     mode = draw(st.sampled_from(smts2.MODES))
     base = smts2.Smts2Settings.for_mode(mode)
-    # the largest load whose running-in peak stays under the machine's 15 N·m
+    # the largest load whose running-in peak stays under the machine's 15 N·m (a hair
+    # below: at the bound itself the product may round to just above 15)
     peak_per_newton = base.friction_start * (1 + 4 * base.friction_fluctuation) * 0.0225
-    top = min(5000.0, 15.0 / peak_per_newton)
+    top = min(5000.0, 15.0 / peak_per_newton * (1 - 1e-12))
     return replace(
         base,
         load=draw(st.floats(200.0, top)),

@@ -439,7 +439,7 @@ class HDF5Store:
         _remember_last(live, batch)
         stored = StoredBatch(group, batch.rows, group_rows, batch.digest)
         columns = padded(decl, batch.columns, batch.rows)
-        staged.append(_Staged(index, live, seq, columns, stored, Owed(group, batch.rows, *place)))
+        staged.append(_Staged(index, live, seq, columns, stored, place))
         return None
 
     def _write_staged(self, st: _Staged) -> BatchReceipt | Exception:
@@ -458,7 +458,7 @@ class HDF5Store:
             if live.direct or not (live.backlog or st.stored.rows >= self._backlog_rows):
                 rf.append(st.stored.group, st.columns, st.stored.rows)
             else:
-                live.backlog.add(st.owed)
+                live.backlog.add(Owed(st.stored.group, st.stored.rows, *st.place))
                 if live.backlog.bytes > MAX_BACKLOG_BYTES:  # no burst: a steady stream
                     self._pay(live, rf, len(live.backlog.owed))
                     live.direct = True
@@ -942,8 +942,8 @@ class _Staged:
     seq: int
     columns: dict[str, NDArray[np.float64]]
     stored: StoredBatch
-    #: its place in the payload file, should it join the backlog
-    owed: Owed
+    #: its place in the payload file (at, size), should it join the backlog
+    place: tuple[int, int]
 
 
 def _damaged(run_id: str, path: Path, exc: Exception) -> RunDamaged:

@@ -19,6 +19,8 @@ load generator in another process on loopback:
     per second, against raw h5py appending the same arrays to one file in one process
     (``baseline_readings_per_s``). ``generator_readings_per_s`` is the generator's own
     ceiling: the same posts to a sink endpoint that only reads the body;
+    ``file_catch_up_s`` the time to then read a row of each run, which first writes to the
+    run files what large batches left for after their acknowledgement;
     ``bare_endpoint_readings_per_s`` (JSON) the bare endpoint parsing the same bodies.
 ``long_run``
     One SMTs-2 run of ``readings`` rows posted in binary batches of 500 000 rows to a fresh
@@ -164,6 +166,19 @@ def open_runs(url: str, n: int) -> list[str]:
 def rows_stored(url: str, run_ids: list[str]) -> int:
     with httpx.Client(base_url=url + API, headers={"Authorization": f"Bearer {KEY}"}) as http:
         return sum(int(http.get(f"/runs/{r}").json()["rows"]["friction"]) for r in run_ids)
+
+
+def catch_up_seconds(url: str, run_ids: list[str]) -> float:
+    """Seconds to read one row of each run: a read brings the run file up to date first, so
+    this is the run files' writes that large batches leave until after their
+    acknowledgement (rigserver.storage.backlog)."""
+    auth = {"Authorization": f"Bearer {KEY}"}
+    with httpx.Client(base_url=url + API, headers=auth, timeout=120) as http:
+        t0 = time.perf_counter()
+        for r in run_ids:
+            read = http.get(f"/runs/{r}/readings", params={"group": "friction", "stop": 1})
+            read.raise_for_status()
+        return time.perf_counter() - t0
 
 
 # --- single-reading posts -----------------------------------------------------------------
@@ -338,6 +353,7 @@ def bench_batches(work: Path, form: str, rows: int, batches: int) -> dict[str, A
         generate(url, list(open_runs(url, BATCH_CONNECTIONS)), form, rows, 2)  # warm-up
         runs = open_runs(url, BATCH_CONNECTIONS)
         rate = generate(url, list(runs), form, rows, batches)
+        catch_up = catch_up_seconds(url, runs)
         stored = rows_stored(url, runs)
     posted = BATCH_CONNECTIONS * rows * batches
     if stored != posted:
@@ -350,6 +366,7 @@ def bench_batches(work: Path, form: str, rows: int, batches: int) -> dict[str, A
         "baseline_readings_per_s": round(baseline),
         "ratio": round(rate / baseline, 3),
         "generator_readings_per_s": round(ceiling),
+        "file_catch_up_s": round(catch_up, 3),
         **extra,
     }
 

@@ -299,6 +299,25 @@ def _violations(
     return problems[:MAX_VIOLATIONS]
 
 
+def follows(
+    group: ChannelGroup,
+    columns: Mapping[str, Sequence[float] | NDArray[np.float64]],
+    last_values: Mapping[str, float],
+) -> bool:
+    """True if each ordered channel's first value keeps its order after the run's last
+    stored one: all that :func:`check_columns` with ``last_values`` adds to a batch it
+    found good without them."""
+    for ch in group.channels:
+        previous = last_values.get(ch.name)
+        values = columns.get(ch.name)
+        if ch.order is Order.ANY or previous is None or values is None or not len(values):
+            continue
+        first = float(values[0])
+        if first < previous or (ch.order is Order.INCREASING and first == previous):
+            return False
+    return True
+
+
 class _QuickCheck:
     """Accepts a good batch of at most :data:`QUICK_VALUES` values in plain Python.
 

@@ -7,7 +7,7 @@ import math
 
 import numpy as np
 import pytest
-from hypothesis import example, given, settings
+from hypothesis import assume, example, given, settings
 from hypothesis import strategies as st
 from pydantic import ValidationError
 
@@ -19,6 +19,7 @@ from schemas.channels import (
     _in_order,
     _violations,
     check_columns,
+    follows,
 )
 from schemas.stands import Stand, StandKind, configure_stands, default_stands
 
@@ -204,6 +205,19 @@ def test_quick_accept_agrees_with_the_full_check(
 ) -> None:
     group, columns, last = batch
     assert group.quick_check.accepts(columns, last) is (_violations(group, columns, last) == [])
+
+
+@settings(max_examples=500)
+@given(small_batches())
+def test_a_batch_good_on_its_own_is_good_after_the_last_values_if_it_follows_them(
+    batch: tuple[ChannelGroup, dict[str, list[float]], dict[str, float]],
+) -> None:
+    """What the store's lock checks of a large batch (the order across batches) is all that
+    the full check with the last stored values adds to the batch checked on its own."""
+    group, columns, last = batch
+    arrays = {name: np.array(values) for name, values in columns.items()}
+    assume(check_columns(group, arrays) == [])
+    assert follows(group, arrays, last) is (check_columns(group, arrays, last) == [])
 
 
 CHANNELS = [ch for group in GROUPS for ch in group.channels]

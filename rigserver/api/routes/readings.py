@@ -36,8 +36,8 @@ from rigserver.api.routes.runs import load_run
 from rigserver.api.run_results import StoredReadings
 from rigserver.api.strict_json import JsonRefused, strict_loads
 from rigserver.reports.export import group_csv
-from rigserver.storage.base import Columns, NewBatch
-from schemas.channels import ChannelGroup, Violation, check_columns
+from rigserver.storage.base import NewBatch
+from schemas.channels import ChannelGroup, Violation, check_columns, follows
 from schemas.readings import NPZ_MEDIA_TYPE, BatchReceipt, ReadingBatch
 from schemas.runs import Run
 from schemas.stands import Stand
@@ -117,7 +117,9 @@ def _group_of(stand: Stand, name: str) -> ChannelGroup:
     return group
 
 
-def _refuse_violations(group: ChannelGroup, columns: Columns, last: Mapping[str, float]) -> None:
+def _refuse_violations(
+    group: ChannelGroup, columns: Mapping[str, Any], last: Mapping[str, float]
+) -> None:
     """The stand's limits and orderings, checked against the run's last stored values."""
     violations = check_columns(group, columns, last)
     if violations:
@@ -127,6 +129,32 @@ def _refuse_violations(group: ChannelGroup, columns: Columns, last: Mapping[str,
             f"{violations[0].message} (nothing of this batch was stored)",
             violations,
         )
+
+
+def _refuse_across(
+    group: ChannelGroup, columns: Mapping[str, Any], last: Mapping[str, float]
+) -> None:
+    """The order across batches of a batch found good on its own (under the store's lock,
+    which :func:`_refuse_violations` on a large batch would hold for a millisecond)."""
+    if not follows(group, columns, last):
+        _refuse_violations(group, columns, last)
+
+
+def _read_large(
+    media: str, body: bytes, limit: int, stand: Stand, group: str
+) -> tuple[int, ChannelGroup, Mapping[str, Any]]:
+    """A large body's batch (in a worker thread): its seq (0 for npz, whose seq is in the
+    query), its group's declaration, its columns, checked on their own."""
+    seq = 0
+    columns: Mapping[str, Any]
+    if media == NPZ_MEDIA_TYPE:
+        columns = parse_npz(body, limit)
+    else:
+        batch = _parse_json(body)
+        seq, group, columns = batch.seq, batch.group, batch.columns
+    decl = _group_of(stand, group)
+    _refuse_violations(decl, columns, {})
+    return seq, decl, columns
 
 
 def _parse_json(body: bytes) -> ReadingBatch:
@@ -226,18 +254,25 @@ async def post_readings(request: Request) -> Response:
     writer = require_write(caller, stand.kind)
     with services.ingest.admit(_declared_length(request), writer.fingerprint) as place:
         body = await _body(request, place)
-        small = len(body) <= SMALL_BODY_BYTES
-        if media == NPZ_MEDIA_TYPE:
-            limit = services.settings.max_body_bytes
-            columns: Mapping[str, Any] = (
-                parse_npz(body, limit) if small else await run_in_threadpool(parse_npz, body, limit)
+        limit = services.settings.max_body_bytes
+        columns: Mapping[str, Any]
+        if len(body) > SMALL_BODY_BYTES:  # checked on its own in the thread that reads it
+            number, decl, columns = await run_in_threadpool(
+                _read_large, media, body, limit, stand, group
             )
+            seq = seq if media == NPZ_MEDIA_TYPE else number
+            check = partial(_refuse_across, decl)
+            small = False
         else:
-            batch = _parse_json(body) if small else await run_in_threadpool(_parse_json, body)
-            seq, group, columns = batch.seq, batch.group, batch.columns
+            if media == NPZ_MEDIA_TYPE:
+                columns = parse_npz(body, limit)
+            else:
+                batch = _parse_json(body)
+                seq, group, columns = batch.seq, batch.group, batch.columns
+            decl = _group_of(stand, group)
+            check = partial(_refuse_violations, decl)
+            small = True
         del body
-        decl = _group_of(stand, group)
-        check = partial(_refuse_violations, decl)
         try:
             receipt = await services.ingest.store(
                 NewBatch(run_id, seq, decl.name, columns, check), small=small

@@ -105,6 +105,7 @@ def test_client_survives_a_server_restart_and_stores_every_reading_once(server: 
         restarted.set()
 
     retry = RetryPolicy(deadline=90.0, max_delay=1.0)
+    restarter = threading.Thread(target=restart, daemon=True)
     with LabClient(server.url, WRITER, retry=retry, seed=1) as client:
         run = client.create_run(sim.run_create)
         receipts = []
@@ -112,7 +113,9 @@ def test_client_survives_a_server_restart_and_stores_every_reading_once(server: 
             receipts.append(client.post_batch(run.id, seq, batch))
             if seq == kill_after:
                 server.kill()
-                threading.Thread(target=restart, daemon=True).start()
+                restarter.start()
+        # the client's retry may get through before server.start() has seen the server up
+        restarter.join(60)
         assert restarted.is_set()
         assert client.retries > 0
         # a batch posted again after the restart is recognised, not stored twice

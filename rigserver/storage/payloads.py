@@ -141,15 +141,19 @@ class PayloadFiles:
         """fsync the run's file."""
         os.fsync(self._files[run_id].fd)
 
-    def read(self, run_id: str, places: Sequence[tuple[int, int]]) -> Iterator[bytes]:
-        """The bytes at each (at, size) of ``places``, in order."""
-        path = self._path(run_id)
+    @staticmethod
+    def _open_to_read(run_id: str, path: Path) -> int:
         try:
-            fd = os.open(path, os.O_RDONLY)
+            return os.open(path, os.O_RDONLY)
         except FileNotFoundError:
             raise StorageUnavailable(
                 f"the readings of run {run_id} are no longer in the journal ({path} is missing)"
             ) from None
+
+    def read(self, run_id: str, places: Sequence[tuple[int, int]]) -> Iterator[bytes]:
+        """The bytes at each (at, size) of ``places``, in order."""
+        path = self._path(run_id)
+        fd = self._open_to_read(run_id, path)
         try:
             for at, size in places:
                 data = os.pread(fd, size, at)
@@ -167,12 +171,7 @@ class PayloadFiles:
         early), read one piece at a time into the same buffers: a piece is valid until the
         next is asked for."""
         path = self._path(run_id)
-        try:
-            fd = os.open(path, os.O_RDONLY)
-        except FileNotFoundError:
-            raise StorageUnavailable(
-                f"the readings of run {run_id} are no longer in the journal ({path} is missing)"
-            ) from None
+        fd = self._open_to_read(run_id, path)
         try:
             head = os.pread(fd, min(size, _HEAD_BYTES), at)
             try:

@@ -140,12 +140,12 @@ def _refuse_across(
         _refuse_violations(group, columns, last)
 
 
-def _read_large(
-    media: str, body: bytes, limit: int, stand: Stand, group: str
+def _read_batch(
+    media: str, body: bytes, limit: int, stand: Stand, seq: int, group: str, *, alone: bool
 ) -> tuple[int, ChannelGroup, Mapping[str, Any]]:
-    """A large body's batch (in a worker thread): its seq (0 for npz, whose seq is in the
-    query), its group's declaration, its columns, checked on their own."""
-    seq = 0
+    """The body's batch: its seq and group (a JSON body's own; npz's ``seq`` and ``group``
+    come from the query), its group's declaration and its columns; if ``alone``, checked on
+    their own (limits, order within the batch: a large body's, in the thread that reads it)."""
     columns: Mapping[str, Any]
     if media == NPZ_MEDIA_TYPE:
         columns = parse_npz(body, limit)
@@ -153,7 +153,8 @@ def _read_large(
         batch = _parse_json(body)
         seq, group, columns = batch.seq, batch.group, batch.columns
     decl = _group_of(stand, group)
-    _refuse_violations(decl, columns, {})
+    if alone:
+        _refuse_violations(decl, columns, {})
     return seq, decl, columns
 
 
@@ -254,25 +255,17 @@ async def post_readings(request: Request) -> Response:
     writer = require_write(caller, stand.kind)
     with services.ingest.admit(_declared_length(request), writer.fingerprint) as place:
         body = await _body(request, place)
-        limit = services.settings.max_body_bytes
-        columns: Mapping[str, Any]
-        if len(body) > SMALL_BODY_BYTES:  # checked on its own in the thread that reads it
-            number, decl, columns = await run_in_threadpool(
-                _read_large, media, body, limit, stand, group
-            )
-            seq = seq if media == NPZ_MEDIA_TYPE else number
-            check = partial(_refuse_across, decl)
-            small = False
-        else:
-            if media == NPZ_MEDIA_TYPE:
-                columns = parse_npz(body, limit)
-            else:
-                batch = _parse_json(body)
-                seq, group, columns = batch.seq, batch.group, batch.columns
-            decl = _group_of(stand, group)
+        small = len(body) <= SMALL_BODY_BYTES
+        read = partial(
+            _read_batch, media, body, services.settings.max_body_bytes, stand, seq, group
+        )
+        if small:  # the check with the run's last values, under the store's lock
+            seq, decl, columns = read(alone=False)
             check = partial(_refuse_violations, decl)
-            small = True
-        del body
+        else:  # checked on its own here; only the order after the last values under the lock
+            seq, decl, columns = await run_in_threadpool(partial(read, alone=True))
+            check = partial(_refuse_across, decl)
+        del body, read  # a JSON body is parsed: its bytes are not needed any more
         try:
             receipt = await services.ingest.store(
                 NewBatch(run_id, seq, decl.name, columns, check), small=small

@@ -181,6 +181,22 @@ class Header:
     delimiter: str
 
 
+_BRACKETED = re.compile(r"^(?P<name>.*?)\s*(?:\[(?P<a>[^\]]*)\]|\((?P<b>[^)]*)\))$")
+_COMMA = re.compile(r"^(?P<name>[^,]*?)\s*,\s*(?P<unit>[^,]+)$")
+
+
+def split_header(cell: str, delimiter: str) -> tuple[str, str | None]:
+    """A header cell as (name, unit or None): ``load [kN]``, ``load (kN)``, ``load, kN``."""
+    cell = cell.strip()
+    found = _BRACKETED.match(cell)
+    if found:
+        return found["name"].strip(), (found["a"] or found["b"] or "").strip() or None
+    found = _COMMA.match(cell) if delimiter != "," else None
+    if found:
+        return found["name"].strip(), found["unit"].strip()
+    return cell, None
+
+
 def find_header(
     lines: Sequence[str], settings: FileSettings, *, final: bool, first: int = 1
 ) -> Header | None:
@@ -204,9 +220,10 @@ def find_header(
         for delimiter in (given,) if given is not None else DETECTED:
             if not is_data(text, delimiter, settings.decimal):
                 continue
-            for j in range(k - 1, max(k - 1 - LOOK_BACK, -1), -1):  # past poison lines
+            start = max(k - 1 - LOOK_BACK, -1)
+            for j in range(k - 1, start, -1):  # past poison lines
                 if lines[j].strip() and _row_of(lines[j], text, delimiter, settings.decimal):
-                    return Header(j, delimiter)
+                    return Header(_first_of(lines, j, start, delimiter), delimiter)
     if not final:
         return None
     for k in range(len(lines) - 1, -1, -1):  # no row: the last line of names is the header
@@ -215,6 +232,23 @@ def find_header(
         if names and not any(is_number(c) for c in names):
             return Header(k, delimiter)
     return None
+
+
+def _first_of(lines: Sequence[str], j: int, start: int, delimiter: str) -> int:
+    """The header ``lines[j]``, or the first line above it (after ``start``) with the same
+    names, in any order and unit: a header repeated after rows that cannot be read, which
+    are then rows of the file, not its preamble."""
+    names = _names(lines[j], delimiter)
+    return next((i for i in range(start + 1, j) if _names(lines[i], delimiter) == names), j)
+
+
+def _names(text: str, delimiter: str) -> frozenset[str] | None:
+    """The names of a header line's cells, case folded, units left out."""
+    try:
+        found = [c for c in header_cells(text, delimiter) if c.strip()]
+    except InputError:
+        return None
+    return frozenset(split_header(c, delimiter)[0].casefold() for c in found) or None
 
 
 def _row_of(header: str, row: str, delimiter: str, decimal: str | None) -> bool:

@@ -13,32 +13,16 @@ with the whole batch.
 from __future__ import annotations
 
 import math
-import re
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 
 import numpy as np
 from numpy.typing import NDArray
 
-from rigclient.dialect import cells, header_cells, number
+from rigclient.dialect import cells, header_cells, number, split_header
 from rigclient.errors import InputError
 from rigclient.mapping import StandMap, name_key, unit_factor
 from schemas.channels import Channel, ChannelGroup, Order
-
-_BRACKETED = re.compile(r"^(?P<name>.*?)\s*(?:\[(?P<a>[^\]]*)\]|\((?P<b>[^)]*)\))$")
-_COMMA = re.compile(r"^(?P<name>[^,]*?)\s*,\s*(?P<unit>[^,]+)$")
-
-
-def split_header(cell: str, delimiter: str) -> tuple[str, str | None]:
-    """A header cell as (name, unit or None): ``load [kN]``, ``load (kN)``, ``load, kN``."""
-    cell = cell.strip()
-    found = _BRACKETED.match(cell)
-    if found:
-        return found["name"].strip(), (found["a"] or found["b"] or "").strip() or None
-    found = _COMMA.match(cell) if delimiter != "," else None
-    if found:
-        return found["name"].strip(), found["unit"].strip()
-    return cell, None
 
 
 @dataclass(frozen=True, slots=True)

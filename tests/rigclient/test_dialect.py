@@ -77,6 +77,19 @@ def test_the_header_is_the_line_before_the_first_row() -> None:
     assert given is not None and given.index == 3
 
 
+def test_a_header_repeated_after_unreadable_rows_is_found_at_its_first() -> None:
+    # found by hypothesis (tests/rigclient/test_file_properties.py): the header, a row that
+    # cannot be read, the header again (its columns in another order and unit), a row. The
+    # first is the header: the bad row is a reject, not part of the run's notes.
+    lines = ["Sample;Steel", "time [s];load [N]", "0;nan", "load (kN);Time [s]", "0,3;0"]
+    found = find_header(lines, FileSettings(), final=False)
+    assert found is not None and (found.index, found.delimiter) == (1, ";")
+    # another header (other names) above the row's is a preamble line, as before
+    other = ["time [s];speed [rpm]", "0;nan", "time [s];load [N]", "0;300"]
+    found = find_header(other, FileSettings(), final=False)
+    assert found is not None and found.index == 2
+
+
 @pytest.mark.parametrize("end", ["\n", "\r\n", "\r"])
 @pytest.mark.parametrize("encoding", ["utf-8", "utf-16-le", "cp1251"])
 def test_lines_end_in_lf_crlf_or_cr_alone(tmp_path: Path, end: str, encoding: str) -> None:

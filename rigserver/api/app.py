@@ -16,6 +16,7 @@ from rigserver.api.auth import ApiKey, Keyring
 from rigserver.api.body_limit import BodyLimit
 from rigserver.api.deps import Services, caller_in
 from rigserver.api.gate import Gate
+from rigserver.api.ingest_lane import IngestLane
 from rigserver.api.openapi import add_components
 from rigserver.api.page_policy import PagePolicy
 from rigserver.api.problems import ApiProblem
@@ -147,8 +148,14 @@ def create_app(
     add_components(app, [ReadingBatch])  # the ingest route parses its body itself
     api_docs.install(app)
     pages.install(app)
-    # the last added is the outermost: rate, then key, then size
+    # the last added is the outermost: rate, then key, then size, then the ingest route
     services = app.state.services
+    app.add_middleware(
+        IngestLane,
+        path=API_PREFIX + readings.router.prefix,
+        endpoint=readings.post_readings,
+        handlers=app.exception_handlers,
+    )
     app.add_middleware(
         BodyLimit,
         max_bytes=settings.max_body_bytes,

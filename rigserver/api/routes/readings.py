@@ -8,15 +8,14 @@ JSON parsing of the numbers, for high-rate channels.
 from __future__ import annotations
 
 import json
-from collections.abc import Callable, Coroutine, Mapping
+from collections.abc import Mapping
 from functools import partial
-from typing import Annotated, Any, Literal, cast
+from typing import Annotated, Any, Literal
 
 import jiter
 from fastapi import APIRouter, Query, Request, Response
 from fastapi.concurrency import run_in_threadpool
 from fastapi.responses import FileResponse, StreamingResponse
-from fastapi.routing import APIRoute
 from pydantic import ValidationError
 
 from rigserver.api.deps import (
@@ -42,16 +41,6 @@ from schemas.readings import NPZ_MEDIA_TYPE, BatchReceipt, ReadingBatch
 from schemas.runs import Run
 from schemas.stands import Stand
 from schemas.wire import Text, ascii_count
-
-
-class _PlainRoute(APIRoute):
-    """A route whose endpoint takes the :class:`Request` and returns the :class:`Response`
-    itself: FastAPI solves no parameters (for a single reading that costs about as much as
-    checking it); the route is in the OpenAPI document all the same."""
-
-    def get_route_handler(self) -> Callable[[Request], Coroutine[Any, Any, Response]]:
-        return cast(Callable[[Request], Coroutine[Any, Any, Response]], self.endpoint)
-
 
 router = APIRouter(prefix="/runs/{run_id}/readings", tags=["readings"])
 
@@ -239,9 +228,10 @@ def _declared_length(request: Request) -> int:
 
 
 async def post_readings(request: Request) -> Response:
-    # the hot path of ingest, a _PlainRoute: run_id, seq and group are documented in
-    # _BATCH_BODY. Authenticated (rigserver.api.gate); the head parsed, the scope checked,
-    # and only then a place in the queue taken and the body read.
+    # the hot path of ingest, called by rigserver.api.ingest_lane (not by the router):
+    # run_id, seq and group are documented in _BATCH_BODY. Authenticated
+    # (rigserver.api.gate); the head parsed, the scope checked, and only then a place in
+    # the queue taken and the body read.
     run_id: str = request.path_params["run_id"]
     services = services_of(request)
     caller = caller_of(request, services)
@@ -283,7 +273,6 @@ router.add_api_route(
     "",
     post_readings,
     methods=["POST"],
-    route_class_override=_PlainRoute,
     dependencies=[WriteAccess],  # solved by no one: rigserver.api.gate reads it
     summary="Post a batch of readings (JSON columns or binary npz)",
     description="Answers 201 with the receipt once the batch is durable, 200 with the same "

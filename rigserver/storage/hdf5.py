@@ -360,8 +360,7 @@ class HDF5Store:
                         if isinstance(batch, Exception)
                         else self._stage(i, nb, batch, staged, saved)
                     )
-                for run_id in saved:
-                    self._journal.set_counters(self._live[run_id].run)
+                self._journal.set_counters(self._live[run_id].run for run_id in saved)
                 self._journal.commit()
             except BaseException as exc:
                 for run_id, before in saved.items():
@@ -907,7 +906,7 @@ class HDF5Store:
                     self._journal.begin()
                     self._journal.add_batch(run.id, seq, batch, rows[group])
                     run.rows, run.batches = dict(rows), -seq
-                    self._journal.set_counters(run)
+                    self._journal.set_counters([run])
                     self._journal.commit()
                     seq -= 1
 

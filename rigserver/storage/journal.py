@@ -31,7 +31,7 @@ import json
 import logging
 import sqlite3
 import threading
-from collections.abc import Iterator
+from collections.abc import Iterable, Iterator
 from dataclasses import dataclass
 from datetime import datetime
 from pathlib import Path
@@ -469,11 +469,11 @@ class Journal:
         ).fetchone()
         return int(row[0])
 
-    def set_counters(self, run: Run) -> None:
-        """The run's batch count and rows per group, in the transaction of its batches."""
-        self._db.execute(
+    def set_counters(self, runs: Iterable[Run]) -> None:
+        """The runs' batch counts and rows per group, in the transaction of their batches."""
+        self._db.executemany(
             "UPDATE runs SET batches = ?, rows = ? WHERE id = ?",
-            (run.batches, json.dumps(run.rows), run.id),
+            ((run.batches, json.dumps(run.rows), run.id) for run in runs),
         )
 
     def payloads(self, run_id: str) -> Iterator[tuple[str, dict[str, NDArray[np.float64]]]]:

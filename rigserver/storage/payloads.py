@@ -38,6 +38,9 @@ PREPARE_STEP = 1 << 20
 #: The most a file is prepared past its end.
 PREPARE_MAX = 64 << 20
 _IOV_MAX = 512
+#: A batch up to this many bytes is written as one buffer (a single reading's six parts
+#: cost more as a vector of views than joined).
+_SMALL_WRITE = 4096
 #: Bytes read first of a batch in pieces: enough for the header of any stand's group.
 _HEAD_BYTES = 4096
 _HEADER = struct.Struct("<I")
@@ -132,7 +135,7 @@ class PayloadFiles:
         file.end += size
         if self._preparer is not None:
             self._preparer.claim(file, file.end)
-        _write_all(file.fd, parts, at)
+        _write_all(file.fd, [b"".join(parts)] if size <= _SMALL_WRITE else parts, at)
         if self._preparer is not None:
             ahead = min(PREPARE_MAX, max(PREPARE_STEP, 2 * size))
             self._preparer.want(file, file.end, ahead)
@@ -231,6 +234,8 @@ class _Preparer:
     def claim(self, file: _File, end: int) -> None:
         """The writer is about to write below ``end``: once the step in progress on this
         file is done, nothing is prepared below ``end`` any more."""
+        if end <= file.ready:  # it only grows: no need to ask under the lock
+            return
         with self._cond:
             if end > file.ready:
                 self._cond.wait_for(lambda: self._busy is not file)
@@ -240,8 +245,11 @@ class _Preparer:
         """Prepare ``file`` up to ``end + ahead``, if that is past what it was asked before
         by half of ``ahead`` or a step, whichever is less (small batches wake the thread once
         per half step)."""
+        wanted = min(ahead // 2, PREPARE_STEP)
+        if end + ahead - file.wanted < wanted:  # asked before (lowered only on a failure)
+            return
         with self._cond:
-            if end + ahead - file.wanted >= min(ahead // 2, PREPARE_STEP):
+            if end + ahead - file.wanted >= wanted:
                 file.wanted = end + ahead
                 if file not in self._files:
                     self._files.append(file)

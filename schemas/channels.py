@@ -358,7 +358,7 @@ class _QuickCheck:
         for name, values in columns.items():
             low, high, nominal, integer, order = self.rules[name]
             previous = last.get(name, nan)
-            for value in values:
+            for value in _plain(values):
                 if not isinstance(value, float):  # not a number, or an integer or float32 array
                     return False
                 if not (isfinite(value) and low <= value <= high):
@@ -373,6 +373,19 @@ class _QuickCheck:
                     return False
                 previous = value
         return True
+
+
+def _plain(
+    values: Sequence[float] | NDArray[np.float64],
+) -> Sequence[float] | NDArray[np.float64]:
+    """A float64 array's values as Python floats (NumPy iterates an array by indexing it
+    until an IndexError, whose message it formats: more than the values' checks cost);
+    anything else as it is, so that an integer or float32 array still goes to the full
+    check."""
+    if isinstance(values, np.ndarray) and values.dtype == np.float64:
+        plain: list[float] = values.tolist()
+        return plain
+    return values
 
 
 #: The largest batch (channels times rows) that :class:`_QuickCheck` looks at.

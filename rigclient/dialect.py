@@ -26,7 +26,8 @@ import codecs
 import csv
 import math
 import re
-from collections.abc import Sequence
+import unicodedata
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 
 from rigclient.errors import InputError
@@ -197,6 +198,18 @@ def split_header(cell: str, delimiter: str) -> tuple[str, str | None]:
     return cell, None
 
 
+def name_key(text: str) -> str:
+    """A column's name as it is looked up: NFKC (the micro sign is μ), case folded, blanks
+    and dashes as one ``_`` (``Friction Force`` finds ``friction_force``)."""
+    folded = unicodedata.normalize("NFKC", text).casefold().strip()
+    return re.sub(r"[\s_-]+", "_", folded)
+
+
+def header_names(found: Iterable[str], delimiter: str) -> frozenset[str]:
+    """The names of a header's cells (:func:`name_key`), units left out, blanks skipped."""
+    return frozenset(name_key(split_header(c, delimiter)[0]) for c in found if c.strip())
+
+
 def find_header(
     lines: Sequence[str], settings: FileSettings, *, final: bool, first: int = 1
 ) -> Header | None:
@@ -239,16 +252,17 @@ def _first_of(lines: Sequence[str], j: int, start: int, delimiter: str) -> int:
     names, in any order and unit: a header repeated after rows that cannot be read, which
     are then rows of the file, not its preamble."""
     names = _names(lines[j], delimiter)
+    if not names:
+        return j
     return next((i for i in range(start + 1, j) if _names(lines[i], delimiter) == names), j)
 
 
-def _names(text: str, delimiter: str) -> frozenset[str] | None:
-    """The names of a header line's cells, case folded, units left out."""
+def _names(text: str, delimiter: str) -> frozenset[str]:
+    """The names of a header line (:func:`header_names`); none if it cannot be split."""
     try:
-        found = [c for c in header_cells(text, delimiter) if c.strip()]
+        return header_names(header_cells(text, delimiter), delimiter)
     except InputError:
-        return None
-    return frozenset(split_header(c, delimiter)[0].casefold() for c in found) or None
+        return frozenset()
 
 
 def _row_of(header: str, row: str, delimiter: str, decimal: str | None) -> bool:

@@ -42,14 +42,12 @@ from __future__ import annotations
 
 import json
 import math
-import re
 import tomllib
-import unicodedata
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from rigclient.dialect import FileSettings, delimiter_of, encoding_of
+from rigclient.dialect import FileSettings, delimiter_of, encoding_of, name_key
 from rigclient.errors import InputError
 from schemas.quantity import unit_paths
 from schemas.stands import CONFIG_MODELS, StandKind
@@ -130,13 +128,6 @@ class ColumnMap:
     channel: str
     unit: str | None = None
     factor: float | None = None
-
-
-def name_key(text: str) -> str:
-    """A column's name as it is looked up: NFKC (the micro sign is μ), case folded, blanks
-    and dashes as one ``_`` (``Friction Force`` finds ``friction_force``)."""
-    folded = unicodedata.normalize("NFKC", text).casefold().strip()
-    return re.sub(r"[\s_-]+", "_", folded)
 
 
 @dataclass(frozen=True, slots=True)

@@ -19,9 +19,9 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import NDArray
 
-from rigclient.dialect import cells, header_cells, number, split_header
+from rigclient.dialect import cells, header_cells, header_names, name_key, number, split_header
 from rigclient.errors import InputError
-from rigclient.mapping import StandMap, name_key, unit_factor
+from rigclient.mapping import StandMap, unit_factor
 from schemas.channels import Channel, ChannelGroup, Order
 
 
@@ -154,7 +154,7 @@ class Table:
             )
         if not fields:
             raise InputError(f"no column feeds a channel of {group.name!r}", file=file, line=line)
-        names = frozenset(name_key(split_header(c, delimiter)[0]) for c in found if c.strip())
+        names = header_names(found, delimiter)
         return cls(
             file,
             delimiter,
@@ -235,7 +235,7 @@ class Table:
             return False
         if len(found) < 2 or not all(_word(c) for c in found):
             return False
-        names = {name_key(split_header(c, self.delimiter)[0]) for c in found}
+        names = header_names(found, self.delimiter)
         known = self.names | {name_key(c.name) for c in self.group.channels}
         return bool(names & known) or len(found) == self.width
 

@@ -201,7 +201,7 @@ class Journal:
         except BaseException:
             self._db.close()
             raise
-        self._payloads = PayloadFiles(path.parent / "payloads", prepare=not self._full)
+        self._payloads = PayloadFiles(path.parent / "payloads")
         self._checkpointer = _Checkpointer(path)
 
     def close(self) -> None:
@@ -446,7 +446,7 @@ class Journal:
             raise sqlite3.OperationalError("a batch is added inside a transaction only")
         parts = encode(batch.columns)
         size = sum(memoryview(p).nbytes for p in parts)
-        at = self._payloads.end(run_id, committed=lambda: self._committed_end(run_id))
+        at = self._payloads.end(run_id, size, committed=lambda: self._committed_end(run_id))
         try:
             self._db.execute(
                 "INSERT INTO batches (run_id, seq, grp, rows, group_rows, digest, at, size) "

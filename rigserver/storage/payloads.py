@@ -2,26 +2,32 @@
 
 ``payloads/<run id>.bin`` holds every batch of the run in the order stored, each as
 :func:`encode` lays it out; the journal's ``batches`` table says where each one is (``at``,
-``size``). Bytes past the last committed batch (a write whose commit failed, the zeros
-below) are never read, and the next batch is written over them.
+``size``). Bytes past the last committed batch (a write whose commit failed) are never
+read, and the next batch is written over them.
 
-Preparing ahead. Writing into pages the page cache does not hold yet costs several times
-more than writing over pages it holds: the kernel has to allocate, account and map each new
-page (and in a virtual machine the host faults it in first). Measured here with ``dd``: 0.7
-to 2 GB/s into a new file, 7 GB/s over its cached pages. So a thread (:class:`_Preparer`)
-writes zeros ahead of each file's end, twice the last batch's size (at least
-:data:`PREPARE_STEP`, at most :data:`PREPARE_MAX`), and a batch lands in pages already
-there: the way databases preallocate their logs, done where a writer is not waiting. It
-costs at most that much disk per open run until the run's file is final.
+Large batches past the page cache. A batch of :data:`DIRECT_BYTES` or more is written with
+``O_DIRECT``, from an aligned buffer of its own, at a :data:`DIRECT_ALIGN` boundary: the
+disk takes it from that buffer, and the kernel neither copies it nor takes pages for it.
+Pages the page cache has to take are the dear part of a buffered write: in a virtual
+machine whose free memory goes back to the host (virtio-balloon's free page reporting, as
+on the machines these figures come from) a page not touched for a few seconds is faulted in
+by the host again, and ``dd`` writes 0.4 GB/s into such pages (all of it CPU), 5 GB/s into
+pages just freed, 2-3 GB/s past the cache with 0.05 s of CPU for 800 MB. The payload is
+written once and read once (into the run file, :mod:`~rigserver.storage.backlog`), so
+the page cache gains nothing by holding it. A file system that refuses ``O_DIRECT`` (at
+the opening or at the first write) gets buffered writes.
+
+Small batches (single readings) are buffered writes, one ``pwrite`` each; a direct write
+aligns its start past them, so the two never share a page.
 """
 
 from __future__ import annotations
 
+import errno
 import logging
 import mmap
 import os
 import struct
-import threading
 from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -33,10 +39,15 @@ from rigserver.storage.errors import StorageUnavailable
 
 log = logging.getLogger(__name__)
 
-#: Bytes of zeros written in one step of preparing (a writer waits for at most one step).
-PREPARE_STEP = 1 << 20
-#: The most a file is prepared past its end.
-PREPARE_MAX = 64 << 20
+#: A batch of at least this many bytes is written past the page cache (``O_DIRECT``).
+DIRECT_BYTES = 256 << 10
+#: Where a direct write starts and how its length is padded: the page size, a multiple of
+#: any disk's logical block.
+DIRECT_ALIGN = 4096
+#: The aligned buffer a direct write goes through, a piece at a time, bytes.
+DIRECT_BUFFER = 1 << 20
+#: ``O_DIRECT`` where the platform has it (Linux); elsewhere every write is buffered.
+_O_DIRECT: int = getattr(os, "O_DIRECT", 0)
 _IOV_MAX = 512
 #: A batch up to this many bytes is written as one buffer (a single reading's six parts
 #: cost more as a vector of views than joined).
@@ -87,58 +98,88 @@ def _layout(head: bytes) -> list[tuple[str, int, int]]:
 @dataclass(slots=True, eq=False)
 class _File:
     fd: int
-    #: where the next batch goes
+    #: where the next batch goes (a large one: at the next DIRECT_ALIGN boundary)
     end: int
-    #: bytes [0, ready) have been written: batches, or zeros by the preparer
-    ready: int
-    #: the preparer writes zeros up to here
-    wanted: int
+    #: the file opened for direct writes (at its first large batch)
+    direct: int | None = None
+    #: the file system refused direct writes: every batch is buffered
+    buffered: bool = not _O_DIRECT
 
 
 class PayloadFiles:
-    """The payload files in ``directory``, prepared ahead unless ``prepare`` is false; not
-    thread-safe (the journal's caller serialises the calls), but for the preparing thread,
-    which only ever writes at or past ``ready``.
+    """The payload files in ``directory``; not thread-safe (the journal's caller serialises
+    the calls)."""
 
-    The journal does not prepare when every commit fsyncs its payload files
-    (``synchronous=full``): the fsync would write the zeros to disk, and then the batch
-    written over them again.
-    """
-
-    def __init__(self, directory: Path, *, prepare: bool = True) -> None:
+    def __init__(self, directory: Path) -> None:
         self.directory = directory
         directory.mkdir(exist_ok=True)
         self._files: dict[str, _File] = {}
-        self._preparer = _Preparer() if prepare else None
+        #: the aligned buffer of direct writes (at the first)
+        self._aligned: mmap.mmap | None = None
 
     def _path(self, run_id: str) -> Path:
         return self.directory / f"{run_id}.bin"
 
-    def end(self, run_id: str, committed: Callable[[], int]) -> int:
-        """Where the run's next batch goes: after the last committed batch (``committed()``,
-        asked when the file is opened), over whatever a failed write or preparing left."""
-        found = self._files.get(run_id)
-        if found is None:
-            end = committed()
+    def end(self, run_id: str, size: int, committed: Callable[[], int]) -> int:
+        """Where the run's next batch, of ``size`` bytes, goes: after the last committed
+        batch (``committed()``, asked when the file is opened), over whatever a failed write
+        left; a large batch at the next :data:`DIRECT_ALIGN` boundary."""
+        file = self._files.get(run_id)
+        if file is None:
             fd = os.open(self._path(run_id), os.O_RDWR | os.O_CREAT, 0o644)
-            size = os.fstat(fd).st_size
-            found = self._files[run_id] = _File(fd, end, size, size)
-        return found.end
+            file = self._files[run_id] = _File(fd, committed())
+        if size >= DIRECT_BYTES and file.direct is None and not file.buffered:
+            try:
+                file.direct = os.open(self._path(run_id), os.O_WRONLY | _O_DIRECT)
+            except OSError as exc:  # e.g. EINVAL: a file system without direct I/O
+                self._refused(file, exc)
+        return _place(file, size)
 
     def append(self, run_id: str, parts: Sequence[bytes | memoryview], size: int) -> None:
-        """Write ``parts`` (``size`` bytes) at the run's end (:meth:`end` opened the file).
+        """Write ``parts`` (``size`` bytes) where :meth:`end` said, which opened the file.
 
         The end moves past them first, so a failed write leaves bytes that nothing reads.
         """
         file = self._files[run_id]
-        at = file.end
-        file.end += size
-        if self._preparer is not None:
-            self._preparer.claim(file, file.end)
+        at = _place(file, size)
+        file.end = at + size
+        if file.direct is not None and size >= DIRECT_BYTES:
+            try:
+                return self._write_direct(file.direct, parts, at)
+            except OSError as exc:
+                if exc.errno != errno.EINVAL:  # not a refusal of direct I/O: a failure
+                    raise
+                self._refused(file, exc)
         _write_all(file.fd, [b"".join(parts)] if size <= _SMALL_WRITE else parts, at)
-        if self._preparer is not None:
-            ahead = min(PREPARE_MAX, max(PREPARE_STEP, 2 * size))
-            self._preparer.want(file, file.end, ahead)
+
+    def _write_direct(self, fd: int, parts: Sequence[bytes | memoryview], at: int) -> None:
+        """Write ``parts`` at ``at`` (aligned) through the aligned buffer, the last piece
+        padded with zeros to a whole :data:`DIRECT_ALIGN`."""
+        if self._aligned is None:
+            self._aligned = mmap.mmap(-1, DIRECT_BUFFER)
+        buffer = np.frombuffer(self._aligned, np.uint8)
+        filled = 0
+        for part in parts:
+            data = np.frombuffer(part, np.uint8)
+            while len(data):
+                n = min(len(data), DIRECT_BUFFER - filled)
+                buffer[filled : filled + n] = data[:n]  # NumPy copies without the GIL
+                filled, data = filled + n, data[n:]
+                if filled == DIRECT_BUFFER:
+                    _write_all(fd, [buffer.data], at)
+                    at, filled = at + filled, 0
+        if filled:
+            whole = -(-filled // DIRECT_ALIGN) * DIRECT_ALIGN
+            buffer[filled:whole] = 0
+            _write_all(fd, [buffer[:whole].data], at)
+
+    @staticmethod
+    def _refused(file: _File, exc: OSError) -> None:
+        """Direct I/O refused by the file system: this file's batches are buffered."""
+        log.info("payload files written through the page cache: %s", exc)
+        if file.direct is not None:
+            os.close(file.direct)
+        file.direct, file.buffered = None, True
 
     def sync(self, run_id: str) -> None:
         """fsync the run's file."""
@@ -172,7 +213,9 @@ class PayloadFiles:
         """The batch at (``at``, ``size``) in pieces of ``first`` rows (default ``rows``,
         at most ``rows``), then ``rows`` (a column shorter than the batch's longest ends
         early), read one piece at a time into the same buffers: a piece is valid until the
-        next is asked for."""
+        next is asked for. The pages read are given back to the system after each piece:
+        read once, the page cache gains nothing by holding them, and the next piece reads
+        into the pages just given back."""
         path = self._path(run_id)
         fd = self._open_to_read(run_id, path)
         try:
@@ -193,6 +236,7 @@ class PayloadFiles:
                         raise StorageUnavailable(f"{path} is cut short in run {run_id}'s batch")
                     piece[name] = values
                 yield piece
+                _uncache(fd, at, size)
         finally:
             os.close(fd)
 
@@ -204,98 +248,36 @@ class PayloadFiles:
         """Close and delete the run's file."""
         found = self._files.pop(run_id, None)
         if found is not None:
-            if self._preparer is not None:
-                self._preparer.forget(found)
-            os.close(found.fd)
+            _close(found)
         self._path(run_id).unlink(missing_ok=True)
 
     def close(self) -> None:
-        if self._preparer is not None:
-            self._preparer.stop()
         for file in self._files.values():
-            os.close(file.fd)
+            _close(file)
         self._files.clear()
+        if self._aligned is not None:
+            self._aligned.close()
+            self._aligned = None
 
 
-class _Preparer:
-    """A thread writing zeros from each file's ``ready`` up to its ``wanted``, one
-    :data:`PREPARE_STEP` at a time; its condition guards ``ready``, ``wanted`` and the file
-    it is writing."""
+def _place(file: _File, size: int) -> int:
+    """Where a batch of ``size`` bytes goes in ``file``."""
+    if file.direct is not None and size >= DIRECT_BYTES:
+        return -(-file.end // DIRECT_ALIGN) * DIRECT_ALIGN
+    return file.end
 
-    def __init__(self) -> None:
-        self._cond = threading.Condition()
-        self._files: list[_File] = []
-        self._busy: _File | None = None
-        self._stopping = False
-        self._zeros = memoryview(bytes(PREPARE_STEP))
-        self._thread = threading.Thread(target=self._run, name="rig-payload-prepare", daemon=True)
-        self._thread.start()
 
-    def claim(self, file: _File, end: int) -> None:
-        """The writer is about to write below ``end``: once the step in progress on this
-        file is done, nothing is prepared below ``end`` any more."""
-        if end <= file.ready:  # it only grows: no need to ask under the lock
-            return
-        with self._cond:
-            if end > file.ready:
-                self._cond.wait_for(lambda: self._busy is not file)
-                file.ready = max(file.ready, end)
+def _uncache(fd: int, at: int, size: int) -> None:
+    """Drop the page cache's clean pages of bytes [at, at + size) of ``fd`` (where the
+    platform can)."""
+    if hasattr(os, "posix_fadvise"):
+        os.posix_fadvise(fd, at, size, os.POSIX_FADV_DONTNEED)
 
-    def want(self, file: _File, end: int, ahead: int) -> None:
-        """Prepare ``file`` up to ``end + ahead``, if that is past what it was asked before
-        by half of ``ahead`` or a step, whichever is less (small batches wake the thread once
-        per half step)."""
-        wanted = min(ahead // 2, PREPARE_STEP)
-        if end + ahead - file.wanted < wanted:  # asked before (lowered only on a failure)
-            return
-        with self._cond:
-            if end + ahead - file.wanted >= wanted:
-                file.wanted = end + ahead
-                if file not in self._files:
-                    self._files.append(file)
-                self._cond.notify_all()
 
-    def forget(self, file: _File) -> None:
-        """Prepare no more of ``file``: it is about to be closed."""
-        with self._cond:
-            self._cond.wait_for(lambda: self._busy is not file)
-            if file in self._files:
-                self._files.remove(file)
-
-    def stop(self) -> None:
-        with self._cond:
-            self._stopping = True
-            self._cond.notify_all()
-        self._thread.join()
-
-    def _next(self) -> tuple[_File, int, int] | None:
-        """The next step (file, from, to), or None to stop; marks the file busy."""
-        with self._cond:
-            while True:
-                if self._stopping:
-                    return None
-                for file in self._files:
-                    if file.wanted > file.ready:
-                        self._busy = file
-                        return file, file.ready, min(file.wanted, file.ready + PREPARE_STEP)
-                self._files.clear()  # every file is ready up to what it wants
-                self._cond.wait()
-
-    def _run(self) -> None:
-        while (step := self._next()) is not None:
-            file, start, stop = step
-            try:
-                done = os.pwrite(file.fd, self._zeros[: stop - start], start)
-            except OSError as exc:  # e.g. the disk is full: the batch's own write will say
-                log.debug("preparing a payload file failed: %s", exc)
-                done = 0
-            with self._cond:
-                self._busy = None
-                if not done:
-                    file.wanted = file.ready  # until the next batch wants more
-                else:
-                    file.ready = max(file.ready, start + done)
-                self._cond.notify_all()
+def _close(file: _File) -> None:
+    os.close(file.fd)
+    if file.direct is not None:
+        os.close(file.direct)
 
 
 def _buffers(lengths: dict[str, int]) -> dict[str, NDArray[np.float64]]:

@@ -1,14 +1,14 @@
-"""The journal's payload files: batches read back as written while a thread prepares the
-pages ahead of them, and the prepared zeros are written over, never read."""
+"""The journal's payload files: batches read back as written, small ones through the page
+cache back to back, large ones past it (``O_DIRECT``) at aligned places, and buffered where
+the file system refuses direct writes."""
 
 from __future__ import annotations
 
 import errno
 import os
-import threading
-import time
-from collections.abc import Callable, Iterator
+from collections.abc import Iterator
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pytest
@@ -16,7 +16,14 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from rigserver.storage import payloads
-from rigserver.storage.payloads import PREPARE_MAX, PREPARE_STEP, PayloadFiles, decode, encode
+from rigserver.storage.payloads import (
+    DIRECT_ALIGN,
+    DIRECT_BUFFER,
+    DIRECT_BYTES,
+    PayloadFiles,
+    decode,
+    encode,
+)
 
 MiB = 1 << 20
 
@@ -25,17 +32,8 @@ def _batch(size: int, seed: int) -> bytes:
     return np.random.default_rng(seed).bytes(size)
 
 
-def _until(condition: Callable[[], bool], seconds: float = 10.0) -> bool:
-    deadline = time.monotonic() + seconds
-    while not condition():
-        if time.monotonic() > deadline:
-            return False
-        time.sleep(0.005)
-    return True
-
-
-def _size(path: Path) -> int:
-    return path.stat().st_size
+def _aligned(at: int) -> int:
+    return -(-at // DIRECT_ALIGN) * DIRECT_ALIGN
 
 
 def test_encode_and_decode_round_trip() -> None:
@@ -47,9 +45,9 @@ def test_encode_and_decode_round_trip() -> None:
         np.testing.assert_array_equal(back[name], values)
 
 
-def _opened(directory: Path, *, prepare: bool = True) -> PayloadFiles:
-    files = PayloadFiles(directory, prepare=prepare)
-    files.end("run", committed=lambda: 0)
+def _opened(directory: Path) -> PayloadFiles:
+    files = PayloadFiles(directory)
+    files.end("run", 0, committed=lambda: 0)
     return files
 
 
@@ -62,134 +60,181 @@ def files(tmp_path: Path) -> Iterator[PayloadFiles]:
 
 
 @pytest.fixture
-def preparing(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Iterator[PayloadFiles]:
-    """As ``files``, after a batch of 100 bytes, while zeros are on their way to
-    [100, 100 + PREPARE_STEP): each write of zeros takes 0.2 s (a slow disk)."""
-    started = threading.Event()
-    write = os.pwrite
+def direct_writes(monkeypatch: pytest.MonkeyPatch) -> list[tuple[int, int]]:
+    """(offset, length) of each write through a descriptor opened with ``O_DIRECT``."""
+    if not payloads._O_DIRECT:
+        pytest.skip("no O_DIRECT on this platform")
+    opened: set[int] = set()
+    writes: list[tuple[int, int]] = []
+    open_, pwritev = os.open, os.pwritev
 
-    def slow(fd: int, data: bytes | memoryview, at: int) -> int:
-        started.set()
-        time.sleep(0.2)
-        return write(fd, data, at)
+    def spy_open(path: Any, flags: int, *args: Any) -> int:
+        fd = open_(path, flags, *args)
+        if flags & payloads._O_DIRECT:
+            opened.add(fd)
+        return fd
 
-    monkeypatch.setattr(payloads.os, "pwrite", slow)
-    opened = _opened(tmp_path)
-    opened.append("run", [b"a" * 100], 100)
-    assert started.wait(10)
-    yield opened
-    opened.close()
+    def spy_pwritev(fd: int, buffers: list[Any], at: int) -> int:
+        if fd in opened:
+            writes.append((at, sum(memoryview(b).nbytes for b in buffers)))
+        return pwritev(fd, buffers, at)
+
+    monkeypatch.setattr(payloads.os, "open", spy_open)
+    monkeypatch.setattr(payloads.os, "pwritev", spy_pwritev)
+    return writes
 
 
-# Batches of up to 3 MiB back to back keep the preparer busy right where the next batch
-# goes: a zero written over a batch shows as a difference.
+def _write(files: PayloadFiles, data: bytes) -> tuple[int, int]:
+    """Write ``data`` as the run's next batch, in two parts; its place."""
+    size = len(data)
+    at = files.end("run", size, committed=lambda: 0)
+    files.append("run", [data[: size // 2], memoryview(data)[size // 2 :]], size)
+    return at, size
+
+
+# Sizes on both sides of DIRECT_BYTES and of the aligned buffer: small batches back to
+# back, large ones at the next aligned place, each read back as written.
 @settings(max_examples=25, deadline=None)
-@given(sizes=st.lists(st.integers(1, 3 * MiB), min_size=1, max_size=12), seed=st.integers(0, 99))
-def test_batches_read_back_as_written_while_the_pages_are_prepared(
+@given(
+    sizes=st.lists(
+        st.one_of(st.integers(1, 3000), st.integers(DIRECT_BYTES - 2, DIRECT_BUFFER + 5000)),
+        min_size=1,
+        max_size=8,
+    ),
+    seed=st.integers(0, 99),
+)
+def test_batches_read_back_as_written(
     tmp_path_factory: pytest.TempPathFactory, sizes: list[int], seed: int
 ) -> None:
     files = _opened(tmp_path_factory.mktemp("payloads"))
     try:
-        places, written = [], []
+        direct = payloads._O_DIRECT and not files._files["run"].buffered
+        places, written, end = [], [], 0
         for i, size in enumerate(sizes):
             data = _batch(size, seed + i)
-            at = files.end("run", committed=lambda: 0)
-            files.append("run", [data[: size // 2], memoryview(data)[size // 2 :]], size)
+            at, _ = _write(files, data)
+            large = direct and size >= DIRECT_BYTES and not files._files["run"].buffered
+            assert at == (_aligned(end) if large else end)
+            end = at + size
             places.append((at, size))
             written.append(data)
-        assert [at for at, _ in places] == [sum(sizes[:i]) for i in range(len(sizes))]
         assert list(files.read("run", places)) == written
     finally:
         files.close()
 
 
-@pytest.mark.parametrize(
-    ("size", "ahead"),
-    [(100, PREPARE_STEP), (3 * MiB, 6 * MiB), (40 * MiB, PREPARE_MAX)],
-    ids=["small: one step", "twice the batch", "at most PREPARE_MAX"],
-)
-def test_the_file_is_prepared_ahead_of_its_end(
-    files: PayloadFiles, tmp_path: Path, size: int, ahead: int
+def test_a_large_batch_is_written_past_the_page_cache(
+    files: PayloadFiles, tmp_path: Path, direct_writes: list[tuple[int, int]]
 ) -> None:
-    files.append("run", [_batch(size, 1)], size)
-    assert _until(lambda: _size(tmp_path / "run.bin") >= size + ahead)
-    time.sleep(0.05)
-    assert _size(tmp_path / "run.bin") == size + ahead  # and no further
-    assert list(files.read("run", [(0, size)])) == [_batch(size, 1)]
+    """Whole aligned blocks through the direct descriptor, the aligned buffer at a time;
+    the small batch before it through the page cache."""
+    small = _write(files, b"s" * 100)
+    size = DIRECT_BUFFER + 5000
+    if files.end("run", size, committed=lambda: 0) % DIRECT_ALIGN:
+        pytest.skip(f"{tmp_path} refuses O_DIRECT")
+    large = _write(files, _batch(size, 1))
+    assert small == (0, 100)
+    assert large[0] == DIRECT_ALIGN
+    assert direct_writes == [(DIRECT_ALIGN, DIRECT_BUFFER), (DIRECT_ALIGN + DIRECT_BUFFER, 8192)]
+    after = _write(files, b"t" * 100)  # into the last block's padding: the end, as before
+    assert after == (DIRECT_ALIGN + size, 100)
+    assert list(files.read("run", [small, large, after])) == [
+        b"s" * 100,
+        _batch(size, 1),
+        b"t" * 100,
+    ]
 
 
-def test_files_of_a_journal_that_fsyncs_every_commit_are_not_prepared(tmp_path: Path) -> None:
-    files = _opened(tmp_path, prepare=False)
-    try:
-        files.append("run", [_batch(3 * MiB, 1)], 3 * MiB)
-        time.sleep(0.05)
-        assert _size(tmp_path / "run.bin") == 3 * MiB
-        assert list(files.read("run", [(0, 3 * MiB)])) == [_batch(3 * MiB, 1)]
-    finally:
-        files.close()
-
-
-def test_small_batches_wake_the_preparer_once_a_half_step(
-    files: PayloadFiles, tmp_path: Path
+def test_a_file_system_refusing_direct_io_at_the_opening_gets_buffered_writes(
+    files: PayloadFiles, monkeypatch: pytest.MonkeyPatch, caplog: pytest.LogCaptureFixture
 ) -> None:
-    files.append("run", [b"x" * 100], 100)
-    assert _until(lambda: _size(tmp_path / "run.bin") >= 100 + PREPARE_STEP)
-    for _ in range(99):  # 9 900 bytes more: less than half a step, asks for nothing
-        files.append("run", [b"y" * 100], 100)
-    time.sleep(0.05)
-    assert _size(tmp_path / "run.bin") == 100 + PREPARE_STEP
+    open_ = os.open
+
+    def no_direct(path: Any, flags: int, *args: Any) -> int:
+        if flags & payloads._O_DIRECT:
+            raise OSError(errno.EINVAL, "Invalid argument")
+        return open_(path, flags, *args)
+
+    monkeypatch.setattr(payloads.os, "open", no_direct)
+    first = _write(files, b"a" * 100)
+    large = _write(files, _batch(DIRECT_BYTES, 2))
+    assert large == (100, DIRECT_BYTES)  # no alignment: buffered, right after
+    assert list(files.read("run", [first, large])) == [b"a" * 100, _batch(DIRECT_BYTES, 2)]
 
 
-def test_a_reopened_file_goes_on_after_the_last_committed_batch(tmp_path: Path) -> None:
-    """The zeros past the committed end (and a batch whose commit failed) are written over."""
-    files = _opened(tmp_path)
-    files.append("run", [b"a" * 1000], 1000)
-    files.append("run", [b"b" * 1000], 1000)  # say its commit failed
-    assert _until(lambda: _size(tmp_path / "run.bin") >= 1000 + PREPARE_STEP)
-    files.close()
-    again = PayloadFiles(tmp_path)
-    try:
-        assert again.end("run", committed=lambda: 1000) == 1000
-        again.append("run", [b"c" * 1000], 1000)
-        assert list(again.read("run", [(0, 1000), (1000, 1000)])) == [b"a" * 1000, b"c" * 1000]
-        assert _size(tmp_path / "run.bin") == 1000 + PREPARE_STEP  # no new bytes: reused
-    finally:
-        again.close()
-
-
-def test_a_failure_to_prepare_leaves_the_batches_to_their_own_write(
-    files: PayloadFiles, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+@pytest.mark.usefixtures("direct_writes")
+def test_a_direct_write_refused_goes_through_the_page_cache_at_the_same_place(
+    files: PayloadFiles, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    """The disk full for the zeros: the batch is written all the same (its own write
-    reports a full disk), and preparing resumes once it succeeds."""
+    """EINVAL from the first direct write (a file system that opens with O_DIRECT and then
+    refuses it): the batch is written buffered where it was placed, and the later ones
+    buffered after it."""
+    _write(files, b"a" * 100)
+    if files.end("run", DIRECT_BYTES, committed=lambda: 0) % DIRECT_ALIGN:
+        pytest.skip("the file system refuses O_DIRECT")
+    direct = files._files["run"].direct
+    pwritev = os.pwritev
+
+    def refuse(fd: int, buffers: list[Any], at: int) -> int:
+        if fd == direct:
+            raise OSError(errno.EINVAL, "Invalid argument")
+        return pwritev(fd, buffers, at)
+
+    monkeypatch.setattr(payloads.os, "pwritev", refuse)
+    large = _write(files, _batch(DIRECT_BYTES, 3))
+    later = _write(files, _batch(DIRECT_BYTES, 4))
+    assert large == (DIRECT_ALIGN, DIRECT_BYTES)
+    assert later == (DIRECT_ALIGN + DIRECT_BYTES, DIRECT_BYTES)
+    assert list(files.read("run", [large, later])) == [
+        _batch(DIRECT_BYTES, 3),
+        _batch(DIRECT_BYTES, 4),
+    ]
+
+
+@pytest.mark.usefixtures("direct_writes")
+def test_a_failed_direct_write_is_raised(
+    files: PayloadFiles, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """A full disk is no refusal of direct I/O: it is said, not written around."""
+    if files.end("run", DIRECT_BYTES, committed=lambda: 0) % DIRECT_ALIGN:
+        pytest.skip("the file system refuses O_DIRECT")
 
     def full(*args: object) -> int:
         raise OSError(errno.ENOSPC, "No space left on device")
 
-    with monkeypatch.context() as m:
-        m.setattr(payloads.os, "pwrite", full)
-        files.append("run", [b"a" * 1000], 1000)
-        time.sleep(0.05)
-        assert _size(tmp_path / "run.bin") == 1000
-    files.append("run", [b"b" * 1000], 1000)
-    assert _until(lambda: _size(tmp_path / "run.bin") >= 2000 + PREPARE_STEP)
-    assert list(files.read("run", [(0, 1000), (1000, 1000)])) == [b"a" * 1000, b"b" * 1000]
+    monkeypatch.setattr(payloads.os, "pwritev", full)
+    with pytest.raises(OSError, match="No space"):
+        _write(files, _batch(DIRECT_BYTES, 5))
 
 
-def test_a_batch_waits_for_the_step_in_progress_where_it_goes(preparing: PayloadFiles) -> None:
-    batch = _batch(2 * PREPARE_STEP, 3)
-    preparing.append("run", [batch], len(batch))
-    time.sleep(0.3)  # the step done, had it not been waited for
-    assert list(preparing.read("run", [(100, len(batch))])) == [batch]
+def test_a_reopened_file_goes_on_after_the_last_committed_batch(tmp_path: Path) -> None:
+    """A batch whose commit failed is written over; a large one goes at the next aligned
+    place after the committed end."""
+    files = _opened(tmp_path)
+    _write(files, b"a" * 1000)
+    _write(files, b"b" * 1000)  # say its commit failed
+    files.close()
+    again = PayloadFiles(tmp_path)
+    try:
+        assert again.end("run", 1000, committed=lambda: 1000) == 1000
+        again.append("run", [b"c" * 1000], 1000)
+        at = again.end("run", DIRECT_BYTES, committed=lambda: 1000)
+        assert at in (2000, DIRECT_ALIGN)  # buffered, or direct at the next boundary
+        again.append("run", [_batch(DIRECT_BYTES, 6)], DIRECT_BYTES)
+        assert list(again.read("run", [(0, 1000), (1000, 1000), (at, DIRECT_BYTES)])) == [
+            b"a" * 1000,
+            b"c" * 1000,
+            _batch(DIRECT_BYTES, 6),
+        ]
+    finally:
+        again.close()
 
 
-def test_dropping_a_file_while_it_is_prepared(preparing: PayloadFiles, tmp_path: Path) -> None:
-    preparing.drop("run")
-    assert preparing.stored() == []
-    other = os.open(tmp_path / "other", os.O_RDWR | os.O_CREAT)  # may reuse the fd
-    time.sleep(0.3)
-    assert os.fstat(other).st_size == 0  # the preparer wrote to no reused descriptor
-    os.close(other)
+def test_dropping_a_file_deletes_it(files: PayloadFiles, tmp_path: Path) -> None:
+    _write(files, _batch(DIRECT_BYTES, 7))
+    files.drop("run")
+    assert files.stored() == []
+    assert not (tmp_path / "run.bin").exists()
 
 
 @settings(max_examples=60, deadline=None)
@@ -208,15 +253,17 @@ def test_a_batch_read_in_pieces_is_the_batch(
 ) -> None:
     """Pieces of ``first`` rows, then ``rows`` (each column cut at its own length), put
     end to end, are the columns as written, whatever precedes the batch in the file."""
-    files = _opened(tmp_path_factory.mktemp("pieces"), prepare=False)
+    files = _opened(tmp_path_factory.mktemp("pieces"))
     try:
         rng = np.random.default_rng(len(lengths) * 1000 + rows)
         columns = {f"c{k}": rng.normal(size=n) for k, n in enumerate(lengths)}
+        files.end("run", before, committed=lambda: 0)
         files.append("run", [bytes(before)], before)
         parts = encode(columns)
         size = sum(memoryview(p).nbytes for p in parts)
+        at = files.end("run", size, committed=lambda: 0)
         files.append("run", parts, size)
-        read = files.pieces("run", before, size, rows, first)
+        read = files.pieces("run", at, size, rows, first)
         pieces = [{n: v.copy() for n, v in p.items()} for p in read]  # each read over the last
         longest = max(lengths)
         spans = [max(len(v) for v in p.values()) for p in pieces]
@@ -229,3 +276,20 @@ def test_a_batch_read_in_pieces_is_the_batch(
             np.testing.assert_array_equal(np.concatenate([p[name] for p in pieces]), values)
     finally:
         files.close()
+
+
+def test_a_large_batch_read_in_pieces_after_a_small_one(files: PayloadFiles) -> None:
+    """The backlog's reading of a batch written past the page cache, in pieces of the run
+    file's chunks: the columns as written."""
+    _write(files, b"s" * 100)
+    rng = np.random.default_rng(8)
+    columns = {"load": rng.normal(size=150_000), "time": np.arange(150_000.0)}
+    parts = encode(columns)
+    size = sum(memoryview(p).nbytes for p in parts)
+    assert size >= DIRECT_BYTES
+    at = files.end("run", size, committed=lambda: 0)
+    files.append("run", parts, size)
+    pieces = [{n: v.copy() for n, v in p.items()} for p in files.pieces("run", at, size, 65_536)]
+    assert [len(p["time"]) for p in pieces] == [65_536, 65_536, 150_000 - 2 * 65_536]
+    for name, values in columns.items():
+        np.testing.assert_array_equal(np.concatenate([p[name] for p in pieces]), values)

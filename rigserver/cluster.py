@@ -17,6 +17,7 @@ in one line and the arrays stay in the journal. ``down`` stops it too.
 from __future__ import annotations
 
 import argparse
+import contextlib
 import json
 import os
 import secrets
@@ -161,22 +162,17 @@ def up(directory: Path, workers: int, *, hsds: bool = True, hsds_reads: bool = F
 def stop_worker(pid_file: Path) -> None:
     """SIGTERM the worker's process group, SIGKILL it if it has not gone in time."""
     pid = int(pid_file.read_text(encoding="utf-8"))
-    try:
+    with contextlib.suppress(ProcessLookupError):  # the group has gone already
         os.killpg(pid, signal.SIGTERM)
-    except ProcessLookupError:
-        pid_file.unlink()
-        return
-    deadline = time.monotonic() + STOP_SECONDS
-    while time.monotonic() < deadline:
-        _reap(pid)
-        if not alive(pid):
-            break
-        time.sleep(0.1)
-    else:
-        os.killpg(pid, signal.SIGKILL)
-        proc = STARTED.pop(pid, None)
-        if proc is not None:
-            proc.wait(STOP_SECONDS)
+        deadline = time.monotonic() + STOP_SECONDS
+        while alive(pid):
+            if time.monotonic() > deadline:
+                os.killpg(pid, signal.SIGKILL)
+                break
+            time.sleep(0.1)
+    proc = STARTED.pop(pid, None)
+    if proc is not None:  # started by this process: collect its exit (no zombie left)
+        proc.wait(STOP_SECONDS)
     pid_file.unlink()
 
 
@@ -188,13 +184,6 @@ def alive(pid: int) -> bool:
     except (FileNotFoundError, ProcessLookupError):
         return False
     return stat.rpartition(")")[2].split()[0] != "Z"
-
-
-def _reap(pid: int) -> None:
-    """Collect the worker's exit if this process started it (``up`` and ``down`` in one)."""
-    proc = STARTED.get(pid)
-    if proc is not None and proc.poll() is not None:
-        del STARTED[pid]
 
 
 def down(directory: Path) -> None:

@@ -1,13 +1,14 @@
 """The binary form of a batch: a NumPy ``.npz`` archive, one 1-D array per channel.
 
 A stored (uncompressed) member, as ``numpy.savez`` writes it, is read in place: its array
-is a view of the request body (copied only if misaligned), found through the zip
-directory (:mod:`zipfile`) and the ``.npy`` header (:mod:`numpy.lib.format`), once its
-CRC-32 is checked against the bytes there (ISA-L's ``crc32`` from :mod:`isal`, over the
-member: 0.4 ms for 8 MB here against 2 ms for zlib's, and far cheaper than
-``numpy.load``'s copy of every value). Both the CRC and the copy of a misaligned member
-(``numpy.savez`` puts the values off 8-byte boundaries) let other threads run meanwhile:
-the event loop goes on receiving the next body. A deflated member is inflated by
+is a view of the request body, found through the zip directory (:mod:`zipfile`) and the
+``.npy`` header (:mod:`numpy.lib.format`), once its CRC-32 is checked against the bytes
+there (ISA-L's ``crc32`` from :mod:`isal`, over the member: 0.4 ms for 8 MB here against
+2 ms for zlib's, and far cheaper than ``numpy.load``'s copy of every value; it lets other
+threads run meanwhile: the event loop goes on receiving the next body). ``numpy.savez``
+puts the values off 8-byte boundaries; they stay there (NumPy reads them a little slower),
+and the store copies a large batch once, into the aligned memory its payload file is
+written from (:mod:`rigserver.storage.payloads`). A deflated member is inflated by
 :mod:`zipfile` (which checks its CRC), at most its declared size. A member whose bytes
 do not match its CRC-32 was damaged on its way: it is refused, never stored.
 
@@ -137,7 +138,7 @@ def _member_array(
     body: bytes, archive: zipfile.ZipFile, info: zipfile.ZipInfo, start: int
 ) -> NDArray[Any]:
     """The array of the ``.npy`` member ``info`` whose data starts at ``start`` in
-    ``body``: a view of ``body`` if stored, else of the member inflated."""
+    ``body``: a read-only view of ``body`` if stored, else of the member inflated."""
     size = info.file_size
     if info.compress_type == zipfile.ZIP_STORED:
         crc = isal_zlib.crc32(memoryview(body)[start : start + size])
@@ -157,13 +158,7 @@ def _member_array(
         if len(body) != size:
             _refuse(info, "file_size", f"{size} is more than the member inflates to ({len(body)})")
     dtype, length, at = _npy_header(info, body[start : start + min(size, _NPY_HEAD)])
-    values = np.frombuffer(body, dtype=dtype, count=length, offset=start + at)
-    if values.flags.aligned:
-        return values
-    aligned = np.empty(length, dtype=dtype)  # NumPy copies bytes without holding the GIL
-    aligned.view(np.uint8)[:] = np.frombuffer(body, np.uint8, length * dtype.itemsize, start + at)
-    aligned.flags.writeable = False  # as the views of the body are: the store keeps it as is
-    return aligned
+    return np.frombuffer(body, dtype=dtype, count=length, offset=start + at)
 
 
 def _npy_header(info: zipfile.ZipInfo, head: bytes) -> tuple[np.dtype[Any], int, int]:

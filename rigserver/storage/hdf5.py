@@ -98,7 +98,8 @@ from rigserver.storage.errors import (
     StorageError,
     StorageUnavailable,
 )
-from rigserver.storage.journal import CatalogueEntry, Journal, Synchronous
+from rigserver.storage.journal import CatalogueEntry, Journal, Synchronous, payload_of
+from rigserver.storage.payloads import Payload
 from rigserver.storage.runfile import RunFile, fsync_path, read_summary, write_file
 from rigserver.storage.waiters import AppendWaiters
 from schemas.readings import BatchReceipt
@@ -344,7 +345,8 @@ class HDF5Store:
         outcomes: list[BatchReceipt | Exception | None] = [None] * len(batches)
         staged: list[_Staged] = []
         saved: dict[str, _Saved] = {}
-        prepared = [posted_or_refusal(nb) for nb in batches]  # copies and digests: outside the lock
+        # copies, digests and the payloads' aligned memory: outside the lock
+        prepared = [_prepared(nb) for nb in batches]
         self._quiet.touched()
         with self._lock:
             try:
@@ -358,7 +360,7 @@ class HDF5Store:
                     outcomes[i] = (
                         batch
                         if isinstance(batch, Exception)
-                        else self._stage(i, nb, batch, staged, saved)
+                        else self._stage(i, nb, *batch, staged, saved)
                     )
                 self._journal.set_counters(self._live[run_id].run for run_id in saved)
                 self._journal.commit()
@@ -396,12 +398,13 @@ class HDF5Store:
         index: int,
         nb: NewBatch,
         batch: Batch,
+        payload: Payload,
         staged: list[_Staged],
         saved: dict[str, _Saved],
     ) -> BatchReceipt | Exception | None:
-        """Add one batch (``nb`` as ``batch``) to the open journal transaction: its receipt
-        if it is a retry, the exception that refuses it, or None once staged. Journal
-        failures are raised."""
+        """Add one batch (``nb`` as ``batch``, its readings as ``payload``) to the open
+        journal transaction: its receipt if it is a retry, the exception that refuses it, or
+        None once staged. Journal failures are raised."""
         run_id, seq, group = nb.run_id, nb.seq, nb.group
         try:
             open_run = self._live.get(run_id)
@@ -426,7 +429,7 @@ class HDF5Store:
         if run_id not in saved:
             saved[run_id] = _Saved.of(live)
         group_rows = live.run.rows.get(group, 0) + batch.rows
-        place = self._journal.add_batch(run_id, seq, batch, group_rows)
+        place = self._journal.add_batch(run_id, seq, batch, group_rows, payload)
         if isinstance(place, StoredBatch):
             try:
                 return retry_receipt(run_id, seq, place, batch)
@@ -943,6 +946,13 @@ class _Staged:
     stored: StoredBatch
     #: its place in the payload file (at, size), should it join the backlog
     place: tuple[int, int]
+
+
+def _prepared(nb: NewBatch) -> tuple[Batch, Payload] | ValueError:
+    """The batch as stored (:func:`posted_or_refusal`) and its readings as the journal
+    writes them, or why it cannot be stored."""
+    batch = posted_or_refusal(nb)
+    return batch if isinstance(batch, ValueError) else (batch, payload_of(batch))
 
 
 def _damaged(run_id: str, path: Path, exc: Exception) -> RunDamaged:

@@ -5,9 +5,10 @@
 ``size``). Bytes past the last committed batch (a write whose commit failed) are never
 read, and the next batch is written over them.
 
-Large batches past the page cache. A batch of :data:`DIRECT_BYTES` or more is written with
-``O_DIRECT``, from an aligned buffer of its own, at a :data:`DIRECT_ALIGN` boundary: the
-disk takes it from that buffer, and the kernel neither copies it nor takes pages for it.
+Large batches past the page cache. A batch of :data:`DIRECT_BYTES` or more is laid out in
+memory aligned to :data:`DIRECT_ALIGN` (:func:`encode`, before the store's lock) and written
+with ``O_DIRECT`` at a :data:`DIRECT_ALIGN` boundary: the disk takes it from that memory,
+and the kernel neither copies it nor takes pages for it.
 Pages the page cache has to take are the dear part of a buffered write: in a virtual
 machine whose free memory goes back to the host (virtio-balloon's free page reporting, as
 on the machines these figures come from) a page not touched for a few seconds is faulted in
@@ -44,8 +45,6 @@ DIRECT_BYTES = 256 << 10
 #: Where a direct write starts and how its length is padded: the page size, a multiple of
 #: any disk's logical block.
 DIRECT_ALIGN = 4096
-#: The aligned buffer a direct write goes through, a piece at a time, bytes.
-DIRECT_BUFFER = 1 << 20
 #: ``O_DIRECT`` where the platform has it (Linux); elsewhere every write is buffered.
 _O_DIRECT: int = getattr(os, "O_DIRECT", 0)
 _IOV_MAX = 512
@@ -58,7 +57,18 @@ _HEADER = struct.Struct("<I")
 _COLUMN = struct.Struct("<HQ")
 
 
-def encode(columns: dict[str, NDArray[np.float64]]) -> list[bytes | memoryview]:
+@dataclass(frozen=True, slots=True)
+class Payload:
+    """A batch as a payload file holds it: ``size`` bytes in ``parts``. A large batch is one
+    part in memory aligned to :data:`DIRECT_ALIGN`; ``padded`` is that memory with zeros
+    after the batch up to a whole :data:`DIRECT_ALIGN`, which a direct write takes as it is."""
+
+    parts: Sequence[bytes | memoryview]
+    size: int
+    padded: memoryview | None = None
+
+
+def encode(columns: dict[str, NDArray[np.float64]]) -> Payload:
     """Channel count, then (name length, row count, name) per channel, then the values
     (raw float64, native order: little-endian on every platform rigserver runs on)."""
     head = [_HEADER.pack(len(columns))]
@@ -66,7 +76,29 @@ def encode(columns: dict[str, NDArray[np.float64]]) -> list[bytes | memoryview]:
         raw = name.encode()
         head.append(_COLUMN.pack(len(raw), len(values)))
         head.append(raw)
-    return [b"".join(head), *(v.data for v in columns.values())]
+    parts: list[bytes | memoryview] = [b"".join(head), *(v.data for v in columns.values())]
+    return Payload(parts, sum(memoryview(p).nbytes for p in parts))
+
+
+def aligned(payload: Payload) -> Payload:
+    """``payload`` as a direct write takes it: a batch of :data:`DIRECT_BYTES` or more
+    copied into memory of its own aligned to :data:`DIRECT_ALIGN` and padded with zeros
+    (from the heap, which ``rigserver serve`` keeps for the next batch); a smaller one, or
+    one already aligned, as it is."""
+    size = payload.size
+    if size < DIRECT_BYTES or payload.padded is not None:
+        return payload
+    whole = -(-size // DIRECT_ALIGN) * DIRECT_ALIGN
+    raw = np.empty(whole + DIRECT_ALIGN, np.uint8)
+    skip = -raw.ctypes.data % DIRECT_ALIGN
+    padded = raw[skip : skip + whole]
+    at = 0
+    for part in payload.parts:
+        data = np.frombuffer(part, np.uint8)
+        padded[at : at + len(data)] = data  # NumPy copies without the GIL
+        at += len(data)
+    padded[at:] = 0
+    return Payload([padded[:size].data], size, padded.data)
 
 
 def decode(data: bytes) -> dict[str, NDArray[np.float64]]:
@@ -114,8 +146,6 @@ class PayloadFiles:
         self.directory = directory
         directory.mkdir(exist_ok=True)
         self._files: dict[str, _File] = {}
-        #: the aligned buffer of direct writes (at the first)
-        self._aligned: mmap.mmap | None = None
 
     def _path(self, run_id: str) -> Path:
         return self.directory / f"{run_id}.bin"
@@ -135,43 +165,26 @@ class PayloadFiles:
                 self._refused(file, exc)
         return _place(file, size)
 
-    def append(self, run_id: str, parts: Sequence[bytes | memoryview], size: int) -> None:
-        """Write ``parts`` (``size`` bytes) where :meth:`end` said, which opened the file.
+    def append(self, run_id: str, payload: Payload) -> None:
+        """Write ``payload`` where :meth:`end` said, which opened the file.
 
-        The end moves past them first, so a failed write leaves bytes that nothing reads.
+        The end moves past it first, so a failed write leaves bytes that nothing reads.
         """
         file = self._files[run_id]
+        size = payload.size
         at = _place(file, size)
         file.end = at + size
         if file.direct is not None and size >= DIRECT_BYTES:
+            padded = aligned(payload).padded
+            assert padded is not None  # a large batch's
             try:
-                return self._write_direct(file.direct, parts, at)
+                return _write_all(file.direct, [padded], at)
             except OSError as exc:
                 if exc.errno != errno.EINVAL:  # not a refusal of direct I/O: a failure
                     raise
                 self._refused(file, exc)
+        parts = payload.parts
         _write_all(file.fd, [b"".join(parts)] if size <= _SMALL_WRITE else parts, at)
-
-    def _write_direct(self, fd: int, parts: Sequence[bytes | memoryview], at: int) -> None:
-        """Write ``parts`` at ``at`` (aligned) through the aligned buffer, the last piece
-        padded with zeros to a whole :data:`DIRECT_ALIGN`."""
-        if self._aligned is None:
-            self._aligned = mmap.mmap(-1, DIRECT_BUFFER)
-        buffer = np.frombuffer(self._aligned, np.uint8)
-        filled = 0
-        for part in parts:
-            data = np.frombuffer(part, np.uint8)
-            while len(data):
-                n = min(len(data), DIRECT_BUFFER - filled)
-                buffer[filled : filled + n] = data[:n]  # NumPy copies without the GIL
-                filled, data = filled + n, data[n:]
-                if filled == DIRECT_BUFFER:
-                    _write_all(fd, [buffer.data], at)
-                    at, filled = at + filled, 0
-        if filled:
-            whole = -(-filled // DIRECT_ALIGN) * DIRECT_ALIGN
-            buffer[filled:whole] = 0
-            _write_all(fd, [buffer[:whole].data], at)
 
     @staticmethod
     def _refused(file: _File, exc: OSError) -> None:
@@ -255,9 +268,6 @@ class PayloadFiles:
         for file in self._files.values():
             _close(file)
         self._files.clear()
-        if self._aligned is not None:
-            self._aligned.close()
-            self._aligned = None
 
 
 def _place(file: _File, size: int) -> int:

@@ -96,7 +96,7 @@ def test_the_backlog_is_written_once_the_store_is_quiet(
 def test_past_the_bound_the_backlog_is_written_and_then_each_batch_at_once(
     store: HDF5Store, writes: _Writes, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    one = sum(memoryview(p).nbytes for p in encode(friction(0, LARGE)))  # a batch's payload
+    one = encode(friction(0, LARGE)).size  # a batch's payload
     monkeypatch.setattr(hdf5_module, "MAX_BACKLOG_BYTES", 2 * one + one // 2)  # two fit
     run = store.create_run(make_run())
     for seq in range(2):
@@ -112,7 +112,7 @@ def test_past_the_bound_the_backlog_is_written_and_then_each_batch_at_once(
 def test_after_a_quiet_a_large_batch_joins_the_backlog_again(
     store: HDF5Store, writes: _Writes, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    one = sum(memoryview(p).nbytes for p in encode(friction(0, LARGE)))
+    one = encode(friction(0, LARGE)).size
     monkeypatch.setattr(hdf5_module, "MAX_BACKLOG_BYTES", one // 2)  # none fits
     run = store.create_run(make_run())
     store.append(run.id, 0, "friction", friction(0, LARGE))  # past the bound: written

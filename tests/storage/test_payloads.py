@@ -18,9 +18,10 @@ from hypothesis import strategies as st
 from rigserver.storage import payloads
 from rigserver.storage.payloads import (
     DIRECT_ALIGN,
-    DIRECT_BUFFER,
     DIRECT_BYTES,
+    Payload,
     PayloadFiles,
+    aligned,
     decode,
     encode,
 )
@@ -38,8 +39,9 @@ def _aligned(at: int) -> int:
 
 def test_encode_and_decode_round_trip() -> None:
     columns = {"time": np.arange(5.0), "load": np.full(5, 300.0), "empty": np.zeros(0)}
-    parts = encode(columns)
-    back = decode(b"".join(bytes(memoryview(p)) for p in parts))
+    payload = encode(columns)
+    back = decode(b"".join(bytes(memoryview(p)) for p in payload.parts))
+    assert payload.size == 4 + 3 * 10 + len("timeloadempty") + 8 * 10
     assert list(back) == list(columns)
     for name, values in columns.items():
         np.testing.assert_array_equal(back[name], values)
@@ -88,16 +90,16 @@ def _write(files: PayloadFiles, data: bytes) -> tuple[int, int]:
     """Write ``data`` as the run's next batch, in two parts; its place."""
     size = len(data)
     at = files.end("run", size, committed=lambda: 0)
-    files.append("run", [data[: size // 2], memoryview(data)[size // 2 :]], size)
+    files.append("run", Payload([data[: size // 2], memoryview(data)[size // 2 :]], size))
     return at, size
 
 
-# Sizes on both sides of DIRECT_BYTES and of the aligned buffer: small batches back to
-# back, large ones at the next aligned place, each read back as written.
+# Sizes on both sides of DIRECT_BYTES: small batches back to back, large ones at the next
+# aligned place, each read back as written.
 @settings(max_examples=25, deadline=None)
 @given(
     sizes=st.lists(
-        st.one_of(st.integers(1, 3000), st.integers(DIRECT_BYTES - 2, DIRECT_BUFFER + 5000)),
+        st.one_of(st.integers(1, 3000), st.integers(DIRECT_BYTES - 2, 2 * MiB + 5000)),
         min_size=1,
         max_size=8,
     ),
@@ -126,16 +128,16 @@ def test_batches_read_back_as_written(
 def test_a_large_batch_is_written_past_the_page_cache(
     files: PayloadFiles, tmp_path: Path, direct_writes: list[tuple[int, int]]
 ) -> None:
-    """Whole aligned blocks through the direct descriptor, the aligned buffer at a time;
-    the small batch before it through the page cache."""
+    """One write of whole aligned blocks through the direct descriptor; the small batch
+    before it through the page cache, and the one after it into the padding."""
     small = _write(files, b"s" * 100)
-    size = DIRECT_BUFFER + 5000
+    size = MiB + 5000
     if files.end("run", size, committed=lambda: 0) % DIRECT_ALIGN:
         pytest.skip(f"{tmp_path} refuses O_DIRECT")
     large = _write(files, _batch(size, 1))
     assert small == (0, 100)
     assert large[0] == DIRECT_ALIGN
-    assert direct_writes == [(DIRECT_ALIGN, DIRECT_BUFFER), (DIRECT_ALIGN + DIRECT_BUFFER, 8192)]
+    assert direct_writes == [(DIRECT_ALIGN, MiB + 8192)]
     after = _write(files, b"t" * 100)  # into the last block's padding: the end, as before
     assert after == (DIRECT_ALIGN + size, 100)
     assert list(files.read("run", [small, large, after])) == [
@@ -143,6 +145,33 @@ def test_a_large_batch_is_written_past_the_page_cache(
         _batch(size, 1),
         b"t" * 100,
     ]
+
+
+@settings(max_examples=40, deadline=None)
+@given(
+    lengths=st.lists(st.integers(0, 3000), min_size=1, max_size=6),
+    extra=st.integers(DIRECT_BYTES - 4000, DIRECT_BYTES + 9000),
+)
+def test_aligned_memory_holds_the_batch_then_zeros(lengths: list[int], extra: int) -> None:
+    """A large payload copied into aligned memory: its bytes, then zeros to a whole block,
+    starting at an aligned address; a small one, or an aligned one, as it is."""
+    rng = np.random.default_rng(len(lengths))
+    parts: list[bytes | memoryview] = [rng.bytes(n) for n in lengths]
+    parts.append(memoryview(rng.bytes(extra))[1:])  # a view, starting off its buffer
+    size = sum(memoryview(p).nbytes for p in parts)
+    payload = Payload(parts, size)
+    copied = aligned(payload)
+    if size < DIRECT_BYTES:
+        assert copied is payload
+        return
+    assert copied.padded is not None and copied.size == size
+    padded = np.frombuffer(copied.padded, np.uint8)
+    assert padded.ctypes.data % DIRECT_ALIGN == 0
+    assert len(padded) == _aligned(size) and len(padded) - size < DIRECT_ALIGN
+    assert padded[:size].tobytes() == b"".join(bytes(memoryview(p)) for p in parts)
+    assert not padded[size:].any()
+    assert b"".join(bytes(p) for p in copied.parts) == padded[:size].tobytes()
+    assert aligned(copied) is copied
 
 
 def test_a_file_system_refusing_direct_io_at_the_opening_gets_buffered_writes(
@@ -217,10 +246,10 @@ def test_a_reopened_file_goes_on_after_the_last_committed_batch(tmp_path: Path) 
     again = PayloadFiles(tmp_path)
     try:
         assert again.end("run", 1000, committed=lambda: 1000) == 1000
-        again.append("run", [b"c" * 1000], 1000)
+        again.append("run", Payload([b"c" * 1000], 1000))
         at = again.end("run", DIRECT_BYTES, committed=lambda: 1000)
         assert at in (2000, DIRECT_ALIGN)  # buffered, or direct at the next boundary
-        again.append("run", [_batch(DIRECT_BYTES, 6)], DIRECT_BYTES)
+        again.append("run", Payload([_batch(DIRECT_BYTES, 6)], DIRECT_BYTES))
         assert list(again.read("run", [(0, 1000), (1000, 1000), (at, DIRECT_BYTES)])) == [
             b"a" * 1000,
             b"c" * 1000,
@@ -258,12 +287,11 @@ def test_a_batch_read_in_pieces_is_the_batch(
         rng = np.random.default_rng(len(lengths) * 1000 + rows)
         columns = {f"c{k}": rng.normal(size=n) for k, n in enumerate(lengths)}
         files.end("run", before, committed=lambda: 0)
-        files.append("run", [bytes(before)], before)
-        parts = encode(columns)
-        size = sum(memoryview(p).nbytes for p in parts)
-        at = files.end("run", size, committed=lambda: 0)
-        files.append("run", parts, size)
-        read = files.pieces("run", at, size, rows, first)
+        files.append("run", Payload([bytes(before)], before))
+        payload = encode(columns)
+        at = files.end("run", payload.size, committed=lambda: 0)
+        files.append("run", payload)
+        read = files.pieces("run", at, payload.size, rows, first)
         pieces = [{n: v.copy() for n, v in p.items()} for p in read]  # each read over the last
         longest = max(lengths)
         spans = [max(len(v) for v in p.values()) for p in pieces]
@@ -284,11 +312,11 @@ def test_a_large_batch_read_in_pieces_after_a_small_one(files: PayloadFiles) -> 
     _write(files, b"s" * 100)
     rng = np.random.default_rng(8)
     columns = {"load": rng.normal(size=150_000), "time": np.arange(150_000.0)}
-    parts = encode(columns)
-    size = sum(memoryview(p).nbytes for p in parts)
-    assert size >= DIRECT_BYTES
+    payload = aligned(encode(columns))  # as the journal hands it over
+    size = payload.size
+    assert size >= DIRECT_BYTES and payload.padded is not None
     at = files.end("run", size, committed=lambda: 0)
-    files.append("run", parts, size)
+    files.append("run", payload)
     pieces = [{n: v.copy() for n, v in p.items()} for p in files.pieces("run", at, size, 65_536)]
     assert [len(p["time"]) for p in pieces] == [65_536, 65_536, 150_000 - 2 * 65_536]
     for name, values in columns.items():

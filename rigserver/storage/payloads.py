@@ -6,9 +6,9 @@
 read, and the next batch is written over them.
 
 Large batches past the page cache. A batch of :data:`DIRECT_BYTES` or more is laid out in
-memory aligned to :data:`DIRECT_ALIGN` (:func:`encode`, before the store's lock) and written
-with ``O_DIRECT`` at a :data:`DIRECT_ALIGN` boundary: the disk takes it from that memory,
-and the kernel neither copies it nor takes pages for it.
+memory aligned to :data:`DIRECT_ALIGN` (:func:`aligned`, which the store calls before its
+lock) and written with ``O_DIRECT`` at a :data:`DIRECT_ALIGN` boundary, in one write: the
+disk takes it from that memory, and the kernel neither copies it nor takes pages for it.
 Pages the page cache has to take are the dear part of a buffered write: in a virtual
 machine whose free memory goes back to the host (virtio-balloon's free page reporting, as
 on the machines these figures come from) a page not touched for a few seconds is faulted in

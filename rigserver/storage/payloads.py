@@ -47,6 +47,8 @@ DIRECT_BYTES = 256 << 10
 DIRECT_ALIGN = 4096
 #: ``O_DIRECT`` where the platform has it (Linux); elsewhere every write is buffered.
 _O_DIRECT: int = getattr(os, "O_DIRECT", 0)
+#: What a file system answers a direct write it does not take (misaligned for it, or none)
+_REFUSALS = (errno.EINVAL, errno.EOPNOTSUPP)
 _IOV_MAX = 512
 #: A batch up to this many bytes is written as one buffer (a single reading's six parts
 #: cost more as a vector of views than joined).
@@ -180,7 +182,7 @@ class PayloadFiles:
             try:
                 return _write_all(file.direct, [padded], at)
             except OSError as exc:
-                if exc.errno != errno.EINVAL:  # not a refusal of direct I/O: a failure
+                if exc.errno not in _REFUSALS:  # not a refusal of direct I/O: a failure
                     raise
                 self._refused(file, exc)
         parts = payload.parts

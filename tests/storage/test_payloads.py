@@ -192,12 +192,13 @@ def test_a_file_system_refusing_direct_io_at_the_opening_gets_buffered_writes(
 
 
 @pytest.mark.usefixtures("direct_writes")
+@pytest.mark.parametrize("refusal", [errno.EINVAL, errno.EOPNOTSUPP])
 def test_a_direct_write_refused_goes_through_the_page_cache_at_the_same_place(
-    files: PayloadFiles, monkeypatch: pytest.MonkeyPatch
+    files: PayloadFiles, monkeypatch: pytest.MonkeyPatch, refusal: int
 ) -> None:
-    """EINVAL from the first direct write (a file system that opens with O_DIRECT and then
-    refuses it): the batch is written buffered where it was placed, and the later ones
-    buffered after it."""
+    """EINVAL or EOPNOTSUPP from the first direct write (a file system that opens with
+    O_DIRECT and then refuses it): the batch is written buffered where it was placed, and
+    the later ones buffered after it."""
     _write(files, b"a" * 100)
     if files.end("run", DIRECT_BYTES, committed=lambda: 0) % DIRECT_ALIGN:
         pytest.skip("the file system refuses O_DIRECT")
@@ -206,7 +207,7 @@ def test_a_direct_write_refused_goes_through_the_page_cache_at_the_same_place(
 
     def refuse(fd: int, buffers: list[Any], at: int) -> int:
         if fd == direct:
-            raise OSError(errno.EINVAL, "Invalid argument")
+            raise OSError(refusal, os.strerror(refusal))
         return pwritev(fd, buffers, at)
 
     monkeypatch.setattr(payloads.os, "pwritev", refuse)

@@ -90,7 +90,7 @@ def aligned(payload: Payload) -> Payload:
     size = payload.size
     if size < DIRECT_BYTES or payload.padded is not None:
         return payload
-    whole = -(-size // DIRECT_ALIGN) * DIRECT_ALIGN
+    whole = _whole(size)
     raw = np.empty(whole + DIRECT_ALIGN, np.uint8)
     skip = -raw.ctypes.data % DIRECT_ALIGN
     padded = raw[skip : skip + whole]
@@ -275,7 +275,7 @@ class PayloadFiles:
 def _place(file: _File, size: int) -> int:
     """Where a batch of ``size`` bytes goes in ``file``."""
     if file.direct is not None and size >= DIRECT_BYTES:
-        return -(-file.end // DIRECT_ALIGN) * DIRECT_ALIGN
+        return _whole(file.end)
     return file.end
 
 
@@ -284,6 +284,11 @@ def _uncache(fd: int, at: int, size: int) -> None:
     platform can)."""
     if hasattr(os, "posix_fadvise"):
         os.posix_fadvise(fd, at, size, os.POSIX_FADV_DONTNEED)
+
+
+def _whole(size: int) -> int:
+    """``size`` rounded up to a whole :data:`DIRECT_ALIGN`."""
+    return -(-size // DIRECT_ALIGN) * DIRECT_ALIGN
 
 
 def _close(file: _File) -> None:

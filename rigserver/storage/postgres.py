@@ -705,7 +705,7 @@ def _payload(batch: Batch) -> bytes:
 
 
 def _encoded(columns: dict[str, NDArray[np.float64]]) -> bytes:
-    return b"".join(bytes(p) for p in encode(columns).parts)
+    return b"".join(encode(columns).parts)
 
 
 def _stored_batch(conn: psycopg.Connection[Any], run_id: str, seq: int) -> StoredBatch | None:

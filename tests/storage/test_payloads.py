@@ -110,12 +110,11 @@ def test_batches_read_back_as_written(
 ) -> None:
     files = _opened(tmp_path_factory.mktemp("payloads"))
     try:
-        direct = payloads._O_DIRECT and not files._files["run"].buffered
         places, written, end = [], [], 0
         for i, size in enumerate(sizes):
             data = _batch(size, seed + i)
             at, _ = _write(files, data)
-            large = direct and size >= DIRECT_BYTES and not files._files["run"].buffered
+            large = size >= DIRECT_BYTES and not files._files["run"].buffered  # direct
             assert at == (_aligned(end) if large else end)
             end = at + size
             places.append((at, size))

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import asyncio
+import contextlib
 from collections.abc import AsyncIterator
 from contextlib import asynccontextmanager
 from functools import partial
@@ -58,6 +60,10 @@ API_ROUTERS = (
     live.router,
     series_routes.router,
 )
+#: The report renderer is loaded (:meth:`RenderPool.warm_up`) once no batch has been posted
+#: for this long, s: loading it takes a core for 2-3 s, and posts arriving meanwhile took
+#: a quarter longer to store (docs/speed.md).
+WARM_UP_WHEN_QUIET_S = 2.0
 
 
 #: FastAPI's native OpenTelemetry, off: no traces, metrics or logs of requests.
@@ -92,6 +98,14 @@ def body_limit(services: Services, scope: Scope) -> int:
     return services.settings.max_body_bytes
 
 
+async def _warm_up_when_quiet(services: Services) -> None:
+    """Load the report renderer once ingest has been quiet for :data:`WARM_UP_WHEN_QUIET_S`
+    (a render asked for before starts it itself)."""
+    while not services.ingest.quiet_for(WARM_UP_WHEN_QUIET_S):
+        await asyncio.sleep(WARM_UP_WHEN_QUIET_S / 4)
+    services.reports.warm_up()
+
+
 def create_app(
     settings: Settings,
     store: RunStore,
@@ -109,9 +123,14 @@ def create_app(
 
     @asynccontextmanager
     async def lifespan(app: FastAPI) -> AsyncIterator[None]:
+        warming = None
         if settings.reports_on_finish:  # the first run to end renders its reports at once
-            app.state.services.reports.warm_up()
+            warming = asyncio.create_task(_warm_up_when_quiet(app.state.services))
         yield
+        if warming is not None:
+            warming.cancel()
+            with contextlib.suppress(asyncio.CancelledError):
+                await warming
         app.state.services.results.close()
         app.state.services.reports.close()
         store.close()

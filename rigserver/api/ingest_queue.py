@@ -33,6 +33,7 @@ from __future__ import annotations
 import asyncio
 import logging
 import threading
+import time
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 
@@ -116,6 +117,8 @@ class IngestQueue:
         #: API key -> what it holds (a key holding none is not kept)
         self._held: dict[str, _Held] = {}
         self._pending: dict[asyncio.AbstractEventLoop, _Pending] = {}
+        #: when the last post was admitted (time.monotonic), or the queue made
+        self._last_post = time.monotonic()
 
     # --- admission --------------------------------------------------------------------
 
@@ -124,6 +127,11 @@ class IngestQueue:
         """Posts admitted now, and the bytes of their bodies counted against the queue."""
         with self._admission:
             return self._admitted, self._counted
+
+    def quiet_for(self, seconds: float) -> bool:
+        """Whether no post is held and none was admitted in the last ``seconds`` s."""
+        with self._admission:
+            return not self._admitted and time.monotonic() - self._last_post >= seconds
 
     @contextmanager
     def admit(self, size: int, key: str = "") -> Iterator[Place]:
@@ -141,6 +149,7 @@ class IngestQueue:
             ):
                 raise self._share_used(held)
             self._admitted += 1
+            self._last_post = time.monotonic()
             held.posts += 1
             held.declared += size
             self._held[key] = held

@@ -108,6 +108,8 @@ class RenderPool:
         if not self._use_processes:
             return
         with self._lock:
+            if self._processes is not None:  # started already, by a render
+                return
             executor = self._executor(in_process=False)
         try:
             task = executor.submit(warm_up)

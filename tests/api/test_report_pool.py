@@ -60,10 +60,11 @@ def test_a_render_process_that_ends_abruptly_is_replaced(
 def test_warming_up_starts_the_render_process_that_the_first_report_uses(
     tmp_path: Path,
 ) -> None:
-    """The service starts its render process as it starts (when a finished run's reports
-    are rendered at once): the process is there before any render, with the renderer
-    loaded, and the first report is rendered in it instead of waiting for a new one
-    (about 2 s of a 50-million-reading run's first page: docs/speed.md)."""
+    """The service starts its render process ahead of the first report (once ingest is
+    quiet, when a finished run's reports are rendered at once): the process is there before
+    any render, with the renderer loaded, and the first report is rendered in it instead of
+    waiting for a new one (about 2 s of a 50-million-reading run's first page:
+    docs/speed.md)."""
     before = {p.pid for p in multiprocessing.active_children()}
     pool = RenderPool(workers=1, queue=4, share=1.0, retry_after=1, processes=True)
     try:

@@ -82,6 +82,25 @@ def test_welch_by_hand() -> None:
     assert found.significant
 
 
+@settings(max_examples=60, deadline=None)
+@given(
+    st.floats(0.01, 2.0),
+    st.integers(2, 8),
+    st.lists(st.floats(0.01, 2.0), min_size=2, max_size=12).filter(lambda v: np.ptp(v) > 1e-3),
+)
+def test_welch_against_a_level_of_equal_values_is_a_one_sample_t_test(
+    value: float, runs: int, b: list[float]
+) -> None:
+    # One level's runs all read the same value: its variance is 0, so Welch's statistic is
+    # (x̄b - value)/(sb/√nb) and the Welch-Satterthwaite ν reduces to nb - 1: Student's
+    # one-sample test of b against the value. No warning: the suite turns them into errors.
+    found = compare({"same": [value] * runs, "other": b})
+    alone = stats.ttest_1samp(b, value)
+    assert found.statistic == pytest.approx(float(alone.statistic), rel=1e-9)
+    assert found.df[0] == pytest.approx(len(b) - 1, rel=1e-9)
+    assert found.p_value == pytest.approx(float(alone.pvalue), rel=1e-7, abs=1e-300)
+
+
 def test_anova_on_the_textbook_example() -> None:
     # Means 5, 9, 10, grand mean 8: SSB = 6·(9 + 1 + 4) = 84, SSW = 16 + 24 + 28 = 68,
     # F = (84/2)/(68/15) = 9.2647 on (2, 15) degrees of freedom.

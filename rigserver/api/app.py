@@ -61,8 +61,8 @@ API_ROUTERS = (
     series_routes.router,
 )
 #: The report renderer is loaded (:meth:`RenderPool.warm_up`) once no batch has been posted
-#: for this long, s: loading it takes a core for 2-3 s, and posts arriving meanwhile took
-#: a quarter longer to store (docs/speed.md).
+#: for this long, s: loading it takes a core for 2-3 s, and binary batches posted meanwhile
+#: were stored at three quarters of the rate (docs/speed.md, "Ingest, the seventh set").
 WARM_UP_WHEN_QUIET_S = 2.0
 
 

@@ -1,6 +1,6 @@
 """The report renderer is loaded once ingest has been quiet, not as the service starts:
-loading it takes a core for 2-3 s, and binary batches posted meanwhile were stored a
-quarter slower (docs/speed.md, "Ingest, the seventh set")."""
+loading it takes a core for 2-3 s, and binary batches posted meanwhile were stored at
+three quarters of the rate (docs/speed.md, "Ingest, the seventh set")."""
 
 from __future__ import annotations
 

@@ -38,6 +38,11 @@ KEYS_FILE = "demo-keys.json"
 STARTUP_TIMEOUT = 60.0
 #: Seconds the server has to stop after SIGTERM before it is killed.
 STOP_TIMEOUT = 15.0
+#: How often the demo looks up from waiting for its stands, s. Python runs a signal's
+#: handler in the main thread only; a join without a timeout sleeps through Ctrl-C when the
+#: kernel hands the signal to a posting thread, and the demo went on until the stands'
+#: retries gave up (up to 2 min).
+JOIN_INTERVAL = 0.2
 
 
 def demo_key(data_dir: Path) -> tuple[Path, str]:
@@ -162,7 +167,8 @@ def run_demo(
             f"tribometers at {_pace(speed)} ..."
         )
         for thread in threads:
-            thread.join()
+            while thread.is_alive():  # woken each interval: Ctrl-C is heard while stands post
+                thread.join(JOIN_INTERVAL)
         for label, outcome in outcomes.items():
             if isinstance(outcome, str):
                 console.print(f"  {label:14s} {outcome}")

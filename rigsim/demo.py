@@ -168,6 +168,11 @@ def run_demo(
         )
         for thread in threads:
             while thread.is_alive():  # woken each interval: Ctrl-C is heard while stands post
+                if proc.poll() is not None:  # the server stopped (a signal to the group)
+                    console.print(
+                        f"the server stopped (exit code {proc.returncode}): so does the demo"
+                    )
+                    return proc.returncode or 1
                 thread.join(JOIN_INTERVAL)
         for label, outcome in outcomes.items():
             if isinstance(outcome, str):

@@ -79,17 +79,23 @@ def test_results_are_printed_with_units() -> None:
     assert "truth: steps" in text and "representable" in text
 
 
-#: ``rigsim demo`` with Ctrl-C heard, as in a terminal, however the tests were launched
-#: (a process started with SIGINT ignored passes that on to its children)
-_WITH_CTRL_C = (
-    "import runpy, signal, sys; signal.signal(signal.SIGINT, signal.default_int_handler); "
+#: ``rigsim demo`` with Ctrl-C heard, as in a terminal, or ignored, as in a background job,
+#: however the tests were launched (a process started with SIGINT ignored passes that on to
+#: its children)
+_WITH_SIGINT = (
+    "import runpy, signal, sys; signal.signal(signal.SIGINT, signal.{}); "
     "sys.argv[0] = 'rigsim'; runpy.run_module('rigsim.cli', run_name='__main__')"
 )
 
 
-def _demo(port: int, data_dir: Path, out: Path, *, ctrl_c: bool = False) -> subprocess.Popen[bytes]:
-    """``rigsim demo`` in its own process group, its output into ``out``."""
-    start = ["-c", _WITH_CTRL_C] if ctrl_c else ["-m", "rigsim.cli"]
+def _demo(
+    port: int, data_dir: Path, out: Path, *, ctrl_c: bool | None = None
+) -> subprocess.Popen[bytes]:
+    """``rigsim demo`` in its own process group, its output into ``out``; SIGINT heard
+    (``ctrl_c``), ignored (False) or as the tests were launched (None)."""
+    start = ["-m", "rigsim.cli"]
+    if ctrl_c is not None:
+        start = ["-c", _WITH_SIGINT.format("default_int_handler" if ctrl_c else "SIG_IGN")]
     cmd = [sys.executable, *start, "demo", "--port", str(port)]
     cmd += ["--data-dir", str(data_dir), "--speed", "max"]
     env = {**os.environ, "PYTHONUNBUFFERED": "1", "COLUMNS": "120"}
@@ -149,6 +155,25 @@ def test_ctrl_c_while_the_demo_posts_stops_it_and_its_server(tmp_path: Path) -> 
         stop(proc)
     text = out.read_text(errors="replace")
     assert "interrupted" in text and "Traceback" not in text
+
+
+def test_a_server_stopped_while_the_demo_posts_stops_the_demo(tmp_path: Path) -> None:
+    """Launched as a background job, the demo keeps SIGINT ignored, but its server (uvicorn)
+    stops on it: the demo then stops too, at once, instead of posting to nobody until the
+    stands' retries give up (up to 2 min)."""
+    port, out = free_port(), tmp_path / "demo.out"
+    proc = _demo(port, tmp_path / "data", out, ctrl_c=False)
+    try:
+        assert "posting the four" in _wait_for(out, "posting the four", proc, 60)
+        os.killpg(proc.pid, signal.SIGINT)
+        status = proc.wait(timeout=30)
+        with pytest.raises(httpx.TransportError):
+            httpx.get(f"http://127.0.0.1:{port}/api/v1/runs", timeout=2)
+    finally:
+        stop(proc)
+    text = out.read_text(errors="replace")
+    assert status != 0  # the demo did not get to serve its runs
+    assert "the server stopped" in text and "Traceback" not in text
 
 
 def test_a_second_demo_on_a_busy_port_says_so_in_one_line(server: Server) -> None:

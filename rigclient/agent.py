@@ -37,7 +37,8 @@ from rigclient.dialect import (
 )
 from rigclient.errors import InputError
 from rigclient.follow import MAX_LINE, Follower, Line
-from rigclient.mapping import StandMap, configuration, unit_factor
+from rigclient.mapping import StandMap, configuration
+from rigclient.units import unit_factor
 from rigclient.spool import Cursor, Reject
 from rigclient.table import Table, sniff
 from schemas.stands import MEASUREMENTS, Stand, StandKind, default_stands

@@ -21,18 +21,21 @@ from numpy.typing import NDArray
 
 from rigclient.dialect import cells, header_cells, header_names, name_key, number, split_header
 from rigclient.errors import InputError
-from rigclient.mapping import StandMap, unit_factor
+from rigclient.mapping import ColumnMap, StandMap
+from rigclient.units import unit_factor
 from schemas.channels import Channel, ChannelGroup, Order
 
 
 @dataclass(frozen=True, slots=True)
 class Field:
-    """A file column that feeds a channel: its index, header text, channel and factor."""
+    """A file column that feeds a channel: its index, header text, channel, and the
+    channel's value as the file's × ``factor`` + ``offset``."""
 
     index: int
     header: str
     channel: str
     factor: float
+    offset: float = 0.0
 
 
 @dataclass(slots=True)
@@ -112,16 +115,13 @@ class Table:
                     line=line,
                     column=cell,
                 )
-            if mapped is not None and mapped.factor is not None:
-                factor = mapped.factor
-            else:
-                source = (mapped.unit if mapped is not None else None) or unit
-                try:
-                    factor = 1.0 if source is None else unit_factor(source, units[channel])
-                except InputError as exc:
-                    message = str(exc).split(": ", 1)[-1]
-                    raise InputError(message, file=file, line=line, column=cell) from None
-            fields.append(Field(index, cell, channel, factor))
+            factor, offset = (mapped.factor, mapped.offset) if mapped is not None else (1.0, 0.0)
+            try:
+                scale = _scale(mapped, unit, units[channel])
+            except InputError as exc:
+                message = str(exc).split(": ", 1)[-1]
+                raise InputError(message, file=file, line=line, column=cell) from None
+            fields.append(Field(index, cell, channel, factor * scale, offset * scale))
         constants = _constants(mapping, units, file)
         seen = [f.channel for f in fields]
         twice = sorted({c for c in seen if seen.count(c) > 1})
@@ -186,7 +186,7 @@ class Table:
             self.fields, self._rules, strict=True
         ):
             try:
-                value = number(found[f.index], self.decimal) * f.factor
+                value = number(found[f.index], self.decimal) * f.factor + f.offset
             except ValueError as exc:
                 raise InputError(str(exc), file=self.file, line=line, column=f.header) from None
             if (
@@ -268,6 +268,23 @@ def _word(cell: str) -> bool:
     except ValueError:
         return any(ch.isalpha() for ch in cell)
     return False
+
+
+def _scale(mapped: ColumnMap | None, header: str | None, channel: str) -> float:
+    """The factor from a column's unit to its channel's: the map's unit, else the header's
+    (or the units line's), else none. A map's factor without a unit on a column whose
+    header's unit is not the channel's quantity (``M, div``) is the factor into the
+    channel's unit itself: the header's unit is then left aside."""
+    if mapped is not None and mapped.unit is not None:
+        return unit_factor(mapped.unit, channel)
+    if header is None:
+        return 1.0
+    if mapped is not None and (mapped.factor, mapped.offset) != (1.0, 0.0):
+        try:
+            return unit_factor(header, channel)
+        except InputError:
+            return 1.0
+    return unit_factor(header, channel)
 
 
 def _constants(mapping: StandMap | None, units: Mapping[str, str], file: str) -> dict[str, float]:

@@ -38,9 +38,9 @@ from rigclient.dialect import (
 from rigclient.errors import InputError
 from rigclient.follow import MAX_LINE, Follower, Line
 from rigclient.mapping import StandMap, configuration
-from rigclient.units import unit_factor
 from rigclient.spool import Cursor, Reject
 from rigclient.table import Table, sniff
+from rigclient.units import unit_factor
 from schemas.stands import MEASUREMENTS, Stand, StandKind, default_stands
 
 HEAD = 256 << 10  # bytes of a file's start in which its header must be

@@ -13,8 +13,8 @@ from rigclient.agent import constants, run_metadata
 from rigclient.dialect import FileSettings
 from rigclient.errors import InputError
 from rigclient.mapping import load_map
-from rigclient.units import unit_factor
 from rigclient.table import Table, split_header
+from rigclient.units import unit_factor
 from schemas.channels import ChannelGroup
 from schemas.stands import StandKind, default_stands, with_overrides
 

@@ -18,6 +18,7 @@ stops there, naming the line, when the map cannot place them (never by position 
 from __future__ import annotations
 
 import getpass
+import itertools
 import re
 import threading
 import time
@@ -78,9 +79,10 @@ class Batching:
 
 @dataclass(slots=True)
 class Outcome:
-    """What the agent spooled: the run, rows, batches and lines rejected."""
+    """What the agent spooled: the run (None until an import's first row), rows, batches
+    and lines rejected."""
 
-    run: RunHandle
+    run: RunHandle | None
     rows: int = 0
     batches: int = 0
     rejected: int = 0
@@ -140,6 +142,10 @@ def stand_of(kind: str, configuration: dict[str, Any] | None = None) -> Stand:
     except ValueError:
         known = ", ".join(k.value for k in StandKind)
         raise InputError(f"unknown stand {kind!r}; known: {known}") from None
+
+
+class NoRow(InputError):
+    """An import whose file gave no row: no run is opened."""
 
 
 class HeaderChanged(InputError):
@@ -203,6 +209,7 @@ class Agent:
         self._rejects: list[Reject] = []
         self._first = 0.0
         self._mark = (0, 0)  # end offset and number of the last line taken
+        self._opening: Cursor | None = None  # where the run's opening puts the file's cursor
         self.progress: Callable[[int], None] = lambda done: None  # bytes read so far
 
     def _table(self, text: str, line: int, width: int | None = None) -> Table:
@@ -287,12 +294,31 @@ class Agent:
         return Header(lines.index(texts[0]), delimiter or sniff(texts[0].text))
 
     def opening(self) -> dict[str, Any]:
-        """The run's opening as :meth:`run` spools it for a finished file (its head is read,
-        then put back)."""
+        """The run's opening as :meth:`run` spools it for a finished file (its head is read
+        to its first row, then put back); :class:`NoRow` if no line is a row it takes (no
+        run is opened for it, here or on the server)."""
         try:
-            self._read_head(threading.Event(), follow=False)
-            return with_preamble(self.metadata, self.preamble)
+            head = self._read_head(threading.Event(), follow=False)
+            assert head is not None
+            table, lines = head
+            refused, first = 0, ""
+            rest = iter(lambda: self.follower.lines(final=True), [])
+            for line in itertools.chain(lines, itertools.chain.from_iterable(rest)):
+                if not line.text.strip() or line.overlong or line.text.lstrip().startswith("#"):
+                    continue
+                try:
+                    table.parse(line.text, line.number)
+                except InputError as exc:
+                    if table.is_header(line.text):
+                        table = self._remap(line, table)
+                        continue
+                    refused, first = refused + 1, first or str(exc)
+                    continue
+                return with_preamble(self.metadata, self.preamble)
+            self._rejects = [Reject(str(self.path), 0, "", first)] if first else []
+            raise NoRow(self._no_row(Outcome(None, rejected=refused)), file=str(self.path))
         finally:
+            self._rejects = []
             self.follower.close()
             self.follower = Follower(self.path)
             self._head, self._mark, self._delimiter, self.preamble = _Head([]), (0, 0), None, []
@@ -316,7 +342,9 @@ class Agent:
 
     def run(self, stop: threading.Event, *, follow: bool = True) -> Outcome | None:
         """Spool the file until ``stop`` is set or, ``follow`` false, to its end; then queue
-        the run's finish. None if stopped before the file had a header."""
+        the run's finish. None if stopped before the file had a header (an import: before
+        its first row). An import opens its run with its first row: :class:`NoRow` if the
+        file has none, and no run is opened."""
         found = self.client.source(self.key)
         try:
             head = self._read_head(stop, follow)
@@ -327,43 +355,41 @@ class Agent:
             self.follower.close()
             return None
         table, pending = head
+        outcome = Outcome(None)
         if found is not None:
             run, cursor = found
             table, pending = self._resume(cursor, table, pending)
             self.say(f"{self.path}: going on with run {run.local_id} from line {self._mark[1] + 1}")
-        else:
-            run = self.client.open_run(
-                **with_preamble(self.metadata, self.preamble),
-                constants=constants(self.stand, self.mapping),
-                cursor=self.follower.cursor(self.key, *self._mark),
-                idempotency_key=self.idempotency_key,
-            )
+            outcome.run = run
+        self._opening = self.follower.cursor(self.key, *self._mark)
         try:
-            self.on_run(run)  # may stop the agent (a key refused): the run stays spooled
+            if outcome.run is not None:
+                self.on_run(outcome.run)  # may stop the agent (a key refused)
+            elif follow:  # a file being written: its run opens with its header
+                self._opened(outcome)
         except BaseException:
             self.follower.close()
             raise
-        outcome = Outcome(run)
         idle_since = time.monotonic()
         try:
             while True:
                 change = self.follower.changed() if follow and not pending else None
                 if change is not None:
-                    table = self._switch(change, run, table, outcome)
+                    table = self._switch(change, table, outcome)
                     idle_since = time.monotonic()
                     continue
                 lines = pending or self.follower.lines(final=not follow)
                 pending = []
                 self.progress(self.follower.size_read)
                 for line in lines:
-                    table = self._take(line, table, run, outcome, final=not follow)
+                    table = self._take(line, table, outcome, final=not follow)
                     if len(self._rows) >= self.batching.rows:
-                        self._flush(run, table, outcome)
+                        self._flush(table, outcome)
                 now = time.monotonic()
                 if lines:
                     idle_since = now
                 if self._rows and now - self._first >= self.batching.seconds:
-                    self._flush(run, table, outcome)
+                    self._flush(table, outcome)
                 if lines:
                     continue
                 if not follow or stop.is_set():
@@ -373,17 +399,21 @@ class Agent:
                     self.say(f"{self.path}: no new row for {idle:g} s, finishing")
                     break
                 stop.wait(self.batching.poll)
-            self._flush(run, table, outcome)
+            self._flush(table, outcome)
             outcome.partial = self.follower.partial
             if outcome.partial:
                 self.say(
                     f"{self.path}:{self.follower.line + 1}: a partial last line (no end of "
                     "line yet) was not taken"
                 )
-            run.finish()
+            if outcome.run is None:
+                if stop.is_set():
+                    return None
+                raise NoRow(self._no_row(outcome), file=str(self.path))
+            outcome.run.finish()
             self.client.forget_headers(self.key)
         except HeaderChanged:
-            self._flush(run, table, outcome)
+            self._flush(table, outcome)
             raise
         finally:
             self.follower.close()
@@ -425,9 +455,7 @@ class Agent:
         new.last.update(table.last)
         return new
 
-    def _take(
-        self, line: Line, table: Table, run: RunHandle, outcome: Outcome, *, final: bool
-    ) -> Table:
+    def _take(self, line: Line, table: Table, outcome: Outcome, *, final: bool) -> Table:
         if self._head is not None:  # a new file (rotated): its header first
             self._head.lines.append(line)
             found = self._header(final=final)
@@ -436,7 +464,7 @@ class Agent:
             new, rest = found
             new.last.update(table.last)
             for later in rest:
-                new = self._take(later, new, run, outcome, final=final)
+                new = self._take(later, new, outcome, final=final)
             return new
         if line.overlong:
             why = f"a line of {line.overlong} bytes, over {MAX_LINE >> 10} KiB"
@@ -452,7 +480,7 @@ class Agent:
                 self._reject(exc, line, outcome)
                 return table
             new = self._remap(line, table)
-            self._flush(run, table, outcome)
+            self._flush(table, outcome)
             cursor = self.follower.cursor(self.key, line.end, line.number)
             self.client.keep_header(cursor, line.start, line.text)
             self.say(f"{self.path}:{line.number}: a new header; the rows after it by its names")
@@ -471,7 +499,33 @@ class Agent:
         outcome.rejected += 1
         self._mark = (line.end, line.number)
 
-    def _flush(self, run: RunHandle, table: Table, outcome: Outcome) -> None:
+    def _opened(self, outcome: Outcome) -> RunHandle:
+        """The run, opened now if it is not yet (an import opens it with its first row)."""
+        if outcome.run is None:
+            outcome.run = self.client.open_run(
+                **with_preamble(self.metadata, self.preamble),
+                constants=constants(self.stand, self.mapping),
+                cursor=self._opening,
+                idempotency_key=self.idempotency_key,
+            )
+            self.on_run(outcome.run)  # may stop the agent (a key refused): the run stays
+        return outcome.run
+
+    def _no_row(self, outcome: Outcome) -> str:
+        """Why an import opened no run: no line of the file was a row it could take."""
+        if not outcome.rejected:
+            return "no row under the header; no run opened"
+        first = self._rejects[0].message if self._rejects else ""
+        return (
+            f"no row could be taken ({outcome.rejected} lines refused, the first: {first}); "
+            "no run opened: fix the map (a column's unit, factor or offset) or the file and "
+            "import it again"
+        )
+
+    def _flush(self, table: Table, outcome: Outcome) -> None:
+        if outcome.run is None and not self._rows:
+            return  # an import's lines refused before its first row: kept until it opens
+        run = self._opened(outcome)
         cursor = self.follower.cursor(self.key, *self._mark)
         rejects = tuple(self._rejects)
         if self._rows:
@@ -482,13 +536,13 @@ class Agent:
             run.mark(cursor, rejects)
         self._rows, self._rejects = [], []
 
-    def _switch(self, change: str, run: RunHandle, table: Table, outcome: Outcome) -> Table:
+    def _switch(self, change: str, table: Table, outcome: Outcome) -> Table:
         """The file was rotated (read the old one to its end first) or truncated: the new
         one is read from its start, its header first."""
         if change == "rotated":
             for line in self.follower.lines():
-                table = self._take(line, table, run, outcome, final=False)
-        self._flush(run, table, outcome)
+                table = self._take(line, table, outcome, final=False)
+        self._flush(table, outcome)
         if self.follower.partial:
             self.say(f"{self.path}:{self.follower.line + 1}: the old file ended in a partial line")
         self.say(f"{self.path}: the file was {change}; reading the new one from its start")
@@ -497,5 +551,5 @@ class Agent:
         self._head = _Head([])
         self._open()
         self._mark = (self.follower.position, 0)
-        run.mark(self.follower.cursor(self.key, *self._mark))
+        self._opened(outcome).mark(self.follower.cursor(self.key, *self._mark))
         return table

@@ -298,8 +298,10 @@ def _tail(args: argparse.Namespace, *, follow: bool) -> int:
                 _say(f"{args.file}: imported before (its content, {key}): {held.describe()}")
                 return _held(args, client, held)
         outcome = agent.run(stop) if follow else _import(client, agent, args.drain, stop)
-        if outcome is None:
-            _say(f"{args.file}: stopped before the file had a header; no run opened")
+        if outcome is None or outcome.run is None:
+            _say(
+                f"{args.file}: stopped before the file had a {'header' if follow else 'row'}; no run opened"
+            )
             return 1
         _say(
             f"{args.file}: {outcome.rows} rows in {outcome.batches} batches spooled, "
@@ -375,7 +377,7 @@ def _import(client: Client, agent: Agent, drain: float, stop: threading.Event) -
             task = bar.add_task(f"spooling {agent.path.name} (bytes)", total=size)
             agent.progress = lambda done: bar.update(task, completed=done)
             outcome = agent.run(stop, follow=False)
-        if outcome is not None:
+        if outcome is not None and outcome.run is not None:
             _deliver(client, outcome.run, bar, drain)
         client.say = _say
     return outcome

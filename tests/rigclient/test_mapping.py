@@ -19,6 +19,7 @@ from rigclient.cli import main
 from rigclient.errors import InputError
 from rigclient.jsontext import MAX_DEPTH
 from rigclient.mapping import load_map
+from rigclient.spool import Spool
 from rigclient.table import Table
 from schemas.stands import StandKind, default_stands
 
@@ -221,3 +222,27 @@ def test_a_units_mistake_names_the_column(tmp_path: Path) -> None:
     assert group is not None
     with pytest.raises(InputError, match=r"column 'Fz': a value in 'mm' cannot be"):
         Table.from_header("time,Fz,mu", file="f", group=group, mapping=load_map(path))
+
+
+@pytest.mark.parametrize("again", [False, True])
+def test_an_import_whose_every_line_is_refused_opens_no_run(tmp_path: Path, again: bool) -> None:
+    """Issue 39, item 8: a file whose every line was refused (its time as hh:mm:ss) finished
+    an empty run and exited 0. Now: exit 1, a line saying why, and nothing in the spool (nor
+    on the server: a file imported once is looked up there with its opening, which would
+    open the run; that lookup is not made for a file without a row)."""
+    export = tmp_path / "export.csv"
+    export.write_text("time,friction_coefficient\n00:00:01,0.1\n00:00:02,0.1\n00:00:03,0.1\n")
+    spool = tmp_path / "spool"
+    code, said = _rigclient(
+        "import", str(export), "--stand", "pin_on_disc", "--group", "friction",
+        "--spool", str(spool), "--url", "http://127.0.0.1:9", "--drain", "0",
+        *(["--again"] if again else []),
+    )  # fmt: skip
+    assert code == 1, said
+    last = said.strip().splitlines()[-1]
+    assert last.startswith("rigclient: ") and "no run opened" in last, said
+    assert "3 lines refused" in last and "'00:00:01' is not a number" in last, said
+    assert "connection refused" not in said  # the server was never asked
+    if spool.exists():
+        with Spool(spool, create=False) as s:
+            assert s.runs() == []

@@ -23,6 +23,7 @@ from rigclient.errors import (
     SpoolDamaged,
     SpoolError,
     SpoolFull,
+    SpoolUnreadable,
     UnknownRun,
 )
 from rigclient.http import Api, RetryPolicy, problem_of, retry_after
@@ -47,6 +48,7 @@ __all__ = [
     "SpoolError",
     "SpoolFull",
     "SpoolLimits",
+    "SpoolUnreadable",
     "UnknownRun",
     "problem_of",
     "retry_after",

@@ -10,6 +10,7 @@
     rigclient send --url URL --key KEY          # deliver what the spool still holds
     rigclient retry RUN                         # queue a refused or damaged run again
     rigclient drop RUN [--damaged]              # drop what is pending of a run
+    rigclient salvage --spool DIR               # a damaged spool: keep what still reads
 
 Exit status: 0 when everything the command was given is on the server; 1 otherwise (an
 error, a refusal, or rows that still wait in the spool: the message says which).
@@ -49,6 +50,7 @@ from rigclient.imported import Held, digest_key, imported_before
 from rigclient.lock import SpoolLock, held_by
 from rigclient.mapping import StandMap, load_map
 from rigclient.profile import GROUP, read_profile, roughness_lines
+from rigclient.salvage import salvage
 from rigclient.spool import RunRecord, Spool, SpoolLimits, amount
 from rigclient.summary import results_tables
 from schemas.runs import RunState
@@ -151,6 +153,12 @@ def _parser() -> argparse.ArgumentParser:
         "--damaged", action="store_true", help="only its damaged batches; the rest goes on"
     )
     _common(drop, server=False)
+    save = sub.add_parser(
+        "salvage",
+        help="a spool SQLite cannot read: keep what still reads in a new spool (then "
+        "`rigclient send`), the damaged file moved aside",
+    )
+    _common(save, server=False)
     return parser
 
 
@@ -300,7 +308,8 @@ def _tail(args: argparse.Namespace, *, follow: bool) -> int:
         outcome = agent.run(stop) if follow else _import(client, agent, args.drain, stop)
         if outcome is None or outcome.run is None:
             _say(
-                f"{args.file}: stopped before the file had a {'header' if follow else 'row'}; no run opened"
+                f"{args.file}: stopped before the file had a "
+                f"{'header' if follow else 'row'}; no run opened"
             )
             return 1
         _say(
@@ -634,6 +643,13 @@ def _drop(args: argparse.Namespace) -> int:
     return 0
 
 
+def _salvage(args: argparse.Namespace) -> int:
+    done = salvage(args.spool)
+    _say(f"spool {args.spool}: {done.describe()}")
+    _say("`rigclient status` shows what was saved; `rigclient send` delivers it")
+    return 1 if done.lost else 0
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     args = _parser().parse_args(argv)
     try:
@@ -647,6 +663,8 @@ def main(argv: Sequence[str] | None = None) -> int:
             return _retry(args)
         if args.command == "drop":
             return _drop(args)
+        if args.command == "salvage":
+            return _salvage(args)
         return _send(args)
     except RigclientError as exc:
         _say(f"rigclient: {exc}")

@@ -40,7 +40,7 @@ from rigclient.errors import InputError
 from rigclient.follow import MAX_LINE, Follower, Line
 from rigclient.mapping import StandMap, configuration
 from rigclient.spool import Cursor, Reject
-from rigclient.table import Table, sniff
+from rigclient.table import Table, sniff, units_line
 from rigclient.units import unit_factor
 from schemas.stands import MEASUREMENTS, Stand, StandKind, default_stands
 
@@ -209,12 +209,16 @@ class Agent:
         self._rejects: list[Reject] = []
         self._first = 0.0
         self._mark = (0, 0)  # end offset and number of the last line taken
+        self._units_line = 0  # the number of the header's units line, if it has one
         self._opening: Cursor | None = None  # where the run's opening puts the file's cursor
         self.progress: Callable[[int], None] = lambda done: None  # bytes read so far
 
-    def _table(self, text: str, line: int, width: int | None = None) -> Table:
+    def _table(
+        self, text: str, line: int, width: int | None = None, units: list[str] | None = None
+    ) -> Table:
         table = Table.from_header(
             text,
+            units_row=units,
             file=str(self.path),
             group=self.group,
             mapping=self.mapping,
@@ -265,9 +269,15 @@ class Agent:
             return None
         header = in_head[found.index]
         self._delimiter = found.delimiter
-        rest = [ln for ln in lines[lines.index(header) + 1 :]]
+        units: list[str] | None = None
+        above = [ln for ln in in_head[: found.index] if ln.text.strip()]
+        if above and units_line(header.text, above[-1].text, found.delimiter):
+            units = [c.strip() for c in cells(header.text, found.delimiter)]
+            self._units_line = header.number
+            header = above[-1]  # the names, above their units
+        rest = [ln for ln in lines[lines.index(header) + 1 :] if ln.number != self._units_line]
         width = next((len(cells(ln.text, found.delimiter)) for ln in rest if ln.text.strip()), 0)
-        table = self._table(header.text, header.number, width or None)
+        table = self._table(header.text, header.number, width or None, units)
         self.preamble = [ln.text for ln in lines[: lines.index(header)] if not ln.overlong]
         self._head = None
         self._mark = (header.end, header.number)

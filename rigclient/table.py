@@ -22,7 +22,7 @@ from numpy.typing import NDArray
 from rigclient.dialect import cells, header_cells, header_names, name_key, number, split_header
 from rigclient.errors import InputError
 from rigclient.mapping import ColumnMap, StandMap
-from rigclient.units import unit_factor
+from rigclient.units import dimension, unit_factor
 from schemas.channels import Channel, ChannelGroup, Order
 
 
@@ -75,9 +75,11 @@ class Table:
         delimiter: str | None = None,
         decimal: str | None = None,
         width: int | None = None,
+        units_row: list[str] | None = None,
     ) -> Table:
         """Read the header line (number ``line``) against the group's channels and the map;
-        ``width``: the cells of the rows under it, if known."""
+        ``width``: the cells of the rows under it, if known; ``units_row``: the cells of
+        its units line (``g,g,mm,...``), if it has one."""
         delimiter = delimiter or sniff(header)
         found = header_cells(header.lstrip("\ufeff"), delimiter, width)
         units = {c.name: c.unit for c in group.channels}
@@ -88,6 +90,8 @@ class Table:
         for index, raw in enumerate(found):
             cell = raw.strip()
             name, unit = split_header(cell, delimiter)
+            if unit is None and units_row is not None and index < len(units_row):
+                unit = units_row[index] or None
             mapped = mapping.column(cell, name) if mapping is not None else None
             if mapped is not None:
                 channel = mapped.channel
@@ -301,6 +305,20 @@ def _constants(mapping: StandMap | None, units: Mapping[str, str], file: str) ->
         factor = 1.0 if unit is None else unit_factor(unit, units[name], where=name)
         out[name] = value * factor
     return out
+
+
+def units_line(text: str, above: str, delimiter: str) -> bool:
+    """Whether ``text`` is the units line of the header ``above`` (CETR/Bruker UMT: ``g,g,
+    mm,...``): as many cells, each blank or a known unit (:mod:`rigclient.units`), one at
+    least, and ``above`` a line of names with no unit among them."""
+    try:
+        found, names = cells(text, delimiter), cells(above, delimiter)
+    except InputError:
+        return False
+    given = [c.strip() for c in found if c.strip()]
+    if not given or len(found) != len(names) or not all(dimension(c) for c in given):
+        return False
+    return not any(dimension(c.strip()) for c in names if c.strip())
 
 
 def sniff(header: str) -> str:

@@ -172,7 +172,7 @@ def test_random_bytes_in_the_spools_file_say_it_is_damaged_and_salvage_saves_the
     Now each says the spool is damaged and names `rigclient salvage`, which keeps what
     still reads (the batches that do are delivered bit for bit) and moves the file aside."""
     rng = random.Random(seed)
-    for k in range(3):  # three runs of many batches: many pages
+    for _ in range(3):  # three runs of many batches: many pages
         spool_batches(tmp_path)
     before = {bytes(p) for p in payloads(tmp_path).values()}
     path = tmp_path / FILENAME

@@ -22,6 +22,7 @@ from rigclient.mapping import load_map
 from rigclient.spool import Spool
 from rigclient.table import Table
 from schemas.stands import StandKind, default_stands
+from tests.rigclient.importing import import_file
 
 #: A valid map of every key, and the kinds of value each key takes.
 VALID: dict[str, Any] = {
@@ -246,3 +247,29 @@ def test_an_import_whose_every_line_is_refused_opens_no_run(tmp_path: Path, agai
     if spool.exists():
         with Spool(spool, create=False) as s:
             assert s.runs() == []
+
+
+def test_a_umt_block_with_its_units_line_in_gram_force(tmp_path: Path) -> None:
+    """Issue 37, item 3: a CETR/Bruker UMT block (a ``key = value`` preamble, a header, a
+    units line ``s,g,g,``; forces in gram-force, the normal force negative) read with a map
+    whose only arithmetic is ``factor = -1``: 500 gf = 4.903325 N, 50 gf = 0.4903325 N
+    (g0 = 9.80665 m/s², CGPM 1901)."""
+    export = tmp_path / "umt.csv"
+    rows = "".join(f"{0.1 * k:.1f},50,-500,0.1\n" for k in range(6))
+    export.write_text(
+        "Test = linear reciprocating\nStep = 1\nLoad = 500 g\n\nTime,Fx,Fz,COF\ns,g,g,\n" + rows,
+        "utf-8",
+    )
+    path = tmp_path / "umt.toml"
+    path.write_text(
+        'stand = "reciprocating"\ngroup = "friction"\n[columns]\n'
+        '"Fx" = "friction_force"\n"Fz" = { channel = "normal_load", factor = -1 }\n'
+        '"COF" = "friction_coefficient"\n',
+        "utf-8",
+    )
+    done = import_file(export, tmp_path / "spool", stand="reciprocating", mapping=load_map(path))
+    assert done.rejects == [] and len(done.columns["time"]) == 6
+    assert done.columns["normal_load"] == pytest.approx([4.903325] * 6)
+    assert done.columns["friction_force"] == pytest.approx([0.4903325] * 6)
+    assert "Load = 500 g" in done.opening["notes"]  # the preamble, not the units line
+    assert "s,g,g," not in done.opening["notes"]

@@ -48,7 +48,6 @@ VALID: dict[str, Any] = {
         "delimiter": "comma",
         "decimal": ".",
         "header": 1,
-        "continue_time": True,
     },
 }
 TEXT, NUMBER, FLAG, TABLE, ARRAY = "text", "number", "flag", "table", "array"
@@ -85,7 +84,6 @@ TAKES: dict[tuple[str, ...], set[str]] = {
     ("file", "delimiter"): {TEXT},
     ("file", "decimal"): {TEXT},
     ("file", "header"): {NUMBER},
-    ("file", "continue_time"): {FLAG},
 }
 VALUES = {
     TEXT: st.text(min_size=1, max_size=8),
@@ -145,7 +143,7 @@ def test_the_valid_map_is_valid(tmp_path: Path) -> None:
     the template's own)."""
     (tmp_path / "m.json").write_text(json.dumps(VALID), "utf-8")
     mapping = load_map(tmp_path / "m.json")
-    assert mapping.columns["Fz"].factor == -1 and mapping.file.continue_time
+    assert mapping.columns["Fz"].factor == -1 and mapping.file.header == 1
     assert {_kind(v) for v in [VALID["stand"], VALID["columns"]["Fz"]["factor"]]} == {
         TEXT,
         NUMBER,

@@ -409,7 +409,7 @@ class _Connection:
     the file is damaged raised as :class:`SpoolUnreadable` (the others as they are, for
     :func:`_translate`)."""
 
-    def __init__(self, db: _Connection, path: Path) -> None:
+    def __init__(self, db: sqlite3.Connection, path: Path) -> None:
         self.db, self.path = db, path
 
     @property
@@ -444,14 +444,14 @@ class Spool:
             raise SpoolError(f"no spool in {self.directory} (no {FILENAME})")
         try:
             self.directory.mkdir(parents=True, exist_ok=True)
-            db = sqlite3.connect(
+            connection = sqlite3.connect(
                 self.path, timeout=30.0, isolation_level=None, check_same_thread=False
             )
-            self._db = _Connection(db, self.path)
+            self._db = _Connection(connection, self.path)
             self._db.execute("PRAGMA journal_mode=WAL")
             self._db.execute("PRAGMA synchronous=FULL")
-            db.executescript(_SCHEMA)
-            db.executescript(_FILE_SCHEMA)
+            connection.executescript(_SCHEMA)
+            connection.executescript(_FILE_SCHEMA)
             self._migrate()
         except (OSError, sqlite3.Error, UnicodeDecodeError) as exc:
             if hasattr(self, "_db"):

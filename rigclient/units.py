@@ -168,9 +168,9 @@ def unit_factor(source: str, target: str, *, where: str = "") -> float:
     if dims != wanted[1] and _as_force(dims) == wanted[1]:
         factor, dims = factor * G0, wanted[1]  # grams on a force channel: gram-force
     if dims != wanted[1]:
-        a = UNITS[target].si if target in UNITS else target
+        si = UNITS[target].si if target in UNITS else target
         raise InputError(
-            f"a value in {source!r} cannot be a {target!r} channel ({_text(dims)} vs {a})",
+            f"a value in {source!r} cannot be a {target!r} channel ({_text(dims)} vs {si})",
             column=where,
         )
     return factor / wanted[0]

@@ -18,11 +18,12 @@ stops there, naming the line, when the map cannot place them (never by position 
 from __future__ import annotations
 
 import getpass
+import hashlib
 import itertools
 import re
 import threading
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -45,6 +46,8 @@ from rigclient.units import unit_factor
 from schemas.stands import MEASUREMENTS, Stand, StandKind, default_stands
 
 HEAD = 256 << 10  # bytes of a file's start in which its header must be
+#: A line of a block's preamble inside a file (CETR/Bruker UMT: ``Step = 2``).
+_BLOCK_PREAMBLE = re.compile(r"^\s*[^\d\s=,;\t][^=]{0,80}?\s*=\s*\S")
 NOTES = 5000  # characters of a run's notes (schemas.runs.RunCreate)
 
 
@@ -165,7 +168,9 @@ class _Head:
 class Agent:
     """Spools one file as one run of ``stand``'s ``group``.
 
-    ``say`` gets the messages for the operator (a refused line, a rotation);
+    ``more``: an import's files after the first, read after it in their order (each its
+    own header; the rows go on as one run). ``say`` gets the messages for the operator (a
+    refused line, a rotation);
     ``on_run`` the run's handle once it is opened or found again. ``idempotency_key``
     opens the run (an imported file's digest), else a fresh key does.
     """
@@ -184,9 +189,12 @@ class Agent:
         on_run: Callable[[RunHandle], None] = lambda run: None,
         kind: str = "tail",
         idempotency_key: str | None = None,
+        more: Sequence[Path] = (),
     ) -> None:
         self.client = client
         self.path = path
+        self.files = [path, *more]  # an import's files, read one after another as one run
+        self._next = 1
         self.stand = stand_of(stand, metadata.get("configuration"))
         decl = self.stand.group(group)
         if decl is None:
@@ -201,6 +209,9 @@ class Agent:
         self.on_run = on_run
         self.idempotency_key = idempotency_key
         self.key = f"{kind} {path.resolve()} {stand} {group}"
+        if more:  # a set of files: all of them, in their order, name the source
+            names = "\n".join(str(p.resolve()) for p in self.files)
+            self.key += f" and {len(more)} more ({hashlib.sha256(names.encode()).hexdigest()[:16]})"
         self.follower = Follower(path)
         self.preamble: list[str] = []
         self._delimiter: str | None = None
@@ -210,6 +221,8 @@ class Agent:
         self._first = 0.0
         self._mark = (0, 0)  # end offset and number of the last line taken
         self._units_line = 0  # the number of the header's units line, if it has one
+        self._last_header: Line | None = None  # a header mid-file, until a row follows it
+        self._block_said = False
         self._opening: Cursor | None = None  # where the run's opening puts the file's cursor
         self.progress: Callable[[int], None] = lambda done: None  # bytes read so far
 
@@ -270,6 +283,7 @@ class Agent:
         header = in_head[found.index]
         self._delimiter = found.delimiter
         units: list[str] | None = None
+        self._units_line = 0
         above = [ln for ln in in_head[: found.index] if ln.text.strip()]
         if above and units_line(header.text, above[-1].text, found.delimiter):
             units = [c.strip() for c in cells(header.text, found.delimiter)]
@@ -307,29 +321,36 @@ class Agent:
         """The run's opening as :meth:`run` spools it for a finished file (its head is read
         to its first row, then put back); :class:`NoRow` if no line is a row it takes (no
         run is opened for it, here or on the server)."""
+        refused, first = 0, ""
         try:
-            head = self._read_head(threading.Event(), follow=False)
-            assert head is not None
-            table, lines = head
-            refused, first = 0, ""
-            rest = iter(lambda: self.follower.lines(final=True), [])
-            for line in itertools.chain(lines, itertools.chain.from_iterable(rest)):
-                if not line.text.strip() or line.overlong or line.text.lstrip().startswith("#"):
-                    continue
-                try:
-                    table.parse(line.text, line.number)
-                except InputError as exc:
-                    if table.is_header(line.text):
-                        table = self._remap(line, table)
+            for k, path in enumerate(self.files):
+                if k:
+                    self.follower.close()
+                    self.path, self.follower, self._head = path, Follower(path), _Head([])
+                head = self._read_head(threading.Event(), follow=False)
+                assert head is not None
+                table, lines = head
+                if k == 0:
+                    opening = with_preamble(self.metadata, self.preamble)
+                rest = iter(lambda: self.follower.lines(final=True), [])
+                for line in itertools.chain(lines, itertools.chain.from_iterable(rest)):
+                    text = line.text
+                    if not text.strip() or line.overlong or text.lstrip().startswith("#"):
                         continue
-                    refused, first = refused + 1, first or str(exc)
-                    continue
-                return with_preamble(self.metadata, self.preamble)
+                    try:
+                        table.parse(text, line.number)
+                    except InputError as exc:
+                        if table.is_header(text) or _BLOCK_PREAMBLE.match(text):
+                            continue  # a block's header or preamble
+                        refused, first = refused + 1, first or str(exc)
+                        continue
+                    return opening
             self._rejects = [Reject(str(self.path), 0, "", first)] if first else []
-            raise NoRow(self._no_row(Outcome(None, rejected=refused)), file=str(self.path))
+            raise NoRow(self._no_row(Outcome(None, rejected=refused)), file=str(self.files[0]))
         finally:
             self._rejects = []
             self.follower.close()
+            self.path = self.files[0]
             self.follower = Follower(self.path)
             self._head, self._mark, self._delimiter, self.preamble = _Head([]), (0, 0), None, []
 
@@ -356,6 +377,8 @@ class Agent:
         its first row). An import opens its run with its first row: :class:`NoRow` if the
         file has none, and no run is opened."""
         found = self.client.source(self.key)
+        if found is not None and len(self.files) > 1:
+            self._skip_to(found[1])
         try:
             head = self._read_head(stop, follow)
         except BaseException:
@@ -402,6 +425,9 @@ class Agent:
                     self._flush(table, outcome)
                 if lines:
                     continue
+                if not follow and not stop.is_set() and self._next < len(self.files):
+                    table, pending = self._next_file(stop, table, outcome)
+                    continue
                 if not follow or stop.is_set():
                     break
                 idle = self.batching.finish_after_idle
@@ -429,6 +455,38 @@ class Agent:
             self.follower.close()
         return outcome
 
+    def _next_file(
+        self, stop: threading.Event, table: Table, outcome: Outcome
+    ) -> tuple[Table, list[Line]]:
+        """The next of an import's files: its header (and units line) read, the rows
+        after it pending; the run goes on (its channels' order and clock carried)."""
+        self._flush(table, outcome)
+        if self.follower.partial:
+            self.say(f"{self.path}:{self.follower.line + 1}: a partial last line was not taken")
+        self.follower.close()
+        self.path = self.files[self._next]
+        self._next += 1
+        self.follower = Follower(self.path)
+        self._head, self._delimiter, self._last_header = _Head([]), None, None
+        head = self._read_head(stop, follow=False)
+        assert head is not None  # an import reads to the end or raises
+        new, rest = head
+        if outcome.run is not None:
+            outcome.run.mark(self.follower.cursor(self.key, *self._mark))
+        return new.carry(table), rest
+
+    def _skip_to(self, cursor: Cursor) -> None:
+        """An import of several files cut short: go on from the file of its cursor."""
+        for k, path in enumerate(self.files):
+            try:
+                info = path.stat()
+            except OSError:
+                continue
+            if (info.st_dev, info.st_ino) == (cursor.device, cursor.inode):
+                self.path, self._next = path, k + 1
+                self.follower = Follower(path)
+                return
+
     def _resume(
         self, cursor: Cursor, table: Table, pending: list[Line]
     ) -> tuple[Table, list[Line]]:
@@ -448,11 +506,11 @@ class Agent:
             table = self._remap(Line(kept[1], kept[0], 0), table)
         return table, []
 
-    def _remap(self, line: Line, table: Table) -> Table:
-        """The table of a header line met mid-file; :class:`HeaderChanged` if the map
-        cannot place its columns."""
+    def _remap(self, line: Line, table: Table, units: list[str] | None = None) -> Table:
+        """The table of a header line met mid-file (with its ``units`` line, if it has
+        one); :class:`HeaderChanged` if the map cannot place its columns."""
         try:
-            new = self._table(line.text, line.number)
+            new = self._table(line.text, line.number, units=units)
         except InputError as exc:
             reason = str(exc).split(": ", 1)[-1] if exc.file else str(exc)
             raise HeaderChanged(
@@ -462,7 +520,7 @@ class Agent:
                 line=line.number,
                 column=exc.column,
             ) from None
-        new.last.update(table.last)
+        new.carry(table)
         return new
 
     def _take(self, line: Line, table: Table, outcome: Outcome, *, final: bool) -> Table:
@@ -472,7 +530,7 @@ class Agent:
             if found is None:
                 return table
             new, rest = found
-            new.last.update(table.last)
+            new.carry(table)
             for later in rest:
                 new = self._take(later, new, outcome, final=final)
             return new
@@ -486,6 +544,17 @@ class Agent:
         try:
             values = table.parse(line.text, line.number)
         except InputError as exc:
+            header = self._last_header
+            if header is not None and units_line(line.text, header.text, table.delimiter):
+                units = [c.strip() for c in cells(line.text, table.delimiter)]
+                self._mark = (line.end, line.number)
+                return self._remap(header, table, units)  # the header's units, under it
+            if _BLOCK_PREAMBLE.match(line.text) and not table.is_header(line.text):
+                if self._last_header is not None or not self._block_said:
+                    self.say(f"{self.path}:{line.number}: a block's preamble, left out")
+                self._block_said, self._last_header = True, None
+                self._mark = (line.end, line.number)
+                return table
             if not table.is_header(line.text):
                 self._reject(exc, line, outcome)
                 return table
@@ -495,7 +564,9 @@ class Agent:
             self.client.keep_header(cursor, line.start, line.text)
             self.say(f"{self.path}:{line.number}: a new header; the rows after it by its names")
             self._mark = (line.end, line.number)
+            self._last_header = line
             return new
+        self._last_header = None
         if not self._rows:
             self._first = time.monotonic()
         self._rows.append(values)

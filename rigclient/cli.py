@@ -46,7 +46,7 @@ from rigclient.agent import Agent, Batching, Outcome, constants, run_metadata, s
 from rigclient.client import Client, RunHandle
 from rigclient.errors import RigclientError, ServerError
 from rigclient.http import Api, RetryPolicy
-from rigclient.imported import Held, digest_key, imported_before
+from rigclient.imported import Held, digest_key, import_files, imported_before
 from rigclient.lock import SpoolLock, held_by
 from rigclient.mapping import StandMap, load_map
 from rigclient.profile import GROUP, read_profile, roughness_lines
@@ -102,7 +102,16 @@ def _parser() -> argparse.ArgumentParser:
         ("import", "post a finished CSV/TSV as one run"),
     ):
         cmd = sub.add_parser(name, help=text)
-        cmd.add_argument("file", type=Path)
+        if name == "import":
+            cmd.add_argument(
+                "file",
+                type=Path,
+                nargs="+",
+                help="the file, or several files or a folder of them read as one run in "
+                "natural order (file2 before file10)",
+            )
+        else:
+            cmd.add_argument("file", type=Path)
         cmd.add_argument("--stand", help="smts2, slide_bearing, mtos, profilometer (or the map)")
         cmd.add_argument("--group", help="the channel group of the file's rows (or the map)")
         _run_fields(cmd)
@@ -277,9 +286,11 @@ def _finish_up(client: Client, run: RunHandle, drain: float) -> int:
 
 
 def _tail(args: argparse.Namespace, *, follow: bool) -> int:
+    files = [args.file] if follow else import_files(args.file)
+    args.file = files[0]
     mapping, stand, group = _file_args(args)
     metadata = run_metadata(args.file, stand, mapping, operator=args.operator, title=args.title)
-    key = None if follow or args.again else digest_key(args.file)
+    key = None if follow or args.again else digest_key(*files)
     batching = Batching(
         rows=args.rows,
         seconds=args.seconds,
@@ -299,6 +310,7 @@ def _tail(args: argparse.Namespace, *, follow: bool) -> int:
             on_run=lambda run: _announce(client, run, args.id_wait),
             kind="tail" if follow else "import",
             idempotency_key=key,
+            more=files[1:],
         )
         if key is not None:
             held = imported_before(client, agent, _api(args), key)
@@ -360,7 +372,7 @@ def _print_results(args: argparse.Namespace, record: RunRecord | None, run_id: s
 def _import(client: Client, agent: Agent, drain: float, stop: threading.Event) -> Outcome | None:
     """The whole file through ``agent``, then its delivery, with progress bars. A file
     imported before whose run is not delivered yet is delivered, not imported again."""
-    size = agent.path.stat().st_size if agent.path.exists() else 0
+    size = sum(p.stat().st_size for p in agent.files if p.exists())
     with Progress(
         TextColumn("{task.description}"),
         BarColumn(),

@@ -28,16 +28,44 @@ if TYPE_CHECKING:
 _RUN_ID = re.compile(RUN_ID_PATTERN.strip("^$"))
 
 
-def digest_key(path: Path) -> str:
-    """The Idempotency-Key of a file's content: ``sha256:`` and its hex digest."""
-    digest = hashlib.sha256()
-    try:
-        with path.open("rb") as f:
-            while chunk := f.read(1 << 20):
-                digest.update(chunk)
-    except OSError as exc:
-        raise InputError(f"cannot read it: {exc.strerror}", file=str(path)) from None
-    return f"sha256:{digest.hexdigest()}"
+def digest_key(*paths: Path) -> str:
+    """The Idempotency-Key of a file's content: ``sha256:`` and its hex digest; of several
+    files, the digest of their digests in order (their names aside)."""
+    digests = []
+    for path in paths:
+        digest = hashlib.sha256()
+        try:
+            with path.open("rb") as f:
+                while chunk := f.read(1 << 20):
+                    digest.update(chunk)
+        except OSError as exc:
+            raise InputError(f"cannot read it: {exc.strerror}", file=str(path)) from None
+        digests.append(digest.hexdigest())
+    if len(digests) == 1:
+        return f"sha256:{digests[0]}"
+    return f"sha256:{hashlib.sha256(' '.join(digests).encode()).hexdigest()}"
+
+
+def natural_key(path: Path) -> list[tuple[int, str]]:
+    """A file's sort key in natural order: ``file2`` before ``file10`` (a shell's
+    ``*.csv`` gives file10 first)."""
+    parts = re.split(r"(\d+)", str(path).casefold())
+    return [(int(p), "") if p.isdigit() else (-1, p) for p in parts]
+
+
+def import_files(given: list[Path]) -> list[Path]:
+    """The files of an import in natural order: those given, and a folder's files (not
+    hidden, not its subfolders)."""
+    out: list[Path] = []
+    for path in given:
+        if path.is_dir():
+            inner = [p for p in path.iterdir() if p.is_file() and not p.name.startswith(".")]
+            if not inner:
+                raise InputError("a folder without files", file=str(path))
+            out += inner
+        else:
+            out.append(path)
+    return sorted(dict.fromkeys(out), key=natural_key)
 
 
 @dataclass(frozen=True, slots=True)

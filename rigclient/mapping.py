@@ -33,6 +33,7 @@ the run's metadata. Written by the lab in TOML or JSON::
     delimiter = "tab"          # tab, semicolon, comma, spaces
     decimal = ","              # "," or "."
     header = 12                # the header's line number; the lines before it: the preamble
+    continue_time = true       # a time that restarts (each step, block, file) goes on
 
 A column's value is the file's value × ``factor`` + ``offset`` (1 and 0 unless given), in
 its ``unit``: the map's, else the header's or the units line's, else the channel's; then
@@ -152,6 +153,7 @@ class FileModel(_Strict):
     delimiter: _Name | None = None
     decimal: Literal[".", ","] | None = None
     header: Annotated[int, Field(ge=1)] | None = None
+    continue_time: bool = False
 
 
 class RunModel(_Strict):
@@ -271,7 +273,7 @@ def _file(value: FileModel, where: str) -> FileSettings:
             delimiter_of(value.delimiter)
     except InputError as exc:
         raise InputError(f"file: {exc}", file=where) from None
-    return FileSettings(encoding, value.delimiter, value.decimal, value.header)
+    return FileSettings(encoding, value.delimiter, value.decimal, value.header, value.continue_time)
 
 
 def configuration(kind: str, given: dict[str, Any], *, where: str = "") -> dict[str, Any]:

@@ -39,6 +39,37 @@ class Field:
 
 
 @dataclass(slots=True)
+class Clock:
+    """A time that restarts (at each step, block or file: a UMT's, a recipe's) continued
+    from where it ended: a value not after the last one taken starts a new part, shifted so
+    that its first row follows the last row taken by the step between the last two (the
+    map's ``[file] continue_time = true``)."""
+
+    offset: float = 0.0
+    step: float = 0.0
+    _pending: tuple[float, float] | None = None  # offset and step if the row is taken
+
+    def time(self, value: float, last: float | None) -> float:
+        """The continued time of a row whose time reads ``value``; ``last``: the time of
+        the last row taken (continued)."""
+        offset, step = self.offset, self.step
+        shifted = value + offset
+        if last is not None and shifted <= last:  # the time restarted
+            offset = last + step - value
+            shifted = value + offset
+        elif last is not None:
+            step = shifted - last
+        self._pending = (offset, step)
+        return shifted
+
+    def taken(self) -> None:
+        """The row read last was taken (a row refused changes nothing)."""
+        if self._pending is not None:
+            self.offset, self.step = self._pending
+            self._pending = None
+
+
+@dataclass(slots=True)
 class Table:
     """How the rows of one file (from one header line on) become a group's columns."""
 
@@ -52,6 +83,7 @@ class Table:
     group: ChannelGroup
     names: frozenset[str] = frozenset()  # the header's names (name_key), to know it again
     last: dict[str, float] = field(default_factory=dict)  # ordered channels' last values
+    clock: Clock | None = None  # the map's continue_time: a time that restarts goes on
     _checks: dict[str, Channel] = field(default_factory=dict)
     _rules: list[_Rule] = field(default_factory=list)
 
@@ -169,7 +201,16 @@ class Table:
             constants,
             group,
             names,
+            clock=Clock() if mapping is not None and mapping.file.continue_time else None,
         )
+
+    def carry(self, before: Table) -> Table:
+        """This table (of a header met later: a new block, the next file) going on from
+        ``before``: its channels' last values, and its clock."""
+        self.last.update(before.last)
+        if self.clock is not None and before.clock is not None:
+            self.clock = before.clock
+        return self
 
     def parse(self, text: str, line: int) -> list[float]:
         """One data line as the channels' values, in the order of :attr:`channels`: each a
@@ -193,6 +234,8 @@ class Table:
                 value = number(found[f.index], self.decimal) * f.factor + f.offset
             except ValueError as exc:
                 raise InputError(str(exc), file=self.file, line=line, column=f.header) from None
+            if self.clock is not None and f.channel == "time":
+                value = self.clock.time(value, self.last.get("time"))
             if (
                 not (low <= value <= high and math.isfinite(value))  # a factor's overflow
                 or (nominal and not any(abs(value - v) <= tolerance * abs(v) for v in nominal))
@@ -212,6 +255,8 @@ class Table:
         for f, rule, value in zip(self.fields, self._rules, values, strict=True):
             if rule[-1] is not Order.ANY:
                 self.last[f.channel] = value
+        if self.clock is not None:
+            self.clock.taken()
         return values
 
     def _in_order(self, f: Field, order: Order, value: float, line: int) -> None:

@@ -48,6 +48,7 @@ VALID: dict[str, Any] = {
         "delimiter": "comma",
         "decimal": ".",
         "header": 1,
+        "continue_time": True,
     },
 }
 TEXT, NUMBER, FLAG, TABLE, ARRAY = "text", "number", "flag", "table", "array"
@@ -84,6 +85,7 @@ TAKES: dict[tuple[str, ...], set[str]] = {
     ("file", "delimiter"): {TEXT},
     ("file", "decimal"): {TEXT},
     ("file", "header"): {NUMBER},
+    ("file", "continue_time"): {FLAG},
 }
 VALUES = {
     TEXT: st.text(min_size=1, max_size=8),

@@ -1,0 +1,92 @@
+"""Issue 37, item 3: what instruments write. A CETR/Bruker UMT linear-module test is one CSV
+per reciprocation, two step blocks in each, each block with its own ``key = value``
+preamble, header and units line (``s,g,g,``), the forces in gram-force with the normal
+force negative and the time restarting at each block; the files are named ``..._1.csv`` to
+``..._12.csv``, which a shell's ``*.csv`` lists as 1, 10, 11, 12, 2, ... These files are
+written here from that description (no real export is kept in the repository)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from rigclient.imported import import_files
+from rigclient.mapping import load_map
+from tests.rigclient.importing import import_file
+
+G0 = 9.80665e-3  # N per gram-force (CGPM 1901)
+FILES, BLOCKS, ROWS, STEP = 12, 2, 5, 0.1
+LOAD_G, FRICTION_G = 500.0, 60.0
+
+MAP = """\
+stand = "reciprocating"
+group = "friction"
+[file]
+continue_time = true
+[columns]
+"Fx" = "friction_force"
+"Fz" = { channel = "normal_load", factor = -1 }
+"COF" = "friction_coefficient"
+"""
+
+
+def umt_file(path: Path, number: int) -> None:
+    """Reciprocation ``number``: two step blocks, each its preamble, header, units line,
+    and ``ROWS`` rows whose time starts at 0."""
+    blocks = []
+    for step in range(1, BLOCKS + 1):
+        rows = "".join(
+            f"{STEP * k:.1f},{FRICTION_G:g},{-LOAD_G:g},{FRICTION_G / LOAD_G:.3f}\n"
+            for k in range(ROWS)
+        )
+        blocks.append(
+            f"Test = UMT linear\nReciprocation = {number}\nStep = {step}\nLoad = {LOAD_G:g} g\n"
+            f"\nTime,Fx,Fz,COF\ns,g,g,\n{rows}"
+        )
+    path.write_text("\n".join(blocks), "utf-8")
+
+
+def test_a_umt_test_of_many_files_is_one_run_in_natural_order(tmp_path: Path) -> None:
+    folder = tmp_path / "umt"
+    folder.mkdir()
+    for n in range(1, FILES + 1):
+        umt_file(folder / f"recip_{n}.csv", n)
+    (tmp_path / "umt.toml").write_text(MAP, "utf-8")
+    files = import_files([folder])
+    assert [p.name for p in files[:3]] == ["recip_1.csv", "recip_2.csv", "recip_3.csv"]
+    assert files == import_files(sorted(folder.glob("*.csv")))  # the shell's order mended
+    done = import_file(
+        files[0],
+        tmp_path / "spool",
+        stand="reciprocating",
+        mapping=load_map(tmp_path / "umt.toml"),
+        more=tuple(files[1:]),
+    )
+    total = FILES * BLOCKS * ROWS
+    assert done.rejects == [] and done.outcome.rejected == 0
+    # the time restarts at each block: continued, one step after the last row each time
+    assert done.columns["time"] == pytest.approx([STEP * k for k in range(total)])
+    assert done.columns["normal_load"] == pytest.approx([LOAD_G * G0] * total)
+    assert done.columns["friction_force"] == pytest.approx([FRICTION_G * G0] * total)
+    assert "Reciprocation = 1" in done.opening["notes"]  # the first file's preamble
+    assert any("a block's preamble, left out" in s for s in done.said)
+
+
+def test_without_continue_time_a_restarting_time_is_refused_naming_the_line(
+    tmp_path: Path,
+) -> None:
+    """The map's choice, not a guess: without ``continue_time`` the second block's rows go
+    back in time and are refused by file, line and column."""
+    umt_file(tmp_path / "recip_1.csv", 1)
+    (tmp_path / "umt.toml").write_text(MAP.replace("continue_time = true", ""), "utf-8")
+    done = import_file(
+        tmp_path / "recip_1.csv",
+        tmp_path / "spool",
+        stand="reciprocating",
+        mapping=load_map(tmp_path / "umt.toml"),
+    )
+    assert len(done.columns["time"]) == ROWS  # block 2's 0.0-0.4 s are not after 0.4 s
+    assert len(done.rejects) == ROWS
+    first = done.rejects[0]
+    assert first.column == "Time" and "after 0.4" in first.message

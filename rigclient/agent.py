@@ -97,6 +97,9 @@ def run_metadata(path: Path, stand: str, mapping: StandMap | None, **given: Any)
     title and the user as operator."""
     meta: dict[str, Any] = dict(mapping.run if mapping is not None else {})
     meta.update({k: v for k, v in given.items() if v})
+    note = mapping.describe() if mapping is not None else ""
+    if note:
+        meta["notes"] = f"{meta['notes']}\n\n{note}" if meta.get("notes") else note
     meta.setdefault("title", path.name)
     meta.setdefault("operator", getpass.getuser())
     meta["stand"] = stand

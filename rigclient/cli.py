@@ -339,11 +339,15 @@ def _api(args: argparse.Namespace) -> Api:
 
 
 def _held(args: argparse.Namespace, client: Client, held: Held) -> int:
-    """The run that holds a file imported before: its id, and its results once finished."""
+    """The run that holds a file imported before: its id, and its results once finished
+    (not those of a run read with other values: exit 1, and how to import it again)."""
+    if held.other_values:
+        print(held.name, flush=True)
+        return 1
     if held.run is None:
         print(held.server_id, flush=True)
         _print_results(args, None, held.server_id or "")
-        return 1 if held.other_values else 0
+        return 0
     print(held.run.server_id or held.run.local_id, flush=True)
     code = _finish_up(client, held.run, args.drain)
     if code == 0:

@@ -12,14 +12,17 @@ the spooled opening later, and answers the same.
 from __future__ import annotations
 
 import hashlib
+import json
 import re
+from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 from rigclient.client import Client, RunHandle
-from rigclient.errors import InputError, ServerRefused
+from rigclient.errors import InputError, RigclientError, ServerRefused
 from rigclient.http import Api, TryLater
+from rigclient.mapping import MAP_NOTE
 from schemas.runs import RUN_ID_PATTERN, Run, RunCreate
 
 if TYPE_CHECKING:
@@ -71,37 +74,83 @@ def import_files(given: list[Path]) -> list[Path]:
 @dataclass(frozen=True, slots=True)
 class Held:
     """The run that holds a file's content: in the spool (``run``), or on the server only
-    (``server_id``); ``other_values``: it was opened with another map, title or operator."""
+    (``server_id``); ``other_values``: it was opened with another map, title or operator,
+    ``differs`` says what."""
 
     run: RunHandle | None
     server_id: str | None
     other_values: bool = False
+    differs: tuple[str, ...] = ()
+
+    @property
+    def name(self) -> str:
+        return (self.run.server_id or self.run.local_id) if self.run else str(self.server_id)
 
     def describe(self) -> str:
-        if self.run is not None:
-            return f"run {self.run.server_id or self.run.local_id} (in the spool)"
-        if self.other_values:
-            return (
-                f"run {self.server_id} on the server, opened with other values (another map, "
-                "title or operator); --again imports it as a new run"
-            )
-        return f"run {self.server_id} on the server"
+        where = "in the spool" if self.run is not None else "on the server"
+        if not self.other_values:
+            return f"run {self.name} ({where})"
+        what = "; ".join(self.differs) or "another map, title or operator"
+        return (
+            f"run {self.name} ({where}) holds it, read with other values: {what}. Its "
+            "results are not these values': to import the file again with them as a new "
+            f"run, give the same command with --again (run {self.name} stays as it is; "
+            "delete it on the server if it is wrong)"
+        )
+
+
+def _short(value: Any) -> str:
+    text = value if isinstance(value, str) else json.dumps(value, ensure_ascii=False)
+    return text if len(text) <= 200 else text[:197] + "..."
+
+
+def _map_line(notes: Any) -> str:
+    lines = str(notes or "").splitlines()
+    return next((t[len(MAP_NOTE) :] for t in lines if t.startswith(MAP_NOTE)), "")
+
+
+def differences(before: Mapping[str, Any], now: Mapping[str, Any]) -> list[str]:
+    """What differs between the opening of a run and the one an import would send: the
+    map's reading of the file (its line of the notes), the title, operator, specimen, test
+    plan, and the configuration's fields given now."""
+    out = []
+    if _map_line(before.get("notes")) != _map_line(now.get("notes")):
+        was = _map_line(before.get("notes")) or "none"
+        out.append(
+            f"the map reads {_short(_map_line(now.get('notes')) or 'none')} (was {_short(was)})"
+        )
+    for key in ("title", "operator", "specimen", "test_plan"):
+        if before.get(key) != now.get(key) and (before.get(key) or now.get(key)):
+            out.append(f"{key} {_short(now.get(key))} (was {_short(before.get(key))})")
+    old = before.get("configuration") or {}
+    for key, value in (now.get("configuration") or {}).items():
+        if old.get(key) != value:
+            out.append(f"configuration.{key} {_short(value)} (was {_short(old.get(key))})")
+    return out
 
 
 def imported_before(client: Client, agent: Agent, api: Api, key: str) -> Held | None:
     """The run that holds the file of ``agent`` (whose content is ``key``), or None: a new
     file, an import cut short (it goes on), or a server out of reach (asked later)."""
     local = client.run_by_key(key)
-    if local is not None:
-        return None if client.source(agent.key) is not None else Held(local, local.server_id)
     body = RunCreate.model_validate(agent.opening())
+    now = body.model_dump(mode="json")
+    if local is not None:
+        if client.source(agent.key) is not None:
+            return None  # an import cut short: it goes on
+        differs = differences(client.opening(local.local_id), now)
+        return Held(local, local.server_id, bool(differs), tuple(differs))
     try:
         answer = api.attempt("POST", "/runs", **Api.opening(body, key))
     except ServerRefused as exc:
         found = _RUN_ID.search(exc.problem.detail) if exc.problem.status == 409 else None
         if found is None:
             raise
-        return Held(None, found.group(), other_values=True)
+        try:
+            before = api.get_run(found.group()).model_dump(mode="json")
+        except RigclientError:
+            return Held(None, found.group(), other_values=True)
+        return Held(None, found.group(), True, tuple(differences(before, now)))
     if isinstance(answer, TryLater) or answer.status_code != 200:
         return None
     return Held(None, Run.model_validate(answer.json()).id)

@@ -71,6 +71,9 @@ from schemas.quantity import unit_paths
 from schemas.stands import CONFIG_MODELS, StandKind, default_stands, with_overrides
 from schemas.wire import PlanValue, Scalar
 
+#: The start of the line of a run's notes that says how its map read the file.
+MAP_NOTE = "Read with the map: "
+
 
 @dataclass(frozen=True, slots=True)
 class ColumnMap:
@@ -95,6 +98,26 @@ class StandMap:
     constants: dict[str, tuple[float, str | None]] = field(default_factory=dict)
     file: FileSettings = field(default_factory=FileSettings)
     source: str = ""
+
+    def describe(self) -> str:
+        """How the map reads a file, in a line of the run's notes (its columns, constants
+        and time; not its file name): a corrected map for a file imported before is told
+        from the map of that import by it."""
+        parts = []
+        for name, c in sorted(self.columns.items()):
+            how = c.channel or "left out"
+            if c.unit is not None:
+                how += f" in {c.unit}"
+            if c.factor != 1.0:
+                how += f" × {c.factor:g}"
+            if c.offset != 0.0:
+                how += f" + {c.offset:g}"
+            parts.append(f"{name} → {how}")
+        for name, (value, unit) in sorted(self.constants.items()):
+            parts.append(f"{name} = {value:g}{f' {unit}' if unit else ''}")
+        if self.file.continue_time:
+            parts.append("time continued at each restart")
+        return f"{MAP_NOTE}{'; '.join(parts)}" if parts else ""
 
     def column(self, header: str, name: str) -> ColumnMap | None:
         """The map of a header cell, by its whole text or by its name without the unit

@@ -384,7 +384,10 @@ def is_damage(exc: BaseException) -> bool:
     name = str(getattr(exc, "sqlite_errorname", ""))
     if name in _NO_ROOM or getattr(exc, "errno", None) in (errno.ENOSPC, errno.EFBIG):
         return False
-    return not name.startswith(_NOT_DAMAGE) and isinstance(exc, sqlite3.DatabaseError)
+    misuse = isinstance(exc, sqlite3.ProgrammingError | sqlite3.InterfaceError)  # ours
+    return (
+        isinstance(exc, sqlite3.DatabaseError) and not misuse and not name.startswith(_NOT_DAMAGE)
+    )
 
 
 class _Rows:

@@ -50,6 +50,7 @@ def import_file(
     rows: int = 4,
     first: str = "time",
     more: tuple[Path, ...] = (),
+    key: str | None = None,
 ) -> Imported:
     """``rigclient import`` of ``path`` (without the CLI's bars), delivered to ``server``."""
     server = server or FakeServer()
@@ -72,6 +73,7 @@ def import_file(
             say=said.append,
             kind="import",
             more=more,
+            idempotency_key=key,
         )
         outcome = agent.run(threading.Event(), follow=False)
         assert outcome is not None

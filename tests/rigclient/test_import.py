@@ -63,7 +63,8 @@ def test_an_export_imported_twice_is_one_run(
     data["run"]["title"] = "another title"
     map_path.write_text(json.dumps(data), "utf-8")
     code, lines, log = _import(agents, server, path, map_path, tmp_path / "third-spool")
-    assert code == 1 and lines[0] == run_id and "opened with other values" in log
+    assert code == 1 and lines[0] == run_id and "read with other values: title" in log
+    assert "--again" in log and "results (" not in "\n".join(lines)
     code, lines, log = _import(agents, server, path, map_path, tmp_path / "third-spool", "--again")
     assert code == 0, log
     assert lines[0] != run_id

@@ -9,10 +9,14 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import httpx
 import pytest
 
-from rigclient.imported import import_files
+from rigclient import Api, Client
+from rigclient.agent import Agent, Batching, run_metadata
+from rigclient.imported import digest_key, import_files, imported_before
 from rigclient.mapping import load_map
+from tests.rigclient.fake import FakeServer
 from tests.rigclient.importing import import_file
 
 G0 = 9.80665e-3  # N per gram-force (CGPM 1901)
@@ -90,3 +94,38 @@ def test_without_continue_time_a_restarting_time_is_refused_naming_the_line(
     assert len(done.rejects) == ROWS
     first = done.rejects[0]
     assert first.column == "Time" and "after 0.4" in first.message
+
+
+def test_a_corrected_map_for_a_file_imported_before_says_what_differs(tmp_path: Path) -> None:
+    """Issue 37, item 3: the same file with a corrected map (the friction force read in mN,
+    not in the units line's gram-force) was
+    answered with the old run and its results, exit 0. Now the run that holds it is named
+    with what differs and how to import again; the spool's run is not taken for it."""
+    umt_file(tmp_path / "recip_1.csv", 1)
+    path = tmp_path / "recip_1.csv"
+    wrong, right = tmp_path / "wrong.toml", tmp_path / "right.toml"
+    wrong.write_text(
+        MAP.replace(
+            '"Fx" = "friction_force"', '"Fx" = { channel = "friction_force", unit = "mN" }'
+        ),
+        "utf-8",
+    )
+    right.write_text(MAP, "utf-8")
+    key = digest_key(path)
+    server = FakeServer()
+    import_file(path, tmp_path / "spool", stand="reciprocating", mapping=load_map(wrong),
+                server=server, key=key)  # fmt: skip
+    api = Api("http://rig.test", "k", transport=httpx.MockTransport(server))
+    with Client("http://rig.test", "k", spool=tmp_path / "spool",
+                transport=httpx.MockTransport(server)) as client:  # fmt: skip
+        for mapping, other in ((load_map(wrong), False), (load_map(right), True)):
+            agent = Agent(
+                client, path, stand="reciprocating", group="friction", mapping=mapping,
+                metadata=run_metadata(path, "reciprocating", mapping, operator="Ivanova"),
+                batching=Batching(), say=print, kind="import", idempotency_key=key,
+            )  # fmt: skip
+            held = imported_before(client, agent, api, key)
+            assert held is not None and held.other_values is other
+        said = held.describe()
+    assert "Fx → friction_force in mN" in said and "--again" in said, said
+    assert said.index("Fx → friction_force;") < said.index("(was ") < said.index("in mN"), said

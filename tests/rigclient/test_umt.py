@@ -7,6 +7,8 @@ written here from that description (no real export is kept in the repository).""
 
 from __future__ import annotations
 
+import contextlib
+import io
 from pathlib import Path
 
 import httpx
@@ -14,8 +16,10 @@ import pytest
 
 from rigclient import Api, Client
 from rigclient.agent import Agent, Batching, run_metadata
+from rigclient.cli import main
 from rigclient.imported import digest_key, import_files, imported_before
 from rigclient.mapping import load_map
+from rigclient.spool import Spool
 from tests.rigclient.fake import FakeServer
 from tests.rigclient.importing import import_file
 
@@ -129,3 +133,23 @@ def test_a_corrected_map_for_a_file_imported_before_says_what_differs(tmp_path: 
         said = held.describe()
     assert "Fx → friction_force in mN" in said and "--again" in said, said
     assert said.index("Fx → friction_force;") < said.index("(was ") < said.index("in mN"), said
+
+
+def test_rigclient_import_of_a_folder_spools_one_run_of_all_its_files(tmp_path: Path) -> None:
+    """``rigclient import FOLDER``: every file's rows in one run (the server out of reach:
+    they wait in the spool, and the command says so with exit 1)."""
+    folder = tmp_path / "umt"
+    folder.mkdir()
+    for n in (1, 2, 10):
+        umt_file(folder / f"recip_{n}.csv", n)
+    (tmp_path / "umt.toml").write_text(MAP, "utf-8")
+    spool = tmp_path / "spool"
+    err = io.StringIO()
+    argv = ["import", str(folder), "--map", str(tmp_path / "umt.toml"), "--again"]
+    argv += ["--spool", str(spool), "--url", "http://127.0.0.1:9", "--drain", "0"]
+    with contextlib.redirect_stderr(err), contextlib.redirect_stdout(io.StringIO()):
+        code = main(argv)
+    assert code == 1 and "not delivered yet" in err.getvalue()
+    with Spool(spool, create=False) as s:
+        (run,) = s.runs()
+    assert run.rows_pending == 3 * BLOCKS * ROWS and run.rejects == 0

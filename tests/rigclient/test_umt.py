@@ -13,6 +13,8 @@ from pathlib import Path
 
 import httpx
 import pytest
+from hypothesis import given
+from hypothesis import strategies as st
 
 from rigclient import Api, Client
 from rigclient.agent import Agent, Batching, run_metadata
@@ -20,6 +22,7 @@ from rigclient.cli import main
 from rigclient.imported import digest_key, import_files, imported_before
 from rigclient.mapping import load_map
 from rigclient.spool import Spool
+from rigclient.table import Clock
 from tests.rigclient.fake import FakeServer
 from tests.rigclient.importing import import_file
 
@@ -153,3 +156,35 @@ def test_rigclient_import_of_a_folder_spools_one_run_of_all_its_files(tmp_path: 
     with Spool(spool, create=False) as s:
         (run,) = s.runs()
     assert run.rows_pending == 3 * BLOCKS * ROWS and run.rejects == 0
+
+
+@given(
+    st.lists(
+        st.tuples(
+            st.floats(-100, 100),  # where a block's time starts
+            st.lists(st.floats(1e-3, 10), min_size=1, max_size=8),  # its steps
+        ),
+        min_size=1,
+        max_size=6,
+    )
+)
+def test_a_continued_time_increases_and_keeps_each_blocks_steps(
+    blocks: list[tuple[float, list[float]]],
+) -> None:
+    """Whatever each block's time starts at, the continued time increases (a block after
+    one of a single row aside: no step is known there, and its first row repeats the last
+    time, refused as not after it) and every step within a block is kept."""
+    clock, last, step = Clock(), None, 0.0
+    for start, steps in blocks:
+        times = [start + sum(steps[:k]) for k in range(len(steps) + 1)]
+        shown = []
+        for t in times:
+            value = clock.time(t, last)
+            clock.taken()
+            if last is not None:
+                assert value > last or (value == last and step == 0.0)
+            step = value - last if last is not None else 0.0
+            shown.append(value)
+            last = value
+        for k in range(1, len(times)):
+            assert shown[k] - shown[k - 1] == pytest.approx(times[k] - times[k - 1], abs=1e-9)

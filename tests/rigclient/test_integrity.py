@@ -18,6 +18,7 @@ import pytest
 
 from rigclient import Client, RetryPolicy
 from rigclient.cli import main
+from rigclient.errors import SpoolDamaged
 from rigclient.spool import FILENAME, Spool, columns_of
 from tests.rigclient.fake import RUN_ID, FakeServer
 from tests.rigclient.test_faults import old_spool
@@ -201,3 +202,25 @@ def test_random_bytes_in_the_spools_file_say_it_is_damaged_and_salvage_saves_the
         assert all(r.damaged is None or "checksum" in r.damaged for r in spool.runs())
     for batch in server.stored.values():
         assert any(np.array_equal(batch["x"], columns_of(p)["x"]) for p in before)
+
+
+def test_json_nested_deeper_than_the_limit_in_the_spool_is_read_as_damaged(
+    tmp_path: Path,
+) -> None:
+    """Issue 39, items 3 and 9: the JSON the spool keeps (a refusal's problem, an opening)
+    is read with the server's depth limit; 100 000 levels were a RecursionError in
+    `rigclient status`."""
+    local_id = spool_batches(tmp_path)
+    deep = "[" * 100_000 + "]" * 100_000
+    db = sqlite3.connect(tmp_path / FILENAME)
+    db.execute("UPDATE runs SET refused = ?, refused_what = 'opening', body = ?", (deep, deep))
+    db.commit()
+    db.close()
+    code, said = _run_main("status", "--spool", str(tmp_path), "--json")
+    assert code == 0 and "Traceback" not in said, said
+    with Spool(tmp_path) as spool:
+        (record,) = spool.runs(local_id)
+        assert record.title == "(the opening is damaged)"
+        assert record.refused is not None and record.refused["status"] is None  # as text
+        with pytest.raises(SpoolDamaged):  # the checksum, before the depth
+            spool.opening(local_id)

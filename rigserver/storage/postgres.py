@@ -79,6 +79,7 @@ from rigserver.storage._failures import failures_as, translated
 from rigserver.storage._results import check_results
 from rigserver.storage._time import as_utc, now
 from rigserver.storage.base import Columns, NewBatch
+from rigserver.storage.corrections import CorrectionsUnsupported
 from rigserver.storage.errors import (
     RunExists,
     RunNotFound,
@@ -91,6 +92,7 @@ from rigserver.storage.notify import Appends, notify
 from rigserver.storage.payloads import decode, encode
 from rigserver.storage.runfile import RunFile, write_file
 from schemas.channels import ChannelGroup
+from schemas.corrections import CorrectedRow, Correction
 from schemas.readings import BatchReceipt
 from schemas.runs import Run, RunPage, RunQuery, RunState
 
@@ -100,6 +102,11 @@ if TYPE_CHECKING:
     from rigserver.storage.materialiser import Materialiser
 
 log = logging.getLogger(__name__)
+
+_NO_CORRECTIONS = CorrectionsUnsupported(
+    "corrections of readings are kept by the embedded store (a data directory) only, not "
+    "yet by the PostgreSQL deployment (--database-url): the readings stay as typed"
+)
 
 #: Seconds a request waits for a database connection before it is answered 503
 CONNECT_SECONDS = 5.0
@@ -589,17 +596,43 @@ class PostgresStore:
                 write_file(own, run, _file_batches(conn, run), results, final=final)
             os.replace(own, path)
 
+    def correct_reading(
+        self,
+        run_id: str,
+        group: str,
+        index: int,
+        values: Mapping[str, float],
+        reason: str,
+        by: str,
+    ) -> CorrectedRow:
+        """Not in this deployment yet: ``CorrectionsUnsupported``."""
+        raise _NO_CORRECTIONS
+
+    def strike_reading(
+        self, run_id: str, group: str, index: int, reason: str, by: str
+    ) -> CorrectedRow:
+        """Not in this deployment yet: ``CorrectionsUnsupported``."""
+        raise _NO_CORRECTIONS
+
+    def corrections(self, run_id: str) -> list[Correction]:
+        """None are kept here (:meth:`correct_reading`)."""
+        self.get_run(run_id)  # RunNotFound
+        return []
+
     def import_run(
         self,
         run: Run,
         key: str | None,
         results: Mapping[str, Any] | None,
         batches: Iterable[tuple[int, StoredBatch, Mapping[str, NDArray[np.float64]]]],
+        corrections: Sequence[Correction] = (),
     ) -> bool:
         """Store a run of another store whole, in one transaction: its catalogue entry as it
         is (state, times, counters, results) and its batches (seq, receipt, every channel),
         in the order stored; False, and nothing changes, if a run with its id is here
         already (``rigserver migrate``)."""
+        if corrections:
+            raise _NO_CORRECTIONS
         text = None if results is None else check_results(results, run.key_results).text
         max_seq = -1
         doing = f"importing run {run.id}"

@@ -604,6 +604,8 @@ class HDF5Store:
                 with failures_as(doing):
                     self._sync_corrections(run)
             row = read(index, index + 1)
+        if new:  # the live streams tell their viewers
+            self.appends.woken(run_id, run.batches)
         return corrected_row(run_id, group, index, row, every)
 
     def _sync_corrections(self, run: Run) -> None:

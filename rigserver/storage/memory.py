@@ -242,6 +242,8 @@ class MemoryStore:
                 run.corrections = len(every)
                 run.corrected_after_finish |= run.state is RunState.FINISHED
             row = read(index, index + 1)
+        if new:  # the live streams tell their viewers
+            self.appends.woken(run_id, run.batches)
         return corrected_row(run_id, group, index, row, every)
 
     def set_results(

@@ -45,6 +45,7 @@ from __future__ import annotations
 import json
 import os
 import random
+import shutil
 import time
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
@@ -265,6 +266,36 @@ class RunFile:
             )
         self._set_run(run)
 
+    def apply_corrections(self, group: str, corrections: list[Correction]) -> None:
+        """Overwrite ``group``'s cells with the corrections of it, in turn, and leave its
+        struck rows out (for :func:`corrected_copy` only: a run's own file keeps the values
+        as typed)."""
+        self.write_pending()
+        g = self._entry[group]
+        for c in corrections:
+            if c.channel is not None and c.now is not None:
+                g[c.channel][c.row] = c.now
+        struck = sorted({c.row for c in corrections if c.strikes})
+        if not struck:
+            return
+        decl = channel_group(self._stand, group)
+        total = self._stored_rows(group)
+        for ch in decl.channels:
+            ds = g[ch.name]
+            out = 0
+            for start in range(0, total, STREAM_CHUNK_ROWS):
+                stop = min(start + STREAM_CHUNK_ROWS, total)
+                values = np.asarray(ds[start:stop])
+                keep = [r - start for r in struck if start <= r < stop]
+                values = np.delete(values, keep)
+                ds[out : out + len(values)] = values
+                out += len(values)
+            ds.resize((out,))
+
+    def say_corrected(self) -> None:
+        """Mark the readings as corrected (``/entry@readings``): a :func:`corrected_copy`."""
+        self._entry.attrs["readings"] = "as corrected (the values as typed: corrections/was)"
+
     def corrections(self) -> list[Correction]:
         """The corrections the file holds, in order (none: an empty list)."""
         if "corrections" not in self._entry:
@@ -457,6 +488,18 @@ def write_file(
     except BaseException:
         tmp.unlink(missing_ok=True)
         raise
+
+
+def corrected_copy(source: Path, target: Path) -> None:
+    """Write ``target``: the run file ``source`` with its readings as corrected (each of
+    its corrections applied in turn, the struck rows left out, ``/entry@readings`` saying
+    so); its ``/entry/corrections`` stays, with every value as typed."""
+    shutil.copyfile(source, target)
+    with RunFile.open(target, writable=True) as rf:
+        corrections = rf.corrections()
+        for group in sorted({c.group for c in corrections}):
+            rf.apply_corrections(group, [c for c in corrections if c.group == group])
+        rf.say_corrected()
 
 
 def read_summary(path: Path) -> FileSummary:

@@ -135,9 +135,7 @@ class RunReportJob:
                 lang=self.lang,
                 made=datetime.now(UTC),
                 notes=self.notes,
-                corrections=readings.corrections
-                if isinstance(readings, CorrectedReadings)
-                else (),
+                corrections=readings.corrections if isinstance(readings, CorrectedReadings) else (),
             )
             html = render_report(report)
         write_targets(html, self.targets)

@@ -21,6 +21,7 @@ from rigserver.reports.formatting import fmt, html_symbol, number_locale, value_
 from rigserver.reports.i18n import MESSAGES, Lang, Messages, translations
 from rigserver.reports.labs import mtos, profilometer, slide_bearing, smts2, tribometer
 from rigserver.reports.render import render
+from schemas.corrections import Correction
 from schemas.labels import CONFIGURATION, PARTICULARS
 from schemas.messages import N_
 from schemas.results import (
@@ -31,7 +32,6 @@ from schemas.results import (
     SlideBearingResults,
     Smts2Results,
 )
-from schemas.corrections import Correction
 from schemas.runs import Run, RunState
 from schemas.stands import CONFIG_MODELS, Stand, StandKind
 from schemas.student_notes import StudentNotes

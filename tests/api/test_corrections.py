@@ -247,3 +247,15 @@ def test_a_deployment_without_corrections_answers_501(
     r = _patch(client, run_id, "steps", 0, {"values": {"indicator": 0.5}, "reason": "r"})
     assert r.status_code == 501
     assert "PostgreSQL" in r.json()["detail"]
+
+
+def test_the_run_page_says_the_run_was_corrected_after_it_finished(client: TestClient) -> None:
+    run_id = _mtos_run(client)
+    assert client.post(f"{API}/runs/{run_id}/finish", headers=auth(WRITER)).status_code == 200
+    _patch(client, run_id, "steps", 0, {"values": {"indicator": 0.025}, "reason": "misread"})
+    for lang, words in (("en", "corrected after it was finished"), ("ru", "исправлен после")):
+        page = client.get(f"/runs/{run_id}?lang={lang}", headers=auth(READER))
+        assert page.status_code == 200, page.text
+        state = re.search(r'id="run-state">([^<]*)<', page.text)
+        assert state is not None and words in state.group(1)
+        assert 'id="run-corrections">1 (' in page.text

@@ -31,7 +31,9 @@ class CorrectionWrite(BaseModel):
         extra="forbid",
         strict=True,  # a number sent as text or as true is refused
         json_schema_extra={
-            "examples": [{"values": {"p3": 1.25}, "reason": "misread: 12.5 typed for 1.25"}]
+            "examples": [
+                {"values": {"friction_moment": 3.05}, "reason": "misread: 30.5 typed for 3.05"}
+            ]
         },
     )
 

@@ -20,7 +20,6 @@ import numpy as np
 from numpy.typing import NDArray
 
 from rigserver.storage._checks import channel_group, last_finite
-from rigserver.storage.errors import StorageError
 from schemas.channels import ChannelGroup, Violation, check_cell, configured_groups
 from schemas.corrections import REASON_LIMIT, CorrectedRow, Correction
 from schemas.runs import Run
@@ -38,10 +37,6 @@ class CorrectionRefused(ValueError):
         super().__init__(violations[0].message)
         self.violations = list(violations)
         self.status = status
-
-
-class CorrectionsUnsupported(StorageError):
-    """The deployment's store cannot keep corrections (the API answers 501)."""
 
 
 def struck_rows(corrections: Sequence[Correction], group: str) -> set[int]:

@@ -82,3 +82,7 @@ class SeriesFull(StorageError):
 
 class OtherStand(StorageError):
     pass
+
+
+class CorrectionsUnsupported(StorageError):
+    """The deployment's store does not keep corrections of readings (the API answers 501)."""

@@ -79,8 +79,8 @@ from rigserver.storage._failures import failures_as, translated
 from rigserver.storage._results import check_results
 from rigserver.storage._time import as_utc, now
 from rigserver.storage.base import Columns, NewBatch
-from rigserver.storage.corrections import CorrectionsUnsupported
 from rigserver.storage.errors import (
+    CorrectionsUnsupported,
     RunExists,
     RunNotFound,
     RunNotOpen,

@@ -19,7 +19,7 @@ from rigserver.api.app import create_app
 from rigserver.api.auth import ApiKey
 from rigserver.api.settings import Settings
 from rigserver.storage import HDF5Store, MemoryStore
-from rigserver.storage.corrections import CorrectionsUnsupported
+from rigserver.storage.errors import CorrectionsUnsupported
 from schemas.stands import configure_stands
 from tests.api.conftest import KEYS, MTOS_ONLY, READER, WRITER, auth
 from tests.api.test_service import API, friction_batch, open_run

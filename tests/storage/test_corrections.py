@@ -16,12 +16,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from rigserver.storage import HDF5Store, MemoryStore, RunStore
-from rigserver.storage.corrections import (
-    CorrectedReadings,
-    CorrectionRefused,
-    CorrectionsUnsupported,
-    applied,
-)
+from rigserver.storage.corrections import CorrectedReadings, CorrectionRefused, applied
+from rigserver.storage.errors import CorrectionsUnsupported
 from rigserver.storage.runfile import RunFile, corrected_copy
 from schemas.corrections import Correction
 from schemas.runs import RunState

@@ -31,7 +31,7 @@ from rigserver.api.routes.notes import author
 from rigserver.api.routes.runs import load_run
 from rigserver.api.run_results import compute_results
 from rigserver.api.strict_json import StrictJsonRoute
-from rigserver.storage.corrections import CorrectionRefused, CorrectionsUnsupported
+from rigserver.storage.corrections import CorrectionRefused
 from schemas.corrections import CorrectedRow, CorrectionList, CorrectionWrite, StrikeWrite
 from schemas.runs import RunState
 
@@ -67,8 +67,6 @@ def correct(
                 row = store.strike_reading(run.id, group, index, body.reason, author(key))
         except CorrectionRefused as exc:
             raise ApiProblem(422, "Correction refused", str(exc), exc.violations) from None
-        except CorrectionsUnsupported as exc:
-            raise ApiProblem(501, "Corrections not kept here", str(exc)) from None
         now = store.get_run(run.id)
         again = now.state is RunState.FINISHED and now.corrections != run.corrections
         if again:

@@ -21,7 +21,6 @@ from starlette.routing import Match
 from rigserver.api.openapi import component_schemas
 from rigserver.core.errors import ModelInputError
 from rigserver.storage.errors import (
-    CorrectionsUnsupported,
     KeyReused,
     MemberExists,
     MemberNotFound,
@@ -133,7 +132,6 @@ _STORAGE_STATUS: list[tuple[type[StorageError], int, str]] = [
     (MemberNotFound, 404, "Run not in the series"),
     (SeriesFull, 409, "Series full"),
     (OtherStand, 409, "Run of another stand"),
-    (CorrectionsUnsupported, 501, "Corrections not kept here"),
 ]
 
 

@@ -11,7 +11,6 @@ store of a cluster, the in-memory store for tests, and the storage error tree.
      ├── RunNotOpen           the run is finished or aborted: it takes no more readings
      ├── SequenceConflict     a seq number reused with different content
      ├── StorageFull          the disk is full (the batch was not acknowledged)
-     ├── CorrectionsUnsupported  the deployment keeps no corrections of readings
      └── StorageUnavailable   any other failure to make a batch durable
 """
 
@@ -19,7 +18,6 @@ from __future__ import annotations
 
 from rigserver.storage.base import BatchCheck, Columns, NewBatch, RunStore
 from rigserver.storage.errors import (
-    CorrectionsUnsupported,
     KeyReused,
     RunDamaged,
     RunExists,
@@ -37,7 +35,6 @@ from rigserver.storage.postgres import PostgresStore
 __all__ = [
     "BatchCheck",
     "Columns",
-    "CorrectionsUnsupported",
     "HDF5Store",
     "KeyReused",
     "MemoryStore",

@@ -121,8 +121,7 @@ class RunStore(Protocol):
         is (the channels' limits in the run's units, a known channel, the index in range,
         a reason of 1-500 characters): ``CorrectionRefused`` naming the field; a row that
         already reads so stores nothing. Any state of the run (its results are the
-        caller's to compute again). ``RunNotFound``; ``CorrectionsUnsupported`` where the
-        deployment cannot keep them."""
+        caller's to compute again). ``RunNotFound``."""
         ...
 
     def strike_reading(

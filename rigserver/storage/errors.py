@@ -82,7 +82,3 @@ class SeriesFull(StorageError):
 
 class OtherStand(StorageError):
     pass
-
-
-class CorrectionsUnsupported(StorageError):
-    """The deployment's store does not keep corrections of readings (the API answers 501)."""

@@ -18,8 +18,7 @@ from fastapi.testclient import TestClient
 from rigserver.api.app import create_app
 from rigserver.api.auth import ApiKey
 from rigserver.api.settings import Settings
-from rigserver.storage import HDF5Store, MemoryStore
-from rigserver.storage.errors import CorrectionsUnsupported
+from rigserver.storage import HDF5Store
 from schemas.stands import configure_stands
 from tests.api.conftest import KEYS, MTOS_ONLY, READER, WRITER, auth
 from tests.api.test_service import API, friction_batch, open_run
@@ -234,19 +233,6 @@ def test_a_bad_correction_is_refused_naming_the_field(
     assert error["field"] == field
     assert words in r.json()["detail"]
     assert client.get(f"{API}/runs/{run_id}", headers=auth(READER)).json()["corrections"] == 0
-
-
-def test_a_deployment_without_corrections_answers_501(
-    client: TestClient, monkeypatch: pytest.MonkeyPatch
-) -> None:
-    def unsupported(*args: object) -> None:
-        raise CorrectionsUnsupported("not kept by the PostgreSQL deployment (--database-url)")
-
-    monkeypatch.setattr(MemoryStore, "correct_reading", unsupported)
-    run_id = _mtos_run(client)
-    r = _patch(client, run_id, "steps", 0, {"values": {"indicator": 0.5}, "reason": "r"})
-    assert r.status_code == 501
-    assert "PostgreSQL" in r.json()["detail"]
 
 
 def test_the_run_page_says_the_run_was_corrected_after_it_finished(client: TestClient) -> None:

@@ -17,7 +17,6 @@ from hypothesis import strategies as st
 
 from rigserver.storage import HDF5Store, MemoryStore, RunStore
 from rigserver.storage.corrections import CorrectedReadings, CorrectionRefused, applied
-from rigserver.storage.errors import CorrectionsUnsupported
 from rigserver.storage.runfile import RunFile, corrected_copy
 from schemas.corrections import Correction
 from schemas.runs import RunState
@@ -25,7 +24,7 @@ from schemas.stands import MEASUREMENTS, StandKind
 from tests.storage.conftest import T0, friction, make_run, open_store
 
 
-@pytest.fixture(params=["memory", "hdf5"])
+@pytest.fixture(params=["memory", "hdf5", "postgres"])
 def store(request: pytest.FixtureRequest, tmp_path: Path) -> Iterator[RunStore]:
     s = open_store(request.param, tmp_path, request)
     yield s
@@ -122,20 +121,6 @@ def test_a_finished_run_is_corrected_and_says_so(store: RunStore) -> None:
         held = rf.corrections()
         assert rf.read(MEASUREMENTS, ["pin_mass_after"], 1, 2)["pin_mass_after"][0] == 12.34
     assert [c.now for c in held] == [302.0, 12.3410]
-
-
-def test_the_cluster_store_refuses_corrections_naming_the_deployment(
-    tmp_path: Path, request: pytest.FixtureRequest
-) -> None:
-    store = open_store("postgres", tmp_path, request)
-    try:
-        run_id = store.create_run(make_run()).id
-        store.append(run_id, 0, "friction", friction(0, 3))
-        with pytest.raises(CorrectionsUnsupported, match="PostgreSQL deployment"):
-            store.correct_reading(run_id, "friction", 1, {"load": 301.0}, "r", "k")
-        assert store.corrections(run_id) == []
-    finally:
-        store.close()
 
 
 def test_the_run_file_keeps_the_values_as_typed_and_the_table_with_units(

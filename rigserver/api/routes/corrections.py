@@ -87,8 +87,7 @@ _WHAT = (
     "value as typed is kept: `GET /runs/{id}/readings?original=true` gives it, "
     "`GET /runs/{id}/corrections` lists every correction with the value before and after, "
     "the reason, the key's name and the time. A row that already reads so stores nothing "
-    "(a retry is safe). A finished run's results are computed again. 501 in a deployment "
-    "that does not keep corrections."
+    "(a retry is safe). A finished run's results are computed again."
 )
 
 

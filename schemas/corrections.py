@@ -8,7 +8,8 @@ from __future__ import annotations
 from datetime import datetime
 from typing import Annotated
 
-from pydantic import AfterValidator, BaseModel, ConfigDict, Field, StringConstraints
+from pydantic import AfterValidator, BaseModel, ConfigDict, Field
+from pydantic_core import PydanticCustomError
 
 from schemas.wire import Number, Text
 
@@ -17,11 +18,22 @@ REASON_LIMIT = 500
 #: Channels one correction may change (a row of the widest group, the MTOS steps, has 10).
 VALUES_LIMIT = 64
 
-Reason = Annotated[
-    Text,
-    AfterValidator(str.strip),
-    StringConstraints(min_length=1, max_length=REASON_LIMIT),
-]
+
+def _reason(text: str) -> str:
+    """The reason without the spaces around it: 1 to :data:`REASON_LIMIT` characters."""
+    stripped = text.strip()
+    if not stripped:
+        raise PydanticCustomError("reason_empty", "say why the reading is corrected")
+    if len(stripped) > REASON_LIMIT:
+        raise PydanticCustomError(
+            "reason_long",
+            "at most {limit} characters, not {length}",
+            {"limit": REASON_LIMIT, "length": len(stripped)},
+        )
+    return stripped
+
+
+Reason = Annotated[Text, AfterValidator(_reason)]
 
 
 class CorrectionWrite(BaseModel):

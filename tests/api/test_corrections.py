@@ -22,6 +22,7 @@ from rigserver.storage import HDF5Store
 from schemas.stands import configure_stands
 from tests.api.conftest import KEYS, MTOS_ONLY, READER, WRITER, auth
 from tests.api.test_service import API, friction_batch, open_run
+from tests.reports.rendered import pdf_text, squeezed
 
 # MTOS steps as in the README's curl example
 STEPS: dict[str, list[float]] = {
@@ -185,6 +186,12 @@ def test_a_finished_run_corrected_gets_new_results_a_flag_and_a_report_table(
         assert "the balance was not zeroed" in text
         for word in words:
             assert word in text, (lang, word)
+    # the PDF prints the same table (its text as poppler reads it)
+    pdf = client.get(f"{API}/runs/{run_id}/report.pdf", headers=auth(READER))
+    assert pdf.status_code == 200
+    printed = squeezed(pdf_text(pdf.content))
+    for word in ("Corrections", "12.47", "12.48", "thebalancewasnotzeroed", "Was", "Now"):
+        assert squeezed(word) in printed, word
 
 
 def test_a_correction_needs_the_stands_write_scope(client: TestClient) -> None:

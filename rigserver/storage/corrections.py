@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Iterator, Mapping, Sequence
+from dataclasses import dataclass
 from datetime import datetime
 from typing import NoReturn, Protocol
 
@@ -37,6 +38,44 @@ class CorrectionRefused(ValueError):
         super().__init__(violations[0].message)
         self.violations = list(violations)
         self.status = status
+
+
+@dataclass(frozen=True, slots=True)
+class RowEdit:
+    """One correction asked for: row ``index`` of ``group``, its new ``values`` (None: the
+    row struck out), the ``reason`` and who asks (``by``, the key's name)."""
+
+    group: str
+    index: int
+    values: dict[str, float] | None
+    reason: str
+    by: str
+
+
+class RowEdits:
+    """:meth:`RunStore.correct_reading` and :meth:`RunStore.strike_reading` of a store that
+    implements ``_edit`` (``values`` None: the row struck out)."""
+
+    def correct_reading(
+        self,
+        run_id: str,
+        group: str,
+        index: int,
+        values: Mapping[str, float],
+        reason: str,
+        by: str,
+    ) -> CorrectedRow:
+        """Correct cells of row ``index`` of ``group`` (:meth:`RunStore.correct_reading`)."""
+        return self._edit(run_id, RowEdit(group, index, dict(values), reason, by))
+
+    def strike_reading(
+        self, run_id: str, group: str, index: int, reason: str, by: str
+    ) -> CorrectedRow:
+        """Strike row ``index`` of ``group`` out (:meth:`RunStore.strike_reading`)."""
+        return self._edit(run_id, RowEdit(group, index, None, reason, by))
+
+    def _edit(self, run_id: str, edit: RowEdit) -> CorrectedRow:
+        raise NotImplementedError
 
 
 def struck_rows(corrections: Sequence[Correction], group: str) -> set[int]:
@@ -106,23 +145,16 @@ def corrected_row(
 
 
 def new_corrections(
-    run: Run,
-    group: str,
-    index: int,
-    values: Mapping[str, float] | None,
-    reason: str,
-    by: str,
-    at: datetime,
-    read: RowReader,
-    earlier: Sequence[Correction],
+    run: Run, edit: RowEdit, at: datetime, read: RowReader, earlier: Sequence[Correction]
 ) -> list[Correction]:
-    """The records a correction of row ``index`` of ``group`` adds (``values`` None: the row
-    struck out), checked as a post is checked; empty if the row already reads so (a retry).
+    """The records ``edit`` adds to ``run`` (made ``at``), checked as a post is checked;
+    empty if the row already reads so (a retry).
 
     ``read`` gives rows as stored, ``earlier`` the run's corrections so far. Raises
     :class:`CorrectionRefused` naming the field (``group``, ``index``, ``values.<channel>``,
     ``reason``) with the value and the limit.
     """
+    group, index, values, reason, by = edit.group, edit.index, edit.values, edit.reason, edit.by
     decl = _group(run, group)
     why = reason.strip() if isinstance(reason, str) else ""
     if not why or len(why) > REASON_LIMIT or "\x00" in why:

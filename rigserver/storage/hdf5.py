@@ -90,7 +90,7 @@ from rigserver.storage.backlog import (
     WhenQuiet,
 )
 from rigserver.storage.base import Columns, NewBatch
-from rigserver.storage.corrections import corrected_row, new_corrections
+from rigserver.storage.corrections import RowEdit, RowEdits, corrected_row, new_corrections
 from rigserver.storage.errors import (
     RunDamaged,
     RunNotFound,
@@ -138,7 +138,7 @@ class _Live:
     direct: bool = False
 
 
-class HDF5Store:
+class HDF5Store(RowEdits):
     """The embedded run store: a data directory on local disk (see the module docstring).
 
     Parameters
@@ -536,25 +536,6 @@ class HDF5Store:
 
     # --- corrections --------------------------------------------------------------------
 
-    def correct_reading(
-        self,
-        run_id: str,
-        group: str,
-        index: int,
-        values: Mapping[str, float],
-        reason: str,
-        by: str,
-    ) -> CorrectedRow:
-        """Correct cells of row ``index`` of ``group`` (:meth:`RunStore.correct_reading`):
-        committed to the journal (then acknowledged), then written to the run file."""
-        return self._edit(run_id, group, index, dict(values), reason, by)
-
-    def strike_reading(
-        self, run_id: str, group: str, index: int, reason: str, by: str
-    ) -> CorrectedRow:
-        """Strike row ``index`` of ``group`` out (:meth:`RunStore.strike_reading`)."""
-        return self._edit(run_id, group, index, None, reason, by)
-
     def corrections(self, run_id: str) -> list[Correction]:
         with self._lock:
             self._check_open()
@@ -563,15 +544,10 @@ class HDF5Store:
                     self._journal.entry(run_id)  # RunNotFound
                 return self._journal.corrections(run_id)
 
-    def _edit(
-        self,
-        run_id: str,
-        group: str,
-        index: int,
-        values: dict[str, float] | None,
-        reason: str,
-        by: str,
-    ) -> CorrectedRow:
+    def _edit(self, run_id: str, edit: RowEdit) -> CorrectedRow:
+        """A correction committed to the journal (then acknowledged), then written to the
+        run file (an ended run's final file rewritten by copy and rename)."""
+        group, index = edit.group, edit.index
         doing = f"correcting row {index} of {group} of run {run_id}"
         with self._lock:
             self._check_open()
@@ -583,7 +559,7 @@ class HDF5Store:
             def read(lo: int, hi: int) -> dict[str, NDArray[np.float64]]:
                 return self.read(run_id, group, None, lo, hi)
 
-            new = new_corrections(run, group, index, values, reason, by, now(), read, earlier)
+            new = new_corrections(run, edit, now(), read, earlier)
             every = [*earlier, *new]
             if new:
                 after = run.state is RunState.FINISHED or run.corrected_after_finish

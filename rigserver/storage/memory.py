@@ -37,7 +37,7 @@ from rigserver.storage._checks import (
 from rigserver.storage._results import CheckedResults, check_results
 from rigserver.storage._time import as_utc, now
 from rigserver.storage.base import Columns, NewBatch
-from rigserver.storage.corrections import corrected_row, new_corrections
+from rigserver.storage.corrections import RowEdit, RowEdits, corrected_row, new_corrections
 from rigserver.storage.errors import RunExists, RunNotFound, RunNotOpen
 from rigserver.storage.runfile import write_file
 from rigserver.storage.waiters import AppendWaiters
@@ -64,7 +64,7 @@ class _Run:
         return parts[0]
 
 
-class MemoryStore:
+class MemoryStore(RowEdits):
     """The :class:`~rigserver.storage.base.RunStore` protocol in memory; thread-safe."""
 
     def __init__(self) -> None:
@@ -199,35 +199,12 @@ class MemoryStore:
         """The rows stored when called, in consecutive slices of at most ``rows`` rows."""
         return chunks(self, run_id, group, channels, rows)
 
-    def correct_reading(
-        self,
-        run_id: str,
-        group: str,
-        index: int,
-        values: Mapping[str, float],
-        reason: str,
-        by: str,
-    ) -> CorrectedRow:
-        return self._edit(run_id, group, index, dict(values), reason, by)
-
-    def strike_reading(
-        self, run_id: str, group: str, index: int, reason: str, by: str
-    ) -> CorrectedRow:
-        return self._edit(run_id, group, index, None, reason, by)
-
     def corrections(self, run_id: str) -> list[Correction]:
         with self._lock:
             return list(self._get(run_id).corrections)
 
-    def _edit(
-        self,
-        run_id: str,
-        group: str,
-        index: int,
-        values: dict[str, float] | None,
-        reason: str,
-        by: str,
-    ) -> CorrectedRow:
+    def _edit(self, run_id: str, edit: RowEdit) -> CorrectedRow:
+        group, index = edit.group, edit.index
         with self._lock:
             stored_run = self._get(run_id)
             run = stored_run.run
@@ -236,7 +213,7 @@ class MemoryStore:
                 return self.read(run_id, group, None, lo, hi)
 
             earlier = stored_run.corrections
-            new = new_corrections(run, group, index, values, reason, by, now(), read, earlier)
+            new = new_corrections(run, edit, now(), read, earlier)
             stored_run.corrections = every = [*earlier, *new]
             if new:
                 run.corrections = len(every)

@@ -83,7 +83,7 @@ from rigserver.storage._failures import failures_as, translated
 from rigserver.storage._results import check_results
 from rigserver.storage._time import as_utc, now
 from rigserver.storage.base import Columns, NewBatch
-from rigserver.storage.corrections import corrected_row, new_corrections
+from rigserver.storage.corrections import RowEdit, RowEdits, corrected_row, new_corrections
 from rigserver.storage.errors import (
     RunExists,
     RunNotFound,
@@ -171,7 +171,7 @@ class _Locked:
     touched: bool = False
 
 
-class PostgresStore:
+class PostgresStore(RowEdits):
     """The :class:`~rigserver.storage.base.RunStore` protocol on PostgreSQL (module docstring).
 
     Parameters
@@ -603,41 +603,17 @@ class PostgresStore:
                 )
             os.replace(own, path)
 
-    def correct_reading(
-        self,
-        run_id: str,
-        group: str,
-        index: int,
-        values: Mapping[str, float],
-        reason: str,
-        by: str,
-    ) -> CorrectedRow:
-        """Correct cells of a stored row (:meth:`RunStore.correct_reading`): committed with
-        the run's row locked (one correction at a time across the workers), then an ended
-        run's file materialised again."""
-        return self._edit(run_id, group, index, dict(values), reason, by)
-
-    def strike_reading(
-        self, run_id: str, group: str, index: int, reason: str, by: str
-    ) -> CorrectedRow:
-        """Strike a stored row out (:meth:`RunStore.strike_reading`)."""
-        return self._edit(run_id, group, index, None, reason, by)
-
     def corrections(self, run_id: str) -> list[Correction]:
         doing = f"reading the corrections of run {run_id}"
         with failures_as(doing, PG_FAILURES), self._pool.connection() as conn:
             _select_run(conn, run_id)  # RunNotFound
             return _corrections(conn, run_id)
 
-    def _edit(
-        self,
-        run_id: str,
-        group: str,
-        index: int,
-        values: dict[str, float] | None,
-        reason: str,
-        by: str,
-    ) -> CorrectedRow:
+    def _edit(self, run_id: str, edit: RowEdit) -> CorrectedRow:
+        """A correction committed with the run's row locked (one at a time across the
+        workers), then an ended run's file materialised again."""
+        group, index = edit.group, edit.index
+
         def read(lo: int, hi: int) -> dict[str, NDArray[np.float64]]:
             return self.read(run_id, group, None, lo, hi)
 
@@ -649,7 +625,7 @@ class PostgresStore:
         ):
             run = _select_run(conn, run_id, lock=True)
             earlier = _corrections(conn, run_id)
-            new = new_corrections(run, group, index, values, reason, by, now(), read, earlier)
+            new = new_corrections(run, edit, now(), read, earlier)
             every = [*earlier, *new]
             after = run.state is RunState.FINISHED or run.corrected_after_finish
             run = run.model_copy(

@@ -34,10 +34,9 @@ RowReader = Callable[[int, int], Mapping[str, NDArray[np.float64]]]
 class CorrectionRefused(ValueError):
     """A correction that cannot be stored: the violations name the field, value and limit."""
 
-    def __init__(self, violations: Sequence[Violation], status: int = 422) -> None:
+    def __init__(self, violations: Sequence[Violation]) -> None:
         super().__init__(violations[0].message)
         self.violations = list(violations)
-        self.status = status
 
 
 @dataclass(frozen=True, slots=True)

@@ -56,7 +56,8 @@ def corrections_section(
                 ]
             )
         caption = t("corr.caption", group=t.gettext(group.long_name) if group else name)
-        blocks.append(Table(caption=caption, header=head, rows=rows, labels=2, keys=2))
+        # every column may wrap (a reason is up to 500 characters); row and quantity repeat
+        blocks.append(Table(caption=caption, header=head, rows=rows, labels=len(head), keys=2))
     if after_finish:
         blocks.insert(0, Paragraph(t("corr.after_finish")))
     return Section(t("sec.corrections"), blocks)

@@ -38,6 +38,7 @@ from rigclient.http import Api, RetryPolicy
 from rigclient.lock import SpoolLock
 from rigclient.sender import Sender
 from rigclient.spool import Cursor, Reject, RunRecord, Spool, SpoolLimits
+from schemas.corrections import CorrectedRow
 from schemas.runs import RunCreate
 from schemas.stands import Stand, default_stands
 from schemas.wire import Scalar
@@ -128,6 +129,30 @@ class RunHandle:
         self._client._locked(
             lambda s: s.append(self.local_id, None, None, cursor=cursor, rejects=rejects)
         )
+
+    def correct(
+        self, group: str, index: int, values: Mapping[str, float], reason: str
+    ) -> CorrectedRow:
+        """Correct cells of row ``index`` (from 0, as posted) of ``group`` on the server,
+        with the ``reason`` the report prints; the server keeps the values as typed. Sent
+        at once, not spooled: the run must be delivered first (:meth:`Client.wait`), else
+        :class:`InputError`; the server's refusal (a row it has not, a value beyond the
+        channel's limit) raises ``ServerRefused``."""
+        return self._client._api.correct(self._delivered(), group, index, values, reason)
+
+    def strike(self, group: str, index: int, reason: str) -> CorrectedRow:
+        """Strike row ``index`` of ``group`` out on the server (as :meth:`correct`)."""
+        return self._client._api.strike(self._delivered(), group, index, reason)
+
+    def _delivered(self) -> str:
+        """The server's run id, once the run is there (its rows: the server says)."""
+        server_id = self.server_id
+        if server_id is None:
+            raise InputError(
+                f"run {self.local_id} is not on the server yet: wait for it (client.wait()) "
+                "before correcting its readings"
+            )
+        return server_id
 
     def finish(self) -> None:
         """Queue the run's finish after its last batch."""

@@ -52,6 +52,7 @@ from numpy.typing import ArrayLike
 from pydantic import ValidationError
 
 from rigclient.errors import ServerRefused, ServerUnavailable, problem_text
+from schemas.corrections import CorrectedRow
 from schemas.problems import PROBLEM_MEDIA_TYPE, Problem
 from schemas.readings import NPZ_MEDIA_TYPE, BatchReceipt
 from schemas.runs import Run, RunCreate, RunState
@@ -582,6 +583,23 @@ class Api:
         if run.state is not RunState.FINISHED:
             raise refusal
         return run
+
+    def correct(
+        self, run_id: str, group: str, index: int, values: Mapping[str, float], reason: str
+    ) -> CorrectedRow:
+        """``PATCH /runs/{id}/readings/{group}/{index}``: cells of a stored row corrected,
+        the values as typed kept; the row as it now reads. A retry stores nothing twice."""
+        body = {"values": dict(values), "reason": reason}
+        path = f"/runs/{run_id}/readings/{group}/{index}"
+        return CorrectedRow.model_validate(self.request("PATCH", path, json=body).json())
+
+    def strike(self, run_id: str, group: str, index: int, reason: str) -> CorrectedRow:
+        """``DELETE /runs/{id}/readings/{group}/{index}``: a stored row struck out (kept as
+        typed, left out of the results)."""
+        path = f"/runs/{run_id}/readings/{group}/{index}"
+        return CorrectedRow.model_validate(
+            self.request("DELETE", path, json={"reason": reason}).json()
+        )
 
     def results(self, run_id: str) -> dict[str, Any]:
         """``GET /runs/{id}/results``."""

@@ -299,6 +299,57 @@ def _violations(
     return problems[:MAX_VIOLATIONS]
 
 
+def check_cell(
+    ch: Channel, value: float, before: float | None = None, after: float | None = None
+) -> list[Violation]:
+    """A corrected cell of channel ``ch`` (field ``values.<channel>``): finite, within the
+    channel's limit and, for an ordered channel, in order between the row's neighbours
+    ``before`` and ``after`` (their values as they read; None at a group's ends)."""
+    where = f"values.{ch.name}"
+    if not isfinite(value):
+        return [
+            Violation(
+                field=where,
+                value=str(value),
+                limit="a finite number",
+                message=f"{ch.name} = {value} is not a finite number",
+            )
+        ]
+    if ch.limit.violations(np.array([value])).any():
+        text = ch.limit.describe(ch.unit)
+        return [
+            Violation(
+                field=where,
+                value=value,
+                limit=text,
+                message=f"{ch.name} = {value:g} {ch.unit} is outside the limit: {text}",
+            )
+        ]
+    if ch.order is Order.ANY:
+        return []
+    word = "increase" if ch.order is Order.INCREASING else "not decrease"
+    for neighbour, pair, side in (
+        (before, (before, value), "before"),
+        (after, (value, after), "after"),
+    ):
+        if (
+            neighbour is not None
+            and isfinite(neighbour)
+            and not _in_order(ch.order, np.array(pair, dtype=np.float64), None)
+        ):
+            return [
+                Violation(
+                    field=where,
+                    value=value,
+                    limit=f"must {word} along the rows (the value {side} it is "
+                    f"{neighbour:g} {ch.unit})",
+                    message=f"{ch.name} = {value:g} must {word} along the rows; the value "
+                    f"{side} it is {neighbour:g} {ch.unit}",
+                )
+            ]
+    return []
+
+
 def follows(
     group: ChannelGroup,
     columns: Mapping[str, Sequence[float] | NDArray[np.float64]],

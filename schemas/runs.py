@@ -109,6 +109,16 @@ class Run(BaseModel):
         description="what is wrong with a damaged run: it is listed, but cannot be read "
         "(`rigserver check` reports it); null for a sound run",
     )
+    corrections: int = Field(
+        default=0,
+        description="corrections of its readings stored (a cell corrected or a row struck "
+        "out, each with its reason: GET /runs/{id}/corrections); the values as typed are kept",
+    )
+    corrected_after_finish: bool = Field(
+        default=False,
+        description="true once a reading was corrected after the run finished (its results "
+        "and reports were made again)",
+    )
 
 
 class RunQuery(BaseModel):

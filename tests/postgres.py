@@ -46,7 +46,7 @@ def postgres_server() -> Iterator[LocalPostgres]:
 def empty_tables(url: str) -> None:
     """Drop what the last test stored (the store creates its tables again)."""
     with psycopg.connect(url, autocommit=True) as conn:
-        conn.execute("DROP TABLE IF EXISTS rig_batches, rig_runs, rig_hsds_marks")
+        conn.execute("DROP TABLE IF EXISTS rig_corrections, rig_batches, rig_runs, rig_hsds_marks")
 
 
 @pytest.fixture

@@ -25,6 +25,7 @@ from rigserver.api.problems import ApiProblem
 from rigserver.api.rate_limit import RateLimit
 from rigserver.api.routes import (
     api_docs,
+    corrections,
     eln,
     live,
     models,
@@ -50,6 +51,7 @@ API_PREFIX = "/api/v1"
 #: matched in order.
 API_ROUTERS = (
     readings.router,
+    corrections.router,
     stand_routes.router,
     runs.router,
     notes_routes.router,
@@ -191,7 +193,7 @@ def create_app(
         app.add_middleware(
             CORSMiddleware,
             allow_origins=list(settings.cors_origins),
-            allow_methods=["GET", "POST"],
+            allow_methods=["GET", "POST", "PATCH", "DELETE"],
             allow_headers=["Authorization", "Content-Type"],
         )
     app.add_middleware(PagePolicy, api=API_PREFIX, docs=api_docs.PAGES)

@@ -28,8 +28,10 @@ from rigserver.reports.i18n import Lang
 from rigserver.reports.pdf import html_to_pdf
 from rigserver.reports.run_report import build_report, render_report
 from rigserver.reports.series_report import render_series_report, series_context
+from rigserver.storage.corrections import CorrectedReadings
 from rigserver.storage.errors import RunDamaged
 from rigserver.storage.runfile import RunFile
+from schemas.corrections import Correction
 from schemas.runs import Run
 from schemas.series import SeriesDetail
 from schemas.stands import MEASUREMENTS, Stand
@@ -61,8 +63,17 @@ def render_process_started() -> None:
     quiet_renderer_logs()
 
 
-class FileReadings:
-    """A run's readings from its HDF5 file (read-only, opened once per render)."""
+class FileReadings(CorrectedReadings):
+    """A run's readings from its HDF5 file (read-only, opened once per render), as
+    corrected by the corrections the file holds, or as typed if ``original``."""
+
+    def __init__(self, path: Path, stack: ExitStack, *, original: bool = False) -> None:
+        rows = _FileRows(path, stack)
+        super().__init__(rows, [] if original else rows.corrections())
+
+
+class _FileRows:
+    """A run's readings as its HDF5 file keeps them (as typed)."""
 
     def __init__(self, path: Path, stack: ExitStack) -> None:
         try:
@@ -90,6 +101,9 @@ class FileReadings:
         if self.rows(MEASUREMENTS) == 0:
             return {}
         return self._file.last_values(MEASUREMENTS)
+
+    def corrections(self) -> list[Correction]:
+        return self._file.corrections()
 
 
 @dataclass(frozen=True)
@@ -121,6 +135,7 @@ class RunReportJob:
                 lang=self.lang,
                 made=datetime.now(UTC),
                 notes=self.notes,
+                corrections=readings.corrections if isinstance(readings, CorrectedReadings) else (),
             )
             html = render_report(report)
         write_targets(html, self.targets)

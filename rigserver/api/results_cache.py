@@ -30,14 +30,15 @@ from rigserver.analysis import AnalysisResult
 from rigserver.api.problems import ApiProblem
 from schemas.runs import Run
 
-#: What a computation of a run's results saw: its batches stored and rows per group.
-Version = tuple[int, tuple[tuple[str, int], ...]]
+#: What a computation of a run's results saw: its batches stored, its corrections of them
+#: and rows per group.
+Version = tuple[int, int, tuple[tuple[str, int], ...]]
 
 
 def readings_version(run: Run) -> Version:
     """The version of ``run``'s readings, from its catalogue entry: it changes with every
-    batch stored (measurements included)."""
-    return run.batches, tuple(sorted(run.rows.items()))
+    batch stored (measurements included) and every correction."""
+    return run.batches, run.corrections, tuple(sorted(run.rows.items()))
 
 
 @dataclass(frozen=True)

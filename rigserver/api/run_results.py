@@ -14,13 +14,23 @@ from numpy.typing import NDArray
 from rigserver.analysis import AnalysisResult, Readings, analyse
 from rigserver.api.deps import Services
 from rigserver.api.results_cache import Computed
+from rigserver.storage.corrections import CorrectedReadings
 from rigserver.storage.errors import RunNotFound
 from schemas.runs import Run, RunState
 from schemas.stands import MEASUREMENTS
 
 
-class StoredReadings:
-    """One run's readings in the store, as the analysis asks for them."""
+class StoredReadings(CorrectedReadings):
+    """One run's readings in the store, as the analysis asks for them: as corrected (the
+    corrections applied, the struck rows left out), or as typed if ``original``."""
+
+    def __init__(self, services: Services, run: Run, *, original: bool = False) -> None:
+        fixes = [] if original or not run.corrections else services.store.corrections(run.id)
+        super().__init__(_StoreRows(services, run), fixes)
+
+
+class _StoreRows:
+    """One run's readings as the store keeps them (as typed)."""
 
     def __init__(self, services: Services, run: Run) -> None:
         self._store = services.store

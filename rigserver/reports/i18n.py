@@ -248,6 +248,19 @@ MESSAGES: dict[str, str] = {
     "sec.conclusions": N_("Conclusions"),
     "sec.pending": N_("Not computed yet"),
     "sec.notes": N_("Notes of the analysis"),
+    "sec.corrections": N_("Corrections"),
+    "corr.caption": N_(
+        "Corrections of the readings, {group}: the tables and results above use the "
+        "corrected values; the values as typed are kept in the run's file"
+    ),
+    "corr.after_finish": N_("The readings were corrected after the run was finished."),
+    "corrected_after_finish": N_("corrected after it was finished"),
+    "corr.row": N_("Row"),
+    "corr.was": N_("Was"),
+    "corr.now": N_("Now"),
+    "corr.reason": N_("Reason"),
+    "corr.by": N_("Who, when"),
+    "corr.struck": N_("row struck out"),
     "caption.configuration": N_(
         "Stand configuration of this run: calibration, geometry, materials"
     ),

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import re
 from collections.abc import Callable, Mapping, Sequence
+from dataclasses import replace
 from datetime import datetime
 from typing import Any
 
@@ -14,11 +15,13 @@ from pydantic import BaseModel
 from rigserver.analysis import Readings
 from rigserver.reports import equations, layout
 from rigserver.reports.context import Context, LabReport
+from rigserver.reports.corrections import corrections_section
 from rigserver.reports.document import Items, Paragraph, Report, Section, Table, Text
 from rigserver.reports.formatting import fmt, html_symbol, number_locale, value_text, with_unit
 from rigserver.reports.i18n import MESSAGES, Lang, Messages, translations
 from rigserver.reports.labs import mtos, profilometer, slide_bearing, smts2, tribometer
 from rigserver.reports.render import render
+from schemas.corrections import Correction
 from schemas.labels import CONFIGURATION, PARTICULARS
 from schemas.messages import N_
 from schemas.results import (
@@ -61,6 +64,7 @@ def build_report(
     lang: Lang,
     made: datetime,
     notes: StudentNotes | None = None,
+    corrections: Sequence[Correction] = (),
 ) -> Report:
     """The report of ``run`` in ``lang``.
 
@@ -79,9 +83,23 @@ def build_report(
     notes
         The student's own words on the run: the group and the students are printed at the
         top, the conclusions beside the computed ones, as written.
+    corrections
+        The corrections of the run's readings (``readings`` are as corrected): printed in
+        the section "Corrections", with the value as typed and the reason.
     """
     with number_locale(lang):
-        return _build(run, stand, values, readings, Messages(lang), made, notes or StudentNotes())
+        t = Messages(lang)
+        report = _build(run, stand, values, readings, t, made, notes or StudentNotes())
+        corrected = corrections_section(t, stand, corrections, run.corrected_after_finish)
+    if corrected is None:
+        return report
+    # after the measured tables and the plots, before the conclusions and the notes
+    closing = {t(k) for k in ("sec.conclusions", "sec.pending", "sec.notes", "sec.abbreviations")}
+    at = next(
+        (i for i, s in enumerate(report.sections) if s.title in closing), len(report.sections)
+    )
+    sections = [*report.sections[:at], corrected, *report.sections[at:]]
+    return replace(report, sections=sections)
 
 
 def _build(
@@ -208,7 +226,7 @@ def _particulars(t: Messages, run: Run, stand: Stand, notes: StudentNotes) -> li
     rows = [
         (t("run"), run.id),
         (t("stand"), t("stand." + run.stand.value)),
-        (t("state"), t("state." + run.state.value)),
+        (t("state"), _state(t, run)),
         (t("operator"), run.operator),
     ]
     if notes.group:
@@ -228,6 +246,11 @@ def _particulars(t: Messages, run: Run, stand: Stand, notes: StudentNotes) -> li
     if run.notes:
         rows.append((t("notes"), run.notes))
     return rows
+
+
+def _state(t: Messages, run: Run) -> str:
+    state = t("state." + run.state.value)
+    return f"{state}, {t('corrected_after_finish')}" if run.corrected_after_finish else state
 
 
 def _rows_text(t: Messages, run: Run, stand: Stand) -> str:

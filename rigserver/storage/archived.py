@@ -13,6 +13,7 @@ from rigserver.storage._checks import StoredBatch, prepare, stand_groups
 from rigserver.storage._failures import UNREADABLE
 from rigserver.storage.errors import RunDamaged
 from rigserver.storage.runfile import FileSummary, RunFile, read_summary
+from schemas.corrections import Correction
 from schemas.runs import Run
 
 #: Rows of a group per imported batch
@@ -20,6 +21,15 @@ IMPORT_ROWS = 1 << 20
 
 #: A batch of :meth:`RunStore.import_run`: its seq, its receipt, every channel of its group.
 ImportedBatch = tuple[int, StoredBatch, dict[str, NDArray[np.float64]]]
+
+
+def file_corrections(path: Path) -> list[Correction]:
+    """The corrections a run file holds; ``RunDamaged`` if they cannot be read."""
+    try:
+        with RunFile.open(path, writable=False) as rf:
+            return rf.corrections()
+    except UNREADABLE as exc:  # a pydantic ValidationError is a ValueError
+        raise RunDamaged(f"{path.name}: its corrections cannot be read ({exc})") from None
 
 
 def summary(path: Path) -> FileSummary:

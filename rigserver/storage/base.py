@@ -16,6 +16,7 @@ from typing import TYPE_CHECKING, Any, Protocol
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from schemas.corrections import CorrectedRow, Correction
 from schemas.readings import BatchReceipt
 from schemas.runs import Run, RunPage, RunQuery, RunState
 
@@ -105,6 +106,35 @@ class RunStore(Protocol):
         """The results stored by :meth:`set_results`, or ``None``."""
         ...
 
+    def correct_reading(
+        self,
+        run_id: str,
+        group: str,
+        index: int,
+        values: Mapping[str, float],
+        reason: str,
+        by: str,
+    ) -> CorrectedRow:
+        """Correct cells of row ``index`` (as stored, from 0) of ``group``: each cell's value
+        before and after, ``reason`` and ``by`` (the key's name) are kept beside the values
+        as typed, durably before this returns; the row as it now reads. Checked as a post
+        is (the channels' limits in the run's units, a known channel, the index in range,
+        a reason of 1-500 characters): ``CorrectionRefused`` naming the field; a row that
+        already reads so stores nothing. Any state of the run (its results are the
+        caller's to compute again). ``RunNotFound``."""
+        ...
+
+    def strike_reading(
+        self, run_id: str, group: str, index: int, reason: str, by: str
+    ) -> CorrectedRow:
+        """Strike row ``index`` of ``group`` out of the corrected readings, kept as typed
+        (as :meth:`correct_reading`; a row struck out before stores nothing)."""
+        ...
+
+    def corrections(self, run_id: str) -> list[Correction]:
+        """The run's corrections in the order made; ``RunNotFound``."""
+        ...
+
     def end_run(self, run_id: str, state: RunState) -> Run:
         """Finish or abort an open run: the run file is finalized; no more readings."""
         ...
@@ -119,17 +149,18 @@ class RunStore(Protocol):
         key: str | None,
         results: Mapping[str, Any] | None,
         batches: Iterable[tuple[int, StoredBatch, Mapping[str, NDArray[np.float64]]]],
+        corrections: Sequence[Correction] = (),
     ) -> bool:
         """Store a run made elsewhere whole, all or nothing: its catalogue entry as it is
-        (state, times, counters, results) and its batches (seq, receipt, every channel of
-        the group) in the order given; False, and nothing stored, if its id is taken. An
-        exception raised by ``batches`` stores nothing."""
+        (state, times, counters, results), its batches (seq, receipt, every channel of
+        the group) in the order given and its corrections; False, and nothing stored, if
+        its id is taken. An exception raised by ``batches`` stores nothing."""
         ...
 
     def readings_version(self, run_id: str) -> int:
-        """A number that grows whenever a batch of the run is stored, by any process sharing
-        the store (the run's batch count; a retry changes nothing): a results cache keyed
-        by it sees that it is stale. ``RunNotFound``."""
+        """A number that grows whenever a batch or a correction of the run is stored, by any
+        process sharing the store (the run's batches and corrections; a retry changes
+        nothing): a results cache keyed by it sees that it is stale. ``RunNotFound``."""
         ...
 
     def close(self) -> None:

@@ -52,7 +52,7 @@ import shutil
 import sqlite3
 import threading
 from collections import OrderedDict
-from collections.abc import Iterable, Iterator, Mapping, Sequence
+from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -90,6 +90,7 @@ from rigserver.storage.backlog import (
     WhenQuiet,
 )
 from rigserver.storage.base import Columns, NewBatch
+from rigserver.storage.corrections import RowEdit, RowEdits, corrected_row, new_corrections
 from rigserver.storage.errors import (
     RunDamaged,
     RunNotFound,
@@ -102,6 +103,7 @@ from rigserver.storage.journal import CatalogueEntry, Journal, Synchronous, payl
 from rigserver.storage.payloads import Payload
 from rigserver.storage.runfile import RunFile, fsync_path, read_summary, write_file
 from rigserver.storage.waiters import AppendWaiters
+from schemas.corrections import CorrectedRow, Correction
 from schemas.readings import BatchReceipt
 from schemas.runs import Run, RunPage, RunQuery, RunState
 
@@ -113,6 +115,8 @@ MAX_OPEN_FILES = 32
 _CORRUPT: tuple[type[Exception], ...] = (*LOW_LEVEL, KeyError)
 #: What writing a file's backlog and closing it may raise.
 _CLOSING: tuple[type[Exception], ...] = (*LOW_LEVEL, StorageError)
+#: What bringing a final file up to its corrections may raise at start (logged, left).
+_SYNC_FAILURES: tuple[type[Exception], ...] = (*UNREADABLE, StorageError)
 #: Rows per batch when the readings of an unfinished file are taken back into the journal.
 _IMPORT_ROWS = 1 << 20
 
@@ -134,7 +138,7 @@ class _Live:
     direct: bool = False
 
 
-class HDF5Store:
+class HDF5Store(RowEdits):
     """The embedded run store: a data directory on local disk (see the module docstring).
 
     Parameters
@@ -530,6 +534,66 @@ class HDF5Store:
         """The rows stored when called, in consecutive slices of at most ``rows`` rows."""
         return chunks(self, run_id, group, channels, rows)
 
+    # --- corrections --------------------------------------------------------------------
+
+    def corrections(self, run_id: str) -> list[Correction]:
+        with self._lock:
+            self._check_open()
+            with failures_as(f"reading the corrections of run {run_id}"):
+                if run_id not in self._live:
+                    self._journal.entry(run_id)  # RunNotFound
+                return self._journal.corrections(run_id)
+
+    def _edit(self, run_id: str, edit: RowEdit) -> CorrectedRow:
+        """A correction committed to the journal (then acknowledged), then written to the
+        run file (an ended run's final file rewritten by copy and rename)."""
+        group, index = edit.group, edit.index
+        doing = f"correcting row {index} of {group} of run {run_id}"
+        with self._lock:
+            self._check_open()
+            live = self._live.get(run_id)
+            run = live.run if live is not None else self._final_entry(run_id).run
+            with failures_as(doing):
+                earlier = self._journal.corrections(run_id)
+
+            def read(lo: int, hi: int) -> dict[str, NDArray[np.float64]]:
+                return self.read(run_id, group, None, lo, hi)
+
+            new = new_corrections(run, edit, now(), read, earlier)
+            every = [*earlier, *new]
+            if new:
+                after = run.state is RunState.FINISHED or run.corrected_after_finish
+                update = {"corrections": len(every), "corrected_after_finish": after}
+                edited = run.model_copy(deep=True, update=update)
+                with failures_as(doing):
+                    self._journal.add_corrections(edited, new)
+                if live is not None:
+                    live.run.corrections = edited.corrections
+                    live.run.corrected_after_finish = edited.corrected_after_finish
+                    rf = self._view(live, doing)
+                    with self._spoiling(live, doing):
+                        rf.write_corrections(every, edited)
+                else:
+                    with failures_as(f"{doing} (it is stored; the file follows)"):
+                        self._rewrite(edited, lambda rf: rf.write_corrections(every, edited))
+            elif live is None and every:  # a retry: the file may have missed the first try
+                with failures_as(doing):
+                    self._sync_corrections(run)
+            row = read(index, index + 1)
+        if new:  # the live streams tell their viewers
+            self.appends.woken(run_id, run.batches)
+        return corrected_row(run_id, group, index, row, every)
+
+    def _sync_corrections(self, run: Run) -> None:
+        """Bring an ended run's final file up to the corrections of the journal (a crash
+        between a correction's commit and the file's rewrite left it behind)."""
+        every = self._journal.corrections(run.id)
+        with RunFile.open(self._path(run.id), writable=False) as rf:
+            held = len(rf.corrections())
+        if held != len(every):
+            log.info("writing %d correction(s) of run %s to its file", len(every), run.id)
+            self._rewrite(run, lambda rf: rf.write_corrections(every, run))
+
     # --- results and files ------------------------------------------------------------
 
     def set_results(
@@ -573,6 +637,7 @@ class HDF5Store:
         key: str | None,
         results: Mapping[str, Any] | None,
         batches: Iterable[tuple[int, StoredBatch, Mapping[str, NDArray[np.float64]]]],
+        corrections: Sequence[Correction] = (),
     ) -> bool:
         """Store a run made elsewhere whole (:meth:`RunStore.import_run`): its final file
         is written first, outside the store's lock (a temp file renamed when complete),
@@ -591,6 +656,7 @@ class HDF5Store:
                 ((s.group, dict(columns), s.rows) for _, s, columns in batches),
                 checked,
                 final=True,
+                corrections=list(corrections),
             )
         try:
             with self._lock:
@@ -601,6 +667,7 @@ class HDF5Store:
                         file_final=True,
                         results=None if checked is None else checked.text,
                         key=key,
+                        corrections=corrections,
                     )
         except BaseException:
             path.unlink(missing_ok=True)
@@ -618,14 +685,15 @@ class HDF5Store:
         return True
 
     def readings_version(self, run_id: str) -> int:
-        """The run's batch count (:meth:`RunStore.readings_version`)."""
+        """The run's batches and corrections counted (:meth:`RunStore.readings_version`)."""
         with self._lock:
             self._check_open()
             live = self._live.get(run_id)
             if live is not None:
-                return live.run.batches
+                return live.run.batches + live.run.corrections
             with failures_as(f"reading the catalogue entry of run {run_id}"):
-                return self._journal.entry(run_id).run.batches
+                run = self._journal.entry(run_id).run
+                return run.batches + run.corrections
 
     def run_file(self, run_id: str) -> Path:
         """The final file of an ended run; a fresh snapshot copy for an open run."""
@@ -827,7 +895,10 @@ class HDF5Store:
                 rows = max((len(v) for v in columns.values()), default=0)
                 yield group, padded(channel_group(run.stand, group), columns, rows), rows
 
-        write_file(self._path(run.id), run, batches(), results, final=final)
+        corrections = self._journal.corrections(run.id)
+        write_file(
+            self._path(run.id), run, batches(), results, final=final, corrections=corrections
+        )
 
     def _finish_file(self, run: Run) -> None:
         """Write the ended run's final file anew from the journal (fsynced), then drop its
@@ -842,12 +913,16 @@ class HDF5Store:
         (self._snapshots / f"{run_id}.h5").unlink(missing_ok=True)
 
     def _rewrite_results(self, run: Run, results: CheckedResults) -> None:
+        self._rewrite(run, lambda rf: rf.write_results(results, run))
+
+    def _rewrite(self, run: Run, change: Callable[[RunFile], None]) -> None:
+        """Change an ended run's final file: a copy changed, fsynced and renamed over it."""
         path = self._path(run.id)
         tmp = path.with_name(path.name + ".tmp")
         try:
             shutil.copyfile(path, tmp)
             with RunFile.open(tmp, writable=True) as rf:
-                rf.write_results(results, run)
+                change(rf)
             fsync_path(tmp)
             os.replace(tmp, path)
             fsync_path(self._runs)
@@ -858,7 +933,10 @@ class HDF5Store:
     def _recover(self, *, clean: bool) -> None:
         """Load the open runs; rebuild their files after an unclean shutdown; finish the
         files of ended runs whose end did not complete."""
-        for entry in self._journal.unfinished():
+        unfinished = self._journal.unfinished()
+        if not clean:
+            self._recover_corrections({e.run.id for e in unfinished})
+        for entry in unfinished:
             run = entry.run
             if run.state is not RunState.OPEN:
                 log.info("completing the end of run %s", run.id)
@@ -868,6 +946,16 @@ class HDF5Store:
             if not clean or not self._path(run.id).exists():
                 log.info("rebuilding the file of open run %s from the journal", run.id)
                 self._rebuild(run, final=False)
+
+    def _recover_corrections(self, unfinished: set[str]) -> None:
+        """The final files of corrected runs brought up to the journal's corrections."""
+        for run_id in self._journal.corrected_runs():
+            if run_id in unfinished:
+                continue  # its file is rebuilt from the journal, corrections included
+            try:
+                self._sync_corrections(self._journal.entry(run_id).run)
+            except _SYNC_FAILURES as exc:
+                log.warning("run %s: its corrections could not reach its file (%s)", run_id, exc)
 
     def _rebuild_catalogue(self) -> None:
         """Fill a new journal from the run files; unfinished files' readings are imported."""

@@ -11,6 +11,11 @@ Tables::
                                 every batch ever stored, in order (n); kept for ever, so a
                                 retried seq gets its first receipt; ``at`` and ``size``
                                 place its readings in the run's payload file
+    corrections(run_id, n, body)
+                                every correction of a run's readings (body: the
+                                schemas.corrections.Correction as JSON), kept for ever:
+                                committed before it is acknowledged, then written to the
+                                run file's /entry/corrections
 
 The readings of a batch are appended to ``payloads/<run id>.bin`` beside the database
 (:mod:`~rigserver.storage.payloads`) before its transaction commits, and the file is
@@ -45,6 +50,7 @@ from rigserver.storage._checks import Batch, StoredBatch
 from rigserver.storage._time import as_utc, iso
 from rigserver.storage.errors import RunDamaged, RunExists, RunNotFound, StorageUnavailable
 from rigserver.storage.payloads import Payload, PayloadFiles, aligned, decode, encode
+from schemas.corrections import Correction
 from schemas.runs import Run, RunPage, RunQuery
 from schemas.wire import unstorable
 
@@ -82,6 +88,12 @@ CREATE TABLE IF NOT EXISTS batches (
     at INTEGER NOT NULL,
     size INTEGER NOT NULL,
     UNIQUE (run_id, seq)
+);
+CREATE TABLE IF NOT EXISTS corrections (
+    run_id TEXT NOT NULL,
+    n INTEGER NOT NULL,
+    body TEXT NOT NULL,
+    PRIMARY KEY (run_id, n)
 );
 """
 
@@ -249,10 +261,20 @@ class Journal:
         file_final: bool = False,
         results: str | None = None,
         key: str | None = None,
+        corrections: Iterable[Correction] = (),
     ) -> None:
-        """A new catalogue entry (opened with the Idempotency-Key ``key``); ``RunExists``
-        if the id or the key is taken."""
-        keyed = [] if key is None else [("INSERT INTO run_keys VALUES (?, ?)", (key, run.id))]
+        """A new catalogue entry (opened with the Idempotency-Key ``key``; an imported run
+        with its ``corrections``); ``RunExists`` if the id or the key is taken."""
+        keyed: list[tuple[str, tuple[object, ...]]] = []
+        if key is not None:
+            keyed.append(("INSERT INTO run_keys VALUES (?, ?)", (key, run.id)))
+        keyed += [
+            (
+                "INSERT INTO corrections (run_id, n, body) VALUES (?, ?, ?)",
+                (run.id, c.n, c.model_dump_json()),
+            )
+            for c in corrections
+        ]
         try:
             self._write(
                 [
@@ -359,6 +381,33 @@ class Journal:
                 )
             ]
         )
+
+    def add_corrections(self, run: Run, corrections: Iterable[Correction]) -> None:
+        """Store corrections and the run's metadata that counts them, in one commit."""
+        self._write(
+            [
+                *(
+                    (
+                        "INSERT INTO corrections (run_id, n, body) VALUES (?, ?, ?)",
+                        (run.id, c.n, c.model_dump_json()),
+                    )
+                    for c in corrections
+                ),
+                ("UPDATE runs SET run = ? WHERE id = ?", (run.model_dump_json(), run.id)),
+            ]
+        )
+
+    def corrections(self, run_id: str) -> list[Correction]:
+        """The run's corrections in order (none: an empty list)."""
+        rows = self._db.execute(
+            "SELECT body FROM corrections WHERE run_id = ? ORDER BY n", (run_id,)
+        ).fetchall()
+        return [Correction.model_validate_json(row[0]) for row in rows]
+
+    def corrected_runs(self) -> dict[str, int]:
+        """Run id -> its count of corrections, for every run that has any."""
+        rows = self._db.execute("SELECT run_id, COUNT(*) FROM corrections GROUP BY run_id")
+        return {str(r[0]): int(r[1]) for r in rows.fetchall()}
 
     def results(self, run_id: str) -> str | None:
         row = self._db.execute("SELECT results FROM runs WHERE id = ?", (run_id,)).fetchone()

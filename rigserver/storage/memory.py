@@ -37,9 +37,11 @@ from rigserver.storage._checks import (
 from rigserver.storage._results import CheckedResults, check_results
 from rigserver.storage._time import as_utc, now
 from rigserver.storage.base import Columns, NewBatch
+from rigserver.storage.corrections import RowEdit, RowEdits, corrected_row, new_corrections
 from rigserver.storage.errors import RunExists, RunNotFound, RunNotOpen
 from rigserver.storage.runfile import write_file
 from rigserver.storage.waiters import AppendWaiters
+from schemas.corrections import CorrectedRow, Correction
 from schemas.readings import BatchReceipt
 from schemas.runs import Run, RunPage, RunQuery, RunState
 
@@ -51,6 +53,7 @@ class _Run:
     #: group -> channel -> the values, in parts (joined when read)
     columns: dict[str, dict[str, list[NDArray[np.float64]]]] = field(default_factory=dict)
     results: CheckedResults | None = None
+    corrections: list[Correction] = field(default_factory=list)
 
     def values(self, group: str, channel: str) -> NDArray[np.float64]:
         parts = self.columns.get(group, {}).get(channel)
@@ -61,7 +64,7 @@ class _Run:
         return parts[0]
 
 
-class MemoryStore:
+class MemoryStore(RowEdits):
     """The :class:`~rigserver.storage.base.RunStore` protocol in memory; thread-safe."""
 
     def __init__(self) -> None:
@@ -196,6 +199,30 @@ class MemoryStore:
         """The rows stored when called, in consecutive slices of at most ``rows`` rows."""
         return chunks(self, run_id, group, channels, rows)
 
+    def corrections(self, run_id: str) -> list[Correction]:
+        with self._lock:
+            return list(self._get(run_id).corrections)
+
+    def _edit(self, run_id: str, edit: RowEdit) -> CorrectedRow:
+        group, index = edit.group, edit.index
+        with self._lock:
+            stored_run = self._get(run_id)
+            run = stored_run.run
+
+            def read(lo: int, hi: int) -> dict[str, NDArray[np.float64]]:
+                return self.read(run_id, group, None, lo, hi)
+
+            earlier = stored_run.corrections
+            new = new_corrections(run, edit, now(), read, earlier)
+            stored_run.corrections = every = [*earlier, *new]
+            if new:
+                run.corrections = len(every)
+                run.corrected_after_finish |= run.state is RunState.FINISHED
+            row = read(index, index + 1)
+        if new:  # the live streams tell their viewers
+            self.appends.woken(run_id, run.batches)
+        return corrected_row(run_id, group, index, row, every)
+
     def set_results(
         self, run_id: str, results: Mapping[str, Any], key_results: Mapping[str, float]
     ) -> None:
@@ -230,11 +257,12 @@ class MemoryStore:
         key: str | None,
         results: Mapping[str, Any] | None,
         batches: Iterable[tuple[int, StoredBatch, Mapping[str, NDArray[np.float64]]]],
+        corrections: Sequence[Correction] = (),
     ) -> bool:
         """Store a run made elsewhere whole (:meth:`RunStore.import_run`): gathered first,
         then put in the store at once."""
         checked = None if results is None else check_results(results, run.key_results)
-        imported = _Run(run.model_copy(deep=True), results=checked)
+        imported = _Run(run.model_copy(deep=True), results=checked, corrections=[*corrections])
         for seq, stored, columns in batches:
             imported.batches[seq] = stored
             group = imported.columns.setdefault(stored.group, {})
@@ -250,7 +278,8 @@ class MemoryStore:
 
     def readings_version(self, run_id: str) -> int:
         with self._lock:
-            return self._get(run_id).run.batches
+            run = self._get(run_id).run
+            return run.batches + run.corrections
 
     def run_file(self, run_id: str) -> Path:
         """A run file written now into this store's temporary directory."""
@@ -267,7 +296,14 @@ class MemoryStore:
             written = path.with_name(f"{run_id}.{threading.get_ident()}.tmp")
             batches = [(g, cols, run.rows[g]) for g, cols in groups.items()]
             final = run.state is not RunState.OPEN
-            write_file(written, run, batches, stored_run.results, final=final)
+            write_file(
+                written,
+                run,
+                batches,
+                stored_run.results,
+                final=final,
+                corrections=list(stored_run.corrections),
+            )
             os.replace(written, path)  # a reader of the file before keeps reading it whole
             return path
 

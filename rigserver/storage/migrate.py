@@ -86,6 +86,8 @@ def _verify(source: HDF5Store, target: PostgresStore, run: Run) -> None:
         )
     if digest(target, run) != digest(source, run):
         raise MigrationMismatch(f"run {run.id}: the readings in the cluster differ")
+    if target.corrections(run.id) != source.corrections(run.id):
+        raise MigrationMismatch(f"run {run.id}: the corrections in the cluster differ")
 
 
 def migrate(
@@ -102,9 +104,9 @@ def migrate(
             offset += len(page)
             for run in page:
                 key, history = source.history(run.id)
-                if target.import_run(
-                    run, key, source.results(run.id), _batches(source, run, history)
-                ):
+                batches = _batches(source, run, history)
+                fixes = source.corrections(run.id)
+                if target.import_run(run, key, source.results(run.id), batches, fixes):
                     copied += 1
                     what = "copied"
                 else:

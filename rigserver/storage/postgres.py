@@ -9,6 +9,10 @@ Tables (created if missing, under an advisory lock so that workers may start tog
     rig_batches(run_id, seq, grp, rows, group_rows, digest, payload)
                                 every batch, kept for ever: its receipt and its readings
                                 (:func:`~rigserver.storage.payloads.encode`)
+    rig_corrections(run_id, n, body)
+                                every correction of a run's readings (body: the
+                                schemas.corrections.Correction as JSON), committed with the
+                                run's count before it is acknowledged; the readings stay
 
 A batch is acknowledged once the transaction that inserted it has committed: PostgreSQL's
 WAL is then fsynced (``synchronous_commit=on``), so a receipt survives a crash of the
@@ -22,9 +26,9 @@ took them; ending a run takes the same lock and happens once. Every read goes to
 database, so a worker sees what the others stored as soon as it is committed. Every such
 commit (and the end of a run) notifies ``rig_runs`` (:mod:`~rigserver.storage.notify`):
 the live streams of every worker wait on :meth:`wait_for_appends` and read the run's row
-counts (:meth:`get_run`) when woken. :meth:`readings_version` (the run's
-batch count) grows with every stored batch: a results cache in any process compares it to
-see that it is stale.
+counts (:meth:`get_run`) when woken. :meth:`readings_version` (the run's batches and
+corrections) grows with every stored batch and correction: a results cache in any process
+compares it to see that it is stale.
 
 The arrays are read from the journal (the batches overlapping the rows asked for). With
 HSDS (``hsds``, the ``cluster`` extra) a background thread materialises every run's arrays
@@ -79,6 +83,7 @@ from rigserver.storage._failures import failures_as, translated
 from rigserver.storage._results import check_results
 from rigserver.storage._time import as_utc, now
 from rigserver.storage.base import Columns, NewBatch
+from rigserver.storage.corrections import RowEdit, RowEdits, corrected_row, new_corrections
 from rigserver.storage.errors import (
     RunExists,
     RunNotFound,
@@ -91,6 +96,7 @@ from rigserver.storage.notify import Appends, notify
 from rigserver.storage.payloads import decode, encode
 from rigserver.storage.runfile import RunFile, write_file
 from schemas.channels import ChannelGroup
+from schemas.corrections import CorrectedRow, Correction
 from schemas.readings import BatchReceipt
 from schemas.runs import Run, RunPage, RunQuery, RunState
 
@@ -143,6 +149,12 @@ CREATE TABLE IF NOT EXISTS rig_batches (
     PRIMARY KEY (run_id, seq)
 );
 CREATE INDEX IF NOT EXISTS rig_batches_by_rows ON rig_batches (run_id, grp, group_rows);
+CREATE TABLE IF NOT EXISTS rig_corrections (
+    run_id TEXT NOT NULL REFERENCES rig_runs (id),
+    n BIGINT NOT NULL,
+    body TEXT NOT NULL,
+    PRIMARY KEY (run_id, n)
+);
 ALTER TABLE rig_batches ALTER COLUMN payload SET STORAGE EXTERNAL;
 """
 
@@ -159,7 +171,7 @@ class _Locked:
     touched: bool = False
 
 
-class PostgresStore:
+class PostgresStore(RowEdits):
     """The :class:`~rigserver.storage.base.RunStore` protocol on PostgreSQL (module docstring).
 
     Parameters
@@ -550,13 +562,12 @@ class PostgresStore:
         return None if row[0] is None else str(row[0])
 
     def readings_version(self, run_id: str) -> int:
-        """The run's batch count in the catalogue, as every worker sees it once committed."""
+        """The run's batches and corrections in the catalogue, as every worker sees them once
+        committed."""
         doing = f"reading the catalogue entry of run {run_id}"
         with failures_as(doing, PG_FAILURES), self._pool.connection() as conn:
-            row = conn.execute("SELECT batches FROM rig_runs WHERE id = %s", (run_id,)).fetchone()
-        if row is None:
-            raise RunNotFound(f"no run with id {run_id}")
-        return int(row[0])
+            run = _select_run(conn, run_id)
+        return run.batches + run.corrections
 
     def run_file(self, run_id: str) -> Path:
         """The ended run's final file (materialised once); a fresh snapshot for an open run."""
@@ -586,8 +597,57 @@ class PostgresStore:
             results = None if text is None else check_results(json.loads(text), run.key_results)
             own = path.with_name(f"{path.stem}.{os.getpid()}.{threading.get_ident()}.h5")
             with self._pool.connection() as conn, conn.transaction():
-                write_file(own, run, _file_batches(conn, run), results, final=final)
+                fixes = _corrections(conn, run.id)
+                write_file(
+                    own, run, _file_batches(conn, run), results, final=final, corrections=fixes
+                )
             os.replace(own, path)
+
+    def corrections(self, run_id: str) -> list[Correction]:
+        doing = f"reading the corrections of run {run_id}"
+        with failures_as(doing, PG_FAILURES), self._pool.connection() as conn:
+            _select_run(conn, run_id)  # RunNotFound
+            return _corrections(conn, run_id)
+
+    def _edit(self, run_id: str, edit: RowEdit) -> CorrectedRow:
+        """A correction committed with the run's row locked (one at a time across the
+        workers), then an ended run's file materialised again."""
+        group, index = edit.group, edit.index
+
+        def read(lo: int, hi: int) -> dict[str, NDArray[np.float64]]:
+            return self.read(run_id, group, None, lo, hi)
+
+        doing = f"correcting row {index} of {group} of run {run_id}"
+        with (
+            failures_as(doing, PG_FAILURES),
+            self._pool.connection() as conn,
+            conn.transaction(),
+        ):
+            run = _select_run(conn, run_id, lock=True)
+            earlier = _corrections(conn, run_id)
+            new = new_corrections(run, edit, now(), read, earlier)
+            every = [*earlier, *new]
+            after = run.state is RunState.FINISHED or run.corrected_after_finish
+            run = run.model_copy(
+                update={"corrections": len(every), "corrected_after_finish": after}
+            )
+            if new:
+                with conn.cursor() as cur:
+                    cur.executemany(
+                        "INSERT INTO rig_corrections (run_id, n, body) VALUES (%s, %s, %s)",
+                        [(run_id, c.n, c.model_dump_json()) for c in new],
+                    )
+                conn.execute(
+                    "UPDATE rig_runs SET run = %s WHERE id = %s", (run.model_dump_json(), run_id)
+                )
+                notify(conn, run_id, run.batches)
+        if new and run.state is not RunState.OPEN:  # the final file takes the corrections
+            try:
+                self._final_file(run)
+            except Exception:  # made at the next run_file, from the database
+                self._final_path(run_id).unlink(missing_ok=True)
+                raise
+        return corrected_row(run_id, group, index, read(index, index + 1), every)
 
     def import_run(
         self,
@@ -595,6 +655,7 @@ class PostgresStore:
         key: str | None,
         results: Mapping[str, Any] | None,
         batches: Iterable[tuple[int, StoredBatch, Mapping[str, NDArray[np.float64]]]],
+        corrections: Sequence[Correction] = (),
     ) -> bool:
         """Store a run of another store whole, in one transaction: its catalogue entry as it
         is (state, times, counters, results) and its batches (seq, receipt, every channel),
@@ -632,6 +693,12 @@ class PostgresStore:
                     )
                     max_seq = max(max_seq, seq)
             conn.execute("UPDATE rig_runs SET max_seq = %s WHERE id = %s", (max_seq, run.id))
+            if corrections:
+                with conn.cursor() as cur:
+                    cur.executemany(
+                        "INSERT INTO rig_corrections (run_id, n, body) VALUES (%s, %s, %s)",
+                        [(run.id, c.n, c.model_dump_json()) for c in corrections],
+                    )
         return True
 
     def close(self) -> None:
@@ -686,6 +753,13 @@ def _run_values(run: Run, results: str | None, key: str | None) -> tuple[object,
 def _run(row: tuple[Any, ...]) -> Run:
     run = Run.model_validate_json(row[0])
     return run.model_copy(update={"batches": int(row[1]), "rows": json.loads(row[2])})
+
+
+def _corrections(conn: psycopg.Connection[Any], run_id: str) -> list[Correction]:
+    rows = conn.execute(
+        "SELECT body FROM rig_corrections WHERE run_id = %s ORDER BY n", (run_id,)
+    ).fetchall()
+    return [Correction.model_validate_json(row[0]) for row in rows]
 
 
 def _select_run(conn: psycopg.Connection[Any], run_id: str, *, lock: bool = False) -> Run:

@@ -17,6 +17,11 @@ Layout::
                               time), NXcollection for the single measurements; @long_name
         <channel>             float64, 1-D, chunked, resizable (maxshape None)
                               @units (symbol of schemas.units, e.g. "N*m") @long_name
+      corrections/            NXcollection, once a reading is corrected (the readings above
+                              stay as typed): one entry per correction, in order, as
+                              datasets of equal length: n, group, row, channel ("" for a
+                              row struck out), was, now (NaN for a strike; @units "see
+                              unit"), unit, reason, by, at (ISO 8601)
       results/                NXcollection, once results are stored
         json                  the results as JSON text
         values/<path>         float64, @units @long_name (see rigserver.storage._results)
@@ -40,6 +45,7 @@ from __future__ import annotations
 import json
 import os
 import random
+import shutil
 import time
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
@@ -55,6 +61,7 @@ from rigserver.storage._checks import channel_group, channel_names, last_finite,
 from rigserver.storage._results import CheckedResults
 from rigserver.storage._time import iso, now
 from schemas.channels import ChannelGroup, Order, configured_groups
+from schemas.corrections import Correction
 from schemas.runs import Run
 from schemas.stands import StandKind
 
@@ -248,6 +255,73 @@ class RunFile:
                 sub.attrs["long_name"] = name
         self._set_run(run)
 
+    def write_corrections(self, corrections: list[Correction], run: Run) -> None:
+        """Replace ``/entry/corrections`` with ``corrections`` (all of the run's, in order)
+        and the run's metadata (its count of corrections)."""
+        if "corrections" in self._entry:
+            del self._entry["corrections"]
+        if corrections:
+            _write_corrections(
+                self._entry.create_group("corrections", track_order=True), corrections
+            )
+        self._set_run(run)
+
+    def apply_corrections(self, group: str, corrections: list[Correction]) -> None:
+        """Overwrite ``group``'s cells with the corrections of it, in turn, and leave its
+        struck rows out (for :func:`corrected_copy` only: a run's own file keeps the values
+        as typed)."""
+        self.write_pending()
+        g = self._entry[group]
+        for c in corrections:
+            if c.channel is not None and c.now is not None:
+                g[c.channel][c.row] = c.now
+        struck = sorted({c.row for c in corrections if c.strikes})
+        if not struck:
+            return
+        decl = channel_group(self._stand, group)
+        total = self._stored_rows(group)
+        for ch in decl.channels:
+            ds = g[ch.name]
+            out = 0
+            for start in range(0, total, STREAM_CHUNK_ROWS):
+                stop = min(start + STREAM_CHUNK_ROWS, total)
+                values = np.asarray(ds[start:stop])
+                keep = [r - start for r in struck if start <= r < stop]
+                values = np.delete(values, keep)
+                ds[out : out + len(values)] = values
+                out += len(values)
+            ds.resize((out,))
+
+    def say_corrected(self) -> None:
+        """Mark the readings as corrected (``/entry@readings``): a :func:`corrected_copy`."""
+        self._entry.attrs["readings"] = "as corrected (the values as typed: corrections/was)"
+
+    def corrections(self) -> list[Correction]:
+        """The corrections the file holds, in order (none: an empty list)."""
+        if "corrections" not in self._entry:
+            return []
+        g = self._entry["corrections"]
+        text = {k: [str(v) for v in g[k].asstr()[()]] for k in _TEXT_FIELDS}
+        numbers = {k: np.asarray(g[k][()]) for k in ("n", "row", "was", "now")}
+        found = []
+        for i in range(len(numbers["n"])):
+            was, now_ = float(numbers["was"][i]), float(numbers["now"][i])
+            found.append(
+                Correction(
+                    n=int(numbers["n"][i]),
+                    group=text["group"][i],
+                    row=int(numbers["row"][i]),
+                    channel=text["channel"][i] or None,
+                    was=None if np.isnan(was) else was,
+                    now=None if np.isnan(now_) else now_,
+                    unit=text["unit"][i],
+                    reason=text["reason"][i],
+                    by=text["by"][i],
+                    at=text["at"][i],
+                )
+            )
+        return found
+
     def results(self) -> str | None:
         if "results/json" not in self._entry:
             return None
@@ -316,6 +390,43 @@ def _create_group(entry: h5py.Group, decl: ChannelGroup) -> None:
         ds.attrs.update(units=ch.unit, long_name=ch.long_name)
 
 
+_TEXT_FIELDS = ("group", "channel", "unit", "reason", "by", "at")
+_LONG_NAMES = {
+    "n": "its place among the run's corrections",
+    "group": "channel group",
+    "row": "row index in the group, from 0",
+    "channel": "channel corrected (empty: the row struck out)",
+    "was": "value before the correction",
+    "now": "value after the correction",
+    "unit": "unit of was and now",
+    "reason": "reason given",
+    "by": "API key's name",
+    "at": "time stored (UTC)",
+}
+
+
+def _write_corrections(g: h5py.Group, corrections: list[Correction]) -> None:
+    g.attrs.update(NX_class="NXcollection", long_name="corrections of the readings")
+    text = h5py.string_dtype()
+    columns: dict[str, Any] = {
+        "n": np.array([c.n for c in corrections], dtype=np.int64),
+        "group": [c.group for c in corrections],
+        "row": np.array([c.row for c in corrections], dtype=np.int64),
+        "channel": [c.channel or "" for c in corrections],
+        "was": np.array([np.nan if c.was is None else c.was for c in corrections]),
+        "now": np.array([np.nan if c.now is None else c.now for c in corrections]),
+        "unit": [c.unit for c in corrections],
+        "reason": [c.reason for c in corrections],
+        "by": [c.by for c in corrections],
+        "at": [iso(c.at) for c in corrections],
+    }
+    for name, values in columns.items():
+        ds = g.create_dataset(name, data=values, dtype=text if name in _TEXT_FIELDS else None)
+        ds.attrs["long_name"] = _LONG_NAMES[name]
+        if name in ("was", "now"):
+            ds.attrs["units"] = "see unit"
+
+
 def _subgroups(g: h5py.Group) -> list[tuple[str, h5py.Group]]:
     found: list[tuple[str, h5py.Group]] = []
 
@@ -353,16 +464,20 @@ def write_file(
     results: CheckedResults | None,
     *,
     final: bool,
+    corrections: list[Correction] | None = None,
 ) -> None:
     """Write a whole run file atomically: to a temp file, fsync, rename over ``path``.
 
-    ``batches`` are ``(group, columns with every channel, rows)`` in the order stored.
+    ``batches`` are ``(group, columns with every channel, rows)`` in the order stored;
+    ``corrections`` the run's corrections of them.
     """
     tmp = path.with_name(path.name + ".tmp")
     try:
         with RunFile.create(tmp, run) as rf:
             for group, columns, rows in batches:
                 rf.append(group, columns, rows)
+            if corrections:
+                rf.write_corrections(corrections, run)
             if results is not None:
                 rf.write_results(results, run)
             if final:
@@ -373,6 +488,18 @@ def write_file(
     except BaseException:
         tmp.unlink(missing_ok=True)
         raise
+
+
+def corrected_copy(source: Path, target: Path) -> None:
+    """Write ``target``: the run file ``source`` with its readings as corrected (each of
+    its corrections applied in turn, the struck rows left out, ``/entry@readings`` saying
+    so); its ``/entry/corrections`` stays, with every value as typed."""
+    shutil.copyfile(source, target)
+    with RunFile.open(target, writable=True) as rf:
+        corrections = rf.corrections()
+        for group in sorted({c.group for c in corrections}):
+            rf.apply_corrections(group, [c for c in corrections if c.group == group])
+        rf.say_corrected()
 
 
 def read_summary(path: Path) -> FileSummary:

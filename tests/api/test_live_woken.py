@@ -103,3 +103,35 @@ def test_a_stopping_server_wakes_its_idle_streams(tmp_path: Path) -> None:
     finally:
         app.state.services.reports.close()
         store.close()
+
+
+def test_a_correction_wakes_the_stream_and_is_told_as_an_event(tmp_path: Path) -> None:
+    store = HDF5Store(tmp_path / "data")
+    app = create_app(Settings(data_dir=tmp_path), store, [], configure_stands())
+    services = app.state.services
+    run = store.create_run(
+        make_run(StandKind.SMTS2).model_copy(update={"id": "20261126T000000Z-0000c0de"})
+    )
+    store.append(run.id, 0, "friction", _friction(10))
+
+    async def watch() -> tuple[str, float]:
+        stream = live._stream(services, run.id, "friction", 0)
+        await anext(stream)  # retry
+        await anext(stream)  # the rows stored
+        event = asyncio.ensure_future(anext(stream))
+        await asyncio.sleep(0.2)
+        made = time.monotonic()
+        fix = {"friction_moment": 2.75}
+        await asyncio.to_thread(store.correct_reading, run.id, "friction", 4, fix, "misread", "k")
+        told = await asyncio.wait_for(event, 5)
+        return told, time.monotonic() - made
+
+    try:
+        told, latency = asyncio.run(watch())
+    finally:
+        app.state.services.reports.close()
+        store.close()
+    assert told.startswith("event: corrected\n")
+    assert '"row":4' in told and '"was":2.5' in told and '"now":2.75' in told
+    assert '"reason":"misread"' in told
+    assert latency < PROMPT_SECONDS

@@ -128,7 +128,8 @@ def made_for(
 ) -> tuple[str, str]:
     """``path`` with a new run and series of its own in place of ``{run_id}`` and
     ``{series_id}`` (the readings of one run increase; a run at a level needs a
-    comparison), made from the document's own examples; and the run's id."""
+    comparison; a row to correct is the first of the readings' example), made from the
+    document's own examples; and the run's id."""
     opening = body_examples(document, "/api/v1/runs")[0]
     run = client.post("/api/v1/runs", json=opening, headers=auth(WRITER)).json()["id"]
     purpose = "comparison" if isinstance(value, dict) and value.get("level") else "repeatability"
@@ -136,6 +137,10 @@ def made_for(
         e for e in body_examples(document, "/api/v1/series") if e["purpose"] == purpose
     )
     series = client.post("/api/v1/series", json=series_body, headers=auth(WRITER))
+    if "{index}" in path:  # a correction: of the first row of the readings' own example
+        batch = body_examples(document, "/api/v1/runs/{run_id}/readings")[0]
+        client.post(f"/api/v1/runs/{run}/readings", json=batch, headers=auth(WRITER))
+        path = path.replace("{group}", batch["group"]).replace("{index}", "0")
     return path.replace("{run_id}", run).replace("{series_id}", series.json()["id"]), run
 
 

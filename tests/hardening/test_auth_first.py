@@ -66,6 +66,8 @@ def test_every_route_of_the_api_is_a_read_or_a_write() -> None:
         ("POST", f"{API}/runs"),
         ("POST", f"{API}/runs/import"),
         ("POST", f"{API}/runs/{{run_id}}/readings"),
+        ("PATCH", f"{API}/runs/{{run_id}}/readings/{{group}}/{{index}}"),
+        ("DELETE", f"{API}/runs/{{run_id}}/readings/{{group}}/{{index}}"),
         ("POST", f"{API}/runs/{{run_id}}/finish"),
         ("POST", f"{API}/runs/{{run_id}}/abort"),
         ("PUT", f"{API}/runs/{{run_id}}/notes"),

@@ -27,6 +27,7 @@ def _data_dir(path: Path) -> dict[str, list[int]]:
         store.append(finished.id, 3, "measurements", {"pin_mass_before": np.array([1.5])})
         store.set_results(finished.id, {"values": {"f": 0.12}, "units": {"f": "1"}}, {"f": 0.12})
         store.end_run(finished.id, RunState.FINISHED)
+        store.correct_reading(finished.id, "friction", 2, {"load": 310.0}, "misread", "lab PC")
         aborted = store.create_run(make_run(operator="B"))
         store.append(aborted.id, 0, "friction", friction(0, 3))
         store.end_run(aborted.id, RunState.ABORTED)
@@ -54,6 +55,8 @@ def test_every_run_moves_with_its_receipts_readings_results_and_key(
                         np.testing.assert_array_equal(got[name], want[name])
                     assert target.last_values(run_id, group) == source.last_values(run_id, group)
                 assert target.results(run_id) == source.results(run_id)
+                assert target.corrections(run_id) == source.corrections(run_id)
+        assert len(target.corrections(next(iter(seqs)))) == 1
         opened = next(r for r in target.list_runs(RunQuery(state=RunState.OPEN)).runs)
         # the lab PC goes on: its retry is a duplicate, its next batch is taken
         assert target.append(opened.id, 0, "friction", friction(0, 4)).duplicate

@@ -52,10 +52,11 @@ from rigserver.reports.eln import (
 from rigserver.reports.eln_read import ArchivedRun, ArchiveRefused, read_run_archive
 from rigserver.reports.i18n import LANGS, Lang
 from rigserver.reports.series_report import series_csv
-from rigserver.storage.archived import IMPORT_ROWS, file_batches, summary
+from rigserver.storage.archived import IMPORT_ROWS, file_batches, file_corrections, summary
 from rigserver.storage.errors import RunNotFound, StorageError
 from rigserver.storage.runfile import write_file
-from schemas.channels import check_columns
+from schemas.channels import check_cell, check_columns
+from schemas.corrections import Correction
 from schemas.runs import ImportedFrom, Run, RunState, new_run_id
 from schemas.stands import CONFIG_MODELS, MEASUREMENTS, Stand, StandKind, default_stands
 
@@ -227,6 +228,39 @@ def _unpack(services: Services, archive: Path, directory: Path) -> tuple[Archive
     return found, run
 
 
+def _corrections(path: Path, run: Run, stand: Stand) -> list[Correction]:
+    """The corrections an archive's run file holds, each of a row it has and a value its
+    channel's limit takes (else 422 naming the file)."""
+    member = f"{run.id}.h5"
+    try:
+        found = file_corrections(path)
+    except StorageError as exc:
+        raise _refused(ArchiveRefused(member, str(exc))) from None
+    if [c.n for c in found] != list(range(1, len(found) + 1)):
+        raise _refused(ArchiveRefused(member, "its corrections are not numbered 1, 2, 3, ..."))
+    for c in found:
+        wrong = _wrong_correction(c, run, stand)
+        if wrong is not None:
+            raise _refused(ArchiveRefused(member, f"correction {c.n}: {wrong}"))
+    return found
+
+
+def _wrong_correction(c: Correction, run: Run, stand: Stand) -> str | None:
+    """What is wrong with an archived correction of ``run``, or None."""
+    decl = stand.group(c.group)
+    if decl is None:
+        return f"no channel group {c.group!r}"
+    if not 0 <= c.row < run.rows.get(c.group, 0):
+        return f"no row {c.row} in {c.group}"
+    if c.channel is None:
+        return None
+    channel = decl.channel(c.channel)
+    if channel is None:
+        return f"no channel {c.channel!r} in {c.group}"
+    problems = [] if c.now is None else check_cell(channel, c.now)
+    return problems[0].message if problems else None
+
+
 def _checked(
     batches: Iterator[tuple[int, Any, dict[str, Any]]], stand: Stand
 ) -> Iterator[tuple[int, Any, dict[str, Any]]]:
@@ -282,6 +316,7 @@ def _import(services: Services, found: ArchivedRun, original: Run) -> Run:
         errors = violations(exc.errors(), "run.json.configuration.")
         raise ApiProblem(422, "Archive refused", errors[0].message, errors) from None
     stand = services.stands[original.stand].for_run(original.configuration)
+    fixes = _corrections(found.run_file, original, stand)
     batches = sum(math.ceil(rows / IMPORT_ROWS) for rows in original.rows.values())
     origin = ImportedFrom(run_id=original.id, server=found.server, exported=found.exported)
     with ExitStack() as stack:
@@ -300,6 +335,7 @@ def _import(services: Services, found: ArchivedRun, original: Run) -> Run:
                     "key_results": {},
                     "imported_from": origin,
                     "damage": None,
+                    "corrections": len(fixes),
                 }
             )
             payload: Mapping[str, Any] | None = None
@@ -308,7 +344,7 @@ def _import(services: Services, found: ArchivedRun, original: Run) -> Run:
                 payload = computed.payload
                 run = run.model_copy(update={"key_results": computed.key_results})
             rows = _checked(file_batches(found.run_file, run), stand)
-            if services.store.import_run(run, None, payload, rows):
+            if services.store.import_run(run, None, payload, rows, fixes):
                 return services.store.get_run(run.id)
     raise ApiProblem(503, "No free run id", "try the import again", headers={"Retry-After": "1"})
 

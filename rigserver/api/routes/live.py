@@ -5,7 +5,11 @@ Each ``rows`` event carries the rows ``start:stop`` of the group as JSON columns
 sends that id back as ``Last-Event-ID`` when it reconnects, so a dropped connection
 resumes where it broke, with no row lost or repeated (``?from=`` sets the first row of a
 new connection). When the run has ended and every row is sent, an ``end`` event carries
-its state and the stream closes. A store that tells when a run's batch is stored or the
+its state and the stream closes. A correction of a row of the group made while the stream is
+open (a cell corrected, a row struck out: ``/runs/{id}/readings/{group}/{index}``) is told
+by a ``corrected`` event carrying the correction (``row``, ``channel``, ``was``, ``now``,
+``reason``; ``channel`` null for a row struck out); the ``rows`` events carry the values as
+typed. A store that tells when a run's batch is stored or the
 run ends (``wait_for_appends``: the embedded stores in process, a cluster by PostgreSQL's
 LISTEN/NOTIFY) wakes the stream at once, and an idle stream costs nothing until its
 keep-alive is due; a cluster's stream also reads the catalogue every
@@ -107,6 +111,7 @@ async def _stream(services: Services, run_id: str, group: str, seen: int) -> Asy
     opened = last_sent = time.monotonic()
     wait = getattr(services.store, "wait_for_appends", None)
     lossy = getattr(services.store, "appends_lossy", False)
+    told = -1  # corrections told so far (-1: none read yet; those made before are not told)
     while True:
         run = await run_in_threadpool(services.store.get_run, run_id)
         total = run.rows.get(group, 0)
@@ -114,6 +119,15 @@ async def _stream(services: Services, run_id: str, group: str, seen: int) -> Asy
             stop = min(total, seen + MAX_ROWS)
             yield await run_in_threadpool(_rows_event, services, run_id, group, seen, stop)
             seen, last_sent = stop, time.monotonic()
+        if told < 0:
+            told = run.corrections
+        elif run.corrections > told:
+            found = await run_in_threadpool(services.store.corrections, run_id)
+            for c in found[told:]:
+                if c.group == group:
+                    yield _event("corrected", c.model_dump(mode="json"), seen)
+                    last_sent = time.monotonic()
+            told = len(found)
         if run.state is not RunState.OPEN:
             yield _event("end", {"state": run.state.value, "rows": seen})
             return
@@ -151,8 +165,9 @@ def _expired(services: Services, opened: float) -> bool:
 @router.get(
     "/live",
     summary="The readings of a channel group as they arrive (server-sent events, resumable)",
-    description="Events: `rows` (`{start, stop, columns}`, with `id` = rows seen) and `end` "
-    "(`{state, rows}`) once the run has ended and every row was sent. Reconnect with "
+    description="Events: `rows` (`{start, stop, columns}`, with `id` = rows seen), "
+    "`corrected` (a correction made meanwhile: `{row, channel, was, now, reason, ...}`) and "
+    "`end` (`{state, rows}`) once the run has ended and every row was sent. Reconnect with "
     "`Last-Event-ID` (a browser's EventSource does) to resume.",
     response_class=StreamingResponse,
     responses={200: {"content": {EVENT_STREAM: {}}}},

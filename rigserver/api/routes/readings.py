@@ -8,8 +8,11 @@ JSON parsing of the numbers, for high-rate channels.
 from __future__ import annotations
 
 import json
+import os
+import tempfile
 from collections.abc import Mapping
 from functools import partial
+from pathlib import Path
 from typing import Annotated, Any, Literal
 
 import jiter
@@ -17,6 +20,7 @@ from fastapi import APIRouter, Query, Request, Response
 from fastapi.concurrency import run_in_threadpool
 from fastapi.responses import FileResponse, StreamingResponse
 from pydantic import ValidationError
+from starlette.background import BackgroundTask
 
 from rigserver.api.deps import (
     ReadAccess,
@@ -36,7 +40,10 @@ from rigserver.api.run_results import StoredReadings
 from rigserver.api.strict_json import JsonRefused, strict_loads
 from rigserver.reports.export import group_csv
 from rigserver.storage.base import NewBatch
+from rigserver.storage.corrections import applied, last_values, struck_rows
+from rigserver.storage.runfile import corrected_copy
 from schemas.channels import ChannelGroup, Violation, check_columns, follows
+from schemas.corrections import Correction
 from schemas.readings import NPZ_MEDIA_TYPE, BatchReceipt, ReadingBatch
 from schemas.runs import Run
 from schemas.stands import Stand
@@ -294,7 +301,11 @@ Format = Literal["json", "csv", "hdf5"]
     "",
     summary="Read the readings back as JSON, CSV or the run's HDF5 file",
     description="An aligned group gives its columns; the single measurements (masses, zero "
-    "readings) are named single values, the latest posted of each channel.",
+    "readings) are named single values, the latest posted of each channel. Every format "
+    "gives the values as corrected (PATCH/DELETE `/readings/{group}/{index}`): the rows "
+    "struck out left out (JSON names their indices as stored under `struck`); "
+    "`original=true` gives them as typed. The HDF5 file as corrected keeps the table of "
+    "corrections (`/entry/corrections`, with the values as typed).",
     dependencies=[ReadAccess],
     responses={
         200: {
@@ -312,34 +323,70 @@ def get_readings(
     format: Format = "json",
     start: Annotated[int, Query(ge=0)] = 0,
     stop: Annotated[int | None, Query(ge=0)] = None,
+    original: Annotated[
+        bool,
+        Query(
+            description="the values as typed; by default as corrected (the corrections "
+            "applied, the rows struck out left out)"
+        ),
+    ] = False,
 ) -> Any:
     run = load_run(services, run_id)
     stand = services.stand_of(run)
+    fixes = [] if original or not run.corrections else services.store.corrections(run.id)
     if format == "hdf5":
-        return FileResponse(
-            services.store.run_file(run.id),
-            media_type="application/x-hdf5",
-            filename=f"{run.id}.h5",
-        )
+        return _hdf5(services, run, corrected=bool(fixes))
     if group is None:
         if format == "csv":
             raise ApiProblem(422, "group needed", "CSV holds one channel group: add ?group=")
-        return {g.name: _json_group(services, run, g, start, stop) for g in stand.groups}
+        return {g.name: _json_group(services, run, g, start, stop, fixes) for g in stand.groups}
     chosen = _group_of(stand, group)
     if format == "csv":
         return StreamingResponse(
-            group_csv(StoredReadings(services, run), chosen),
+            group_csv(StoredReadings(services, run, original=original), chosen),
             media_type="text/csv",
             headers={"Content-Disposition": f'attachment; filename="{run.id}-{chosen.name}.csv"'},
         )
-    return {chosen.name: _json_group(services, run, chosen, start, stop)}
+    return {chosen.name: _json_group(services, run, chosen, start, stop, fixes)}
+
+
+def _hdf5(services: Services, run: Run, *, corrected: bool) -> FileResponse:
+    """The run's HDF5 file; with its readings as corrected, a copy made for this answer."""
+    path = services.store.run_file(run.id)
+    if not corrected:
+        return FileResponse(path, media_type="application/x-hdf5", filename=f"{run.id}.h5")
+    fd, name = tempfile.mkstemp(prefix=f"{run.id}.", suffix=".corrected.h5")
+    os.close(fd)
+    copy = Path(name)
+    try:
+        corrected_copy(path, copy)
+    except BaseException:
+        copy.unlink(missing_ok=True)
+        raise
+    return FileResponse(
+        copy,
+        media_type="application/x-hdf5",
+        filename=f"{run.id}.h5",
+        background=BackgroundTask(copy.unlink, missing_ok=True),
+    )
 
 
 def _json_group(
-    services: Services, run: Run, group: ChannelGroup, start: int, stop: int | None
+    services: Services,
+    run: Run,
+    group: ChannelGroup,
+    start: int,
+    stop: int | None,
+    fixes: list[Correction],
 ) -> dict[str, Any]:
+    mine = [c for c in fixes if c.group == group.name]
     if not group.aligned:  # named single values: the latest of each channel posted
-        values = services.store.last_values(run.id, group.name) if run.rows.get(group.name) else {}
+        if not run.rows.get(group.name):
+            values: dict[str, float] = {}
+        elif mine:
+            values = last_values(applied(services.store.read(run.id, group.name), mine, group.name))
+        else:
+            values = services.store.last_values(run.id, group.name)
         return {
             "units": {c.name: c.unit for c in group.channels if c.name in values},
             "values": values,
@@ -354,8 +401,14 @@ def _json_group(
             f"{MAX_ROWS_JSON} with start= and stop=, or use format=hdf5",
         )
     data = services.store.read(run.id, group.name, None, start, end) if end > start else {}
-    return {
-        "rows": max(end - start, 0),
+    struck = sorted(r for r in struck_rows(mine, group.name) if start <= r < end)
+    if mine and data:
+        data = applied(data, mine, group.name, start)
+    answer: dict[str, Any] = {
+        "rows": max(end - start - len(struck), 0),
         "units": {c.name: c.unit for c in group.channels},
         "columns": {name: values.tolist() for name, values in data.items()},
     }
+    if struck:  # their rows are left out: the indices as stored say which
+        answer["struck"] = struck
+    return answer

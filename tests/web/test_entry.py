@@ -1,0 +1,176 @@
+"""At the stand, in headless Chromium: a run opened from ``/runs/new``, the manual's tables
+typed into the run page's forms (decimal commas, Enter from cell to cell), each cell
+checked as typed against the limits the API applies, the rows kept in the browser while the
+server is away and delivered once, the run finished with its button.
+
+One ``rigserver serve`` for the module and one browser profile (its IndexedDB is what keeps
+the rows a closed page left); the readings come from rigsim, posted through the API by
+rigsim's lab-PC client for the reference runs.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import time
+from collections.abc import Iterator
+from pathlib import Path
+from typing import Any
+
+import httpx
+import pytest
+
+from rigsim.batches import SimulatedRun
+from rigsim.client import LabClient
+from rigsim.stands import mtos, slide_bearing
+from tests.api.conftest import KEYS, READER, WRITER, Server, auth
+from tests.web.test_browser import CHROMIUM, chromium, until
+
+pytestmark = [
+    pytest.mark.slow,
+    pytest.mark.skipif(not CHROMIUM.exists(), reason="needs Debian's chromium"),
+]
+
+API = "/api/v1"
+MTOS_READER = "mtos-reader-writer-000000"
+"""A key that reads and writes MTOS runs only."""
+SCREENSHOTS = os.environ.get("RIG_SCREENSHOTS")
+"""A directory for the README's screenshots of the entry form (``docs/images``), if set."""
+
+
+@pytest.fixture(scope="module")
+def stand_server(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Server]:
+    base = tmp_path_factory.mktemp("entry")
+    keys_file = base / "keys.json"
+    keys = [*KEYS, {"key": MTOS_READER, "scopes": ["read", "write:mtos"], "name": "MTOS PC"}]
+    keys_file.write_text(json.dumps(keys))
+    server = Server(base / "data", keys_file)
+    server.start()
+    try:
+        yield server
+    finally:
+        server.stop()
+
+
+@pytest.fixture(scope="module")
+def browser(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Any]:
+    """One Chromium profile for the module, signed in with the writer's key."""
+    from playwright.sync_api import sync_playwright
+
+    playwright = sync_playwright().start()
+    context = chromium(playwright, tmp_path_factory.mktemp("chromium") / "profile")
+    try:
+        yield context
+    finally:
+        context.close()
+        playwright.stop()
+
+
+def sign_in(context: Any, url: str, key: str = WRITER) -> Any:
+    page = context.new_page()
+    page.goto(f"{url}/login")
+    page.fill("input[name=key]", key)
+    page.press("input[name=key]", "Enter")
+    page.wait_for_url(f"{url}/")
+    return page
+
+
+def typed(value: float) -> str:
+    """A reading as a Russian lab writes it: the shortest exact digits, a decimal comma."""
+    return repr(float(value)).replace(".", ",")
+
+
+def type_row(page: Any, group: str, values: dict[str, float]) -> None:
+    """Type a row from the keyboard into the group's form: the first cell focused, each
+    value followed by Enter (the next cell; on the last, the row is sent)."""
+    names = page.eval_on_selector_all(f"#entry-{group} tfoot input", "e => e.map(i => i.name)")
+    page.focus(f"#entry-{group} tfoot input")
+    for name in names:
+        page.keyboard.type(typed(values[name]) if name in values else "")
+        page.keyboard.press("Enter")
+
+
+def run_of(url: str, run_id: str) -> dict[str, Any]:
+    answer = httpx.get(f"{url}{API}/runs/{run_id}", headers=auth(READER), timeout=30)
+    answer.raise_for_status()
+    found: dict[str, Any] = answer.json()
+    return found
+
+
+def results_of(url: str, run_id: str) -> dict[str, Any]:
+    answer = httpx.get(f"{url}{API}/runs/{run_id}/results", headers=auth(READER), timeout=60)
+    answer.raise_for_status()
+    found: dict[str, Any] = answer.json()["values"]
+    return found
+
+
+def page_run_id(page: Any) -> str:
+    return str(page.url.split("/runs/")[1].split("?")[0])
+
+
+def open_from_form(page: Any, url: str, stand: str, operator: str, lang: str = "en") -> str:
+    """Open a run from the runs list's "New run" link and the form, by keyboard; its id."""
+    page.goto(f"{url}/?lang={lang}")
+    page.click(f"p.new-run a[href*='stand={stand}']")
+    page.wait_for_selector("form#new-run")
+    page.focus("input[name=operator]")
+    page.keyboard.type(operator)
+    page.keyboard.press("Enter")  # submits the form
+    page.wait_for_url(f"{url}/runs/2*")
+    page.wait_for_selector("#entry-status")
+    return page_run_id(page)
+
+
+def reference(url: str, sim: SimulatedRun[Any]) -> str:
+    """The simulated run posted through the API by rigsim's lab-PC client, finished."""
+    with LabClient(url, WRITER) as client:
+        return client.run(sim).run.id
+
+
+def same(a: Any, b: Any) -> bool:
+    """Results equal to the last bit but for the arithmetic's order (the same readings
+    through the same pipeline): numbers within 1e-12, NaN as NaN, the rest as equal."""
+    if isinstance(a, dict) and isinstance(b, dict):
+        return a.keys() == b.keys() and all(same(a[k], b[k]) for k in a)
+    if isinstance(a, list) and isinstance(b, list):
+        return len(a) == len(b) and all(same(x, y) for x, y in zip(a, b, strict=True))
+    if isinstance(a, float) and isinstance(b, float):
+        return (math.isnan(a) and math.isnan(b)) or math.isclose(a, b, rel_tol=1e-12)
+    return bool(a == b)
+
+
+def wait_sent(page: Any, seconds: float = 30.0) -> None:
+    until(lambda: page.get_attribute("#entry-status", "data-waiting") == "0", seconds)
+
+
+def test_table_3_1_typed_with_decimal_commas_gives_the_results_of_the_api(
+    stand_server: Server, browser: Any
+) -> None:
+    url = stand_server.url
+    sim = slide_bearing.simulate(seed=5)
+    expected = reference(url, sim)
+    page = sign_in(browser, url)
+    run_id = open_from_form(page, url, "slide_bearing", "Ivanova")
+    # the form opened the run with the stand's passport, as rigsim's opening did
+    assert run_of(url, run_id)["configuration"] == run_of(url, expected)["configuration"]
+    sent: list[str] = []
+    page.on("request", lambda r: sent.append(r.url) if "/rows" in r.url else None)
+    for batch in sim.batches:
+        rows = len(next(iter(batch.columns.values())))
+        for i in range(rows):
+            type_row(page, batch.group, {k: float(v[i]) for k, v in batch.columns.items()})
+    wait_sent(page)
+    assert len(sent) == len(sim.batches)  # one post a row, none again
+    got = run_of(url, run_id)
+    assert got["rows"] == run_of(url, expected)["rows"]
+    # the computed columns of table 3.1 filled in on the page as the rows were acknowledged
+    table = page.locator("#results table.rows").first.locator("tbody tr")
+    until(lambda: table.count() == got["rows"]["rows"])
+    if SCREENSHOTS:
+        page.screenshot(path=f"{SCREENSHOTS}/entry-en.png", full_page=False)
+    page.on("dialog", lambda dialog: dialog.accept())
+    page.click("#finish button")
+    until(lambda: run_of(url, run_id)["state"] == "finished")
+    assert same(results_of(url, run_id), results_of(url, expected))
+    page.close()

@@ -35,7 +35,6 @@ TEXTS: dict[str, str] = {
     "nominal": N_("{symbol} = {value} {unit}: one of {values} {unit} is expected"),
     "integer": N_("{symbol} = {value}: a whole number is expected"),
     "one_value": N_("type at least one value"),
-    "fix_first": N_("the row is not sent until every cell holds"),
     "waiting_one": N_("{n} row waits to be sent"),
     "waiting_few": N_("{n} rows wait to be sent (few)"),
     "waiting_many": N_("{n} rows wait to be sent (many)"),

@@ -22,6 +22,7 @@ from pydantic import BaseModel
 from rigserver.reports.formatting import html_symbol
 from rigserver.reports.i18n import Lang, Messages
 from rigserver.reports.run_report import FIELD_WORDS
+from rigserver.web.entry import TEXTS
 from rigserver.web.pages import render_page
 from schemas.labels import CONFIGURATION, PARTICULARS, PLAN_KEYS, SPECIMEN_KEYS
 from schemas.messages import N_
@@ -192,9 +193,9 @@ class Posted:
     errors: dict[str, str]
 
 
-NOT_A_NUMBER = N_("“{value}” is not a number")
+NOT_A_NUMBER = TEXTS["not_a_number"]
+REQUIRED = TEXTS["empty"]
 NO_STAND = N_("This key may open no run: it has no stand's write scope.")
-REQUIRED = N_("to be filled in")
 INVALID = N_("not taken: {detail}")
 
 

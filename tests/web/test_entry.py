@@ -172,5 +172,143 @@ def test_table_3_1_typed_with_decimal_commas_gives_the_results_of_the_api(
     page.on("dialog", lambda dialog: dialog.accept())
     page.click("#finish button")
     until(lambda: run_of(url, run_id)["state"] == "finished")
+    mine = httpx.get(f"{url}{API}/runs/{run_id}/readings", headers=auth(READER)).json()
+    assert mine == httpx.get(f"{url}{API}/runs/{expected}/readings", headers=auth(READER)).json()
     assert same(results_of(url, run_id), results_of(url, expected))
     page.close()
+
+
+def test_a_cell_beyond_its_gauge_is_refused_as_typed_and_nothing_is_sent(
+    stand_server: Server, browser: Any
+) -> None:
+    url = stand_server.url
+    page = sign_in(browser, url)
+    run_id = open_from_form(page, url, "slide_bearing", "Petrov")
+    sent: list[str] = []
+    page.on("request", lambda r: sent.append(r.url) if "/rows" in r.url else None)
+    row = {"limb_angle": 142.0, "p1": 0.0, "p2": 0.0, "p3": 150.0, "p4": 0.05, "p5": -0.05}
+    row |= {"x": 337.0, "y": 272.0, "t1": 22.0, "t2": 30.1}
+    type_row(page, "rows", row)
+    cell = "#entry-rows input[name=p3]"
+    assert page.get_attribute(cell, "aria-invalid") == "true"
+    # which limit, which value (the stand's declaration: manometers -1 .. 100 at)
+    assert page.text_content("#err-rows-p3") == "p₃ = 150 at is above the limit 100 at"
+    assert page.evaluate("document.activeElement.name") == "p3"  # back to the refused cell
+    page.wait_for_timeout(300)
+    assert sent == [] and run_of(url, run_id)["batches"] == 0
+    # a comma, not a number, and a fixed cell
+    page.fill(cell, "1,2,3")
+    assert page.text_content("#err-rows-p3") == "“1,2,3” is not a number"
+    page.fill(cell, "7,25")
+    assert page.get_attribute(cell, "aria-invalid") is None
+    page.focus("#entry-rows input[name=t2]")
+    page.keyboard.press("Enter")
+    wait_sent(page)
+    stored = httpx.get(
+        f"{url}{API}/runs/{run_id}/readings", params={"group": "rows"}, headers=auth(READER)
+    ).json()["rows"]["columns"]
+    assert stored["p3"] == [7.25] and stored["limb_angle"] == [142.0]
+    page.close()
+
+
+def mtos_step() -> dict[str, dict[str, float]]:
+    """One load step of a simulated MTOS run and its zero readings (rigsim, seed 2)."""
+    sim = mtos.simulate(seed=2)
+    zero = next(b for b in sim.batches if b.group == "measurements")
+    step = next(b for b in sim.batches if b.group == "steps")
+    return {
+        "measurements": {k: float(v[0]) for k, v in zero.columns.items()},
+        "steps": {k: float(v[0]) for k, v in step.columns.items()},
+    }
+
+
+def test_rows_typed_offline_and_left_by_a_closed_page_are_delivered_once(
+    stand_server: Server, browser: Any
+) -> None:
+    url = stand_server.url
+    readings = mtos_step()
+    page = sign_in(browser, url, MTOS_READER)
+    run_id = open_from_form(page, url, "mtos", "Sidorova")
+    page.route("**/rows?*", lambda route: route.abort("internetdisconnected"))
+    type_row(page, "measurements", readings["measurements"])
+    type_row(page, "steps", readings["steps"])
+    until(lambda: page.get_attribute("#entry-status", "data-waiting") == "2")
+    assert page.text_content("#entry-status").startswith("2 rows wait to be sent")
+    assert page.locator("#rows-steps tbody tr.waiting").count() == 1
+    page.close()  # the rows stay in the browser's IndexedDB
+    assert run_of(url, run_id)["batches"] == 0
+
+    again = browser.new_page()
+    posts: list[str] = []
+    again.on("request", lambda r: posts.append(r.url) if "/rows" in r.url else None)
+    again.goto(f"{url}/runs/{run_id}")
+    wait_sent(again)
+    assert len(posts) == 2
+    got = run_of(url, run_id)
+    assert got["rows"] == {"steps": 1, "measurements": 1} and got["batches"] == 2
+    stored = httpx.get(f"{url}{API}/runs/{run_id}/readings", headers=auth(READER)).json()
+    assert stored["steps"]["columns"] == {k: [v] for k, v in readings["steps"].items()}
+    assert stored["measurements"]["values"] == readings["measurements"]
+
+    # a row the server stored but whose answer was lost: kept, and sent again after a
+    # reload with its seq, which the server applies once
+    cookie = "; ".join(f"{c['name']}={c['value']}" for c in browser.cookies(url))
+
+    def lost_answer(route: Any) -> None:
+        headers = {**route.request.headers, "cookie": cookie}
+        assert route.fetch(headers=headers).status == 201  # the server stores the row
+        route.abort("connectionreset")
+
+    again.route("**/rows?*", lost_answer)
+    step = readings["steps"] | {"load": readings["steps"]["load"] + 500.0}
+    type_row(again, "steps", step)
+    # the route's handler runs while Playwright is called: the page waits a little each poll
+    until(lambda: again.wait_for_timeout(50) or run_of(url, run_id)["rows"]["steps"] == 2)
+    assert again.get_attribute("#entry-status", "data-waiting") == "1"
+    again.unroute("**/rows?*")
+    again.reload()
+    wait_sent(again)
+    assert run_of(url, run_id)["rows"]["steps"] == 2  # not 3
+    assert run_of(url, run_id)["batches"] == 3
+    # the results of the load steps (tables 4.4-4.6) fill in on the page
+    table = again.locator("#results table.rows").first.locator("tbody tr")
+    until(lambda: table.count() == 2)
+    again.close()
+
+
+def test_the_smts2_masses_in_russian_and_a_key_of_another_stand(
+    stand_server: Server, browser: Any
+) -> None:
+    url = stand_server.url
+    page = sign_in(browser, url)
+    run_id = open_from_form(page, url, "smts2", "Кузнецова", lang="ru")
+    assert page.locator("#entry-measurements input").count() == 3
+    label = page.text_content("#rows-measurements thead")
+    assert "m1, г" in label and "m2, г" in label  # m<sub>1</sub>, the manual's symbol
+    page.route("**/rows?*", lambda route: route.abort("internetdisconnected"))
+    type_row(page, "measurements", {"pin_mass_before": 12.3456})
+    type_row(page, "measurements", {"pin_mass_after": 12.3401})
+    until(lambda: page.get_attribute("#entry-status", "data-waiting") == "2")
+    assert page.text_content("#entry-status").startswith("2 строки ждут отправки")
+    if SCREENSHOTS:
+        page.screenshot(path=f"{SCREENSHOTS}/entry-ru.png", full_page=False)
+    page.unroute("**/rows?*")
+    wait_sent(page)
+    values = httpx.get(
+        f"{url}{API}/runs/{run_id}/readings",
+        params={"group": "measurements"},
+        headers=auth(READER),
+    ).json()["measurements"]["values"]
+    assert values == {"pin_mass_before": 12.3456, "pin_mass_after": 12.3401}
+    page.close()
+
+    # a key that writes MTOS only: no form on an SMTs-2 run, and no way in by the page
+    mtos_page = sign_in(browser, url, MTOS_READER)
+    mtos_page.goto(f"{url}/runs/{run_id}?lang=ru")
+    assert mtos_page.locator("form.entry-row").count() == 0
+    mtos_page.goto(f"{url}/runs/new?stand=smts2&lang=ru")
+    assert mtos_page.locator("form#new-run").count() == 0
+    assert mtos_page.text_content("#refusal") == (
+        "У этого ключа нет права write:smts2: он не может записывать прогоны этого стенда."
+    )
+    mtos_page.close()

@@ -20,6 +20,7 @@
   const SEQ_BLOCK = 2147483648; // 2^31 seqs per browser and run; the block is random
   let db = null;
   let sending = false;
+  let again = false;
   let retry = null;
   let stopped = "";
   let offline = false;
@@ -150,59 +151,72 @@
     if (retry === null) retry = window.setTimeout(() => { retry = null; send(); }, RETRY_MS);
   }
 
+  // Send what is kept, one row after the other; a call while sending makes the sending go
+  // round once more (a row kept meanwhile is not left behind).
   async function send() {
-    if (sending || db === null) return;
+    if (db === null) return;
+    if (sending) {
+      again = true;
+      return;
+    }
     sending = true;
     try {
-      for (;;) {
-        const rows = (await kept()).filter((r) => r.state === "waiting");
-        waiting = rows.length;
-        showStatus();
-        if (!rows.length || stopped) break;
-        const row = rows[0];
-        let answer;
-        try {
-          answer = await fetch(config.rows_url, {
-            method: "POST",
-            credentials: "same-origin",
-            cache: "no-store",
-            headers: { "Content-Type": "application/json", "X-Rig-Form": config.form_token },
-            body: JSON.stringify({ seq: row.seq, group: row.group, columns: row.columns }),
-          });
-        } catch (error) {
-          offline = true;
-          later();
-          break;
-        }
-        if (answer.status === 200 || answer.status === 201) {
-          offline = false;
-          await change("rows", (store) => store.delete(row.n));
-          showRow(row, "sent");
-          document.dispatchEvent(new CustomEvent("rig:row-stored", { detail: row.group }));
-          continue;
-        }
-        let message = "";
-        try { message = (await answer.json()).message || ""; } catch (error) { message = ""; }
-        if (answer.status === 422 || answer.status === 413) {
-          offline = false;
-          row.state = "refused";
-          row.reason = message;
-          await change("rows", (store) => store.put(row));
-          showRow(row, "refused", message);
-          continue;
-        }
-        if (answer.status >= 500 || answer.status === 429 || !message) {
-          offline = true; // a proxy's or an overloaded server's answer: try again
-          later();
-          break;
-        }
-        stopped = message; // the session, the key's scope, the run's state: a person acts
-        break;
-      }
+      do {
+        again = false;
+        await sendKept();
+      } while (again && !stopped && !offline);
     } finally {
       sending = false;
     }
     showStatus();
+  }
+
+  async function sendKept() {
+    for (;;) {
+      const rows = (await kept()).filter((r) => r.state === "waiting");
+      waiting = rows.length;
+      showStatus();
+      if (!rows.length || stopped) break;
+      const row = rows[0];
+      let answer;
+      try {
+        answer = await fetch(config.rows_url, {
+          method: "POST",
+          credentials: "same-origin",
+          cache: "no-store",
+          headers: { "Content-Type": "application/json", "X-Rig-Form": config.form_token },
+          body: JSON.stringify({ seq: row.seq, group: row.group, columns: row.columns }),
+        });
+      } catch (error) {
+        offline = true;
+        later();
+        break;
+      }
+      if (answer.status === 200 || answer.status === 201) {
+        offline = false;
+        await change("rows", (store) => store.delete(row.n));
+        showRow(row, "sent");
+        document.dispatchEvent(new CustomEvent("rig:row-stored", { detail: row.group }));
+        continue;
+      }
+      let message = "";
+      try { message = (await answer.json()).message || ""; } catch (error) { message = ""; }
+      if (answer.status === 422 || answer.status === 413) {
+        offline = false;
+        row.state = "refused";
+        row.reason = message;
+        await change("rows", (store) => store.put(row));
+        showRow(row, "refused", message);
+        continue;
+      }
+      if (answer.status >= 500 || answer.status === 429 || !message) {
+        offline = true; // a proxy's or an overloaded server's answer: try again
+        later();
+        break;
+      }
+      stopped = message; // the session, the key's scope, the run's state: a person acts
+      break;
+    }
   }
 
   // --- checking the cells as they are typed --------------------------------------------------
@@ -280,15 +294,26 @@
     return { columns: columns, cells: cells };
   }
 
+  // Keep the row the form holds and send it. The cells are emptied at once, before the row
+  // is in IndexedDB: the next row may already be typed while it is stored.
   async function submit(form) {
     const found = row(form);
     if (found === null) return;
-    const record = await keep(form.dataset.group, found.columns, found.cells);
-    for (const input of form.querySelectorAll("tfoot input")) {
+    const inputs = Array.from(form.querySelectorAll("tfoot input"));
+    const typedCells = inputs.map((input) => input.value);
+    for (const input of inputs) {
       input.value = "";
       mark(input, "");
     }
-    form.querySelector("tfoot input").focus();
+    inputs[0].focus();
+    let record;
+    try {
+      record = await keep(form.dataset.group, found.columns, found.cells);
+    } catch (error) {
+      inputs.forEach((input, i) => { if (input.value === "") input.value = typedCells[i]; });
+      status.textContent = String(error);
+      return;
+    }
     showRow(record, "waiting");
     waiting += 1;
     showStatus();
@@ -307,7 +332,8 @@
         if (event.key !== "Enter") return;
         event.preventDefault();
         if (i + 1 < inputs.length) {
-          if (check(input)) inputs[i + 1].focus();
+          check(input); // a refused cell keeps its message; the row waits for it at the end
+          inputs[i + 1].focus();
         } else {
           submit(form);
         }

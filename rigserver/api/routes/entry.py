@@ -174,7 +174,7 @@ def _by_field(t: Messages, exc: ValidationError, fields: dict[str, list[Field]])
         name = ".".join(loc[:2]) if loc[0] in ("specimen", "test_plan") else loc[0]
         if name not in names:
             name = "operator" if loc[0] == "operator" else name
-        if err["type"] in ("missing", "string_too_short"):
+        if err["type"] in ("missing", "string_too_short", "too_short"):
             found.setdefault(name, t.gettext(REQUIRED))
         else:
             found.setdefault(name, t.gettext(INVALID).format(detail=err["msg"]))

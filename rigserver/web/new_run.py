@@ -126,6 +126,8 @@ def _split_head(text: str) -> tuple[str, str]:
 def _leaf_field(t: Messages, leaf: _Leaf, lang: Lang, owner: str) -> Field:
     words = t.gettext(leaf.description)
     symbol, words = _split_head(words)
+    choices: tuple[tuple[str, str], ...] = ()
+    kind: Kind
     if isinstance(leaf.default, bool):
         choices = (("true", t("yes")), ("false", t("no")))
         value, kind = ("true" if leaf.default else "false"), "choice"
@@ -135,11 +137,11 @@ def _leaf_field(t: Messages, leaf: _Leaf, lang: Lang, owner: str) -> Field:
         )
         value, kind = str(leaf.default), "choice"
     elif isinstance(leaf.default, str):
-        choices, value, kind = (), leaf.default, "text"
+        value, kind = leaf.default, "text"
     else:
-        choices, kind = (), "number"
+        kind = "number"
         value = _number_text(float(leaf.default) / leaf.factor, lang)
-    unit = t.unit(leaf.display) if leaf.display not in (None, "1") else ""
+    unit = t.unit(leaf.display) if leaf.display is not None and leaf.display != "1" else ""
     return Field(
         leaf.name, owner + words, html_symbol(t.symbol(symbol)), unit, value, kind, choices
     )

@@ -13,9 +13,7 @@ from __future__ import annotations
 import json
 import math
 import os
-import time
 from collections.abc import Iterator
-from pathlib import Path
 from typing import Any
 
 import httpx

@@ -74,7 +74,7 @@ def test_the_new_run_form_is_the_stands_declaration_with_its_passport(
         assert f'name="{name}"' in page
     # the clearance with its symbol and display unit, the lab's passport value as default
     clearance = field(page, "configuration.clearance")
-    assert "зазор (3.17) <span class=\"sym\">h0</span>, мкм" in clearance
+    assert 'зазор (3.17) <span class="sym">h0</span>, мкм' in clearance
     assert 'value="180"' in clearance
     assert 'value="25,175"' in field(page, "configuration.bearing_radius")  # mm, a comma
 
@@ -132,7 +132,9 @@ def test_a_new_run_is_refused_beside_its_field_and_opened_once(client: TestClien
 
 
 def open_run(client: TestClient, stand: str) -> str:
-    made = client.post(f"{API}/runs", json={"stand": stand, "operator": "Ivanova"}, headers=auth(WRITER))
+    made = client.post(
+        f"{API}/runs", json={"stand": stand, "operator": "Ivanova"}, headers=auth(WRITER)
+    )
     assert made.status_code == 201
     return str(made.json()["id"])
 
@@ -160,7 +162,9 @@ def test_a_typed_row_needs_the_sessions_token_and_scope(client: TestClient) -> N
     token = token_of(page)
     forged = client.post(rows, json=MASSES, headers={"X-Rig-Form": "x" * 43})
     assert forged.status_code == 403
-    assert forged.json()["message"] == "Форма не принадлежит сеансу этой страницы: обновите страницу."
+    assert (
+        forged.json()["message"] == "Форма не принадлежит сеансу этой страницы: обновите страницу."
+    )
     elsewhere = client.post(
         rows, json=MASSES, headers={"X-Rig-Form": token, "Origin": "https://evil.example"}
     )

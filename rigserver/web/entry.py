@@ -39,7 +39,7 @@ TEXTS: dict[str, str] = {
     "waiting_few": N_("{n} rows wait to be sent (few)"),
     "waiting_many": N_("{n} rows wait to be sent (many)"),
     "waiting_other": N_("{n} rows wait to be sent"),
-    "all_sent": N_("every row typed is on the server"),
+    "all_sent": N_("Every row typed is on the server"),
     "offline": N_(
         "the server does not answer; the rows are kept in this browser and sent once it answers"
     ),

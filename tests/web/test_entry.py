@@ -166,7 +166,7 @@ def test_table_3_1_typed_with_decimal_commas_gives_the_results_of_the_api(
     table = page.locator("#results table.rows").first.locator("tbody tr")
     until(lambda: table.count() == got["rows"]["rows"])
     if SCREENSHOTS:
-        page.screenshot(path=f"{SCREENSHOTS}/entry-en.png", full_page=False)
+        page.locator("#entry").screenshot(path=f"{SCREENSHOTS}/entry-en.png")
     page.on("dialog", lambda dialog: dialog.accept())
     page.click("#finish button")
     until(lambda: run_of(url, run_id)["state"] == "finished")
@@ -288,8 +288,13 @@ def test_the_smts2_masses_in_russian_and_a_key_of_another_stand(
     type_row(page, "measurements", {"pin_mass_after": 12.3401})
     until(lambda: page.get_attribute("#entry-status", "data-waiting") == "2")
     assert page.text_content("#entry-status").startswith("2 строки ждут отправки")
+    page.fill("#entry-measurements input[name=pin_mass_after]", "1500")
+    assert page.text_content("#err-measurements-pin_mass_after") == (
+        "m₂ = 1500 г выше предела 1000 г"
+    )
     if SCREENSHOTS:
-        page.screenshot(path=f"{SCREENSHOTS}/entry-ru.png", full_page=False)
+        page.locator("#entry").screenshot(path=f"{SCREENSHOTS}/entry-ru.png")
+    page.fill("#entry-measurements input[name=pin_mass_after]", "")
     page.unroute("**/rows?*")
     wait_sent(page)
     values = httpx.get(

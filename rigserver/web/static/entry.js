@@ -142,7 +142,7 @@
     else parts.push(text.all_sent);
     if (stopped) parts.push(fill(text.stopped, { reason: stopped }));
     else if (offline && waiting > 0) parts.push(text.offline);
-    status.textContent = parts.join(". ");
+    status.textContent = parts.join(" — ");
     status.className = stopped ? "refused" : offline && waiting > 0 ? "offline" : "";
   }
 
@@ -306,17 +306,18 @@
       mark(input, "");
     }
     inputs[0].focus();
+    waiting += 1; // counted from now: the row is in hand
+    showStatus();
     let record;
     try {
       record = await keep(form.dataset.group, found.columns, found.cells);
     } catch (error) {
       inputs.forEach((input, i) => { if (input.value === "") input.value = typedCells[i]; });
+      waiting -= 1;
       status.textContent = String(error);
       return;
     }
     showRow(record, "waiting");
-    waiting += 1;
-    showStatus();
     send();
   }
 

@@ -22,7 +22,7 @@ import pytest
 from rigsim.batches import SimulatedRun
 from rigsim.client import LabClient
 from rigsim.stands import mtos, slide_bearing
-from tests.api.conftest import KEYS, READER, WRITER, Server, auth
+from tests.api.conftest import KEYS, READER, WRITER, Server, auth, read_columns
 from tests.web.test_browser import CHROMIUM, chromium, until
 
 pytestmark = [
@@ -202,9 +202,7 @@ def test_a_cell_beyond_its_gauge_is_refused_as_typed_and_nothing_is_sent(
     page.focus("#entry-rows input[name=t2]")
     page.keyboard.press("Enter")
     wait_sent(page)
-    stored = httpx.get(
-        f"{url}{API}/runs/{run_id}/readings", params={"group": "rows"}, headers=auth(READER)
-    ).json()["rows"]["columns"]
+    stored = read_columns(url, run_id, "rows")
     assert stored["p3"] == [7.25] and stored["limb_angle"] == [142.0]
     page.close()
 
@@ -244,9 +242,8 @@ def test_rows_typed_offline_and_left_by_a_closed_page_are_delivered_once(
     assert len(posts) == 2
     got = run_of(url, run_id)
     assert got["rows"] == {"steps": 1, "measurements": 1} and got["batches"] == 2
-    stored = httpx.get(f"{url}{API}/runs/{run_id}/readings", headers=auth(READER)).json()
-    assert stored["steps"]["columns"] == {k: [v] for k, v in readings["steps"].items()}
-    assert stored["measurements"]["values"] == readings["measurements"]
+    for group in ("steps", "measurements"):
+        assert read_columns(url, run_id, group) == {k: [v] for k, v in readings[group].items()}
 
     # a row the server stored but whose answer was lost: kept, and sent again after a
     # reload with its seq, which the server applies once
@@ -297,12 +294,8 @@ def test_the_smts2_masses_in_russian_and_a_key_of_another_stand(
     page.fill("#entry-measurements input[name=pin_mass_after]", "")
     page.unroute("**/rows?*")
     wait_sent(page)
-    values = httpx.get(
-        f"{url}{API}/runs/{run_id}/readings",
-        params={"group": "measurements"},
-        headers=auth(READER),
-    ).json()["measurements"]["values"]
-    assert values == {"pin_mass_before": 12.3456, "pin_mass_after": 12.3401}
+    values = read_columns(url, run_id, "measurements")
+    assert values == {"pin_mass_before": [12.3456], "pin_mass_after": [12.3401]}
     page.close()
 
     # a key that writes MTOS only: no form on an SMTs-2 run, and no way in by the page

@@ -1,8 +1,10 @@
-"""The two pages of the service: the runs list and a run's live view, rendered on the server.
+"""The pages of the service: the runs list and a run's live view, rendered on the server.
 
 The API layer hands them their data (runs, stands); they import neither the API nor the
 storage. The live chart and the results on a run's page are drawn by ``static/live.js``,
-a plain script (no build step) fed by the server-sent events of ``/runs/{id}/live``.
+a plain script (no build step) fed by the server-sent events of ``/runs/{id}/live``; the
+forms that take the readings at the stand by ``static/entry.js`` (:mod:`rigserver.web.entry`;
+the page that opens a run: :mod:`rigserver.web.new_run`).
 """
 
 from __future__ import annotations

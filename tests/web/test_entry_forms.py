@@ -16,6 +16,7 @@ from rigserver.api.app import create_app
 from rigserver.api.auth import ApiKey
 from rigserver.api.settings import Settings
 from rigserver.storage import MemoryStore
+from rigserver.web.new_run import parse_number
 from schemas.stands import configure_stands
 from tests.api.conftest import KEYS, READER, WRITER, auth
 
@@ -194,3 +195,21 @@ def test_a_typed_row_needs_the_sessions_token_and_scope(client: TestClient) -> N
     late = client.post(rows, json={**MASSES, "seq": 9}, headers={"X-Rig-Form": token})
     assert late.status_code == 409
     assert late.json()["message"] == "Прогон уже закрыт: новых строк он не принимает."
+
+
+@pytest.mark.parametrize(
+    ("typed", "number"),
+    [
+        ("1,5", 1.5),  # a decimal comma
+        (" -2,0 ", -2.0),
+        ("\u22123", -3.0),  # the minus sign a Russian keyboard layout may give
+        ("1e-5", 1e-5),
+        ("1,2,3", None),
+        ("inf", None),
+        ("nan", None),
+        ("1e400", None),  # beyond a double: refused, as the API refuses it
+        ("", None),
+    ],
+)
+def test_a_number_as_typed(typed: str, number: float | None) -> None:
+    assert parse_number(typed) == number

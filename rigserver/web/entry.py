@@ -122,14 +122,19 @@ def _channels(t: Messages, group: ChannelGroup) -> list[dict[str, Any]]:
 
 
 def entry_groups(
-    t: Messages, stand: Stand, received: Mapping[str, Sequence[Sequence[float | None]]]
+    t: Messages,
+    stand: Stand,
+    received: Mapping[str, Sequence[Sequence[float | None]]],
+    totals: Mapping[str, int],
 ) -> list[dict[str, Any]]:
     """The forms of the run's channel groups: the channels with their limits, and the rows
-    ``received`` of each (the last ones the server holds; of a group of single values, one
-    row of the latest)."""
+    ``received`` of each (the last ones the server holds, of the ``totals`` it holds, so
+    that each knows its index as stored; of a group of single values, one row of the
+    latest, no index)."""
     return [
         {
             "name": g.name,
+            "first": totals.get(g.name, 0) - len(received.get(g.name, ())) if g.aligned else None,
             "title": t.gettext(g.long_name),
             "aligned": g.aligned,
             "required": [list(r) for r in g.required],

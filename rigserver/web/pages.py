@@ -266,7 +266,7 @@ def run_page(
         may_write=may_write,
         form_token=form_token,
         conclusions_limit=CONCLUSIONS_LIMIT,
-        groups=entry_groups(t, stand, received or {}) if entry else [],
+        groups=entry_groups(t, stand, received or {}, run.rows) if entry else [],
         entry_config=(
             entry_config(t, lang, run.id, form_token, config["decimal"]) if entry else None
         ),

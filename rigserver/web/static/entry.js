@@ -7,7 +7,8 @@
 // with its seq (fixed there, once: a row sent again is stored once by the server), then it
 // is sent, in the order typed, to the page's own /runs/{id}/rows. A row the server has not
 // answered for stays in IndexedDB and is sent once it answers, also after the page was
-// closed and opened again.
+// closed and opened again. A row the server holds carries its index in its group as stored
+// (data-index), the address of a correction.
 (function () {
   "use strict";
 

@@ -19,9 +19,9 @@ from typing import Any
 
 from markupsafe import Markup
 
-from rigserver.reports.formatting import decimal_sign, html_symbol, plain_text
+from rigserver.reports.formatting import decimal_sign, html_symbol, number_locale, plain_text
 from rigserver.reports.i18n import Lang, Messages
-from schemas.channels import ChannelGroup
+from schemas.channels import ChannelGroup, Violation
 from schemas.labels import channel_symbol, plain_symbol
 from schemas.messages import N_
 from schemas.problems import Problem
@@ -78,16 +78,62 @@ title); the detail as the API words it."""
 _SCOPE = re.compile(r"'(write:[a-z0-9_*]+)'")
 
 
-def refusal_line(t: Messages, problem: Problem) -> str:
-    """One line of the page's language saying why the server refused."""
+def refusal_line(t: Messages, problem: Problem, stand: Stand | None = None) -> str:
+    """One line of the page's language saying why the server refused; a reading beyond
+    its channel's limit (of ``stand``, as the run's configuration sets its units) in the
+    words the page uses as it checks a cell."""
     status = problem.status if problem.status != 429 else 503
     text = _REFUSALS.get((status, problem.title)) or _REFUSALS.get((status, ""))
     if text is None:
         text = _REFUSALS[(0, "")]
     scope = _SCOPE.search(problem.detail or "")
+    detail = problem.detail or ""
+    if status == 422 and stand is not None and problem.errors:
+        detail = limit_refusal(t, stand, problem.errors[0]) or detail
     return t.gettext(text).format(
-        detail=problem.detail, status=problem.status, scope=scope[1] if scope else ""
+        detail=detail, status=problem.status, scope=scope[1] if scope else ""
     )
+
+
+_CELL = re.compile(r"columns\.(\w+)\[\d+\]")
+
+
+def limit_refusal(t: Messages, stand: Stand, violation: Violation) -> str | None:
+    """A reading beyond its channel's limit, worded as ``entry.js`` words it as the cell is
+    typed (the same rules in the same order); None for any other refusal (an order across
+    rows, a missing channel)."""
+    cell = _CELL.fullmatch(violation.field)
+    value = violation.value
+    if cell is None or not isinstance(value, float):
+        return None
+    channel = next((c for g in stand.groups if (c := g.channel(cell[1])) is not None), None)
+    if channel is None:
+        return None
+    limit = channel.limit
+    with number_locale(t.lang):
+        sign = decimal_sign()
+
+    def shown(number: float) -> str:
+        return f"{number:.12g}".replace(".", sign)
+
+    symbol = channel_symbol(channel.name, channel.long_name)
+    say = {
+        "symbol": plain_symbol(t.symbol(symbol)) if symbol else t.gettext(channel.long_name),
+        "value": shown(value),
+        "unit": "" if channel.unit in ("1", "code") else t.unit(channel.unit),
+    }
+    if limit.low is not None and value < limit.low:
+        return t.gettext(TEXTS["below"]).format(**say, low=shown(limit.low))
+    if limit.high is not None and value > limit.high:
+        return t.gettext(TEXTS["above"]).format(**say, high=shown(limit.high))
+    if limit.nominal is not None and not any(
+        abs(value - v) <= limit.tolerance * abs(v) for v in limit.nominal
+    ):
+        values = ", ".join(shown(v) for v in limit.nominal)
+        return t.gettext(TEXTS["nominal"]).format(**say, values=values)
+    if limit.integer and value != round(value):
+        return t.gettext(TEXTS["integer"]).format(**say)
+    return None
 
 
 def typed(value: float) -> str:

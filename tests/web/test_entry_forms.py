@@ -9,15 +9,19 @@ import re
 from collections.abc import Iterator
 from pathlib import Path
 
+import numpy as np
 import pytest
 from fastapi.testclient import TestClient
 
 from rigserver.api.app import create_app
 from rigserver.api.auth import ApiKey
 from rigserver.api.settings import Settings
+from rigserver.reports.i18n import Messages
 from rigserver.storage import MemoryStore
+from rigserver.web.entry import limit_refusal
 from rigserver.web.new_run import parse_number
-from schemas.stands import configure_stands
+from schemas.channels import Channel, check_columns
+from schemas.stands import StandKind, configure_stands
 from tests.api.conftest import KEYS, READER, WRITER, auth
 
 API = "/api/v1"
@@ -182,7 +186,10 @@ def test_a_typed_row_needs_the_sessions_token_and_scope(client: TestClient) -> N
     beyond = {"seq": 8, "group": "measurements", "columns": {"pin_mass_after": [1500.0]}}
     limit = client.post(f"/runs/{run_id}/rows?lang=en", json=beyond, headers={"X-Rig-Form": token})
     assert limit.status_code == 422
-    assert limit.json()["message"].startswith("Refused: pin_mass_after[0] = 1500 g is outside")
+    # worded as the page words the cell as it is typed (entry.js), in the page's language
+    assert limit.json()["message"] == "Refused: m₂ = 1500 g is above the limit 1000 g"
+    russian = client.post(rows, json=beyond, headers={"X-Rig-Form": token})
+    assert russian.json()["message"] == "Отклонено: m₂ = 1500 г выше предела 1000 г"
     assert client.get(f"{API}/runs/{run_id}", headers=auth(READER)).json()["batches"] == 1
 
     # finish: a form of the page with the token; then the run takes no more rows
@@ -213,3 +220,39 @@ def test_a_typed_row_needs_the_sessions_token_and_scope(client: TestClient) -> N
 )
 def test_a_number_as_typed(typed: str, number: float | None) -> None:
     assert parse_number(typed) == number
+
+
+@pytest.mark.parametrize(
+    ("stand", "group", "columns", "line"),
+    [
+        ("slide_bearing", "rows", {"p3": [-1.5]}, "p₃ = -1,5 ат ниже предела -1 ат"),
+        (
+            "smts2",
+            "friction",
+            {"speed": [400.0]},
+            "n = 400 об/мин: ожидается одно из 300, 500, 1000 об/мин",
+        ),
+        (
+            "pin_on_disc",
+            "wear_track",
+            {"trace": [2.5]},
+            "номер трассы (по одной на место вдоль дорожки) = 2,5: ожидается целое число",
+        ),
+        ("profilometer", "profile", {"x": [2.0, 1.0]}, None),  # an order: the API's words
+    ],
+)
+def test_a_refused_reading_in_the_words_of_the_page(
+    stand: str, group: str, columns: dict[str, list[float]], line: str | None
+) -> None:
+    declared = configure_stands()[StandKind(stand)]
+    decl = declared.group(group)
+    assert decl is not None
+    rows = len(next(iter(columns.values())))
+
+    def holding(c: Channel) -> float:  # a value within the channel's limit
+        return c.limit.nominal[0] if c.limit.nominal else max(c.limit.low or 0.0, 1.0)
+
+    full = {c.name: columns.get(c.name, [holding(c)] * rows) for c in decl.channels}
+    violations = check_columns(decl, {k: np.asarray(v) for k, v in full.items()}, {})
+    assert violations, "the API refuses these readings"
+    assert limit_refusal(Messages("ru"), declared, violations[0]) == line

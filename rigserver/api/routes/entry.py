@@ -53,7 +53,7 @@ from rigserver.web.new_run import (
 )
 from schemas.problems import Problem
 from schemas.runs import RunCreate, RunState
-from schemas.stands import StandKind
+from schemas.stands import Stand, StandKind
 from schemas.student_notes import StudentNotesWrite
 from schemas.wire import Text
 
@@ -191,6 +191,7 @@ async def typed_row(
     refusal in one line of the page's language (``{"message": ...}``)."""
     chosen = negotiate(lang, request.headers.get("accept-language"))
     t = Messages(chosen)
+    stand: Stand | None = None
     try:
         writer = form_writer(
             request, services, request.headers.get(FORM_HEADER, ""), f"/runs/{run_id}"
@@ -205,7 +206,7 @@ async def typed_row(
         problem = Problem(title="Key needed", status=401, detail="no session")
         return _refused(t, problem)
     except ApiProblem as exc:
-        return _refused(t, exc.problem)
+        return _refused(t, exc.problem, stand)
     except StorageError as exc:
         return _refused(t, storage_problem(exc))
     return JSONResponse(
@@ -213,10 +214,10 @@ async def typed_row(
     )
 
 
-def _refused(t: Messages, problem: Problem) -> JSONResponse:
+def _refused(t: Messages, problem: Problem, stand: Stand | None = None) -> JSONResponse:
     headers = {"Retry-After": "5"} if problem.status in (429, 503) else None
     return JSONResponse(
-        {"status": problem.status, "message": refusal_line(t, problem)},
+        {"status": problem.status, "message": refusal_line(t, problem, stand)},
         status_code=problem.status,
         headers=headers,
     )

@@ -814,3 +814,53 @@ VALUE_WORDS: dict[str, str] = {
     "manual": N_("three pairs of levels (1.16)-(1.19)"),
 }
 """Code words a result holds as its value, as a page prints them (in every language)."""
+
+CHANNEL_SYMBOLS: dict[str, str] = {
+    "time": "t",
+    "speed": "n",
+    "revolutions": "M_rev",
+    **{f"p{k}": f"p_{k}" for k in range(1, 6)},
+    **{f"t{k}": f"t_{k}" for k in range(1, 6)},
+    "x_zero": "X_set",
+    "y_zero": "Y_set",
+    "pin_mass_before": "m_1",
+    "pin_mass_after": "m_2",
+    "disc_ra": "R_a",
+    "rz_instrument": "R_{z1}",
+    "rmax_instrument": "R_{max1}",
+}
+"""The manual's symbols of the channels whose declared name does not begin with one (the
+others begin with theirs: ``"φ_k, limb angle at the end of the load zone"``)."""
+
+
+def channel_symbol(name: str, long_name: str) -> str:
+    """The manual's symbol of a channel (its column head in the manual's tables): declared
+    here, else the head of its long name before the comma (``"Δl, friction indicator
+    reading"`` -> ``"Δl"``), else none."""
+    if name in CHANNEL_SYMBOLS:
+        return CHANNEL_SYMBOLS[name]
+    head, comma, _ = long_name.partition(", ")
+    return head if comma and " " not in head else ""
+
+
+SPECIMEN_KEYS: dict[StandKind, tuple[str, ...]] = {
+    StandKind.SMTS2: ("pin", "disc"),
+    StandKind.SLIDE_BEARING: ("journal", "bearing"),
+    StandKind.MTOS: ("journal", "bush"),
+    StandKind.PROFILOMETER: ("surface",),
+    StandKind.PIN_ON_DISC: ("ball", "disc"),
+    StandKind.RECIPROCATING: ("ball", "disc"),
+}
+"""The specimens a run of each stand names (keys of :data:`PARTICULARS`), as the new-run
+page asks for them."""
+
+PLAN_KEYS: dict[StandKind, tuple[str, ...]] = {
+    StandKind.SMTS2: ("mode", "load_N", "speed_rpm", "revolutions"),
+    StandKind.SLIDE_BEARING: ("loader_scale_mm", "limb_step_deg"),
+    StandKind.MTOS: ("loads_fluid", "loads_mixed", "loads_boundary"),
+    StandKind.PROFILOMETER: ("ra_um", "base_length_mm"),
+    StandKind.PIN_ON_DISC: ("load_N", "laps"),
+    StandKind.RECIPROCATING: ("load_N", "laps"),
+}
+"""The test plan of each stand (keys of :data:`PARTICULARS`; ``loads_*`` are lists of
+loads), as the new-run page asks for it."""

@@ -27,6 +27,7 @@ from rigserver.api.routes import (
     api_docs,
     corrections,
     eln,
+    entry,
     live,
     models,
     pages,
@@ -168,6 +169,7 @@ def create_app(
         app.include_router(router, prefix=API_PREFIX)
     add_components(app, [ReadingBatch])  # the ingest route parses its body itself
     api_docs.install(app)
+    app.include_router(entry.router)  # before the pages: /runs/new is no run's id
     pages.install(app)
     # the last added is the outermost: rate, then key, then size, then the ingest route
     services = app.state.services

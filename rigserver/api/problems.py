@@ -135,6 +135,14 @@ _STORAGE_STATUS: list[tuple[type[StorageError], int, str]] = [
 ]
 
 
+def storage_problem(exc: StorageError) -> Problem:
+    """The answer to a storage error: its status (503 for a failure of the storage)."""
+    for kind, status, title in _STORAGE_STATUS:
+        if isinstance(exc, kind):
+            return Problem(title=title, status=status, detail=str(exc))
+    return Problem(title="Storage unavailable", status=503, detail=str(exc))
+
+
 def _document(app: FastAPI) -> None:
     """Describe the errors in the OpenAPI document as they are sent: every operation's
     ``default`` response, and its 422, is application/problem+json (FastAPI documents its
@@ -221,14 +229,11 @@ def install(app: FastAPI) -> None:
 
     @app.exception_handler(StorageError)
     async def _storage(request: Request, exc: StorageError) -> JSONResponse:
-        for kind, status, title in _STORAGE_STATUS:
-            if isinstance(exc, kind):
-                return problem_response(Problem(title=title, status=status, detail=str(exc)))
+        problem = storage_problem(exc)
+        if problem.status != 503:
+            return problem_response(problem)
         log.error("storage failure on %s: %s", request.url.path, exc)
-        return problem_response(
-            Problem(title="Storage unavailable", status=503, detail=str(exc)),
-            {"Retry-After": "5"},
-        )
+        return problem_response(problem, {"Retry-After": "5"})
 
     @app.exception_handler(Exception)
     async def _unexpected(request: Request, exc: Exception) -> JSONResponse:

@@ -284,7 +284,7 @@ def configuration_rows(t: Messages, run: Run) -> list[tuple[Text, str, str]]:
                 continue
             extra = info.json_schema_extra
             unit = extra.get("unit") if isinstance(extra, dict) else None
-            words = owner + t.gettext(info.description or _FIELD_WORDS.get(name, name))
+            words = owner + t.gettext(info.description or FIELD_WORDS.get(name, name))
             display = CONFIGURATION.get(path + name) or CONFIGURATION.get(name)
             if name == "gauge_unit" and isinstance(value, str):
                 shown = t.unit(value)
@@ -304,7 +304,7 @@ def configuration_rows(t: Messages, run: Run) -> list[tuple[Text, str, str]]:
     return rows
 
 
-_FIELD_WORDS = {
+FIELD_WORDS = {
     "name": N_("material"),
     "gauge_unit": N_("unit of the manometers"),
     "instrument": N_("instrument"),

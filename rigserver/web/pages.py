@@ -1,13 +1,15 @@
-"""The two pages of the service: the runs list and a run's live view, rendered on the server.
+"""The pages of the service: the runs list and a run's live view, rendered on the server.
 
 The API layer hands them their data (runs, stands); they import neither the API nor the
 storage. The live chart and the results on a run's page are drawn by ``static/live.js``,
-a plain script (no build step) fed by the server-sent events of ``/runs/{id}/live``.
+a plain script (no build step) fed by the server-sent events of ``/runs/{id}/live``; the
+forms that take the readings at the stand by ``static/entry.js`` (:mod:`rigserver.web.entry`;
+the page that opens a run: :mod:`rigserver.web.new_run`).
 """
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from functools import lru_cache
 from typing import Any
 from urllib.parse import urlencode
@@ -29,6 +31,7 @@ from rigserver.reports.formatting import (
 from rigserver.reports.i18n import LANGS, Lang, Messages
 from rigserver.reports.run_report import RESULT_MODELS, configuration_rows, particulars_text
 from rigserver.reports.x3p import PROFILE_GROUP, NoProfile, profile_group
+from rigserver.web.entry import entry_config, entry_groups, typed
 from schemas import labelled
 from schemas.labels import RESULTS, THEORY_VERDICT, Part, theory_outside
 from schemas.quantity import unit_paths
@@ -64,6 +67,7 @@ def environment(lang: Lang) -> Environment:
     env.filters["fmt"] = fmt
     env.filters["sym"] = html_symbol
     env.filters["plain"] = plain_text
+    env.filters["typed"] = typed
     return env
 
 
@@ -161,8 +165,10 @@ def runs_page(
     limit: int,
     lang: Lang,
     signed_in: bool = False,
+    writable: Sequence[StandKind] = (),
 ) -> str:
-    """The runs, newest first, with the filter form and links to the neighbouring pages.
+    """The runs, newest first, with the filter form and links to the neighbouring pages,
+    and to open a new run on the stands ``writable`` by the caller.
 
     ``filters`` are the form's values as given (``stand``, ``operator``, ``state``,
     ``since``, ``until``: ISO dates), kept in the links.
@@ -179,6 +185,7 @@ def runs_page(
         "runs.html",
         lang,
         signed_in=signed_in,
+        writable=writable,
         page=page,
         rows=rows,
         filters=filters,
@@ -205,10 +212,14 @@ def run_page(
     signed_in: bool = False,
     notes: StudentNotes | None = None,
     may_write: bool = False,
+    form_token: str = "",
+    received: Mapping[str, Sequence[Sequence[float | None]]] | None = None,
 ) -> str:
     """A run: its particulars, the live chart of its record, its results (``payload``, as
     ``/results`` answers), the downloads, the student's ``notes`` on it, and the form that
-    writes them for the caller who ``may_write`` them (its stand's write scope)."""
+    writes them for the caller who ``may_write`` them (its stand's write scope). A session
+    (its ``form_token``) that may write an open run also gets the forms that take its
+    readings (:mod:`rigserver.web.entry`), with the rows ``received`` so far."""
     t = Messages(lang)
     record = next(g for g in stand.groups if g.aligned)
     x, y = LIVE_AXES.get(stand.kind, (record.channels[0].name, record.channels[-1].name))
@@ -235,6 +246,7 @@ def run_page(
         specimen = particulars_text(t, run.specimen)
         test_plan = particulars_text(t, run.test_plan)
         configuration = configuration_rows(t, run)
+    entry = may_write and bool(form_token) and run.state is RunState.OPEN
     return render_page(
         "run.html",
         lang,
@@ -252,7 +264,12 @@ def run_page(
         profile_x3p=_has_profile(stand),
         notes=notes or StudentNotes(),
         may_write=may_write,
+        form_token=form_token,
         conclusions_limit=CONCLUSIONS_LIMIT,
+        groups=entry_groups(t, stand, received or {}, run.rows) if entry else [],
+        entry_config=(
+            entry_config(t, lang, run.id, form_token, config["decimal"]) if entry else None
+        ),
     )
 
 

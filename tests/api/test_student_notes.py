@@ -157,6 +157,13 @@ def _login(client: TestClient, key: str) -> None:
 FORM = {"group": "MT-32", "students": "А. Иванова\r\n\r\nB. Petrov\r\n", "conclusions": "Ours."}
 
 
+def form_token(page: str) -> str:
+    """The session's form token a page carries in its forms."""
+    found = re.search(r'name="form_token" value="([^"]+)"', page)
+    assert found, "no form token on the page"
+    return found[1]
+
+
 def test_the_run_page_shows_the_form_to_writers_and_takes_it_from_their_session(
     client: TestClient,
 ) -> None:
@@ -175,18 +182,24 @@ def test_the_run_page_shows_the_form_to_writers_and_takes_it_from_their_session(
     _login(client, WRITER)  # a session of a key that writes every stand
     form = client.get(page).text
     assert 'name="conclusions"' in form and f'action="/runs/{run_id}/notes?lang=en"' in form
+    token = form_token(form)
     elsewhere = client.post(
         f"{page}/notes",
-        data=FORM,
+        data={**FORM, "form_token": token},
         headers={"Origin": "https://evil.example"},
         follow_redirects=False,
     )
     assert elsewhere.status_code == 403
-    bad = client.post(f"{page}/notes", data={**FORM, "group": "x" * 101}, follow_redirects=False)
+    # without the session's form token (a form another site made): refused, nothing stored
+    for forged in ({}, {"form_token": "x" * 43}):
+        refused = client.post(f"{page}/notes", data={**FORM, **forged}, follow_redirects=False)
+        assert refused.status_code == 403 and refused.json()["title"] == "Form token missing"
+    signed = {**FORM, "form_token": token}
+    bad = client.post(f"{page}/notes", data={**signed, "group": "x" * 101}, follow_redirects=False)
     assert bad.status_code == 422 and bad.json()["errors"][0]["field"] == "group"
     assert client.get(f"{API}/runs/{run_id}/notes", headers=auth(READER)).json()["version"] == 0
 
-    saved = client.post(f"{page}/notes?lang=ru", data=FORM, follow_redirects=False)
+    saved = client.post(f"{page}/notes?lang=ru", data=signed, follow_redirects=False)
     assert saved.status_code == 303 and saved.headers["location"] == f"{page}?lang=ru#notes"
     got = client.get(f"{API}/runs/{run_id}/notes", headers=auth(READER)).json()
     assert (got["group"], got["students"], got["conclusions"]) == (

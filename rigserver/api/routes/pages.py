@@ -5,6 +5,7 @@ becomes a session cookie (:mod:`rigserver.api.sessions`)."""
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from datetime import UTC, date, datetime, time, timedelta
 from typing import Annotated, TypeVar
 from urllib.parse import parse_qs, urlencode, urlsplit
@@ -29,13 +30,13 @@ from rigserver.reports.series_report import render_series_body
 from rigserver.web.pages import login_page, results_html, run_page, runs_page
 from rigserver.web.series_pages import series_list_page, series_page
 from schemas.channels import Violation
-from schemas.runs import RunQuery, RunState
-from schemas.stands import StandKind
+from schemas.runs import Run, RunQuery, RunState
+from schemas.stands import Stand, StandKind
 from schemas.student_notes import StudentNotesWrite
 from schemas.wire import Text
 
 
-class _LoginFirst(Exception):
+class LoginFirst(Exception):
     """A page asked for without a key or session: answered with the login page's address."""
 
     def __init__(self, next_page: str) -> None:
@@ -48,7 +49,7 @@ async def require_page_read(request: Request, services: ServicesDep) -> None:
     caller = caller_of(request, services)
     if caller is None:
         query = f"?{request.url.query}" if request.url.query else ""
-        raise _LoginFirst(request.url.path + query)
+        raise LoginFirst(request.url.path + query)
     require_scope(caller, READ)
 
 
@@ -95,10 +96,10 @@ def install(app: FastAPI) -> None:
     """Add the pages, the login and their static files to the app."""
 
     async def to_login(request: Request, exc: Exception) -> Response:
-        assert isinstance(exc, _LoginFirst)
+        assert isinstance(exc, LoginFirst)
         return RedirectResponse("/login?" + urlencode({"next": exc.next_page}), status_code=303)
 
-    app.add_exception_handler(_LoginFirst, to_login)
+    app.add_exception_handler(LoginFirst, to_login)
     app.include_router(router)
     app.include_router(login_router)
     app.mount("/static", StaticFiles(packages=[("rigserver.web", "static")]), name="static")
@@ -165,8 +166,16 @@ def runs(
         limit=PAGE_SIZE,
         lang=chosen,
         signed_in=_signed_in(request, services),
+        writable=writable_stands(writer_of(request, services)),
     )
     return HTMLResponse(html, headers=language_headers(chosen))
+
+
+def writable_stands(writer: ApiKey | None) -> list[StandKind]:
+    """The stands whose runs ``writer`` may open and type into."""
+    if writer is None:
+        return []
+    return [kind for kind in StandKind if writer.allows(write_scope(kind.value))]
 
 
 @router.get("/runs/{run_id}", response_class=HTMLResponse)
@@ -175,15 +184,20 @@ def run(
 ) -> HTMLResponse:
     chosen = negotiate(lang, request.headers.get("accept-language"))
     found = load_run(services, run_id)
-    writer = _writer(request, services)
+    writer = writer_of(request, services)
+    may_write = writer is not None and writer.allows(write_scope(found.stand.value))
+    stand = services.stand_of(found)
+    token = form_token(request, services) if may_write else ""
     html = run_page(
         run=found,
-        stand=services.stand_of(found),
+        stand=stand,
         payload=results_payload(services, found),
         lang=chosen,
         signed_in=_signed_in(request, services),
         notes=services.notes.get(found.id),
-        may_write=writer is not None and writer.allows(write_scope(found.stand.value)),
+        may_write=may_write,
+        form_token=token,
+        received=received_rows(services, found, stand) if token else None,
     )
     return HTMLResponse(html, headers=language_headers(chosen))
 
@@ -231,18 +245,18 @@ async def run_notes(
     """The run page's form of the student's words (``group``, ``students`` one per line,
     ``conclusions``), posted by a session whose key may write the run's stand: stored, and
     back to the page. Without a session: the login page; 422 for words the API refuses."""
-    writer = _writer(request, services)
-    if writer is None:
-        raise _LoginFirst(f"/runs/{run_id}")
     body = await request.body()  # at most ANONYMOUS_BODY_BYTES (rigserver.api.app.body_limit)
-    words = _notes_form(body)
+    form = read_form(body, (*_NOTES_FIELDS, FORM_TOKEN))
+    writer = form_writer(request, services, form.pop(FORM_TOKEN, ""), f"/runs/{run_id}")
+    words = _notes_form(form)
     await run_in_threadpool(write_notes, services, run_id, words, writer)
     query = f"?{urlencode({'lang': lang})}" if lang else ""
     return RedirectResponse(f"/runs/{run_id}{query}#notes", status_code=303)
 
 
-def _notes_form(body: bytes) -> StudentNotesWrite:
-    """The words of the form's body (URL-encoded UTF-8); 422 naming the field refused."""
+def read_form(body: bytes, known: Sequence[str]) -> dict[str, str]:
+    """The fields of a form's body (URL-encoded UTF-8), the last value of each; 422 for a
+    body that is none or a field not ``known``."""
     try:
         form = parse_qs(
             body.decode("ascii"),
@@ -250,17 +264,47 @@ def _notes_form(body: bytes) -> StudentNotesWrite:
             strict_parsing=bool(body),
             encoding="utf-8",
             errors="strict",
-            max_num_fields=len(_NOTES_FIELDS),
+            max_num_fields=len(known),
         )
     except ValueError as exc:  # UnicodeDecodeError too
         raise ApiProblem(
             422, "Invalid form", f"the form is not URL-encoded UTF-8 with its fields: {exc}"
         ) from None
-    unknown = sorted(set(form) - set(_NOTES_FIELDS))
+    unknown = sorted(set(form) - set(known))
     if unknown:
         raise ApiProblem(422, "Invalid form", f"unknown field {unknown[0][:40]!r}")
-    fields: dict[str, str | list[str]] = {name: values[-1] for name, values in form.items()}
-    students = form.get("students", [""])[-1]
+    return {name: values[-1] for name, values in form.items()}
+
+
+def form_writer(request: Request, services: Services, given: str, back: str) -> ApiKey:
+    """The key a page's form writes with: of the request's Authorization header (no
+    browser's cookie: nothing to forge), else of its session, whose form token ``given``
+    must be (403 else: a form of another site); without either, the login page, then
+    ``back``. The form is this site's (:func:`same_origin`)."""
+    same_origin(request)
+    token = request.cookies.get(COOKIE)
+    if request.headers.get("authorization") or token is None:
+        caller = caller_of(request, services)
+        if caller is None:
+            raise LoginFirst(back)
+        return caller
+    key = services.sessions.key(token)
+    if key is None:
+        raise LoginFirst(back)
+    if not services.sessions.form_token_holds(token, given):
+        raise ApiProblem(
+            403,
+            "Form token missing",
+            "the form does not carry this session's token: a form of this site's pages "
+            "only (reload the page)",
+        )
+    return key
+
+
+def _notes_form(form: dict[str, str]) -> StudentNotesWrite:
+    """The words of the form; 422 naming the field refused."""
+    fields: dict[str, str | list[str]] = dict(form)
+    students = form.get("students", "")
     fields["students"] = [name for name in students.splitlines() if name.strip()]
     try:
         return StudentNotesWrite.model_validate(fields)
@@ -270,9 +314,11 @@ def _notes_form(body: bytes) -> StudentNotesWrite:
 
 #: The fields of the run page's form of the student's words.
 _NOTES_FIELDS = ("group", "students", "conclusions")
+#: The field of every page form that carries the session's form token.
+FORM_TOKEN = "form_token"
 
 
-def _writer(request: Request, services: Services) -> ApiKey | None:
+def writer_of(request: Request, services: Services) -> ApiKey | None:
     """The key of the request's Authorization header, else of its session, all its scopes
     (only this site's pages and forms are answered with it)."""
     caller = caller_of(request, services)
@@ -325,6 +371,37 @@ def logout(request: Request, services: ServicesDep) -> Response:
     response = RedirectResponse("/login", status_code=303)
     response.delete_cookie(COOKIE, path="/")
     return response
+
+
+def form_token(request: Request, services: Services) -> str:
+    """The form token of the request's session ("" without one)."""
+    token = request.cookies.get(COOKIE)
+    return (services.sessions.form_token(token) or "") if token else ""
+
+
+#: Rows of a group shown as received on the run page (the last ones).
+RECEIVED_ROWS = 100
+
+
+def received_rows(
+    services: Services, run: Run, stand: Stand
+) -> dict[str, list[list[float | None]]]:
+    """The last rows the server holds of each group of the run, in the channels' order;
+    of a group of single values, one row of the latest of each (None: not yet given)."""
+    found: dict[str, list[list[float | None]]] = {}
+    for group in stand.groups:
+        total = run.rows.get(group.name, 0)
+        if not total:
+            continue
+        names = [c.name for c in group.channels]
+        if not group.aligned:
+            values = services.store.last_values(run.id, group.name)
+            found[group.name] = [[values.get(n) for n in names]]
+            continue
+        start = max(0, total - RECEIVED_ROWS)
+        data = services.store.read(run.id, group.name, None, start, total)
+        found[group.name] = [[float(data[n][i]) for n in names] for i in range(total - start)]
+    return found
 
 
 def _signed_in(request: Request, services: Services) -> bool:

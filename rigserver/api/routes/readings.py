@@ -22,6 +22,7 @@ from fastapi.responses import FileResponse, StreamingResponse
 from pydantic import ValidationError
 from starlette.background import BackgroundTask
 
+from rigserver.api.auth import ApiKey
 from rigserver.api.deps import (
     ReadAccess,
     Services,
@@ -178,7 +179,7 @@ def _parse_json(body: bytes) -> ReadingBatch:
         raise ApiProblem(422, "Invalid batch", errors[0].message, errors) from None
 
 
-async def _stand_of(services: Services, run_id: str) -> Stand:
+async def stand_of_run(services: Services, run_id: str) -> Stand:
     """The run's stand as its configuration sets it (the units in a refusal's message):
     remembered, or looked up (404 for an unknown run)."""
     stand = services.run_stands.get(run_id)
@@ -248,8 +249,28 @@ async def post_readings(request: Request) -> Response:
             415, "Unsupported media type", f"send application/json or {NPZ_MEDIA_TYPE}"
         )
     seq, group = _binary_query(request) if media == NPZ_MEDIA_TYPE else (0, "")
-    stand = await _stand_of(services, run_id)
+    stand = await stand_of_run(services, run_id)
     writer = require_write(caller, stand.kind)
+    receipt = await store_posted(request, services, run_id, stand, writer, media, seq, group)
+    return Response(
+        receipt.model_dump_json(),
+        status_code=200 if receipt.duplicate else 201,
+        media_type="application/json",
+    )
+
+
+async def store_posted(
+    request: Request,
+    services: Services,
+    run_id: str,
+    stand: Stand,
+    writer: ApiKey,
+    media: str = "application/json",
+    seq: int = 0,
+    group: str = "",
+) -> BatchReceipt:
+    """The batch of the request's body, checked and stored for ``writer`` (whose scope is
+    checked): the API's post and the run page's rows alike (:mod:`rigserver.api.routes.entry`)."""
     with services.ingest.admit(_declared_length(request), writer.fingerprint) as place:
         body = await _body(request, place)
         small = len(body) <= SMALL_BODY_BYTES
@@ -264,16 +285,11 @@ async def post_readings(request: Request) -> Response:
             check = partial(_refuse_across, decl)
         del body, read  # a JSON body is parsed: its bytes are not needed any more
         try:
-            receipt = await services.ingest.store(
+            return await services.ingest.store(
                 NewBatch(run_id, seq, decl.name, columns, check), small=small
             )
         except ValueError as exc:  # the store's own check of the batch's shape
             raise ApiProblem(422, "Batch does not fit its group", str(exc)) from None
-    return Response(
-        receipt.model_dump_json(),
-        status_code=200 if receipt.duplicate else 201,
-        media_type="application/json",
-    )
 
 
 router.add_api_route(

@@ -81,6 +81,18 @@ def create_run(
         ),
     ] = None,
 ) -> Run:
+    stored, new = open_run(services, caller, body, idempotency_key)
+    if not new:
+        response.status_code = status.HTTP_200_OK
+    return stored
+
+
+def open_run(
+    services: Services, caller: ApiKey | None, body: RunCreate, idempotency_key: str | None
+) -> tuple[Run, bool]:
+    """Open the run ``body`` asks for, for a key with its stand's write scope; with the run
+    opened before under the same ``idempotency_key`` (and False) if there is one: the API's
+    ``POST /runs`` and the page ``/runs/new`` alike."""
     require_write(caller, body.stand)
     stand = services.stands[body.stand]
     try:
@@ -108,9 +120,7 @@ def create_run(
             f"the Idempotency-Key {idempotency_key!r} opened run {exc.run_id} with other "
             "values; a new run needs a new key",
         ) from None
-    if stored.id != run.id:
-        response.status_code = status.HTTP_200_OK
-    return stored
+    return stored, stored.id == run.id
 
 
 @router.get("", summary="List and search runs, newest first", dependencies=[ReadAccess])
@@ -123,7 +133,9 @@ def get_run(run_id: str, services: ServicesDep) -> Run:
     return load_run(services, run_id)
 
 
-def _end(run_id: str, services: Services, caller: Any, state: RunState) -> Run:
+def end_run(run_id: str, services: Services, caller: Any, state: RunState) -> Run:
+    """Finish (results computed and stored) or abort an open run, for a key with its
+    stand's write scope: the API's and the run page's buttons alike."""
     run = load_run(services, run_id)
     require_write(caller, run.stand)
     _require_open(run)
@@ -155,7 +167,7 @@ def _require_open(run: Run) -> None:
     dependencies=[WriteAccess],
 )
 def finish_run(run_id: str, services: ServicesDep, caller: CallerDep) -> Run:
-    return _end(run_id, services, caller, RunState.FINISHED)
+    return end_run(run_id, services, caller, RunState.FINISHED)
 
 
 @router.post(
@@ -164,4 +176,4 @@ def finish_run(run_id: str, services: ServicesDep, caller: CallerDep) -> Run:
     dependencies=[WriteAccess],
 )
 def abort_run(run_id: str, services: ServicesDep, caller: CallerDep) -> Run:
-    return _end(run_id, services, caller, RunState.ABORTED)
+    return end_run(run_id, services, caller, RunState.ABORTED)

@@ -3,7 +3,8 @@
 // The readings of the run's record arrive as server-sent events from /runs/{id}/live:
 // "rows" events carry the new rows (id = rows seen, so the browser's EventSource resumes
 // after a dropped connection), "end" says the run is over. The results are fetched every
-// 5 s while the run is open (the server renders them, /runs/{id}/results?lang=). Long records are thinned for drawing only (min-max per pixel
+// 5 s while the run is open, and as soon as a row typed on the page is stored (the server
+// renders them, /runs/{id}/results?lang=). Long records are thinned for drawing only (min-max per pixel
 // column); every row is kept.
 (function () {
   "use strict";
@@ -226,6 +227,7 @@
   }
 
   select.addEventListener("change", scheduleDraw);
+  document.addEventListener("rig:row-stored", refreshResults); // a row typed on this page (entry.js)
   window.addEventListener("resize", scheduleDraw);
   connect();
   refreshResults();

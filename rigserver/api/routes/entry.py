@@ -1,0 +1,252 @@
+"""The pages that write at the stand: ``/runs/new`` (open a run), the rows typed on a run's
+page (``/runs/{id}/rows``), and its finish and abort buttons.
+
+They are the pages' own posts, never the API (whose routes never take the session
+cookie): each comes from this site's page (``Origin``) and carries the session's form
+token (:func:`rigserver.api.routes.pages.form_writer`), and the session's key needs the
+stand's write scope as in the API. Each goes the API's way once the key is known: a run is
+opened by :func:`rigserver.api.routes.runs.open_run`, a row is stored by
+:func:`rigserver.api.routes.readings.store_posted` (the same checks, the same ``seq``),
+a run ended by :func:`rigserver.api.routes.runs.end_run`. A refusal is one line in the
+page's language (:func:`rigserver.web.entry.refusal_line`).
+"""
+
+from __future__ import annotations
+
+import secrets
+from typing import Annotated
+from urllib.parse import urlencode
+
+from fastapi import APIRouter, Depends, Query, Request, Response
+from fastapi.concurrency import run_in_threadpool
+from fastapi.responses import HTMLResponse, JSONResponse, RedirectResponse
+from pydantic import ValidationError
+
+from rigserver.api.deps import ServicesDep, require_write
+from rigserver.api.problems import ApiProblem, storage_problem
+from rigserver.api.routes.notes import write_notes
+from rigserver.api.routes.pages import (
+    FORM_TOKEN,
+    LoginFirst,
+    form_token,
+    form_writer,
+    read_form,
+    require_page_read,
+    writable_stands,
+    writer_of,
+)
+from rigserver.api.routes.readings import stand_of_run, store_posted
+from rigserver.api.routes.runs import end_run, load_run
+from rigserver.api.routes.runs import open_run as open_api_run
+from rigserver.reports.i18n import Lang, Messages, language_headers, negotiate
+from rigserver.storage.errors import StorageError
+from rigserver.web.entry import FORM_HEADER, refusal_line
+from rigserver.web.new_run import (
+    INVALID,
+    NO_STAND,
+    REQUIRED,
+    Field,
+    form_fields,
+    new_run_page,
+    read_posted,
+    with_posted,
+)
+from schemas.problems import Problem
+from schemas.runs import RunCreate, RunState
+from schemas.stands import Stand, StandKind
+from schemas.student_notes import StudentNotesWrite
+from schemas.wire import Text
+
+router = APIRouter(include_in_schema=False)
+_IDEMPOTENCY = "idempotency_key"
+
+
+def _stand(value: str) -> StandKind | None:
+    try:
+        return StandKind(value)
+    except ValueError:
+        return None
+
+
+@router.get("/runs/new", response_class=HTMLResponse, dependencies=[Depends(require_page_read)])
+def new_run_form(
+    request: Request,
+    services: ServicesDep,
+    stand: Annotated[Text, Query(max_length=40)] = "",
+    lang: Lang | None = None,
+) -> HTMLResponse:
+    """The form that opens a run on ``stand`` (without one: the stands to choose from)."""
+    chosen = negotiate(lang, request.headers.get("accept-language"))
+    t = Messages(chosen)
+    writer = writer_of(request, services)
+    if writer is None:
+        raise LoginFirst(f"/runs/new?{urlencode({'stand': stand, 'lang': chosen})}")
+    writable = writable_stands(writer)
+    kind = _stand(stand)
+    status, refusal = 200, ""
+    if kind is not None and kind not in writable:
+        status, refusal = 403, refusal_line(t, _scope_missing(kind))
+        kind = None
+    elif not writable:
+        status, refusal = 403, t.gettext(NO_STAND)
+    fields = form_fields(t, services.stands[kind], chosen) if kind else None
+    html = new_run_page(
+        stand=services.stands[kind] if kind else None,
+        stands=writable,
+        fields=fields,
+        lang=chosen,
+        form_token=form_token(request, services),
+        idempotency_key=secrets.token_urlsafe(16),
+        refusal=refusal,
+    )
+    return HTMLResponse(html, status_code=status, headers=language_headers(chosen))
+
+
+def _scope_missing(kind: StandKind) -> Problem:
+    return Problem(
+        title="Scope missing", status=403, detail=f"this key lacks the scope 'write:{kind}'"
+    )
+
+
+@router.post("/runs/new")
+async def open_run(
+    request: Request,
+    services: ServicesDep,
+    stand: Annotated[Text, Query(max_length=40)] = "",
+    lang: Lang | None = None,
+) -> Response:
+    """The new-run form posted: the run opened as ``POST /api/v1/runs`` opens it (the
+    students' names its first words), then its page; else the form again, each refusal
+    beside its field (422), or one line (403)."""
+    chosen = negotiate(lang, request.headers.get("accept-language"))
+    t = Messages(chosen)
+    kind = _stand(stand)
+    if kind is None:
+        raise ApiProblem(422, "Invalid form", f"stand must be a stand kind, got {stand[:40]!r}")
+    declared = services.stands[kind]
+    fields = form_fields(t, declared, chosen)
+    names = [f.name for section in fields.values() for f in section]
+    body = await request.body()  # at most ANONYMOUS_BODY_BYTES (rigserver.api.app.body_limit)
+    form = read_form(body, (*names, FORM_TOKEN, _IDEMPOTENCY))
+    back = f"/runs/new?{urlencode({'stand': kind.value, 'lang': chosen})}"
+    writer = form_writer(request, services, form.pop(FORM_TOKEN, ""), back)
+    idempotency = form.pop(_IDEMPOTENCY, "") or None
+
+    def again(errors: dict[str, str], refusal: str = "", status: int = 422) -> HTMLResponse:
+        html = new_run_page(
+            stand=declared,
+            stands=writable_stands(writer),
+            fields=with_posted(fields, form, errors),
+            lang=chosen,
+            form_token=form_token(request, services),
+            idempotency_key=idempotency or secrets.token_urlsafe(16),
+            refusal=refusal,
+        )
+        return HTMLResponse(html, status_code=status, headers=language_headers(chosen))
+
+    if not writer.allows(f"write:{kind.value}"):
+        return again({}, refusal_line(t, _scope_missing(kind)), 403)
+    posted = read_posted(t, declared, form)
+    if posted.errors:
+        return again(posted.errors)
+    try:
+        create = RunCreate.model_validate(posted.body)
+        words = StudentNotesWrite(students=posted.students)
+    except ValidationError as exc:
+        return again(_by_field(t, exc, fields))
+    try:
+        run, _ = await run_in_threadpool(open_api_run, services, writer, create, idempotency)
+        if words.students:
+            await run_in_threadpool(write_notes, services, run.id, words, writer)
+    except ApiProblem as exc:
+        errors = {e.field: e.message for e in exc.problem.errors if e.field in names}
+        return again(errors, "" if errors else refusal_line(t, exc.problem), exc.problem.status)
+    return RedirectResponse(f"/runs/{run.id}?lang={chosen}", status_code=303)
+
+
+def _by_field(t: Messages, exc: ValidationError, fields: dict[str, list[Field]]) -> dict[str, str]:
+    """Pydantic's refusals by the form's field (``specimen.pin``; ``students`` for the
+    names), in the page's language where it has the words."""
+    names = {f.name for section in fields.values() for f in section}
+    found: dict[str, str] = {}
+    for err in exc.errors():
+        loc = [str(p) for p in err["loc"]]
+        name = ".".join(loc[:2]) if loc[0] in ("specimen", "test_plan") else loc[0]
+        if name not in names:
+            name = "operator" if loc[0] == "operator" else name
+        if err["type"] in ("missing", "string_too_short", "too_short"):
+            found.setdefault(name, t.gettext(REQUIRED))
+        else:
+            found.setdefault(name, t.gettext(INVALID).format(detail=err["msg"]))
+    return found
+
+
+@router.post("/runs/{run_id}/rows")
+async def typed_row(
+    run_id: str, request: Request, services: ServicesDep, lang: Lang | None = None
+) -> Response:
+    """A row typed on the run's page (JSON as ``POST /api/v1/runs/{id}/readings`` takes
+    it, one batch with its ``seq``), sent by ``entry.js`` with the session's form token in
+    the ``X-Rig-Form`` header: the receipt (201; 200 for a ``seq`` stored before), or the
+    refusal in one line of the page's language (``{"message": ...}``)."""
+    chosen = negotiate(lang, request.headers.get("accept-language"))
+    t = Messages(chosen)
+    stand: Stand | None = None
+    try:
+        writer = form_writer(
+            request, services, request.headers.get(FORM_HEADER, ""), f"/runs/{run_id}"
+        )
+        stand = await stand_of_run(services, run_id)
+        require_write(writer, stand.kind)
+        media = request.headers.get("content-type", "").split(";")[0].strip()
+        if media != "application/json":
+            raise ApiProblem(415, "Unsupported media type", "send application/json")
+        receipt = await store_posted(request, services, run_id, stand, writer)
+    except LoginFirst:
+        problem = Problem(title="Key needed", status=401, detail="no session")
+        return _refused(t, problem)
+    except ApiProblem as exc:
+        return _refused(t, exc.problem, stand)
+    except StorageError as exc:
+        return _refused(t, storage_problem(exc))
+    return JSONResponse(
+        receipt.model_dump(mode="json"), status_code=200 if receipt.duplicate else 201
+    )
+
+
+def _refused(t: Messages, problem: Problem, stand: Stand | None = None) -> JSONResponse:
+    headers = {"Retry-After": "5"} if problem.status in (429, 503) else None
+    return JSONResponse(
+        {"status": problem.status, "message": refusal_line(t, problem, stand)},
+        status_code=problem.status,
+        headers=headers,
+    )
+
+
+async def _end(
+    run_id: str, request: Request, services: ServicesDep, lang: Lang | None, state: RunState
+) -> Response:
+    chosen = negotiate(lang, request.headers.get("accept-language"))
+    body = await request.body()
+    form = read_form(body, (FORM_TOKEN,))
+    writer = form_writer(request, services, form.get(FORM_TOKEN, ""), f"/runs/{run_id}")
+    run = await run_in_threadpool(load_run, services, run_id)
+    if run.state is RunState.OPEN:  # a second press (another tab) finds it ended: its page
+        await run_in_threadpool(end_run, run_id, services, writer, state)
+    return RedirectResponse(f"/runs/{run_id}?lang={chosen}", status_code=303)
+
+
+@router.post("/runs/{run_id}/finish")
+async def finish(
+    run_id: str, request: Request, services: ServicesDep, lang: Lang | None = None
+) -> Response:
+    """The run page's "Finish the run": results computed, the run closed; back to its page."""
+    return await _end(run_id, request, services, lang, RunState.FINISHED)
+
+
+@router.post("/runs/{run_id}/abort")
+async def abort(
+    run_id: str, request: Request, services: ServicesDep, lang: Lang | None = None
+) -> Response:
+    """The run page's "Abort the run": closed without results; back to its page."""
+    return await _end(run_id, request, services, lang, RunState.ABORTED)

@@ -140,6 +140,7 @@ def _run(args: argparse.Namespace, console: Console) -> int:
     if args.json:  # stdout carries the one JSON object; the progress goes to stderr
         console = Console(stderr=True)
     with LabClient(args.url, key, seed=args.seed) as client, progress_bar(console) as bar:
+        client.first_contact()
         # what fails while the client tries again, above the bar (never a silent, frozen bar)
         client.report = lambda text: bar.console.print(text, markup=False, soft_wrap=True)
         task = bar.add_task(f"{kind.value} (seed {args.seed})", total=len(sim.batches))

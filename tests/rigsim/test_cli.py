@@ -155,6 +155,7 @@ def test_ctrl_c_while_the_demo_posts_stops_it_and_its_server(tmp_path: Path) -> 
         stop(proc)
     text = out.read_text(errors="replace")
     assert "interrupted" in text and "Traceback" not in text
+    assert "trying again" not in text  # the stands' tries at a stopped server: not told
 
 
 def test_a_server_stopped_while_the_demo_posts_stops_the_demo(tmp_path: Path) -> None:
@@ -191,6 +192,26 @@ def test_a_second_demo_on_a_busy_port_says_so_in_one_line(server: Server) -> Non
     assert f"127.0.0.1:{server.port} is in use" in lines[0]
     runs = httpx.get(f"{server.url}/api/v1/runs", headers=auth(READER), timeout=10).json()
     assert runs["total"] == 0
+
+
+def test_a_run_posted_where_nothing_listens_says_so_at_once(tmp_path: Path) -> None:
+    """``rigsim run`` at a wrong port: one line naming the address, in seconds, not after
+    two minutes of tries (issue 39, item 11)."""
+    url = f"http://127.0.0.1:{free_port()}"
+    started = time.monotonic()
+    done = subprocess.run(
+        [sys.executable, "-m", "rigsim.cli", "run", "--stand", "profilometer", "--url", url],
+        capture_output=True,
+        text=True,
+        timeout=100,
+        stdin=subprocess.DEVNULL,
+        env={**os.environ, "COLUMNS": "200"},
+    )
+    assert done.returncode == 1
+    assert time.monotonic() - started < 60  # the tries would take 120 s
+    said = [line for line in done.stdout.splitlines() if line.strip()]
+    assert len(said) == 1 and "connection refused" in said[0] and url[7:] in said[0], said
+    assert "trying again" not in done.stdout + done.stderr
 
 
 def test_parse_fault() -> None:

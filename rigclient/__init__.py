@@ -6,7 +6,8 @@
 - :mod:`rigclient.spool`: the spool (SQLite in WAL mode, a checksum with each batch);
   :mod:`rigclient.lock`: one agent per spool.
 - :mod:`rigclient.http`: the server's API, one request at a time or retried.
-- :mod:`rigclient.cli`: ``rigclient tail | import | profile | status | send | retry | drop``.
+- :mod:`rigclient.cli`: ``rigclient tail | import | profile | status | send | retry | drop |
+  salvage``.
 
 Needs httpx, numpy, pydantic (the wire schemas), rich, x3pio and sdfio; none of the
 server's packages.
@@ -23,6 +24,7 @@ from rigclient.errors import (
     SpoolDamaged,
     SpoolError,
     SpoolFull,
+    SpoolUnreadable,
     UnknownRun,
 )
 from rigclient.http import Api, RetryPolicy, problem_of, retry_after
@@ -47,6 +49,7 @@ __all__ = [
     "SpoolError",
     "SpoolFull",
     "SpoolLimits",
+    "SpoolUnreadable",
     "UnknownRun",
     "problem_of",
     "retry_after",

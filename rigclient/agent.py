@@ -18,10 +18,12 @@ stops there, naming the line, when the map cannot place them (never by position 
 from __future__ import annotations
 
 import getpass
+import hashlib
+import itertools
 import re
 import threading
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -37,12 +39,15 @@ from rigclient.dialect import (
 )
 from rigclient.errors import InputError
 from rigclient.follow import MAX_LINE, Follower, Line
-from rigclient.mapping import StandMap, configuration, unit_factor
+from rigclient.mapping import StandMap, configuration
 from rigclient.spool import Cursor, Reject
-from rigclient.table import Table, sniff
+from rigclient.table import Table, sniff, units_line
+from rigclient.units import unit_factor
 from schemas.stands import MEASUREMENTS, Stand, StandKind, default_stands
 
 HEAD = 256 << 10  # bytes of a file's start in which its header must be
+#: A line of a block's preamble inside a file (CETR/Bruker UMT: ``Step = 2``).
+_BLOCK_PREAMBLE = re.compile(r"^\s*[^\d\s=,;\t][^=]{0,80}?\s*=\s*\S")
 NOTES = 5000  # characters of a run's notes (schemas.runs.RunCreate)
 
 
@@ -77,9 +82,10 @@ class Batching:
 
 @dataclass(slots=True)
 class Outcome:
-    """What the agent spooled: the run, rows, batches and lines rejected."""
+    """What the agent spooled: the run (None until an import's first row), rows, batches
+    and lines rejected."""
 
-    run: RunHandle
+    run: RunHandle | None
     rows: int = 0
     batches: int = 0
     rejected: int = 0
@@ -91,6 +97,9 @@ def run_metadata(path: Path, stand: str, mapping: StandMap | None, **given: Any)
     title and the user as operator."""
     meta: dict[str, Any] = dict(mapping.run if mapping is not None else {})
     meta.update({k: v for k, v in given.items() if v})
+    note = mapping.describe() if mapping is not None else ""
+    if note:
+        meta["notes"] = f"{meta['notes']}\n\n{note}" if meta.get("notes") else note
     meta.setdefault("title", path.name)
     meta.setdefault("operator", getpass.getuser())
     meta["stand"] = stand
@@ -141,6 +150,10 @@ def stand_of(kind: str, configuration: dict[str, Any] | None = None) -> Stand:
         raise InputError(f"unknown stand {kind!r}; known: {known}") from None
 
 
+class NoRow(InputError):
+    """An import whose file gave no row: no run is opened."""
+
+
 class HeaderChanged(InputError):
     """A header line mid-file that the map cannot place: the agent stops before it."""
 
@@ -158,7 +171,9 @@ class _Head:
 class Agent:
     """Spools one file as one run of ``stand``'s ``group``.
 
-    ``say`` gets the messages for the operator (a refused line, a rotation);
+    ``more``: an import's files after the first, read after it in their order (each its
+    own header; the rows go on as one run). ``say`` gets the messages for the operator (a
+    refused line, a rotation);
     ``on_run`` the run's handle once it is opened or found again. ``idempotency_key``
     opens the run (an imported file's digest), else a fresh key does.
     """
@@ -177,9 +192,12 @@ class Agent:
         on_run: Callable[[RunHandle], None] = lambda run: None,
         kind: str = "tail",
         idempotency_key: str | None = None,
+        more: Sequence[Path] = (),
     ) -> None:
         self.client = client
         self.path = path
+        self.files = [path, *more]  # an import's files, read one after another as one run
+        self._next = 1
         self.stand = stand_of(stand, metadata.get("configuration"))
         decl = self.stand.group(group)
         if decl is None:
@@ -194,6 +212,9 @@ class Agent:
         self.on_run = on_run
         self.idempotency_key = idempotency_key
         self.key = f"{kind} {path.resolve()} {stand} {group}"
+        if more:  # a set of files: all of them, in their order, name the source
+            names = "\n".join(str(p.resolve()) for p in self.files)
+            self.key += f" and {len(more)} more ({hashlib.sha256(names.encode()).hexdigest()[:16]})"
         self.follower = Follower(path)
         self.preamble: list[str] = []
         self._delimiter: str | None = None
@@ -202,11 +223,18 @@ class Agent:
         self._rejects: list[Reject] = []
         self._first = 0.0
         self._mark = (0, 0)  # end offset and number of the last line taken
+        self._units_line = 0  # the number of the header's units line, if it has one
+        self._last_header: Line | None = None  # a header mid-file, until a row follows it
+        self._block_said = False
+        self._opening: Cursor | None = None  # where the run's opening puts the file's cursor
         self.progress: Callable[[int], None] = lambda done: None  # bytes read so far
 
-    def _table(self, text: str, line: int, width: int | None = None) -> Table:
+    def _table(
+        self, text: str, line: int, width: int | None = None, units: list[str] | None = None
+    ) -> Table:
         table = Table.from_header(
             text,
+            units_row=units,
             file=str(self.path),
             group=self.group,
             mapping=self.mapping,
@@ -257,9 +285,16 @@ class Agent:
             return None
         header = in_head[found.index]
         self._delimiter = found.delimiter
-        rest = [ln for ln in lines[lines.index(header) + 1 :]]
+        units: list[str] | None = None
+        self._units_line = 0
+        above = [ln for ln in in_head[: found.index] if ln.text.strip()]
+        if above and units_line(header.text, above[-1].text, found.delimiter):
+            units = [c.strip() for c in cells(header.text, found.delimiter)]
+            self._units_line = header.number
+            header = above[-1]  # the names, above their units
+        rest = [ln for ln in lines[lines.index(header) + 1 :] if ln.number != self._units_line]
         width = next((len(cells(ln.text, found.delimiter)) for ln in rest if ln.text.strip()), 0)
-        table = self._table(header.text, header.number, width or None)
+        table = self._table(header.text, header.number, width or None, units)
         self.preamble = [ln.text for ln in lines[: lines.index(header)] if not ln.overlong]
         self._head = None
         self._mark = (header.end, header.number)
@@ -286,13 +321,39 @@ class Agent:
         return Header(lines.index(texts[0]), delimiter or sniff(texts[0].text))
 
     def opening(self) -> dict[str, Any]:
-        """The run's opening as :meth:`run` spools it for a finished file (its head is read,
-        then put back)."""
+        """The run's opening as :meth:`run` spools it for a finished file (its head is read
+        to its first row, then put back); :class:`NoRow` if no line is a row it takes (no
+        run is opened for it, here or on the server)."""
+        refused, first = 0, ""
         try:
-            self._read_head(threading.Event(), follow=False)
-            return with_preamble(self.metadata, self.preamble)
+            for k, path in enumerate(self.files):
+                if k:
+                    self.follower.close()
+                    self.path, self.follower, self._head = path, Follower(path), _Head([])
+                head = self._read_head(threading.Event(), follow=False)
+                assert head is not None
+                table, lines = head
+                if k == 0:
+                    opening = with_preamble(self.metadata, self.preamble)
+                rest = iter(lambda: self.follower.lines(final=True), [])
+                for line in itertools.chain(lines, itertools.chain.from_iterable(rest)):
+                    text = line.text
+                    if not text.strip() or line.overlong or text.lstrip().startswith("#"):
+                        continue
+                    try:
+                        table.parse(text, line.number)
+                    except InputError as exc:
+                        if table.is_header(text) or _BLOCK_PREAMBLE.match(text):
+                            continue  # a block's header or preamble
+                        refused, first = refused + 1, first or str(exc)
+                        continue
+                    return opening
+            self._rejects = [Reject(str(self.path), 0, "", first)] if first else []
+            raise NoRow(self._no_row(Outcome(None, rejected=refused)), file=str(self.files[0]))
         finally:
+            self._rejects = []
             self.follower.close()
+            self.path = self.files[0]
             self.follower = Follower(self.path)
             self._head, self._mark, self._delimiter, self.preamble = _Head([]), (0, 0), None, []
 
@@ -315,8 +376,12 @@ class Agent:
 
     def run(self, stop: threading.Event, *, follow: bool = True) -> Outcome | None:
         """Spool the file until ``stop`` is set or, ``follow`` false, to its end; then queue
-        the run's finish. None if stopped before the file had a header."""
+        the run's finish. None if stopped before the file had a header (an import: before
+        its first row). An import opens its run with its first row: :class:`NoRow` if the
+        file has none, and no run is opened."""
         found = self.client.source(self.key)
+        if found is not None and len(self.files) > 1:
+            self._skip_to(found[1])
         try:
             head = self._read_head(stop, follow)
         except BaseException:
@@ -326,44 +391,45 @@ class Agent:
             self.follower.close()
             return None
         table, pending = head
+        outcome = Outcome(None)
         if found is not None:
             run, cursor = found
             table, pending = self._resume(cursor, table, pending)
             self.say(f"{self.path}: going on with run {run.local_id} from line {self._mark[1] + 1}")
-        else:
-            run = self.client.open_run(
-                **with_preamble(self.metadata, self.preamble),
-                constants=constants(self.stand, self.mapping),
-                cursor=self.follower.cursor(self.key, *self._mark),
-                idempotency_key=self.idempotency_key,
-            )
+            outcome.run = run
+        self._opening = self.follower.cursor(self.key, *self._mark)
         try:
-            self.on_run(run)  # may stop the agent (a key refused): the run stays spooled
+            if outcome.run is not None:
+                self.on_run(outcome.run)  # may stop the agent (a key refused)
+            elif follow:  # a file being written: its run opens with its header
+                self._opened(outcome)
         except BaseException:
             self.follower.close()
             raise
-        outcome = Outcome(run)
         idle_since = time.monotonic()
         try:
             while True:
                 change = self.follower.changed() if follow and not pending else None
                 if change is not None:
-                    table = self._switch(change, run, table, outcome)
+                    table = self._switch(change, table, outcome)
                     idle_since = time.monotonic()
                     continue
                 lines = pending or self.follower.lines(final=not follow)
                 pending = []
                 self.progress(self.follower.size_read)
                 for line in lines:
-                    table = self._take(line, table, run, outcome, final=not follow)
+                    table = self._take(line, table, outcome, final=not follow)
                     if len(self._rows) >= self.batching.rows:
-                        self._flush(run, table, outcome)
+                        self._flush(table, outcome)
                 now = time.monotonic()
                 if lines:
                     idle_since = now
                 if self._rows and now - self._first >= self.batching.seconds:
-                    self._flush(run, table, outcome)
+                    self._flush(table, outcome)
                 if lines:
+                    continue
+                if not follow and not stop.is_set() and self._next < len(self.files):
+                    table, pending = self._next_file(stop, table, outcome)
                     continue
                 if not follow or stop.is_set():
                     break
@@ -372,21 +438,57 @@ class Agent:
                     self.say(f"{self.path}: no new row for {idle:g} s, finishing")
                     break
                 stop.wait(self.batching.poll)
-            self._flush(run, table, outcome)
+            self._flush(table, outcome)
             outcome.partial = self.follower.partial
             if outcome.partial:
                 self.say(
                     f"{self.path}:{self.follower.line + 1}: a partial last line (no end of "
                     "line yet) was not taken"
                 )
-            run.finish()
+            if outcome.run is None:
+                if stop.is_set():
+                    return None
+                raise NoRow(self._no_row(outcome), file=str(self.path))
+            outcome.run.finish()
             self.client.forget_headers(self.key)
         except HeaderChanged:
-            self._flush(run, table, outcome)
+            self._flush(table, outcome)
             raise
         finally:
             self.follower.close()
         return outcome
+
+    def _next_file(
+        self, stop: threading.Event, table: Table, outcome: Outcome
+    ) -> tuple[Table, list[Line]]:
+        """The next of an import's files: its header (and units line) read, the rows
+        after it pending; the run goes on (its channels' order and clock carried)."""
+        self._flush(table, outcome)
+        if self.follower.partial:
+            self.say(f"{self.path}:{self.follower.line + 1}: a partial last line was not taken")
+        self.follower.close()
+        self.path = self.files[self._next]
+        self._next += 1
+        self.follower = Follower(self.path)
+        self._head, self._delimiter, self._last_header = _Head([]), None, None
+        head = self._read_head(stop, follow=False)
+        assert head is not None  # an import reads to the end or raises
+        new, rest = head
+        if outcome.run is not None:
+            outcome.run.mark(self.follower.cursor(self.key, *self._mark))
+        return new.carry(table), rest
+
+    def _skip_to(self, cursor: Cursor) -> None:
+        """An import of several files cut short: go on from the file of its cursor."""
+        for k, path in enumerate(self.files):
+            try:
+                info = path.stat()
+            except OSError:
+                continue
+            if (info.st_dev, info.st_ino) == (cursor.device, cursor.inode):
+                self.path, self._next = path, k + 1
+                self.follower = Follower(path)
+                return
 
     def _resume(
         self, cursor: Cursor, table: Table, pending: list[Line]
@@ -407,11 +509,11 @@ class Agent:
             table = self._remap(Line(kept[1], kept[0], 0), table)
         return table, []
 
-    def _remap(self, line: Line, table: Table) -> Table:
-        """The table of a header line met mid-file; :class:`HeaderChanged` if the map
-        cannot place its columns."""
+    def _remap(self, line: Line, table: Table, units: list[str] | None = None) -> Table:
+        """The table of a header line met mid-file (with its ``units`` line, if it has
+        one); :class:`HeaderChanged` if the map cannot place its columns."""
         try:
-            new = self._table(line.text, line.number)
+            new = self._table(line.text, line.number, units=units)
         except InputError as exc:
             reason = str(exc).split(": ", 1)[-1] if exc.file else str(exc)
             raise HeaderChanged(
@@ -421,21 +523,19 @@ class Agent:
                 line=line.number,
                 column=exc.column,
             ) from None
-        new.last.update(table.last)
+        new.carry(table)
         return new
 
-    def _take(
-        self, line: Line, table: Table, run: RunHandle, outcome: Outcome, *, final: bool
-    ) -> Table:
+    def _take(self, line: Line, table: Table, outcome: Outcome, *, final: bool) -> Table:
         if self._head is not None:  # a new file (rotated): its header first
             self._head.lines.append(line)
             found = self._header(final=final)
             if found is None:
                 return table
             new, rest = found
-            new.last.update(table.last)
+            new.carry(table)
             for later in rest:
-                new = self._take(later, new, run, outcome, final=final)
+                new = self._take(later, new, outcome, final=final)
             return new
         if line.overlong:
             why = f"a line of {line.overlong} bytes, over {MAX_LINE >> 10} KiB"
@@ -447,16 +547,29 @@ class Agent:
         try:
             values = table.parse(line.text, line.number)
         except InputError as exc:
+            header = self._last_header
+            if header is not None and units_line(line.text, header.text, table.delimiter):
+                units = [c.strip() for c in cells(line.text, table.delimiter)]
+                self._mark = (line.end, line.number)
+                return self._remap(header, table, units)  # the header's units, under it
+            if _BLOCK_PREAMBLE.match(line.text) and not table.is_header(line.text):
+                if self._last_header is not None or not self._block_said:
+                    self.say(f"{self.path}:{line.number}: a block's preamble, left out")
+                self._block_said, self._last_header = True, None
+                self._mark = (line.end, line.number)
+                return table
             if not table.is_header(line.text):
                 self._reject(exc, line, outcome)
                 return table
             new = self._remap(line, table)
-            self._flush(run, table, outcome)
+            self._flush(table, outcome)
             cursor = self.follower.cursor(self.key, line.end, line.number)
             self.client.keep_header(cursor, line.start, line.text)
             self.say(f"{self.path}:{line.number}: a new header; the rows after it by its names")
             self._mark = (line.end, line.number)
+            self._last_header = line
             return new
+        self._last_header = None
         if not self._rows:
             self._first = time.monotonic()
         self._rows.append(values)
@@ -470,7 +583,33 @@ class Agent:
         outcome.rejected += 1
         self._mark = (line.end, line.number)
 
-    def _flush(self, run: RunHandle, table: Table, outcome: Outcome) -> None:
+    def _opened(self, outcome: Outcome) -> RunHandle:
+        """The run, opened now if it is not yet (an import opens it with its first row)."""
+        if outcome.run is None:
+            outcome.run = self.client.open_run(
+                **with_preamble(self.metadata, self.preamble),
+                constants=constants(self.stand, self.mapping),
+                cursor=self._opening,
+                idempotency_key=self.idempotency_key,
+            )
+            self.on_run(outcome.run)  # may stop the agent (a key refused): the run stays
+        return outcome.run
+
+    def _no_row(self, outcome: Outcome) -> str:
+        """Why an import opened no run: no line of the file was a row it could take."""
+        if not outcome.rejected:
+            return "no row under the header; no run opened"
+        first = self._rejects[0].message if self._rejects else ""
+        return (
+            f"no row could be taken ({outcome.rejected} lines refused, the first: {first}); "
+            "no run opened: fix the map (a column's unit, factor or offset) or the file and "
+            "import it again"
+        )
+
+    def _flush(self, table: Table, outcome: Outcome) -> None:
+        if outcome.run is None and not self._rows:
+            return  # an import's lines refused before its first row: kept until it opens
+        run = self._opened(outcome)
         cursor = self.follower.cursor(self.key, *self._mark)
         rejects = tuple(self._rejects)
         if self._rows:
@@ -481,13 +620,13 @@ class Agent:
             run.mark(cursor, rejects)
         self._rows, self._rejects = [], []
 
-    def _switch(self, change: str, run: RunHandle, table: Table, outcome: Outcome) -> Table:
+    def _switch(self, change: str, table: Table, outcome: Outcome) -> Table:
         """The file was rotated (read the old one to its end first) or truncated: the new
         one is read from its start, its header first."""
         if change == "rotated":
             for line in self.follower.lines():
-                table = self._take(line, table, run, outcome, final=False)
-        self._flush(run, table, outcome)
+                table = self._take(line, table, outcome, final=False)
+        self._flush(table, outcome)
         if self.follower.partial:
             self.say(f"{self.path}:{self.follower.line + 1}: the old file ended in a partial line")
         self.say(f"{self.path}: the file was {change}; reading the new one from its start")
@@ -496,5 +635,5 @@ class Agent:
         self._head = _Head([])
         self._open()
         self._mark = (self.follower.position, 0)
-        run.mark(self.follower.cursor(self.key, *self._mark))
+        self._opened(outcome).mark(self.follower.cursor(self.key, *self._mark))
         return table

@@ -10,6 +10,7 @@
     rigclient send --url URL --key KEY          # deliver what the spool still holds
     rigclient retry RUN                         # queue a refused or damaged run again
     rigclient drop RUN [--damaged]              # drop what is pending of a run
+    rigclient salvage --spool DIR               # a damaged spool: keep what still reads
 
 Exit status: 0 when everything the command was given is on the server; 1 otherwise (an
 error, a refusal, or rows that still wait in the spool: the message says which).
@@ -45,10 +46,11 @@ from rigclient.agent import Agent, Batching, Outcome, constants, run_metadata, s
 from rigclient.client import Client, RunHandle
 from rigclient.errors import RigclientError, ServerError
 from rigclient.http import Api, RetryPolicy
-from rigclient.imported import Held, digest_key, imported_before
+from rigclient.imported import Held, digest_key, import_files, imported_before
 from rigclient.lock import SpoolLock, held_by
 from rigclient.mapping import StandMap, load_map
 from rigclient.profile import GROUP, read_profile, roughness_lines
+from rigclient.salvage import salvage
 from rigclient.spool import RunRecord, Spool, SpoolLimits, amount
 from rigclient.summary import results_tables
 from schemas.runs import RunState
@@ -100,7 +102,16 @@ def _parser() -> argparse.ArgumentParser:
         ("import", "post a finished CSV/TSV as one run"),
     ):
         cmd = sub.add_parser(name, help=text)
-        cmd.add_argument("file", type=Path)
+        if name == "import":
+            cmd.add_argument(
+                "file",
+                type=Path,
+                nargs="+",
+                help="the file, or several files or a folder of them read as one run in "
+                "natural order (file2 before file10)",
+            )
+        else:
+            cmd.add_argument("file", type=Path)
         cmd.add_argument("--stand", help="smts2, slide_bearing, mtos, profilometer (or the map)")
         cmd.add_argument("--group", help="the channel group of the file's rows (or the map)")
         _run_fields(cmd)
@@ -151,6 +162,12 @@ def _parser() -> argparse.ArgumentParser:
         "--damaged", action="store_true", help="only its damaged batches; the rest goes on"
     )
     _common(drop, server=False)
+    save = sub.add_parser(
+        "salvage",
+        help="a spool SQLite cannot read: keep what still reads in a new spool (then "
+        "`rigclient send`), the damaged file moved aside",
+    )
+    _common(save, server=False)
     return parser
 
 
@@ -269,9 +286,11 @@ def _finish_up(client: Client, run: RunHandle, drain: float) -> int:
 
 
 def _tail(args: argparse.Namespace, *, follow: bool) -> int:
+    files = [args.file] if follow else import_files(args.file)
+    args.file = files[0]
     mapping, stand, group = _file_args(args)
     metadata = run_metadata(args.file, stand, mapping, operator=args.operator, title=args.title)
-    key = None if follow or args.again else digest_key(args.file)
+    key = None if follow or args.again else digest_key(*files)
     batching = Batching(
         rows=args.rows,
         seconds=args.seconds,
@@ -291,6 +310,7 @@ def _tail(args: argparse.Namespace, *, follow: bool) -> int:
             on_run=lambda run: _announce(client, run, args.id_wait),
             kind="tail" if follow else "import",
             idempotency_key=key,
+            more=files[1:],
         )
         if key is not None:
             held = imported_before(client, agent, _api(args), key)
@@ -298,8 +318,11 @@ def _tail(args: argparse.Namespace, *, follow: bool) -> int:
                 _say(f"{args.file}: imported before (its content, {key}): {held.describe()}")
                 return _held(args, client, held)
         outcome = agent.run(stop) if follow else _import(client, agent, args.drain, stop)
-        if outcome is None:
-            _say(f"{args.file}: stopped before the file had a header; no run opened")
+        if outcome is None or outcome.run is None:
+            _say(
+                f"{args.file}: stopped before the file had a "
+                f"{'header' if follow else 'row'}; no run opened"
+            )
             return 1
         _say(
             f"{args.file}: {outcome.rows} rows in {outcome.batches} batches spooled, "
@@ -316,11 +339,15 @@ def _api(args: argparse.Namespace) -> Api:
 
 
 def _held(args: argparse.Namespace, client: Client, held: Held) -> int:
-    """The run that holds a file imported before: its id, and its results once finished."""
+    """The run that holds a file imported before: its id, and its results once finished
+    (not those of a run read with other values: exit 1, and how to import it again)."""
+    if held.other_values:
+        print(held.name, flush=True)
+        return 1
     if held.run is None:
         print(held.server_id, flush=True)
         _print_results(args, None, held.server_id or "")
-        return 1 if held.other_values else 0
+        return 0
     print(held.run.server_id or held.run.local_id, flush=True)
     code = _finish_up(client, held.run, args.drain)
     if code == 0:
@@ -349,7 +376,7 @@ def _print_results(args: argparse.Namespace, record: RunRecord | None, run_id: s
 def _import(client: Client, agent: Agent, drain: float, stop: threading.Event) -> Outcome | None:
     """The whole file through ``agent``, then its delivery, with progress bars. A file
     imported before whose run is not delivered yet is delivered, not imported again."""
-    size = agent.path.stat().st_size if agent.path.exists() else 0
+    size = sum(p.stat().st_size for p in agent.files if p.exists())
     with Progress(
         TextColumn("{task.description}"),
         BarColumn(),
@@ -375,7 +402,7 @@ def _import(client: Client, agent: Agent, drain: float, stop: threading.Event) -
             task = bar.add_task(f"spooling {agent.path.name} (bytes)", total=size)
             agent.progress = lambda done: bar.update(task, completed=done)
             outcome = agent.run(stop, follow=False)
-        if outcome is not None:
+        if outcome is not None and outcome.run is not None:
             _deliver(client, outcome.run, bar, drain)
         client.say = _say
     return outcome
@@ -632,6 +659,13 @@ def _drop(args: argparse.Namespace) -> int:
     return 0
 
 
+def _salvage(args: argparse.Namespace) -> int:
+    done = salvage(args.spool)
+    _say(f"spool {args.spool}: {done.describe()}")
+    _say("`rigclient status` shows what was saved; `rigclient send` delivers it")
+    return 1 if done.lost else 0
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     args = _parser().parse_args(argv)
     try:
@@ -645,6 +679,8 @@ def main(argv: Sequence[str] | None = None) -> int:
             return _retry(args)
         if args.command == "drop":
             return _drop(args)
+        if args.command == "salvage":
+            return _salvage(args)
         return _send(args)
     except RigclientError as exc:
         _say(f"rigclient: {exc}")

@@ -313,6 +313,10 @@ class Client:
         self._sender.wake.set()
         return RunHandle(self, local_id, decl)
 
+    def opening(self, local_id: str) -> dict[str, Any]:
+        """The body of a spooled run's opening."""
+        return self._locked(lambda s: s.opening(local_id))[0]
+
     def run(self, local_id: str) -> RunHandle:
         """The handle of a run already in the spool (after a restart)."""
         record = self._locked(lambda s: s.runs(local_id)[0])

@@ -56,6 +56,7 @@ class FileSettings:
     delimiter: str | None = None
     decimal: str | None = None
     header: int | None = None  # the header's line number (1-based)
+    continue_time: bool = False  # a time that restarts goes on from where it ended
 
 
 @dataclass(frozen=True, slots=True)

@@ -18,6 +18,8 @@
           │    │                     and the spool)
           │    ├── SpoolDamaged      what the spool holds no longer matches the checksum
           │    │                     written with it (names the run, the batch, the file)
+          │    ├── SpoolUnreadable   SQLite cannot read the spool's file: the spool is
+          │    │                     damaged (names the command that saves what is left)
           │    └── UnknownRun        no run with this local or server id in the spool
           └── InputError (also ValueError)
                                      a file, a map or a column the agent cannot read; names
@@ -81,6 +83,11 @@ class SpoolBusy(SpoolError):
 
 class SpoolDamaged(SpoolError):
     """The spool's file was damaged: a batch or an opening no longer matches its checksum."""
+
+
+class SpoolUnreadable(SpoolError):
+    """SQLite cannot read the spool's file (``database disk image is malformed``): the
+    message names ``rigclient salvage``, which keeps what can still be read."""
 
 
 class UnknownRun(SpoolError, KeyError):

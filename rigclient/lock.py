@@ -18,6 +18,7 @@ from datetime import datetime
 from pathlib import Path
 
 from rigclient.errors import SpoolBusy, SpoolError
+from rigclient.jsontext import loads_json
 
 LOCKNAME = "spool.lock"
 OWNERNAME = "spool.owner"
@@ -97,7 +98,7 @@ def held_by(directory: str | Path) -> str | None:
 def owner(directory: str | Path) -> str:
     """What ``spool.owner`` says about the process holding the lock."""
     try:
-        info = json.loads((Path(directory) / OWNERNAME).read_text(encoding="utf-8"))
+        info = loads_json((Path(directory) / OWNERNAME).read_text(encoding="utf-8"))
         return f"pid {info['pid']} ({info['command']}, since {info['since']})"
     except (OSError, ValueError, KeyError, TypeError):
         return "another process (it has not said which yet)"

@@ -14,6 +14,8 @@ the run's metadata. Written by the lab in TOML or JSON::
     "t" = "time"
     "F" = { channel = "load", unit = "kN" }             # converted to the channel's N
     "M" = { channel = "friction_moment", factor = 0.01 } # scale divisions -> N*m
+    "Fz" = { channel = "normal_load", unit = "gf", factor = -1 }  # -value gf -> N
+    "T" = { channel = "temperature", offset = -273.15, unit = "degC" }  # K -> °C
     "comment" = ""                                      # a column left out on purpose
 
     [run.configuration]        # the stand's configuration for this run, units allowed
@@ -31,103 +33,57 @@ the run's metadata. Written by the lab in TOML or JSON::
     delimiter = "tab"          # tab, semicolon, comma, spaces
     decimal = ","              # "," or "."
     header = 12                # the header's line number; the lines before it: the preamble
+    continue_time = true       # a time that restarts (each step, block, file) goes on
 
-A unit is one of the wire's units (``schemas.units``) or one of :data:`FILE_UNITS`; a factor
-multiplies the file's value into the channel's unit. A header cell is found in
+A column's value is the file's value × ``factor`` + ``offset`` (1 and 0 unless given), in
+its ``unit``: the map's, else the header's or the units line's, else the channel's; then
+converted to the channel's unit (:mod:`rigclient.units`). A header cell is found in
 ``[columns]`` by its whole text, by its name without the unit, or by either with case,
 blanks and the micro sign's spelling set aside (:func:`name_key`).
+
+The map is read through :class:`MapModel`: every mistake is one line naming its key
+(``columns.Fz.factor: Input should be a valid number, got 'x'``); JSON and TOML nested
+deeper than :data:`rigclient.jsontext.MAX_DEPTH` levels are refused.
 """
 
 from __future__ import annotations
 
 import json
-import math
 import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import Annotated, Any, Literal
+
+from pydantic import (
+    BaseModel,
+    BeforeValidator,
+    ConfigDict,
+    Field,
+    StringConstraints,
+    ValidationError,
+)
 
 from rigclient.dialect import FileSettings, delimiter_of, encoding_of, name_key
 from rigclient.errors import InputError
+from rigclient.jsontext import DuplicateKey, TooDeep, loads_json, loads_toml
+from rigclient.units import unit_factor
 from schemas.quantity import unit_paths
-from schemas.stands import CONFIG_MODELS, StandKind
-from schemas.units import UNITS
+from schemas.stands import CONFIG_MODELS, StandKind, default_stands, with_overrides
+from schemas.wire import PlanValue, Scalar
 
-#: Units that files use and the wire does not: symbol -> (wire unit, factor to it).
-FILE_UNITS: dict[str, tuple[str, float]] = {
-    "kN": ("N", 1e3),
-    "kgf": ("N", 9.80665),
-    "kN*m": ("N*m", 1e3),
-    "kgf*m": ("N*m", 9.80665),
-    "N*mm": ("N*m", 1e-3),
-    "kPa": ("Pa", 1e3),
-    "bar": ("Pa", 1e5),
-    "cm": ("m", 1e-2),
-    "nm": ("m", 1e-9),
-    "µm": ("um", 1.0),
-    "μm": ("um", 1.0),
-    "mkm": ("um", 1.0),
-    "°C": ("degC", 1.0),
-    "C": ("degC", 1.0),
-    "°": ("deg", 1.0),
-    "rev/min": ("rpm", 1.0),
-    "min^-1": ("rpm", 1.0),
-    "kg/cm^2": ("at", 1.0),
-    "kgf/cm^2": ("at", 1.0),
-    "ms": ("s", 1e-3),
-    "sec": ("s", 1.0),
-    "h": ("s", 3600.0),
-    "GPa": ("Pa", 1e9),
-    "N/mm^2": ("MPa", 1.0),
-    "N·m": ("N*m", 1.0),
-    "Nm": ("N*m", 1.0),
-    "g/cm^3": ("kg/m^3", 1e3),
-    # Russian exports (ГОСТ 8.417 symbols)
-    "с": ("s", 1.0),
-    "мин": ("min", 1.0),
-    "ч": ("s", 3600.0),
-    "Н": ("N", 1.0),
-    "кН": ("N", 1e3),
-    "Н·м": ("N*m", 1.0),
-    "Н*м": ("N*m", 1.0),
-    "м": ("m", 1.0),
-    "см": ("m", 1e-2),
-    "мм": ("mm", 1.0),
-    "мкм": ("um", 1.0),
-    "г": ("g", 1.0),
-    "мг": ("mg", 1.0),
-    "кг": ("kg", 1.0),
-    "°С": ("degC", 1.0),  # with a Cyrillic С
-    "об/мин": ("rpm", 1.0),
-    "Па": ("Pa", 1.0),
-    "МПа": ("MPa", 1.0),
-    "ГПа": ("Pa", 1e9),
-}
-
-
-def unit_factor(source: str, target: str, *, where: str = "") -> float:
-    """The factor that turns a value in ``source`` into ``target`` (same SI unit)."""
-    source = source.strip()
-    symbol, scale = FILE_UNITS.get(source, (source, 1.0))
-    if symbol not in UNITS:
-        known = ", ".join([*UNITS, *FILE_UNITS])
-        raise InputError(f"unknown unit {source!r}; known: {known}", column=where)
-    a, b = UNITS[symbol], UNITS[target]
-    if a.si != b.si:
-        raise InputError(
-            f"a value in {source!r} cannot be a {target!r} channel ({a.si} vs {b.si})",
-            column=where,
-        )
-    return scale * a.factor / b.factor
+#: The start of the line of a run's notes that says how its map read the file.
+MAP_NOTE = "Read with the map: "
 
 
 @dataclass(frozen=True, slots=True)
 class ColumnMap:
-    """One file column: its channel ("" to leave it out), and a unit or a factor."""
+    """One file column: its channel ("" to leave it out); its value is the file's × factor +
+    offset, in ``unit`` (None: the header's, else the channel's)."""
 
     channel: str
     unit: str | None = None
-    factor: float | None = None
+    factor: float = 1.0
+    offset: float = 0.0
 
 
 @dataclass(frozen=True, slots=True)
@@ -143,6 +99,26 @@ class StandMap:
     file: FileSettings = field(default_factory=FileSettings)
     source: str = ""
 
+    def describe(self) -> str:
+        """How the map reads a file, in a line of the run's notes (its columns, constants
+        and time; not its file name): a corrected map for a file imported before is told
+        from the map of that import by it."""
+        parts = []
+        for name, c in sorted(self.columns.items()):
+            how = c.channel or "left out"
+            if c.unit is not None:
+                how += f" in {c.unit}"
+            if c.factor != 1.0:
+                how += f" × {c.factor:g}"
+            if c.offset != 0.0:
+                how += f" + {c.offset:g}"
+            parts.append(f"{name} → {how}")
+        for name, (value, unit) in sorted(self.constants.items()):
+            parts.append(f"{name} = {value:g}{f' {unit}' if unit else ''}")
+        if self.file.continue_time:
+            parts.append("time continued at each restart")
+        return f"{MAP_NOTE}{'; '.join(parts)}" if parts else ""
+
     def column(self, header: str, name: str) -> ColumnMap | None:
         """The map of a header cell, by its whole text or by its name without the unit
         (as written, else by :func:`name_key`)."""
@@ -153,89 +129,193 @@ class StandMap:
         return keys.get(name_key(header)) or keys.get(name_key(name))
 
 
-_RUN_FIELDS = ("operator", "title", "specimen", "test_plan", "configuration", "notes")
-_KEYS = ("stand", "group", "run", "columns", "measurements", "constants", "file")
+# --- the map's model: what each key takes ----------------------------------------------
+
+_Finite = Annotated[float, Field(strict=True, allow_inf_nan=False)]
+_Name = Annotated[str, StringConstraints(max_length=200)]
+
+
+def _table_of(key: str) -> Any:
+    """A plain value where a table may be: ``"time"`` is ``{channel = "time"}``, ``5`` is
+    ``{value = 5}``."""
+
+    def lift(value: Any) -> Any:
+        if isinstance(value, str) and key == "channel":
+            return {"channel": value}
+        if isinstance(value, int | float) and not isinstance(value, bool) and key == "value":
+            return {"value": value}
+        return value
+
+    return BeforeValidator(lift)
+
+
+class _Strict(BaseModel):
+    model_config = ConfigDict(extra="forbid", strict=True, frozen=True)
+
+
+class ColumnModel(_Strict):
+    """A column: ``"channel"`` or ``{channel, unit, factor, offset}``."""
+
+    channel: _Name
+    unit: _Name | None = None
+    factor: _Finite = 1.0
+    offset: _Finite = 0.0
+
+
+class ConstantModel(_Strict):
+    """A constant: a finite number, or ``{value, unit}``."""
+
+    value: _Finite
+    unit: _Name | None = None
+
+
+class FileModel(_Strict):
+    """The ``[file]`` table: the file's dialect where detection is not enough."""
+
+    encoding: _Name | None = None
+    delimiter: _Name | None = None
+    decimal: Literal[".", ","] | None = None
+    header: Annotated[int, Field(ge=1)] | None = None
+    continue_time: bool = False
+
+
+class RunModel(_Strict):
+    """The ``[run]`` table: the run's opening (:class:`schemas.runs.RunCreate`)."""
+
+    operator: _Name | None = None
+    title: _Name | None = None
+    specimen: dict[_Name, Scalar] = Field(default_factory=dict)
+    test_plan: dict[_Name, PlanValue] = Field(default_factory=dict)
+    configuration: dict[_Name, Any] = Field(default_factory=dict)
+    notes: Annotated[str, StringConstraints(max_length=5000)] | None = None
+
+
+class MapModel(_Strict):
+    """A map (see the module's docstring)."""
+
+    stand: _Name | None = None
+    group: _Name | None = None
+    run: RunModel = Field(default_factory=RunModel)
+    columns: dict[str, Annotated[ColumnModel, _table_of("channel")]] = Field(default_factory=dict)
+    measurements: dict[str, Annotated[ConstantModel, _table_of("value")]] = Field(
+        default_factory=dict
+    )
+    constants: dict[str, Annotated[ConstantModel, _table_of("value")]] = Field(default_factory=dict)
+    file: FileModel = Field(default_factory=FileModel)
+
+
+#: What a table of the map takes, for the message about a key it does not.
+_TAKES: dict[str, type[BaseModel]] = {
+    "": MapModel,
+    "run": RunModel,
+    "file": FileModel,
+    "columns": ColumnModel,
+    "measurements": ConstantModel,
+    "constants": ConstantModel,
+}
+_EXPECTED = {
+    "columns": 'a channel name or {channel = "...", unit = "...", factor = ..., offset = ...}',
+    "measurements": 'a finite number or {value = ..., unit = "..."}',
+    "constants": 'a finite number or {value = ..., unit = "..."}',
+}
+
+
+def _shown(value: Any) -> str:
+    text = repr(value)
+    return text if len(text) <= 40 else text[:37] + "..."
+
+
+def _mistake(error: Any) -> str:
+    """One pydantic error as ``key.path: what is wrong``."""
+    loc = [str(p) for p in error["loc"]]
+    path = ".".join(loc) or "(the map)"
+    if error["type"] == "extra_forbidden":
+        parent = loc[:-1]
+        model = _TAKES.get(parent[0] if parent else "")
+        if len(parent) > (2 if parent and parent[0] in _EXPECTED else 1):
+            model = None
+        if model is None:
+            return f"{path}: not a key there"
+        table = f"the map's [{parent[0]}]" if parent else "the map"
+        return f"{path}: not a key of {table}; it takes {', '.join(model.model_fields)}"
+    if len(loc) == 2 and loc[0] in _EXPECTED and error["type"] in ("model_type", "dict_type"):
+        return f"{path}: must be {_EXPECTED[loc[0]]}, got {_shown(error['input'])}"
+    if error["type"] in ("model_type", "dict_type"):
+        return f"{path}: must be a table, got {_shown(error['input'])}"
+    text = f"{path}: {error['msg']}"
+    if error["type"].endswith("_type") or error["type"] in ("literal_error", "finite_number"):
+        text += f", got {_shown(error['input'])}"
+    return text
 
 
 def load_map(path: str | Path) -> StandMap:
-    """Read a map from TOML (``.toml``) or JSON; :class:`InputError` names what is wrong."""
+    """Read a map from TOML (``.toml``) or JSON; :class:`InputError` names what is wrong
+    (the key, on one line)."""
     path = Path(path)
     where = str(path)
     try:
         text = path.read_text(encoding="utf-8")
-        data: Any = tomllib.loads(text) if path.suffix == ".toml" else json.loads(text)
+        data: Any = loads_toml(text) if path.suffix == ".toml" else loads_json(text)
     except OSError as exc:
         raise InputError(f"cannot read the map: {exc.strerror}", file=where) from None
+    except UnicodeDecodeError as exc:
+        raise InputError(f"not UTF-8 text ({exc.reason} at byte {exc.start})", file=where) from None
     except tomllib.TOMLDecodeError as exc:
         raise InputError(f"not TOML: {exc}", file=where) from None
     except json.JSONDecodeError as exc:
         raise InputError(f"not JSON: {exc.msg}", file=where, line=exc.lineno) from None
+    except (TooDeep, DuplicateKey) as exc:
+        raise InputError(str(exc), file=where) from None
     if not isinstance(data, dict):
         raise InputError("the map must be a table (an object)", file=where)
-    unknown = sorted(set(data) - set(_KEYS))
-    if unknown:
-        raise InputError(
-            f"unknown keys {', '.join(unknown)}; a map has {', '.join(_KEYS)}", file=where
-        )
-    run = dict(data.get("run", {}))
-    extra = sorted(set(run) - set(_RUN_FIELDS))
-    if extra:
-        raise InputError(
-            f"[run] has {', '.join(extra)}; it takes {', '.join(_RUN_FIELDS)}", file=where
-        )
-    columns = {str(k): _column(v, where, str(k)) for k, v in data.get("columns", {}).items()}
-    measurements = {
-        str(k): _constant(v, where, str(k)) for k, v in data.get("measurements", {}).items()
-    }
-    constants = {str(k): _constant(v, where, str(k)) for k, v in data.get("constants", {}).items()}
+    try:
+        model = MapModel.model_validate(data)
+    except ValidationError as exc:
+        errors = exc.errors(include_url=False)
+        more = f" (and {len(errors) - 1} more)" if len(errors) > 1 else ""
+        raise InputError(_mistake(errors[0]) + more, file=where) from None
+    run = {k: getattr(model.run, k) for k in model.run.model_fields_set}
     return StandMap(
-        stand=data.get("stand"),
-        group=data.get("group"),
+        stand=model.stand,
+        group=model.group,
         run=run,
-        columns=columns,
-        measurements=measurements,
-        constants=constants,
-        file=_file(data.get("file", {}), where),
+        columns={
+            k: ColumnMap(c.channel, c.unit, c.factor, c.offset) for k, c in model.columns.items()
+        },
+        measurements={k: (c.value, c.unit) for k, c in model.measurements.items()},
+        constants={k: (c.value, c.unit) for k, c in model.constants.items()},
+        file=_file(model.file, where),
         source=where,
     )
 
 
-def _file(value: Any, where: str) -> FileSettings:
-    if not isinstance(value, dict):
-        raise InputError("[file] must be a table", file=where)
-    extra = sorted(set(value) - {"encoding", "delimiter", "decimal", "header"})
-    if extra:
-        raise InputError(
-            f"[file] has {', '.join(extra)}; it takes encoding, delimiter, decimal, header",
-            file=where,
-        )
-    encoding, delimiter = value.get("encoding"), value.get("delimiter")
-    decimal, header = value.get("decimal"), value.get("header")
+def _file(value: FileModel, where: str) -> FileSettings:
     try:
-        if encoding is not None:
-            encoding = encoding_of(b"", str(encoding)).codec
-        if delimiter is not None:
-            delimiter_of(str(delimiter))
+        encoding = None if value.encoding is None else encoding_of(b"", value.encoding).codec
+        if value.delimiter is not None:
+            delimiter_of(value.delimiter)
     except InputError as exc:
-        raise InputError(str(exc), file=where, column="file") from None
-    if decimal not in (None, ".", ","):
-        raise InputError(f'[file] decimal is "." or ",", not {decimal!r}', file=where)
-    if header is not None and (isinstance(header, bool) or not isinstance(header, int)):
-        raise InputError(f"[file] header is a line number, not {header!r}", file=where)
-    if header is not None and header < 1:
-        raise InputError(f"[file] header is a line number from 1, not {header}", file=where)
-    return FileSettings(encoding, None if delimiter is None else str(delimiter), decimal, header)
+        raise InputError(f"file: {exc}", file=where) from None
+    return FileSettings(encoding, value.delimiter, value.decimal, value.header, value.continue_time)
 
 
 def configuration(kind: str, given: dict[str, Any], *, where: str = "") -> dict[str, Any]:
     """The map's ``[run.configuration]`` with every ``{value, unit}`` converted to its
-    field's unit (``schemas.stands``: ``disc_radius`` is in m)."""
+    field's unit (``schemas.stands``: ``disc_radius`` is in m), checked by the stand's
+    configuration schema over its defaults (the key named on one line)."""
     try:
-        model = CONFIG_MODELS[StandKind(kind)]
-    except (ValueError, KeyError):
+        stand = StandKind(kind)
+    except ValueError:
         return given
-    units = unit_paths(model)
-    return _converted(given, units, "", where)
+    units = unit_paths(CONFIG_MODELS[stand])
+    converted = _converted(given, units, "", where)
+    try:
+        with_overrides(default_stands()[stand].configuration, converted)
+    except ValidationError as exc:
+        error = exc.errors(include_url=False)[0]
+        error["loc"] = ("run", "configuration", *error["loc"])
+        raise InputError(_mistake(error), file=where) from None
+    return converted
 
 
 def _converted(
@@ -245,56 +325,26 @@ def _converted(
     for key, value in given.items():
         path = f"{prefix}{key}"
         if isinstance(value, dict) and "value" in value and set(value) <= {"value", "unit"}:
-            number, unit = _constant(value, where, path)
+            try:
+                constant = ConstantModel.model_validate(value)
+            except ValidationError as exc:
+                error = exc.errors(include_url=False)[0]
+                error["loc"] = ("run", "configuration", *path.split("."), *error["loc"])
+                raise InputError(_mistake(error), file=where) from None
+            number, unit = constant.value, constant.unit
             if unit is not None:
                 if path not in units:
                     raise InputError(
-                        f"configuration {path!r} has no unit to convert {unit!r} to",
+                        f"run.configuration.{path}: has no unit to convert {unit!r} to",
                         file=where,
-                        column=path,
                     )
-                number *= unit_factor(unit, units[path], where=f"configuration {path}")
+                try:
+                    number *= unit_factor(unit, units[path])
+                except InputError as exc:
+                    raise InputError(f"run.configuration.{path}: {exc}", file=where) from None
             out[key] = number
         elif isinstance(value, dict):
             out[key] = _converted(value, units, f"{path}.", where)
         else:
             out[key] = value
     return out
-
-
-def _column(value: Any, where: str, name: str) -> ColumnMap:
-    if isinstance(value, str):
-        return ColumnMap(value)
-    if not isinstance(value, dict) or not isinstance(value.get("channel"), str):
-        raise InputError(
-            'a column maps to a channel name or {channel = "...", unit = "..."} or '
-            '{channel = "...", factor = ...}',
-            file=where,
-            column=name,
-        )
-    extra = sorted(set(value) - {"channel", "unit", "factor"})
-    if extra or ("unit" in value and "factor" in value):
-        raise InputError(
-            "a column takes channel and either unit or factor", file=where, column=name
-        )
-    factor = value.get("factor")
-    if factor is not None and not isinstance(factor, int | float):
-        raise InputError(f"factor must be a number, got {factor!r}", file=where, column=name)
-    return ColumnMap(value["channel"], value.get("unit"), None if factor is None else float(factor))
-
-
-def _constant(value: Any, where: str, name: str) -> tuple[float, str | None]:
-    if isinstance(value, int | float) and not isinstance(value, bool) and math.isfinite(value):
-        return float(value), None
-    number = value.get("value") if isinstance(value, dict) else None
-    if (
-        isinstance(number, int | float)
-        and not isinstance(number, bool)
-        and math.isfinite(number)
-        and set(value) <= {"value", "unit"}
-    ):
-        unit = value.get("unit")
-        return float(number), None if unit is None else str(unit)
-    raise InputError(
-        'a constant is a finite number or {value = ..., unit = "..."}', file=where, column=name
-    )

@@ -34,7 +34,13 @@ from typing import Literal
 import httpx
 from pydantic import ValidationError
 
-from rigclient.errors import ServerRefused, SpoolDamaged, SpoolError, problem_text
+from rigclient.errors import (
+    ServerRefused,
+    SpoolDamaged,
+    SpoolError,
+    SpoolUnreadable,
+    problem_text,
+)
 from rigclient.http import Api, Reporter, TryLater, not_the_api
 from rigclient.spool import Pending, RunRecord, Spool, amount, columns_of
 from schemas.readings import BatchReceipt
@@ -115,7 +121,11 @@ class Sender(threading.Thread):
             self.join(timeout)
 
     def run(self) -> None:
-        spool = Spool(self.directory)
+        try:
+            spool = Spool(self.directory)
+        except SpoolError as exc:
+            self.say(str(exc))
+            return
         try:
             while not self._halt.is_set():
                 self.wake.clear()
@@ -126,6 +136,10 @@ class Sender(threading.Thread):
                 later = {k for k, b in self._waiting.items() if k is not None and b.due > now}
                 try:
                     step = deliver_one(spool, self.api, self.binary, self.state, self.say, later)
+                except SpoolUnreadable as exc:  # nothing more can be sent from it
+                    self.state.waiting = str(exc)
+                    self.say(str(exc))
+                    return
                 except SpoolError as exc:  # a receipt could not be recorded: try again
                     why = TryLater(f"the spool {spool.path}: {exc}")
                     step = Failed(None, "", "keeping the spool", why)

@@ -36,6 +36,7 @@ One process at a time delivers a spool: see :mod:`rigclient.lock`.
 
 from __future__ import annotations
 
+import contextlib
 import errno
 import hashlib
 import io
@@ -54,8 +55,9 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from rigclient.errors import SpoolDamaged, SpoolError, SpoolFull, UnknownRun
+from rigclient.errors import SpoolDamaged, SpoolError, SpoolFull, SpoolUnreadable, UnknownRun
 from rigclient.http import npz_bytes
+from rigclient.jsontext import loads_json
 
 FILENAME = "spool.sqlite"
 #: The spool's layout (``PRAGMA user_version``): 0 the first rigclient's, 1 with checksums,
@@ -63,6 +65,18 @@ FILENAME = "spool.sqlite"
 SCHEMA_VERSION = 1
 #: SQLite's answers to a write that found no room (ENOSPC; EFBIG past a file size limit).
 _NO_ROOM = ("SQLITE_FULL", "SQLITE_IOERR_WRITE")
+#: SQLite's answers that say nothing of the file's state: busy, locked, out of reach.
+_NOT_DAMAGE = (
+    "SQLITE_BUSY",
+    "SQLITE_LOCKED",
+    "SQLITE_CANTOPEN",
+    "SQLITE_PERM",
+    "SQLITE_READONLY",
+    "SQLITE_IOERR",
+    "SQLITE_FULL",
+    "SQLITE_INTERRUPT",
+    "SQLITE_AUTH",
+)
 
 _SCHEMA = """
 CREATE TABLE IF NOT EXISTS runs (
@@ -351,6 +365,73 @@ def new_local_id() -> str:
     return f"local-{datetime.now(UTC):%Y%m%dT%H%M%S}Z-{secrets.token_hex(4)}"
 
 
+def damaged_text(path: Path, exc: BaseException) -> str:
+    """What the operator is told of a spool SQLite cannot read, and what saves it."""
+    why = str(exc) if not isinstance(exc, UnicodeDecodeError) else "text that is not UTF-8"
+    return (
+        f"the spool is damaged: SQLite cannot read {path} ({why}). `rigclient salvage "
+        f"--spool {path.parent}` keeps what can still be read (the runs, their batches not yet "
+        "delivered, the refused lines) in a new spool, which `rigclient send` then delivers, "
+        f"and moves the damaged file aside as {path.name}.damaged-<time> with the rest"
+    )
+
+
+def is_damage(exc: BaseException) -> bool:
+    """Whether a sqlite3 error (or a text read back) says the file is damaged, rather than
+    full, busy or out of reach."""
+    if isinstance(exc, UnicodeDecodeError):
+        return True
+    name = str(getattr(exc, "sqlite_errorname", ""))
+    if name in _NO_ROOM or getattr(exc, "errno", None) in (errno.ENOSPC, errno.EFBIG):
+        return False
+    misuse = isinstance(exc, sqlite3.ProgrammingError | sqlite3.InterfaceError)  # ours
+    return (
+        isinstance(exc, sqlite3.DatabaseError) and not misuse and not name.startswith(_NOT_DAMAGE)
+    )
+
+
+class _Rows:
+    """A statement's rows, read at once."""
+
+    def __init__(self, rows: list[Any], rowcount: int = -1) -> None:
+        self._rows = rows
+        self.rowcount = rowcount  # rows a statement changed
+
+    def fetchone(self) -> Any:
+        return self._rows[0] if self._rows else None
+
+    def fetchall(self) -> list[Any]:
+        return self._rows
+
+    def __iter__(self) -> Iterator[Any]:
+        return iter(self._rows)
+
+
+class _Connection:
+    """The spool's connection: each statement's rows read at once, and an error that says
+    the file is damaged raised as :class:`SpoolUnreadable` (the others as they are, for
+    :func:`_translate`)."""
+
+    def __init__(self, db: sqlite3.Connection, path: Path) -> None:
+        self.db, self.path = db, path
+
+    @property
+    def in_transaction(self) -> bool:
+        return self.db.in_transaction
+
+    def execute(self, sql: str, args: Any = ()) -> _Rows:
+        try:
+            cursor = self.db.execute(sql, args)
+            return _Rows(cursor.fetchall(), cursor.rowcount)
+        except (sqlite3.Error, UnicodeDecodeError) as exc:
+            if is_damage(exc):
+                raise SpoolUnreadable(damaged_text(self.path, exc)) from exc
+            raise
+
+    def close(self) -> None:
+        self.db.close()
+
+
 class Spool:
     """The spool in ``directory`` (made if missing; brought up to date if an older rigclient
     wrote it). One connection: calls from several threads take a lock
@@ -366,16 +447,22 @@ class Spool:
             raise SpoolError(f"no spool in {self.directory} (no {FILENAME})")
         try:
             self.directory.mkdir(parents=True, exist_ok=True)
-            self._db = sqlite3.connect(
+            connection = sqlite3.connect(
                 self.path, timeout=30.0, isolation_level=None, check_same_thread=False
             )
+            self._db = _Connection(connection, self.path)
             self._db.execute("PRAGMA journal_mode=WAL")
             self._db.execute("PRAGMA synchronous=FULL")
-            self._db.executescript(_SCHEMA)
-            self._db.executescript(_FILE_SCHEMA)
-        except (OSError, sqlite3.Error) as exc:
-            raise _translate(exc, f"open the spool {self.path}") from exc
-        self._migrate()
+            connection.executescript(_SCHEMA)
+            connection.executescript(_FILE_SCHEMA)
+            self._migrate()
+        except (OSError, sqlite3.Error, UnicodeDecodeError) as exc:
+            if hasattr(self, "_db"):
+                self._db.close()
+            raise _translate(exc, f"open the spool {self.path}", self.path) from exc
+        except SpoolError:
+            self._db.close()
+            raise
 
     def close(self) -> None:
         self._db.close()
@@ -402,7 +489,7 @@ class Spool:
                 "SELECT local_id, refused, refused_what FROM runs WHERE refused IS NOT NULL"
             ).fetchall():
                 try:
-                    problem = json.loads(refused)
+                    problem = loads_json(refused)
                     status = int(problem.get("status"))
                 except (TypeError, ValueError, AttributeError):
                     problem, status = {}, 0
@@ -421,20 +508,21 @@ class Spool:
             db.execute(f"PRAGMA user_version = {SCHEMA_VERSION}")
 
     @contextmanager
-    def _write(self, what: str) -> Iterator[sqlite3.Connection]:
+    def _write(self, what: str) -> Iterator[_Connection]:
         """One immediate transaction; sqlite3 errors translated, nothing committed on error."""
         try:
             self._db.execute("BEGIN IMMEDIATE")
         except sqlite3.Error as exc:
-            raise _translate(exc, what) from exc
+            raise _translate(exc, what, self.path) from exc
         try:
             yield self._db
             self._db.execute("COMMIT")
         except BaseException as exc:
             if self._db.in_transaction:
-                self._db.execute("ROLLBACK")
+                with contextlib.suppress(sqlite3.Error, SpoolError):
+                    self._db.execute("ROLLBACK")
             if isinstance(exc, sqlite3.Error):
-                raise _translate(exc, what) from exc
+                raise _translate(exc, what, self.path) from exc
             raise
 
     # --- writing ------------------------------------------------------------------------
@@ -621,7 +709,7 @@ class Spool:
             db.execute("DELETE FROM sources WHERE local_id = ?", (local_id,))
         return Dropped(int(batches), int(rows), record.finish_queued and not record.finished)
 
-    def _require_open(self, db: sqlite3.Connection, local_id: str) -> None:
+    def _require_open(self, db: _Connection, local_id: str) -> None:
         row = db.execute(
             "SELECT finish_queued, dropped FROM runs WHERE local_id = ?", (local_id,)
         ).fetchone()
@@ -632,7 +720,7 @@ class Spool:
         if row[0]:
             raise SpoolError(f"run {local_id} is finished: it takes no more batches")
 
-    def _check_limits(self, db: sqlite3.Connection, now: float) -> None:
+    def _check_limits(self, db: _Connection, now: float) -> None:
         size, oldest = db.execute(
             "SELECT COALESCE(SUM(LENGTH(payload)), 0), MIN(created) FROM batches"
         ).fetchone()
@@ -652,7 +740,7 @@ class Spool:
 
     def _insert(
         self,
-        db: sqlite3.Connection,
+        db: _Connection,
         local_id: str,
         group: str,
         columns: Mapping[str, ArrayLike],
@@ -679,7 +767,7 @@ class Spool:
         )
         return int(seq)
 
-    def _move(self, db: sqlite3.Connection, local_id: str, c: Cursor) -> None:
+    def _move(self, db: _Connection, local_id: str, c: Cursor) -> None:
         db.execute(
             "INSERT OR REPLACE INTO sources VALUES (?, ?, ?, ?, ?, ?, ?)",
             (c.key, local_id, c.path, c.device, c.inode, c.position, c.line),
@@ -717,9 +805,14 @@ class Spool:
         row = self._db.execute(
             "SELECT body, idempotency_key FROM runs WHERE local_id = ?", (local_id,)
         ).fetchone()
-        return json.loads(row[0]), str(row[1])
+        try:
+            return loads_json(row[0]), str(row[1])
+        except ValueError as exc:
+            raise SpoolDamaged(
+                f"the opening of run {local_id} in {self.path} cannot be read: {exc}"
+            ) from None
 
-    def _body_damage(self, db: sqlite3.Connection, local_id: str) -> str | None:
+    def _body_damage(self, db: _Connection, local_id: str) -> str | None:
         row = db.execute(
             "SELECT body, body_checksum FROM runs WHERE local_id = ?", (local_id,)
         ).fetchone()
@@ -735,23 +828,15 @@ class Spool:
 
     def next_batch(self, local_id: str, seq: int = 0) -> Pending | None:
         """The run's first batch not acknowledged from ``seq`` on."""
-        try:
-            row = self._db.execute(
-                "SELECT b.local_id, r.server_id, b.seq, b.grp, b.payload, b.rows, b.checksum "
-                "FROM batches b JOIN runs r USING (local_id) WHERE b.local_id = ? AND "
-                "b.seq >= ? ORDER BY b.seq LIMIT 1",
-                (local_id, seq),
-            ).fetchone()
-        except sqlite3.DatabaseError as exc:
-            raise SpoolError(
-                f"could not read the next batch of run {local_id} from {self.path}: {exc} "
-                "(the spool's file may be damaged)"
-            ) from exc
+        row = self._db.execute(
+            "SELECT b.local_id, r.server_id, b.seq, b.grp, b.payload, b.rows, b.checksum "
+            "FROM batches b JOIN runs r USING (local_id) WHERE b.local_id = ? AND "
+            "b.seq >= ? ORDER BY b.seq LIMIT 1",
+            (local_id, seq),
+        ).fetchone()
         return None if row is None else Pending(*row)
 
-    def _batches(
-        self, db: sqlite3.Connection, local_id: str, *, damaged: bool = False
-    ) -> list[Pending]:
+    def _batches(self, db: _Connection, local_id: str, *, damaged: bool = False) -> list[Pending]:
         rows = db.execute(
             "SELECT b.local_id, r.server_id, b.seq, b.grp, b.payload, b.rows, b.checksum "
             "FROM batches b JOIN runs r USING (local_id) WHERE b.local_id = ?"
@@ -879,14 +964,14 @@ class Spool:
 def _title(body: str) -> str:
     """The title of a run's opening body (a damaged body has none)."""
     try:
-        return str(json.loads(body).get("title", ""))
+        return str(loads_json(body).get("title", ""))
     except (TypeError, ValueError, AttributeError):
         return "(the opening is damaged)"
 
 
 def _problem(text: str) -> dict[str, Any]:
     try:
-        found = json.loads(text)
+        found = loads_json(text)
     except ValueError:
         found = None
     return found if isinstance(found, dict) else {"status": None, "detail": str(text)[:200]}
@@ -906,9 +991,11 @@ def _stopped_by(record: RunRecord) -> str:
     return "not stopped"
 
 
-def _translate(exc: BaseException, what: str) -> SpoolError:
+def _translate(exc: BaseException, what: str, path: Path) -> SpoolError:
     """A sqlite3 or OS error as the spool's own: a full disk (or a file size limit) is
-    :class:`SpoolFull`."""
+    :class:`SpoolFull`, a damaged file :class:`SpoolUnreadable`."""
+    if is_damage(exc):
+        return SpoolUnreadable(damaged_text(path, exc))
     text = str(exc)
     name = getattr(exc, "sqlite_errorname", "")
     if name in _NO_ROOM or getattr(exc, "errno", None) in (errno.ENOSPC, errno.EFBIG):

@@ -21,18 +21,52 @@ from numpy.typing import NDArray
 
 from rigclient.dialect import cells, header_cells, header_names, name_key, number, split_header
 from rigclient.errors import InputError
-from rigclient.mapping import StandMap, unit_factor
+from rigclient.mapping import ColumnMap, StandMap
+from rigclient.units import dimension, unit_factor
 from schemas.channels import Channel, ChannelGroup, Order
 
 
 @dataclass(frozen=True, slots=True)
 class Field:
-    """A file column that feeds a channel: its index, header text, channel and factor."""
+    """A file column that feeds a channel: its index, header text, channel, and the
+    channel's value as the file's × ``factor`` + ``offset``."""
 
     index: int
     header: str
     channel: str
     factor: float
+    offset: float = 0.0
+
+
+@dataclass(slots=True)
+class Clock:
+    """A time that restarts (at each step, block or file: a UMT's, a recipe's) continued
+    from where it ended: a value not after the last one taken starts a new part, shifted so
+    that its first row follows the last row taken by the step between the last two (the
+    map's ``[file] continue_time = true``)."""
+
+    offset: float = 0.0
+    step: float = 0.0
+    _pending: tuple[float, float] | None = None  # offset and step if the row is taken
+
+    def time(self, value: float, last: float | None) -> float:
+        """The continued time of a row whose time reads ``value``; ``last``: the time of
+        the last row taken (continued)."""
+        offset, step = self.offset, self.step
+        shifted = value + offset
+        if last is not None and shifted <= last:  # the time restarted
+            offset = last + step - value
+            shifted = value + offset
+        elif last is not None:
+            step = shifted - last
+        self._pending = (offset, step)
+        return shifted
+
+    def taken(self) -> None:
+        """The row read last was taken (a row refused changes nothing)."""
+        if self._pending is not None:
+            self.offset, self.step = self._pending
+            self._pending = None
 
 
 @dataclass(slots=True)
@@ -49,6 +83,7 @@ class Table:
     group: ChannelGroup
     names: frozenset[str] = frozenset()  # the header's names (name_key), to know it again
     last: dict[str, float] = field(default_factory=dict)  # ordered channels' last values
+    clock: Clock | None = None  # the map's continue_time: a time that restarts goes on
     _checks: dict[str, Channel] = field(default_factory=dict)
     _rules: list[_Rule] = field(default_factory=list)
 
@@ -72,9 +107,11 @@ class Table:
         delimiter: str | None = None,
         decimal: str | None = None,
         width: int | None = None,
+        units_row: list[str] | None = None,
     ) -> Table:
         """Read the header line (number ``line``) against the group's channels and the map;
-        ``width``: the cells of the rows under it, if known."""
+        ``width``: the cells of the rows under it, if known; ``units_row``: the cells of
+        its units line (``g,g,mm,...``), if it has one."""
         delimiter = delimiter or sniff(header)
         found = header_cells(header.lstrip("\ufeff"), delimiter, width)
         units = {c.name: c.unit for c in group.channels}
@@ -85,6 +122,8 @@ class Table:
         for index, raw in enumerate(found):
             cell = raw.strip()
             name, unit = split_header(cell, delimiter)
+            if unit is None and units_row is not None and index < len(units_row):
+                unit = units_row[index] or None
             mapped = mapping.column(cell, name) if mapping is not None else None
             if mapped is not None:
                 channel = mapped.channel
@@ -112,16 +151,13 @@ class Table:
                     line=line,
                     column=cell,
                 )
-            if mapped is not None and mapped.factor is not None:
-                factor = mapped.factor
-            else:
-                source = (mapped.unit if mapped is not None else None) or unit
-                try:
-                    factor = 1.0 if source is None else unit_factor(source, units[channel])
-                except InputError as exc:
-                    message = str(exc).split(": ", 1)[-1]
-                    raise InputError(message, file=file, line=line, column=cell) from None
-            fields.append(Field(index, cell, channel, factor))
+            factor, offset = (mapped.factor, mapped.offset) if mapped is not None else (1.0, 0.0)
+            try:
+                scale = _scale(mapped, unit, units[channel])
+            except InputError as exc:
+                message = str(exc).split(": ", 1)[-1]
+                raise InputError(message, file=file, line=line, column=cell) from None
+            fields.append(Field(index, cell, channel, factor * scale, offset * scale))
         constants = _constants(mapping, units, file)
         seen = [f.channel for f in fields]
         twice = sorted({c for c in seen if seen.count(c) > 1})
@@ -165,7 +201,16 @@ class Table:
             constants,
             group,
             names,
+            clock=Clock() if mapping is not None and mapping.file.continue_time else None,
         )
+
+    def carry(self, before: Table) -> Table:
+        """This table (of a header met later: a new block, the next file) going on from
+        ``before``: its channels' last values, and its clock."""
+        self.last.update(before.last)
+        if self.clock is not None and before.clock is not None:
+            self.clock = before.clock
+        return self
 
     def parse(self, text: str, line: int) -> list[float]:
         """One data line as the channels' values, in the order of :attr:`channels`: each a
@@ -186,9 +231,11 @@ class Table:
             self.fields, self._rules, strict=True
         ):
             try:
-                value = number(found[f.index], self.decimal) * f.factor
+                value = number(found[f.index], self.decimal) * f.factor + f.offset
             except ValueError as exc:
                 raise InputError(str(exc), file=self.file, line=line, column=f.header) from None
+            if self.clock is not None and f.channel == "time":
+                value = self.clock.time(value, self.last.get("time"))
             if (
                 not (low <= value <= high and math.isfinite(value))  # a factor's overflow
                 or (nominal and not any(abs(value - v) <= tolerance * abs(v) for v in nominal))
@@ -208,6 +255,8 @@ class Table:
         for f, rule, value in zip(self.fields, self._rules, values, strict=True):
             if rule[-1] is not Order.ANY:
                 self.last[f.channel] = value
+        if self.clock is not None:
+            self.clock.taken()
         return values
 
     def _in_order(self, f: Field, order: Order, value: float, line: int) -> None:
@@ -270,6 +319,23 @@ def _word(cell: str) -> bool:
     return False
 
 
+def _scale(mapped: ColumnMap | None, header: str | None, channel: str) -> float:
+    """The factor from a column's unit to its channel's: the map's unit, else the header's
+    (or the units line's), else none. A map's factor without a unit on a column whose
+    header's unit is not the channel's quantity (``M, div``) is the factor into the
+    channel's unit itself: the header's unit is then left aside."""
+    if mapped is not None and mapped.unit is not None:
+        return unit_factor(mapped.unit, channel)
+    if header is None:
+        return 1.0
+    if mapped is not None and (mapped.factor, mapped.offset) != (1.0, 0.0):
+        try:
+            return unit_factor(header, channel)
+        except InputError:
+            return 1.0
+    return unit_factor(header, channel)
+
+
 def _constants(mapping: StandMap | None, units: Mapping[str, str], file: str) -> dict[str, float]:
     if mapping is None:
         return {}
@@ -284,6 +350,20 @@ def _constants(mapping: StandMap | None, units: Mapping[str, str], file: str) ->
         factor = 1.0 if unit is None else unit_factor(unit, units[name], where=name)
         out[name] = value * factor
     return out
+
+
+def units_line(text: str, above: str, delimiter: str) -> bool:
+    """Whether ``text`` is the units line of the header ``above`` (CETR/Bruker UMT: ``g,g,
+    mm,...``): as many cells, each blank or a known unit (:mod:`rigclient.units`), one at
+    least, and ``above`` a line of names with no unit among them."""
+    try:
+        found, names = cells(text, delimiter), cells(above, delimiter)
+    except InputError:
+        return False
+    given = [c.strip() for c in found if c.strip()]
+    if not given or len(found) != len(names) or not all(dimension(c) for c in given):
+        return False
+    return not any(dimension(c.strip()) for c in names if c.strip())
 
 
 def sniff(header: str) -> str:

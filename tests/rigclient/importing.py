@@ -49,6 +49,8 @@ def import_file(
     server: FakeServer | None = None,
     rows: int = 4,
     first: str = "time",
+    more: tuple[Path, ...] = (),
+    key: str | None = None,
 ) -> Imported:
     """``rigclient import`` of ``path`` (without the CLI's bars), delivered to ``server``."""
     server = server or FakeServer()
@@ -70,6 +72,8 @@ def import_file(
             batching=Batching(rows=rows, seconds=60.0, poll=0.01),
             say=said.append,
             kind="import",
+            more=more,
+            idempotency_key=key,
         )
         outcome = agent.run(threading.Event(), follow=False)
         assert outcome is not None

@@ -10,7 +10,7 @@ import pytest
 
 from rigclient.dialect import FileSettings, encoding_of, find_header, number
 from rigclient.follow import MAX_LINE, Follower
-from rigclient.mapping import load_map
+from rigclient.mapping import MAP_NOTE, load_map
 from tests.rigclient.importing import import_file
 from tests.rigclient.samples import ROWS, SAMPLES
 
@@ -154,4 +154,6 @@ def test_each_dialect_is_read_by_a_map_of_a_few_lines(tmp_path: Path, dialect: s
         "csv-units": "",
         "utf16-tab": "Test: SMTs-2 sample\nInstrument: SMTs-2",
     }
-    assert got.opening["notes"] == preamble[dialect]
+    notes = got.opening["notes"].split("\n\n")  # how the map reads it, then the preamble
+    assert notes[0] == load_map(map_path).describe() and notes[0].startswith(MAP_NOTE)
+    assert "\n\n".join(notes[1:]) == preamble[dialect]

@@ -59,11 +59,21 @@ def test_an_export_imported_twice_is_one_run(
         code, lines, log = _import(agents, server, path, map_path, tmp_path / spool)
         assert code == 0, log
         assert lines[0] == run_id and f"run {run_id}" in log and "imported before" in log
+    # a corrected map (another normal load), from the same spool and a fresh one: the run
+    # that holds the file is named with what differs, never its results with exit 0
+    data["constants"]["normal_load"]["value"] = sim.truth.load + 1
+    map_path.write_text(json.dumps(data), "utf-8")
+    for spool in ("spool", "map-spool"):
+        code, lines, log = _import(agents, server, path, map_path, tmp_path / spool)
+        assert code == 1 and lines == [run_id], log
+        assert f"normal_load = {sim.truth.load + 1:g} N" in log and "--again" in log, log
+    data["constants"]["normal_load"]["value"] = sim.truth.load
     # another map (another title): the server names the run that holds the content
     data["run"]["title"] = "another title"
     map_path.write_text(json.dumps(data), "utf-8")
     code, lines, log = _import(agents, server, path, map_path, tmp_path / "third-spool")
-    assert code == 1 and lines[0] == run_id and "opened with other values" in log
+    assert code == 1 and lines[0] == run_id and "read with other values: title" in log
+    assert "--again" in log and "results (" not in "\n".join(lines)
     code, lines, log = _import(agents, server, path, map_path, tmp_path / "third-spool", "--again")
     assert code == 0, log
     assert lines[0] != run_id

@@ -5,6 +5,8 @@ there. A spool of an older rigclient (no checksums) is checked by its npz's CRC-
 
 from __future__ import annotations
 
+import contextlib
+import io
 import json
 import random
 import sqlite3
@@ -16,6 +18,7 @@ import pytest
 
 from rigclient import Client, RetryPolicy
 from rigclient.cli import main
+from rigclient.errors import SpoolDamaged
 from rigclient.spool import FILENAME, Spool, columns_of
 from tests.rigclient.fake import RUN_ID, FakeServer
 from tests.rigclient.test_faults import old_spool
@@ -151,3 +154,73 @@ def test_damage_in_a_spool_of_an_older_rigclient_is_caught_by_the_npz_crc(
         (record,) = client.status().runs
     assert sorted(server.stored) == [0, 1]  # the intact old batch went, the damaged one not
     assert record.state == "damaged" and "npz archive does not read back" in str(record.damaged)
+
+
+def _run_main(*argv: str) -> tuple[int, str]:
+    """``rigclient ARGV`` in this process (an exception escaping it fails the test)."""
+    err = io.StringIO()
+    with contextlib.redirect_stderr(err), contextlib.redirect_stdout(io.StringIO()):
+        code = main(list(argv))
+    return code, err.getvalue()
+
+
+@pytest.mark.parametrize("seed", range(8))
+def test_random_bytes_in_the_spools_file_say_it_is_damaged_and_salvage_saves_the_rest(
+    tmp_path: Path, seed: int
+) -> None:
+    """Issue 39, item 9: random bytes in the spool's SQLite file (past its first page, the
+    schema) ended `send` and `status` in "database disk image is malformed" tracebacks.
+    Now each says the spool is damaged and names `rigclient salvage`, which keeps what
+    still reads (the batches that do are delivered bit for bit) and moves the file aside."""
+    rng = random.Random(seed)
+    for _ in range(3):  # three runs of many batches: many pages
+        spool_batches(tmp_path)
+    before = {bytes(p) for p in payloads(tmp_path).values()}
+    path = tmp_path / FILENAME
+    data = bytearray(path.read_bytes())
+    page = 4096
+    for _ in range(8):  # a run of random bytes in a random page past the schema's
+        at = rng.randrange(page, len(data) - 64)
+        data[at : at + 32] = rng.randbytes(32)
+    path.write_bytes(bytes(data))
+    url = ["--url", "http://127.0.0.1:9", "--drain", "0"]
+    for argv in (["status"], ["send", *url]):
+        code, said = _run_main(*argv, "--spool", str(tmp_path))
+        if "the spool is damaged" in said:
+            assert code == 1 and f"rigclient salvage --spool {tmp_path}" in said, said
+    code, said = _run_main("salvage", "--spool", str(tmp_path))
+    assert "saved" in said and ".damaged-" in said, said
+    kept = sorted(tmp_path.glob(f"{FILENAME}.damaged-*"))
+    assert kept and kept[0].read_bytes()[:16] == bytes(data[:16])  # the damaged file, aside
+    code, said = _run_main("status", "--spool", str(tmp_path))
+    assert code == 0, said
+    server = FakeServer()
+    with _client(server, tmp_path) as client:
+        client.wait(10)
+    # what was delivered is what was spooled, bit for bit
+    with Spool(tmp_path) as spool:
+        assert all(r.damaged is None or "checksum" in r.damaged for r in spool.runs())
+    for batch in server.stored.values():
+        assert any(np.array_equal(batch["x"], columns_of(p)["x"]) for p in before)
+
+
+def test_json_nested_deeper_than_the_limit_in_the_spool_is_read_as_damaged(
+    tmp_path: Path,
+) -> None:
+    """Issue 39, items 3 and 9: the JSON the spool keeps (a refusal's problem, an opening)
+    is read with the server's depth limit; 100 000 levels were a RecursionError in
+    `rigclient status`."""
+    local_id = spool_batches(tmp_path)
+    deep = "[" * 100_000 + "]" * 100_000
+    db = sqlite3.connect(tmp_path / FILENAME)
+    db.execute("UPDATE runs SET refused = ?, refused_what = 'opening', body = ?", (deep, deep))
+    db.commit()
+    db.close()
+    code, said = _run_main("status", "--spool", str(tmp_path), "--json")
+    assert code == 0 and "Traceback" not in said, said
+    with Spool(tmp_path) as spool:
+        (record,) = spool.runs(local_id)
+        assert record.title == "(the opening is damaged)"
+        assert record.refused is not None and record.refused["status"] is None  # as text
+        with pytest.raises(SpoolDamaged):  # the checksum, before the depth
+            spool.opening(local_id)

@@ -229,7 +229,9 @@ def main(argv: Sequence[str] | None = None) -> int:
         action="store_true",
         help='print one JSON object {"run_id", "truth" (with --truth), "results"}',
     )
-    demo = sub.add_parser("demo", help="start rigserver and post all four stands to it")
+    every = ", ".join(k.value for k in StandKind)
+    said = f"start rigserver and post every stand to it ({every})"
+    demo = sub.add_parser("demo", help=said, description=said)
     demo.add_argument("--host", default="127.0.0.1")
     demo.add_argument("--port", type=int, default=8000)
     demo.add_argument("--data-dir", type=Path, default=Path("data"))

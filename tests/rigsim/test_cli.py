@@ -231,3 +231,21 @@ def test_faults_from_the_command_line_reach_the_settings() -> None:
     fault = parse_fault("out_of_limit:friction.friction_moment@0.5")
     settings = settings_for(StandKind.SMTS2, mode="oxidative", faults=[fault])
     assert settings.faults == (fault,) and settings.mode == "oxidative"
+
+
+@pytest.mark.parametrize(
+    "command", [["rigsim.cli", "demo", "--help"], ["rigclient.cli", "import", "--help"]]
+)
+def test_help_names_every_stand(command: list[str]) -> None:
+    """The stands named by ``--help`` come from the stands' declaration (issue 39, item 11:
+    four of six were named)."""
+    done = subprocess.run(
+        [sys.executable, "-m", *command],
+        capture_output=True,
+        text=True,
+        timeout=60,
+        env={**os.environ, "COLUMNS": "400"},
+    )
+    assert done.returncode == 0
+    for kind in StandKind:
+        assert kind.value in done.stdout

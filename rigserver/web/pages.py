@@ -31,6 +31,7 @@ from rigserver.reports.run_report import RESULT_MODELS, configuration_rows, part
 from rigserver.reports.x3p import PROFILE_GROUP, NoProfile, profile_group
 from schemas import labelled
 from schemas.labels import RESULTS, THEORY_VERDICT, Part, theory_outside
+from schemas.messages import NP_
 from schemas.quantity import unit_paths
 from schemas.runs import Run, RunPage, RunState
 from schemas.stands import Stand, StandKind
@@ -193,7 +194,11 @@ def runs_page(
 
 def login_page(*, next_page: str, refused: bool, lang: Lang) -> str:
     """The form that turns a key with the ``read`` scope into a session of the pages."""
-    return render_page("login.html", lang, next=next_page, refused=refused)
+    return render_page("login.html", lang, next=next_page, refused=refused, on_login=True)
+
+
+#: The words after the count of a run's rows, singular and plural (message ids).
+ROWS_RECEIVED = NP_("row received", "rows received")
 
 
 def run_page(
@@ -230,6 +235,8 @@ def run_page(
             key: t(f"page.{key}") for key in ("connecting", "streaming", "reconnecting", "ended")
         }
         | {f"state_{s.value}": t(f"state.{s.value}") for s in RunState},
+        "lang": lang,
+        "rows_received": t.plural_forms(*ROWS_RECEIVED),
     }
     with number_locale(lang):
         specimen = particulars_text(t, run.specimen)
@@ -253,6 +260,7 @@ def run_page(
         notes=notes or StudentNotes(),
         may_write=may_write,
         conclusions_limit=CONCLUSIONS_LIMIT,
+        rows_received=t.plural(*ROWS_RECEIVED, 0),
     )
 
 

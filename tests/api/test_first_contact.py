@@ -13,9 +13,9 @@ from tests.api.conftest import WRITER, Server, auth
 
 
 def test_a_second_server_on_a_data_directory_in_use_says_so_in_one_line(server: Server) -> None:
+    serve = [sys.executable, "-m", "rigserver.cli", "serve", "--port", "1"]
     second = subprocess.run(
-        [sys.executable, "-m", "rigserver.cli", "serve", "--port", "1"]
-        + ["--data-dir", str(server.data_dir)],
+        [*serve, "--data-dir", str(server.data_dir)],
         capture_output=True,
         text=True,
         timeout=120,

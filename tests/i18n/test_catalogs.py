@@ -81,7 +81,7 @@ def test_the_catalogs_are_package_data() -> None:
     ],
 )
 def test_a_count_takes_the_plural_form_of_its_language(lang: str, counts: dict[int, str]) -> None:
-    """"1 rows received" no more (issue 39, item 11): gettext's plural forms (Russian:
+    """ "1 rows received" no more (issue 39, item 11): gettext's plural forms (Russian:
     1 and 21 one form, 2-4 and 22 another, 5-20 a third), and the forms a page's script
     picks by ``Intl.PluralRules`` category."""
     t = Messages(lang)

@@ -54,6 +54,7 @@ from rigclient.salvage import salvage
 from rigclient.spool import RunRecord, Spool, SpoolLimits, amount
 from rigclient.summary import results_tables
 from schemas.runs import RunState
+from schemas.stands import StandKind
 
 DEFAULT_SPOOL = Path.home() / ".rigclient" / "spool"
 
@@ -112,7 +113,9 @@ def _parser() -> argparse.ArgumentParser:
             )
         else:
             cmd.add_argument("file", type=Path)
-        cmd.add_argument("--stand", help="smts2, slide_bearing, mtos, profilometer (or the map)")
+        cmd.add_argument(
+            "--stand", help=f"{', '.join(k.value for k in StandKind)} (or the map's [run])"
+        )
         cmd.add_argument("--group", help="the channel group of the file's rows (or the map)")
         _run_fields(cmd)
         cmd.add_argument("--rows", type=int, default=200, help="rows per batch (default 200)")

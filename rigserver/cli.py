@@ -304,7 +304,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     logging.basicConfig(
         level=args.log_level.upper(), format="%(asctime)s %(levelname)s %(message)s"
     )
-    app = build_app(settings)
+    try:
+        app = build_app(settings)
+    except StorageError as exc:  # the data directory in use, unwritable, its journal damaged
+        raise SystemExit(f"rigserver: {exc}") from None
     keep_freed_memory()
     gc.collect()
     gc.freeze()  # what was built to start is never garbage: keep it out of the collections

@@ -140,6 +140,7 @@ def _run(args: argparse.Namespace, console: Console) -> int:
     if args.json:  # stdout carries the one JSON object; the progress goes to stderr
         console = Console(stderr=True)
     with LabClient(args.url, key, seed=args.seed) as client, progress_bar(console) as bar:
+        client.first_contact()
         # what fails while the client tries again, above the bar (never a silent, frozen bar)
         client.report = lambda text: bar.console.print(text, markup=False, soft_wrap=True)
         task = bar.add_task(f"{kind.value} (seed {args.seed})", total=len(sim.batches))
@@ -228,7 +229,9 @@ def main(argv: Sequence[str] | None = None) -> int:
         action="store_true",
         help='print one JSON object {"run_id", "truth" (with --truth), "results"}',
     )
-    demo = sub.add_parser("demo", help="start rigserver and post all four stands to it")
+    every = ", ".join(k.value for k in StandKind)
+    said = f"start rigserver and post every stand to it ({every})"
+    demo = sub.add_parser("demo", help=said, description=said)
     demo.add_argument("--host", default="127.0.0.1")
     demo.add_argument("--port", type=int, default=8000)
     demo.add_argument("--data-dir", type=Path, default=Path("data"))

@@ -13,7 +13,10 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
-from rigclient.http import Api, RetryPolicy, problem_of, retry_after
+import httpx
+
+from rigclient.errors import ServerUnavailable
+from rigclient.http import Api, RetryPolicy, TryLater, problem_of, retry_after
 from rigsim.batches import Batch, SimulatedRun
 from schemas.readings import BatchReceipt
 from schemas.runs import Run, RunCreate
@@ -60,6 +63,14 @@ class LabClient(Api):
 
     def __enter__(self) -> LabClient:
         return self
+
+    def first_contact(self) -> None:
+        """``GET /stands`` once: a server nobody listens for (connection refused, a name
+        not known) is said at once, not after two minutes of tries; a server that answers,
+        even busy, is left to the retries of what follows."""
+        answer = self.attempt("GET", "/stands")
+        if isinstance(answer, TryLater) and isinstance(answer.cause, httpx.ConnectError):
+            raise ServerUnavailable(answer.reason) from answer.cause
 
     def create_run(self, body: RunCreate, idempotency_key: str | None = None) -> Run:
         """``POST /runs`` with a fresh Idempotency-Key (not the seeded generator)."""

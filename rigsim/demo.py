@@ -136,6 +136,7 @@ def run_demo(
     url = f"http://{host}:{port}"
     stop_on_signals()
     proc = start_server(host, port, data_dir, keys_file)
+    stopping = threading.Event()
     try:
         console.print(f"rigserver is up: data in {data_dir.resolve()}")
         console.print(f"  runs page       {url}/")
@@ -144,13 +145,17 @@ def run_demo(
         console.print(f"  demo key        in {keys_file} (reads are public)")
         outcomes: dict[str, RunOutcome | str] = {}
 
+        def report(label: str, text: str) -> None:
+            """A stand's failed tries, told while the demo runs; once it stops (Ctrl-C, the
+            server gone), what the stands meet is the stop itself, said once by the demo."""
+            if not stopping.is_set() and proc.poll() is None:
+                console.print(f"  {label}: {text}", markup=False, soft_wrap=True)
+
         def post(label: str, kind: StandKind, stand_seed: int) -> None:
             try:
                 sim = simulate(kind, seed=stand_seed)
                 with LabClient(url, key, seed=stand_seed) as client:
-                    client.report = lambda text: console.print(
-                        f"  {label}: {text}", markup=False, soft_wrap=True
-                    )
+                    client.report = lambda text: report(label, text)
                     outcomes[label] = client.run(sim, speed=speed)
             except (RigsimError, ServerError) as exc:
                 outcomes[label] = f"failed: {exc}"
@@ -196,6 +201,7 @@ def run_demo(
         proc.wait()
         return proc.returncode or 0
     finally:
+        stopping.set()
         stop_server(proc)
 
 

@@ -22,6 +22,7 @@ from rigserver.api.problems import ApiProblem
 from rigserver.api.report_files import ReportFiles
 from rigserver.api.report_pool import RenderPool
 from rigserver.api.results_cache import ResultsCache
+from rigserver.api.series_export import SeriesExports
 from rigserver.api.sessions import COOKIE, Sessions
 from rigserver.api.settings import Settings
 from rigserver.storage.base import RunStore
@@ -57,6 +58,8 @@ class Services:
     results: ResultsCache = field(init=False)
     reports: RenderPool = field(init=False)
     report_files: ReportFiles = field(init=False)
+    #: the series exports whose reports render in the background
+    exports: SeriesExports = field(init=False)
 
     def __post_init__(self) -> None:
         self.reports = RenderPool(
@@ -70,6 +73,7 @@ class Services:
         self.report_files = ReportFiles(
             self.settings.data_dir / "reports", hashlib.sha256(stands.encode()).hexdigest()
         )
+        self.exports = SeriesExports(self.stopping, self.settings.retry_after)
         self.results = ResultsCache(
             workers=self.settings.results_workers,
             runs=RESULTS_KEPT,

@@ -113,6 +113,24 @@ def violations(errors: Iterable[Mapping[str, Any]], prefix: str = "") -> list[Vi
     return found
 
 
+def _not_json(request: Request, exc: RequestValidationError) -> Problem | None:
+    """A JSON body refused whole because the request did not say it was JSON: the
+    ``Content-Type`` header named, not "Input should be a valid dictionary"."""
+    if not any(tuple(e.get("loc", ())) == ("body",) for e in exc.errors()):
+        return None
+    media = request.headers.get("content-type", "").partition(";")[0].strip().lower()
+    if media == "application/json" or media.endswith("+json"):
+        return None
+    got = f"Content-Type: {media[:80]}" if media else "no Content-Type header"
+    detail = f"the body is read as JSON with the header Content-Type: application/json; got {got}"
+    return Problem(
+        title="Unsupported media type",
+        status=415,
+        detail=detail,
+        errors=[Violation(field="Content-Type", message=detail)],
+    )
+
+
 def _from_validation(exc: RequestValidationError) -> Problem:
     errors = violations(exc.errors())
     detail = "; ".join(e.message for e in errors[:3]) or "the request is not valid"
@@ -206,7 +224,7 @@ def install(app: FastAPI) -> None:
 
     @app.exception_handler(RequestValidationError)
     async def _validation(request: Request, exc: RequestValidationError) -> JSONResponse:
-        return problem_response(_from_validation(exc))
+        return problem_response(_not_json(request, exc) or _from_validation(exc))
 
     @app.exception_handler(StarletteHTTPException)
     async def _http(request: Request, exc: StarletteHTTPException) -> JSONResponse:

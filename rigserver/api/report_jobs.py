@@ -13,6 +13,8 @@ from __future__ import annotations
 import logging
 import os
 import signal
+import threading
+import time
 from collections.abc import Iterator, Mapping
 from contextlib import ExitStack
 from dataclasses import dataclass, field
@@ -54,13 +56,35 @@ def quiet_renderer_logs() -> None:
             logger.addHandler(logging.NullHandler())
 
 
+#: Seconds between two looks of a render process at its parent (:func:`exit_with_parent`).
+PARENT_POLL_SECONDS = 0.5
+
+
+def exit_with_parent(parent: int) -> None:
+    """End this process once ``parent`` is no longer its parent: the service has died (a
+    ``kill -9``, the kernel's out-of-memory killer) and this process was handed to init.
+
+    A render process waits on the pool's pipes, whose write ends it holds itself, and
+    multiprocessing's resource tracker waits for the render process: neither would see
+    the service go (issue 39, item 5). Looking at ``getppid`` is what every Unix offers
+    (Linux's parent-death signal fires when the *thread* that started the process ends,
+    which in a thread pool is any time).
+    """
+    while os.getppid() == parent:
+        time.sleep(PARENT_POLL_SECONDS)
+    os._exit(0)
+
+
 def render_process_started() -> None:
-    """A render process's start: the renderer's messages kept out of the log, and Ctrl-C
+    """A render process's start: the renderer's messages kept out of the log, Ctrl-C
     left to the service (a terminal sends SIGINT to the whole process group; the service
     stops its render processes as it stops, once the renders under way are done, instead
-    of each printing a traceback)."""
+    of each printing a traceback), and an end with the service's (:func:`exit_with_parent`)."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     quiet_renderer_logs()
+    threading.Thread(
+        target=exit_with_parent, args=(os.getppid(),), name="exit-with-parent", daemon=True
+    ).start()
 
 
 class FileReadings(CorrectedReadings):

@@ -107,6 +107,16 @@ class Messages:
         """A message that holds markup (``<sub>``), with the values escaped."""
         return Markup(self.gettext(MESSAGES[key])).format(**values)
 
+    def plural(self, singular: str, plural: str, n: int) -> str:
+        """``singular`` or ``plural`` (message ids) for a count of ``n``, in this language's
+        plural forms (Russian has three: 1 строка, 2 строки, 5 строк)."""
+        return self.translations.ngettext(singular, plural, n)
+
+    def plural_forms(self, singular: str, plural: str) -> dict[str, str]:
+        """The forms of a count's words by CLDR plural category (``one``, ``few``, ``many``,
+        ``other``), for a page whose script counts (``Intl.PluralRules``)."""
+        return {category: self.plural(singular, plural, n) for category, n in _CATEGORY_N}
+
     def symbol(self, symbol: str) -> str:
         """A quantity's symbol in this language (``f_e`` -> ``f_э``); a symbol without a
         translation is the same in every language (``N``, ``e_x``)."""
@@ -124,6 +134,10 @@ class Messages:
         """A unit as printed: ``Pa*s`` -> ``Pa·s`` (``Па·с``); dimensionless -> ``—``."""
         return self.translations.pgettext(UNIT_CONTEXT, UNIT_LABELS[symbol])
 
+
+#: A whole number of each CLDR plural category of English and Russian (``other`` is what a
+#: count of 5 reads in English, of 1.5 in Russian: its whole numbers are one, few or many).
+_CATEGORY_N = (("one", 1), ("few", 2), ("many", 5), ("other", 5))
 
 UNIT_LABELS: dict[str, str] = {
     "1": C_("unit", "—"),

@@ -23,7 +23,7 @@ from rigserver.reports.formatting import decimal_sign, html_symbol, number_local
 from rigserver.reports.i18n import Lang, Messages
 from schemas.channels import ChannelGroup, Violation
 from schemas.labels import channel_symbol, plain_symbol
-from schemas.messages import N_
+from schemas.messages import N_, NP_
 from schemas.problems import Problem
 from schemas.stands import Stand
 
@@ -35,10 +35,6 @@ TEXTS: dict[str, str] = {
     "nominal": N_("{symbol} = {value} {unit}: one of {values} {unit} is expected"),
     "integer": N_("{symbol} = {value}: a whole number is expected"),
     "one_value": N_("type at least one value"),
-    "waiting_one": N_("{n} row waits to be sent"),
-    "waiting_few": N_("{n} rows wait to be sent (few)"),
-    "waiting_many": N_("{n} rows wait to be sent (many)"),
-    "waiting_other": N_("{n} rows wait to be sent"),
     "all_sent": N_("Every row typed is on the server"),
     "offline": N_(
         "the server does not answer; the rows are kept in this browser and sent once it answers"
@@ -52,9 +48,11 @@ TEXTS: dict[str, str] = {
     "waits": N_("waits"),
     "dismiss": N_("Drop"),
 }
-"""What the page says as it checks and sends (``{…}`` filled in by the script). The
-Russian catalog gives the waiting rows three forms (one, few, many: 1 строка, 2 строки, 5
-строк); English needs one and other."""
+"""What the page says as it checks and sends (``{…}`` filled in by the script)."""
+
+#: The count of the rows still in the browser, in the plural forms of the page's language
+#: (Russian has three: 1 строка, 2 строки, 5 строк), picked by the script.
+WAITING = NP_("{n} row waits to be sent", "{n} rows wait to be sent")
 
 
 FORM_HEADER = "x-rig-form"
@@ -202,4 +200,5 @@ def entry_config(
         "form_token": form_token,
         "decimal": decimal,
         "text": {key: t.gettext(text) for key, text in TEXTS.items()},
+        "waiting": t.plural_forms(*WAITING),
     }

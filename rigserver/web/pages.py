@@ -34,6 +34,7 @@ from rigserver.reports.x3p import PROFILE_GROUP, NoProfile, profile_group
 from rigserver.web.entry import entry_config, entry_groups, typed
 from schemas import labelled
 from schemas.labels import RESULTS, THEORY_VERDICT, Part, theory_outside
+from schemas.messages import NP_
 from schemas.quantity import unit_paths
 from schemas.runs import Run, RunPage, RunState
 from schemas.stands import Stand, StandKind
@@ -200,7 +201,11 @@ def runs_page(
 
 def login_page(*, next_page: str, refused: bool, lang: Lang) -> str:
     """The form that turns a key with the ``read`` scope into a session of the pages."""
-    return render_page("login.html", lang, next=next_page, refused=refused)
+    return render_page("login.html", lang, next=next_page, refused=refused, on_login=True)
+
+
+#: The words after the count of a run's rows, singular and plural (message ids).
+ROWS_RECEIVED = NP_("row received", "rows received")
 
 
 def run_page(
@@ -241,6 +246,8 @@ def run_page(
             key: t(f"page.{key}") for key in ("connecting", "streaming", "reconnecting", "ended")
         }
         | {f"state_{s.value}": t(f"state.{s.value}") for s in RunState},
+        "lang": lang,
+        "rows_received": t.plural_forms(*ROWS_RECEIVED),
     }
     with number_locale(lang):
         specimen = particulars_text(t, run.specimen)
@@ -270,6 +277,7 @@ def run_page(
         entry_config=(
             entry_config(t, lang, run.id, form_token, config["decimal"]) if entry else None
         ),
+        rows_received=t.plural(*ROWS_RECEIVED, 0),
     )
 
 

@@ -7,6 +7,7 @@ from __future__ import annotations
 import hashlib
 import io
 import json
+import time
 import warnings
 import zipfile
 from collections.abc import Iterator
@@ -44,7 +45,13 @@ class Lab:
 
 
 def export(client: TestClient, path: str) -> bytes:
+    """An archive: a series' is answered 202 while its reports render (asked again)."""
     answer = client.get(path, headers=auth(WRITER))
+    for _ in range(600):
+        if answer.status_code != 202:
+            break
+        time.sleep(0.2)
+        answer = client.get(path, headers=auth(WRITER))
     assert answer.status_code == 200, answer.text
     assert answer.headers["content-type"] == ELN_MEDIA_TYPE
     return answer.content

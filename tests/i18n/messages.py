@@ -16,13 +16,15 @@ ROOT = Path(__file__).resolve().parents[2]
 KEYWORDS = {
     **DEFAULT_KEYWORDS,
     "N_": None,
+    "NP_": (1, 2),
     "C_": ((1, "c"), 2),
     "quantity": (3,),
     "_c": (3,),
 }
 """``N_`` marks a text, ``C_`` a text in a context; ``quantity(default, unit, description)``
 and the stands' ``_c(name, unit, long_name)`` carry a text shown to people in their third
-argument (``pybabel extract -k N_ -k C_:1c,2 -k quantity:3 -k _c:3``)."""
+argument; ``NP_`` marks the singular and plural words of a count (``pybabel extract -k N_
+-k NP_:1,2 -k C_:1c,2 -k quantity:3 -k _c:3``)."""
 
 METHODS = [
     ("**/templates/**.html", "jinja2.ext:babel_extract"),

@@ -8,7 +8,8 @@ from importlib import resources
 import pytest
 from babel.messages.pofile import read_po
 
-from rigserver.reports.i18n import DEFAULT, DOMAIN, LANGS
+from rigserver.reports.i18n import DEFAULT, DOMAIN, LANGS, Messages
+from rigserver.web.pages import ROWS_RECEIVED
 from tests.i18n.messages import ROOT, declared, every_message, extracted
 
 CATALOGS = [lang for lang in LANGS if lang != DEFAULT]
@@ -60,3 +61,31 @@ def test_the_catalogs_are_package_data() -> None:
     assert {
         ROOT / "rigserver" / "locale" / lang / "LC_MESSAGES" / f"{DOMAIN}.po" for lang in CATALOGS
     } <= shipped
+
+
+@pytest.mark.parametrize(
+    ("lang", "counts"),
+    [
+        ("en", {0: "rows received", 1: "row received", 2: "rows received", 21: "rows received"}),
+        (
+            "ru",
+            {
+                1: "строка получена",
+                2: "строки получены",
+                5: "строк получено",
+                11: "строк получено",
+                21: "строка получена",
+                22: "строки получены",
+            },
+        ),
+    ],
+)
+def test_a_count_takes_the_plural_form_of_its_language(lang: str, counts: dict[int, str]) -> None:
+    """ "1 rows received" no more (issue 39, item 11): gettext's plural forms (Russian:
+    1 and 21 one form, 2-4 and 22 another, 5-20 a third), and the forms a page's script
+    picks by ``Intl.PluralRules`` category."""
+    t = Messages(lang)
+    for n, words in counts.items():
+        assert t.plural(*ROWS_RECEIVED, n) == words
+    forms = t.plural_forms(*ROWS_RECEIVED)
+    assert forms["one"] == counts[1] and forms["many"] == forms["other"]

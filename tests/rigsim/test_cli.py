@@ -155,6 +155,7 @@ def test_ctrl_c_while_the_demo_posts_stops_it_and_its_server(tmp_path: Path) -> 
         stop(proc)
     text = out.read_text(errors="replace")
     assert "interrupted" in text and "Traceback" not in text
+    assert "trying again" not in text  # the stands' tries at a stopped server: not told
 
 
 def test_a_server_stopped_while_the_demo_posts_stops_the_demo(tmp_path: Path) -> None:
@@ -193,6 +194,26 @@ def test_a_second_demo_on_a_busy_port_says_so_in_one_line(server: Server) -> Non
     assert runs["total"] == 0
 
 
+def test_a_run_posted_where_nothing_listens_says_so_at_once(tmp_path: Path) -> None:
+    """``rigsim run`` at a wrong port: one line naming the address, in seconds, not after
+    two minutes of tries (issue 39, item 11)."""
+    url = f"http://127.0.0.1:{free_port()}"
+    started = time.monotonic()
+    done = subprocess.run(
+        [sys.executable, "-m", "rigsim.cli", "run", "--stand", "profilometer", "--url", url],
+        capture_output=True,
+        text=True,
+        timeout=100,
+        stdin=subprocess.DEVNULL,
+        env={**os.environ, "COLUMNS": "200"},
+    )
+    assert done.returncode == 1
+    assert time.monotonic() - started < 60  # the tries would take 120 s
+    said = [line for line in done.stdout.splitlines() if line.strip()]
+    assert len(said) == 1 and "connection refused" in said[0] and url[7:] in said[0], said
+    assert "trying again" not in done.stdout + done.stderr
+
+
 def test_parse_fault() -> None:
     assert parse_fault("stuck:friction.load@0.25*20") == Fault(
         kind="stuck", group="friction", channel="load", at=0.25, rows=20
@@ -210,3 +231,21 @@ def test_faults_from_the_command_line_reach_the_settings() -> None:
     fault = parse_fault("out_of_limit:friction.friction_moment@0.5")
     settings = settings_for(StandKind.SMTS2, mode="oxidative", faults=[fault])
     assert settings.faults == (fault,) and settings.mode == "oxidative"
+
+
+@pytest.mark.parametrize(
+    "command", [["rigsim.cli", "demo", "--help"], ["rigclient.cli", "import", "--help"]]
+)
+def test_help_names_every_stand(command: list[str]) -> None:
+    """The stands named by ``--help`` come from the stands' declaration (issue 39, item 11:
+    four of six were named)."""
+    done = subprocess.run(
+        [sys.executable, "-m", *command],
+        capture_output=True,
+        text=True,
+        timeout=60,
+        env={**os.environ, "COLUMNS": "400"},
+    )
+    assert done.returncode == 0
+    for kind in StandKind:
+        assert kind.value in done.stdout

@@ -12,14 +12,14 @@ import tempfile
 from collections.abc import Callable, Iterator, Mapping
 from contextlib import ExitStack
 from datetime import UTC, datetime
-from functools import lru_cache
+from functools import lru_cache, partial
 from pathlib import Path
 from typing import IO, Any
 
 import numpy as np
 from fastapi import APIRouter, Request, Response, status
 from fastapi.concurrency import run_in_threadpool
-from fastapi.responses import FileResponse
+from fastapi.responses import FileResponse, JSONResponse
 from pydantic import ValidationError
 from starlette.background import BackgroundTask
 
@@ -38,8 +38,9 @@ from rigserver.api.report_jobs import FileReadings
 from rigserver.api.routes import reports as run_reports
 from rigserver.api.routes import series as series_routes
 from rigserver.api.routes.runs import load_run
-from rigserver.api.routes.series import _detail
+from rigserver.api.routes.series import _detail, load_series
 from rigserver.api.run_results import StoredReadings, results_payload
+from rigserver.api.series_export import Progress, Render
 from rigserver.reports.eln import (
     ELN_MEDIA_TYPE,
     Publisher,
@@ -193,13 +194,75 @@ async def export_run(run_id: str, request: Request, services: ServicesDep) -> Fi
 @router.get(
     "/series/{series_id}/export.eln",
     summary="The series as an .eln archive: each run's folder, the statistics, the report",
+    description="When reports the archive packs are not rendered yet, they are rendered in "
+    "the background and the request is answered 202 at once, with `Retry-After`, "
+    "`Location` (this URL) and the progress (`reports_done` of `reports_total`): ask again "
+    "until it answers 200 with the archive.",
     response_class=FileResponse,
-    responses=_ELN_ANSWER,
+    responses={**_ELN_ANSWER, 202: {"description": "the archive's reports are rendering"}},
     dependencies=[ReadAccess],
 )
-async def export_series(series_id: str, request: Request, services: ServicesDep) -> FileResponse:
+async def export_series(series_id: str, request: Request, services: ServicesDep) -> Response:
+    missing = await run_in_threadpool(_missing_reports, services, series_id)
+    if missing:
+        progress = services.exports.start(series_id, missing)
+        return _preparing(series_id, progress, services)
     name, path = await run_in_threadpool(_export_series, services, series_id, _publisher(request))
     return _archive_response(name, path)
+
+
+def _missing_reports(services: Services, series_id: str) -> list[Render]:
+    """The reports a series archive packs that are not rendered yet: each member run's and
+    the series', in each language; each a render to call."""
+    _, members = _detail(services, series_id)
+    missing: list[Render] = []
+    for lang in LANGS:
+        for member in members:
+            run = member.run
+            if not run_reports.report_kept(services, run, lang):
+                missing.append(partial(run_reports.report_bytes, services, run, lang, _EXPORT))
+        if not series_routes.report_kept(services, series_id, lang):
+            missing.append(partial(series_routes.report_bytes, services, series_id, lang, _EXPORT))
+    return missing
+
+
+def _preparing(series_id: str, progress: Progress, services: Services) -> JSONResponse:
+    """202: the archive's reports are being rendered; where and when to ask again."""
+    if progress.failed is not None and not progress.running:
+        said = f"the reports of the archive could not be rendered: {progress.failed}"
+        raise ApiProblem(500, "Export failed", f"{said}; ask again to try once more")
+    here = f"/api/v1/series/{series_id}/export.eln"
+    return JSONResponse(
+        _status(progress),
+        status_code=202,
+        headers={
+            "Location": here,
+            "Retry-After": f"{services.settings.retry_after:g}",
+            "Cache-Control": "no-store",
+        },
+    )
+
+
+def _status(progress: Progress | None) -> dict[str, Any]:
+    if progress is None:
+        return {"state": "none", "reports_done": 0, "reports_total": 0}
+    state = "failed" if progress.failed else "rendering" if progress.running else "ready"
+    return {
+        "state": state,
+        "reports_done": progress.done,
+        "reports_total": progress.total,
+        "detail": progress.failed or f"{progress.done} of {progress.total} reports rendered",
+    }
+
+
+@router.get(
+    "/series/{series_id}/export.eln/status",
+    summary="How far the series archive's reports are rendered (the series page shows it)",
+    dependencies=[ReadAccess],
+)
+async def export_series_status(series_id: str, services: ServicesDep) -> dict[str, Any]:
+    await run_in_threadpool(load_series, services, series_id)
+    return _status(services.exports.progress(series_id))
 
 
 # --- import ------------------------------------------------------------------------------

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from datetime import UTC, date, datetime, time, timedelta
+from importlib import resources
 from typing import Annotated, TypeVar
 from urllib.parse import parse_qs, urlencode, urlsplit
 
@@ -88,6 +89,9 @@ LOGIN_BODY_BYTES = 4096
 
 PAGE_SIZE = 50
 
+#: The pages' icon, served at ``/favicon.ico`` too.
+FAVICON = resources.files("rigserver.web") / "static" / "favicon.svg"
+
 Filter = Annotated[Text, Query(max_length=100)]
 Choice = TypeVar("Choice", StandKind, RunState)
 
@@ -103,6 +107,15 @@ def install(app: FastAPI) -> None:
     app.include_router(router)
     app.include_router(login_router)
     app.mount("/static", StaticFiles(packages=[("rigserver.web", "static")]), name="static")
+
+    @app.get("/favicon.ico", include_in_schema=False)
+    def favicon() -> Response:
+        """The pages' icon, where browsers look for it first (an SVG: rig's own drawing)."""
+        return Response(
+            FAVICON.read_bytes(),
+            media_type="image/svg+xml",
+            headers={"Cache-Control": "public, max-age=86400"},
+        )
 
 
 def _choice(kind: type[Choice], field: str, value: str) -> Choice | None:

@@ -74,6 +74,11 @@ async def _report(
     return run, file_answer(request, target, headers)
 
 
+def report_kept(services: Services, run: Run, lang: Lang) -> bool:
+    """Whether the run's report of this version in ``lang`` is rendered and kept."""
+    return run_target(services, run, lang, "pdf")[0].path.exists()
+
+
 def report_bytes(services: Services, run: Run, lang: Lang, key: str) -> dict[str, bytes]:
     """The run's report in ``lang``, ``html`` and ``pdf``: kept, or rendered on the pool."""
     target, notes = run_target(services, run, lang, "pdf")

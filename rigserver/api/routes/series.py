@@ -234,6 +234,11 @@ def _job(services: Services, series_id: str, target: ReportFile) -> tuple[Series
     return job, bool(open_runs)
 
 
+def report_kept(services: Services, series_id: str, lang: Lang) -> bool:
+    """Whether the series report of this version in ``lang`` is rendered and kept."""
+    return _prepare(services, series_id, lang, "pdf").path.exists()
+
+
 def report_bytes(services: Services, series_id: str, lang: Lang, key: str) -> dict[str, bytes]:
     """The series report in ``lang``, ``html`` and ``pdf``: kept, or rendered on the pool."""
     target = _prepare(services, series_id, lang, "pdf")

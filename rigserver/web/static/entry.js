@@ -133,7 +133,7 @@
   }
 
   function waitingText(n) {
-    return fill(text["waiting_" + plural.select(n)] || text.waiting_other, { n: n });
+    return fill(config.waiting[plural.select(n)], { n: n });
   }
 
   function showStatus() {

@@ -14,6 +14,8 @@
   const select = document.getElementById("live-channel");
   const status = document.getElementById("live-status");
   const counter = document.getElementById("live-rows");
+  const counted = document.getElementById("live-rows-words");
+  const plural = new Intl.PluralRules(config.lang);
   const stateCell = document.getElementById("run-state");
   const note = document.getElementById("results-note");
   const columns = {};
@@ -63,6 +65,7 @@
     }
     rows = Math.max(rows, data.stop);
     counter.textContent = String(rows);
+    counted.textContent = config.rows_received[plural.select(rows)];
     scheduleDraw();
   }
 

@@ -97,9 +97,7 @@ def test_runs_are_listed_newest_first_filtered_and_paged(
     assert lab.runs(stand="mtos", until="2000-01-01T00:00:00Z") == []
 
 
-def test_readings_are_the_posted_columns_with_their_units(
-    lab: Lab, posted: dict[str, Any]
-) -> None:
+def test_readings_are_the_posted_columns_with_their_units(lab: Lab, posted: dict[str, Any]) -> None:
     sim, run_id = posted["tribo"]
     run = lab.run(run_id)
     frame = run.readings("friction")
@@ -180,7 +178,9 @@ def test_a_series_members_and_statistics(lab: Lab, posted: dict[str, Any]) -> No
 
 
 def test_a_run_followed_while_rigsim_posts_it(lab_server: Server, lab: Lab) -> None:
-    sim = simulate("pin_on_disc", TribometerSettings(laps=60, running_in_laps=10, batch_rows=300), seed=5)
+    sim = simulate(
+        "pin_on_disc", TribometerSettings(laps=60, running_in_laps=10, batch_rows=300), seed=5
+    )
     client = LabClient(lab_server.url, WRITER)
     run = client.create_run(sim.run_create)
     delivered = threading.Event()
@@ -243,7 +243,9 @@ def test_a_dropped_live_connection_is_resumed(
     lab_server: Server, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     monkeypatch.setattr("rigclient.lab.RESUME_DELAY", 0.01)
-    sim = simulate("pin_on_disc", TribometerSettings(laps=40, running_in_laps=10, batch_rows=300), seed=6)
+    sim = simulate(
+        "pin_on_disc", TribometerSettings(laps=40, running_in_laps=10, batch_rows=300), seed=6
+    )
     client = LabClient(lab_server.url, WRITER)
     run = client.create_run(sim.run_create)
     half = len(sim.batches) // 2

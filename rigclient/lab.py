@@ -158,6 +158,11 @@ class Lab:
         """One series of runs, with its statistics."""
         return LabSeries(self.get_json(f"/series/{series_id}"))
 
+    def every_series(self, *, stand: str | None = None) -> list[LabSeries]:
+        """Every series of the lab, newest first; with ``stand``, those of its runs."""
+        found = [self.series(s["id"]) for s in self.get_json("/series")]
+        return [s for s in found if stand is None or s.detail.get("stand") == stand]
+
     # -- one request --------------------------------------------------------------------
 
     def get(self, path: str, params: Mapping[str, str] | None = None) -> httpx.Response:
@@ -251,7 +256,7 @@ class LabRun:
                 f"({response.headers.get('content-type')!r}): is it an older rig?"
             )
         table = pyarrow.ipc.open_stream(body).read_all()
-        frame = table.to_pandas()
+        frame = table.to_pandas(split_blocks=True)  # a block a column: no copy into one
         frame.attrs["units"] = {
             f.name: (f.metadata or {}).get(b"unit", b"").decode() for f in table.schema
         }

@@ -31,6 +31,7 @@ from rigsim.stands.tribometer import TribometerSettings
 from schemas.runs import RunCreate
 from schemas.stands import default_stands
 from tests.api.conftest import KEYS, MTOS_ONLY, READER, WRITER, Server, auth
+from tests.api.test_readme import block, section
 
 
 @pytest.fixture(scope="module")
@@ -313,3 +314,18 @@ def test_a_lab_of_a_run_as_it_was_created(lab: Lab, lab_server: Server) -> None:
         "T",
     )
     assert "Ivanova" in {r.info.operator for r in lab.runs(operator="Ivanova")}
+
+
+def test_the_readmes_lines_get_a_run_into_a_frame(
+    lab_server: Server, posted: dict[str, Any]
+) -> None:
+    """README, "Your data in Python": the block as printed, with this server's URL."""
+    code = block(section("Your data in Python"), "python")
+    assert '"http://127.0.0.1:8000"' in code
+    namespace: dict[str, Any] = {"key": READER}
+    exec(code.replace('"http://127.0.0.1:8000"', repr(lab_server.url)), namespace)
+    namespace["lab"].close()
+    sim, run_id = posted["mtos"][1]  # the newest finished MTOS run
+    assert namespace["run"].id == run_id
+    np.testing.assert_array_equal(namespace["df"]["load"], sim.columns("steps")["load"])
+    assert namespace["df"].attrs["units"]["load"] == "N"

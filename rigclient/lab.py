@@ -236,7 +236,7 @@ class LabRun:
         if group is not None:
             return group
         stand = self._lab.get_json(f"/stands/{self.stand}")
-        return next(g["name"] for g in stand["groups"] if g.get("aligned", True))
+        return str(next(g["name"] for g in stand["groups"] if g.get("aligned", True)))
 
     def readings(self, group: str | None = None, *, original: bool = False) -> pd.DataFrame:
         """A channel group as a frame: one float64 column per channel, one row per reading
@@ -376,7 +376,7 @@ def _flat(row: Mapping[str, Any], prefix: str = "") -> dict[str, Any]:
 
 def _events(response: httpx.Response) -> Iterator[tuple[str, Any]]:
     """Server-sent events as ``(name, data)``; comments and ``retry:`` lines skipped."""
-    name, data = "message", []
+    name, data = "message", list[str]()
     for line in response.iter_lines():
         if not line:
             if data:

@@ -8,6 +8,8 @@
 - :mod:`rigclient.http`: the server's API, one request at a time or retried.
 - :mod:`rigclient.cli`: ``rigclient tail | import | profile | status | send | retry | drop |
   salvage``.
+- :class:`Lab` (:mod:`rigclient.lab`): the read side, runs, readings and results as pandas
+  frames (the ``frames`` extra: pandas and pyarrow).
 
 Needs httpx, numpy, pydantic (the wire schemas), rich, x3pio and sdfio; none of the
 server's packages.
@@ -28,6 +30,7 @@ from rigclient.errors import (
     UnknownRun,
 )
 from rigclient.http import Api, RetryPolicy, problem_of, retry_after
+from rigclient.lab import Lab, LabRun, LabSeries
 from rigclient.spool import Cursor, Reject, RunRecord, SpoolLimits
 
 __all__ = [
@@ -36,6 +39,9 @@ __all__ = [
     "ClientStatus",
     "Cursor",
     "InputError",
+    "Lab",
+    "LabRun",
+    "LabSeries",
     "Reject",
     "RetryPolicy",
     "RigclientError",

@@ -61,17 +61,19 @@ class Label:
     resolution: float = 0.0
     part: Part = Part.MEASURED
 
+    def displayed(self, value: float, stored: str) -> float:
+        """``value`` (stored in ``stored``) in the display unit, to full precision."""
+        if stored == self.unit:
+            return value
+        have, want = UNITS[stored], UNITS[self.unit]
+        if have.si != want.si:
+            raise ValueError(f"{stored} cannot be shown in {self.unit}")
+        return value * (have.factor / want.factor)
+
     def shown(self, value: float, stored: str) -> float:
         """``value`` (stored in ``stored``) in the display unit, rounded to the label's
         digits, 0 below its resolution."""
-        if stored == self.unit:
-            factor = 1.0
-        else:
-            have, want = UNITS[stored], UNITS[self.unit]
-            if have.si != want.si:
-                raise ValueError(f"{stored} cannot be shown in {self.unit}")
-            factor = have.factor / want.factor
-        return round_to(value * factor, self.digits, self.resolution)
+        return round_to(self.displayed(value, stored), self.digits, self.resolution)
 
 
 def round_to(value: float, digits: int, resolution: float = 0.0) -> float:

@@ -10,6 +10,8 @@ GroupName = Annotated[str, StringConstraints(pattern=r"^[a-z][a-z0-9_]{0,39}$")]
 
 #: Content type of the binary batch form: a NumPy ``.npz`` archive, one 1-D array per channel.
 NPZ_MEDIA_TYPE = "application/x-npz"
+#: Content type of a channel group read back as an Apache Arrow IPC stream (``format=arrow``).
+ARROW_MEDIA_TYPE = "application/vnd.apache.arrow.stream"
 
 
 class ReadingBatch(BaseModel):

@@ -39,13 +39,14 @@ from rigserver.api.routes.api_docs import NPZ_EXAMPLE
 from rigserver.api.routes.runs import load_run
 from rigserver.api.run_results import StoredReadings
 from rigserver.api.strict_json import JsonRefused, strict_loads
+from rigserver.reports.arrow import group_arrow
 from rigserver.reports.export import group_csv
 from rigserver.storage.base import NewBatch
 from rigserver.storage.corrections import applied, last_values, struck_rows
 from rigserver.storage.runfile import corrected_copy
 from schemas.channels import ChannelGroup, Violation, check_columns, follows
 from schemas.corrections import Correction
-from schemas.readings import NPZ_MEDIA_TYPE, BatchReceipt, ReadingBatch
+from schemas.readings import ARROW_MEDIA_TYPE, NPZ_MEDIA_TYPE, BatchReceipt, ReadingBatch
 from schemas.runs import Run
 from schemas.stands import Stand
 from schemas.wire import Text, ascii_count
@@ -310,23 +311,26 @@ router.add_api_route(
 )
 
 
-Format = Literal["json", "csv", "hdf5"]
+Format = Literal["json", "csv", "arrow", "hdf5"]
 
 
 @router.get(
     "",
-    summary="Read the readings back as JSON, CSV or the run's HDF5 file",
+    summary="Read the readings back as JSON, CSV, an Arrow stream or the run's HDF5 file",
     description="An aligned group gives its columns; the single measurements (masses, zero "
     "readings) are named single values, the latest posted of each channel. Every format "
     "gives the values as corrected (PATCH/DELETE `/readings/{group}/{index}`): the rows "
     "struck out left out (JSON names their indices as stored under `struck`); "
     "`original=true` gives them as typed. The HDF5 file as corrected keeps the table of "
-    "corrections (`/entry/corrections`, with the values as typed).",
+    "corrections (`/entry/corrections`, with the values as typed). `format=arrow` gives "
+    "one group as an Apache Arrow IPC stream (float64 columns, each field's `unit` and "
+    "`long_name` in its metadata): what `rigclient.Lab` reads into a DataFrame.",
     dependencies=[ReadAccess],
     responses={
         200: {
             "content": {
                 "text/csv": {},
+                ARROW_MEDIA_TYPE: {},
                 "application/x-hdf5": {},
             }
         }
@@ -353,10 +357,19 @@ def get_readings(
     if format == "hdf5":
         return _hdf5(services, run, corrected=bool(fixes))
     if group is None:
-        if format == "csv":
-            raise ApiProblem(422, "group needed", "CSV holds one channel group: add ?group=")
+        if format in ("csv", "arrow"):
+            holder = "CSV" if format == "csv" else "An Arrow stream"
+            raise ApiProblem(422, "group needed", f"{holder} holds one channel group: add ?group=")
         return {g.name: _json_group(services, run, g, start, stop, fixes) for g in stand.groups}
     chosen = _group_of(stand, group)
+    if format == "arrow":
+        return StreamingResponse(
+            group_arrow(StoredReadings(services, run, original=original), chosen),
+            media_type=ARROW_MEDIA_TYPE,
+            headers={
+                "Content-Disposition": f'attachment; filename="{run.id}-{chosen.name}.arrows"'
+            },
+        )
     if format == "csv":
         return StreamingResponse(
             group_csv(StoredReadings(services, run, original=original), chosen),

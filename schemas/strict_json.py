@@ -1,34 +1,33 @@
-"""JSON bodies read strictly: a key given twice in an object, or a number too long to
-convert, is refused (422 naming where), never decided silently by the last copy; a body
-nested deeper than :data:`MAX_DEPTH` arrays and objects is refused naming the limit (no
-body the service takes nests deeper than a few levels, and Python's parser and every
-walk over the tree recurse once per level: 1 000 levels end in a ``RecursionError``).
+"""JSON read strictly, the one reader of every JSON text rig takes from outside: a key
+given twice in an object, or a number too long to convert, is refused naming where, never
+decided silently by the last copy; a text nested deeper than :data:`MAX_DEPTH` arrays and
+objects is refused naming the limit (nothing rig reads nests deeper than a few levels, and
+Python's parser and every walk over the tree recurse once per level: 1 000 levels end in
+a ``RecursionError``).
 
-:class:`StrictJsonRoute` is the route class of the routers that take JSON bodies through
-FastAPI (``/runs``, ``/models``); the ingest route parses its own (``routes.readings``)
-with :func:`strict_loads` as the judge of what its fast parser refuses.
+Its readers: the service's JSON bodies (``rigserver.api.strict_json``, and the ingest
+route as the judge of what its fast parser refuses), the ``.eln`` archives an import
+reads (``rigserver.reports.eln_read``), the run files they carry, the stands and keys
+files; and what ``rigclient`` reads (its maps, its spool).
 """
 
 from __future__ import annotations
 
 import json
-from collections.abc import Callable, Coroutine
 from typing import Any
 
-from fastapi import Request, Response
-from fastapi.routing import APIRoute
-
-#: Arrays and objects a JSON body may nest, one in another.
+#: Arrays and objects a JSON text may nest, one in another.
 MAX_DEPTH = 64
 
 
 class JsonRefused(json.JSONDecodeError):
-    """A body that is JSON but not strict JSON. ``pos`` is where: the dotted path of the
-    duplicated key (FastAPI puts it in the error's ``loc``), or ``"body"``."""
+    """A text that is JSON but not strict JSON. ``pos`` is where: the dotted path of the
+    duplicated key (FastAPI puts a body's in the error's ``loc``), or ``"body"``."""
 
     def __init__(self, message: str, doc: str, where: str) -> None:
         super().__init__(message, doc, 0)
         self.pos = where  # type: ignore[assignment]
+        self.args = (message if where == "body" else f"{message} (at {where})",)
 
 
 class _Duplicate(Exception):
@@ -41,7 +40,7 @@ class _TooDeep(Exception):
 
 
 def too_deep() -> str:
-    """What a body nested too deeply is told."""
+    """What a text nested too deeply is told."""
     return f"arrays and objects are nested deeper than {MAX_DEPTH} levels, the limit"
 
 
@@ -58,7 +57,7 @@ def strict_loads(body: bytes | str) -> Any:
         text = body.decode("utf-8") if isinstance(body, bytes) else body
     except UnicodeDecodeError as exc:
         raise JsonRefused(
-            f"the body is not UTF-8 ({exc.reason} at byte {exc.start})", "", "body"
+            f"the text is not UTF-8 ({exc.reason} at byte {exc.start})", "", "body"
         ) from None
     try:
         tree = json.loads(text, object_pairs_hook=_Pairs)
@@ -92,22 +91,3 @@ def _objects(node: Any, path: list[str]) -> Any:
             raise _TooDeep
         return [_objects(item, [*path, str(i)]) for i, item in enumerate(node)]
     return node
-
-
-class _StrictJsonRequest(Request):
-    async def json(self) -> Any:
-        if not hasattr(self, "_json"):
-            self._json = strict_loads(await self.body())
-        return self._json
-
-
-class StrictJsonRoute(APIRoute):
-    """A route whose JSON body is read by :func:`strict_loads`."""
-
-    def get_route_handler(self) -> Callable[[Request], Coroutine[Any, Any, Response]]:
-        handler = super().get_route_handler()
-
-        async def strict(request: Request) -> Response:
-            return await handler(_StrictJsonRequest(request.scope, request.receive))
-
-        return strict

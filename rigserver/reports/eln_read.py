@@ -198,7 +198,7 @@ class RunArchive:
             for entity_id, node in files.items()
         }
         written = sum(members[f"{root}/{e}"].file_size for e, out in wanted.items() if out)
-        _room(directory, written, self.limits.reserve, f"{folder}{run_id}.h5")
+        room(directory, written, self.limits.reserve, f"{folder}{run_id}.h5")
         # the members that are only checked first: a lie among them costs no writing
         for entity_id in sorted(files, key=lambda e: wanted.get(e) is not None):
             out = wanted.get(entity_id)
@@ -337,7 +337,7 @@ def _declared(info: zipfile.ZipInfo, node: Mapping[str, Any]) -> str:
     return sha256.lower()
 
 
-def _room(directory: Path, needed: int, reserve: int, name: str) -> None:
+def room(directory: Path, needed: int, reserve: int, name: str) -> None:
     """Refuse (:class:`NoRoom`) when writing ``needed`` more bytes into ``directory``
     would leave less than ``reserve`` free on its disk."""
     free = shutil.disk_usage(directory).free
@@ -377,7 +377,7 @@ def _verify(
                         raise ArchiveRefused(name, "the member is no HDF5 file")
                     target = out.open("wb")
                 if seen // ROOM_STEP != (seen - len(piece)) // ROOM_STEP:
-                    _room(out.parent, len(piece), limits.reserve, name)
+                    room(out.parent, len(piece), limits.reserve, name)
                 target.write(piece)
     except (zipfile.BadZipFile, OSError, EOFError, ValueError, NotImplementedError) as exc:
         raise ArchiveRefused(

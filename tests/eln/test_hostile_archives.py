@@ -202,10 +202,10 @@ def test_a_member_declared_beyond_the_free_disk_is_507_before_anything_is_writte
     lab: Lab, written: dict[str, int], monkeypatch: pytest.MonkeyPatch
 ) -> None:
     """A run file declaring 4 GB (the most a zip32 header says) where, as the server is
-    told, 100 MiB are free beyond the reserve: refused before any member is written."""
+    told, 1 GiB is free beyond the reserve: refused before any member is written."""
     services = lab.target.app.state.services  # type: ignore[attr-defined]
     free = shutil.disk_usage(Path(services.settings.data_dir)).free
-    settings = services.settings.model_copy(update={"import_disk_reserve": free - (100 << 20)})
+    settings = services.settings.model_copy(update={"import_disk_reserve": free - (1 << 30)})
     monkeypatch.setattr(services, "settings", settings)
     before = _count(lab)
     answer = import_archive(lab.target, _run_file_replaced(lab, b"\x89HDF", 4_000_000_000))
@@ -213,6 +213,18 @@ def test_a_member_declared_beyond_the_free_disk_is_507_before_anything_is_writte
     assert "would write 4000000000 bytes" in answer.json()["detail"]
     assert written == {}
     assert _count(lab) == before
+
+
+def test_an_archive_is_not_received_onto_a_full_disk(
+    lab: Lab, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    services = lab.target.app.state.services  # type: ignore[attr-defined]
+    free = shutil.disk_usage(Path(services.settings.data_dir)).free
+    settings = services.settings.model_copy(update={"import_disk_reserve": free + (1 << 30)})
+    monkeypatch.setattr(services, "settings", settings)
+    answer = import_archive(lab.target, lab.archives[StandKind.PROFILOMETER])
+    assert answer.status_code == 507, answer.text
+    assert answer.json()["detail"].startswith("archive: the import would write")
 
 
 def test_a_scope_is_refused_before_anything_is_unpacked(lab: Lab, written: dict[str, int]) -> None:

@@ -52,12 +52,14 @@ from rigserver.reports.eln import (
     write_series_archive,
 )
 from rigserver.reports.eln_read import (
+    ROOM_STEP,
     ArchivedRun,
     ArchiveRefused,
     ImportLimits,
     NoRoom,
     RunArchive,
     json_member,
+    room,
 )
 from rigserver.reports.i18n import LANGS, Lang
 from rigserver.reports.series_report import series_csv
@@ -384,9 +386,18 @@ def example_archive() -> bytes:
     return target.getvalue()
 
 
-async def _body_to(request: Request, path: Path) -> None:
+async def _body_to(request: Request, path: Path, reserve: int) -> None:
+    """The body written to ``path``, the disk's free space looked at every
+    :data:`ROOM_STEP` bytes: 507 before it would leave less than ``reserve``."""
+    written = 0
     with path.open("wb") as target:
         async for piece in request.stream():
+            if written // ROOM_STEP != (written + len(piece)) // ROOM_STEP or written == 0:
+                try:
+                    room(path.parent, len(piece), reserve, "archive")
+                except NoRoom as exc:
+                    raise ApiProblem(507, "Storage full", str(exc)) from None
+            written += len(piece)
             target.write(piece)
 
 
@@ -435,7 +446,7 @@ async def import_run(request: Request) -> Response:
         directory = Path(await run_in_threadpool(tempfile.mkdtemp, prefix="rig-import-"))
         try:
             archive = directory / "archive.eln"
-            await _body_to(request, archive)
+            await _body_to(request, archive, services.settings.import_disk_reserve)
             found, original = await run_in_threadpool(_unpack, services, caller, archive, directory)
             run = await run_in_threadpool(_import, services, found, original)
         finally:

@@ -1,9 +1,9 @@
 """JSON and TOML that rigclient reads (maps, the spool's openings and problems, the spool
 lock's owner), held to the server's rules: arrays and tables nested at most
-:data:`MAX_DEPTH` deep (``rigserver.api.strict_json`` refuses the same on the wire: Python's
-parser and every walk over a tree recurse once per level), a key given twice refused.
-
-rigclient may not import the server, so the rule is stated here with the server's number.
+:data:`MAX_DEPTH` deep (the limit of :mod:`schemas.strict_json`, which the server applies to
+the wire and the archives: Python's parser and every walk over a tree recurse once per
+level), a key given twice refused. TOML and the spool's own JSON (which may hold NaN for a
+channel a batch lacks) are read here; the limit is the one number.
 """
 
 from __future__ import annotations
@@ -12,8 +12,7 @@ import json
 import tomllib
 from typing import Any
 
-#: Arrays and objects a JSON text (or tables and arrays a TOML text) may nest.
-MAX_DEPTH = 64
+from schemas.strict_json import MAX_DEPTH
 
 
 class TooDeep(ValueError):

@@ -12,13 +12,13 @@ from __future__ import annotations
 import argparse
 import ctypes
 import gc
-import json
 import logging
 import sqlite3
 import sys
 from collections.abc import Callable, Sequence
 from pathlib import Path
 from types import FrameType
+from typing import Any
 
 import uvicorn
 from fastapi import FastAPI
@@ -36,6 +36,7 @@ from rigserver.storage.notes_postgres import PostgresNotes
 from rigserver.storage.series import SeriesStore, SqliteSeries
 from rigserver.storage.series_postgres import PostgresSeries
 from schemas.stands import configure_stands
+from schemas.strict_json import JsonRefused, strict_loads
 
 
 def _keys(path: Path) -> list[ApiKey]:
@@ -50,6 +51,17 @@ def _keys(path: Path) -> list[ApiKey]:
         raise SystemExit(f"rigserver: the keys file {path} is not valid: {where}") from None
     except (OSError, ValueError) as exc:
         raise SystemExit(f"rigserver: the keys file {path} cannot be read: {exc}") from None
+
+
+def _stand_overrides(path: Path) -> Any:
+    """The stands file's JSON, read strictly (no key twice, no nesting beyond the limit);
+    a file that cannot be read stops the start with one line naming it."""
+    try:
+        return strict_loads(path.read_bytes())
+    except JsonRefused as exc:
+        raise SystemExit(f"rigserver: the stands file {path} is not valid: {exc}") from None
+    except (OSError, ValueError) as exc:
+        raise SystemExit(f"rigserver: the stands file {path} cannot be read: {exc}") from None
 
 
 #: Allocations up to this size come from the heap, not from a fresh mapping (glibc's
@@ -106,11 +118,7 @@ class _Server(uvicorn.Server):
 def build_app(settings: Settings) -> FastAPI:
     """The service with the data directory, keys and stands of ``settings``."""
     keys = _keys(settings.keys_file) if settings.keys_file else []
-    overrides = (
-        json.loads(settings.stands_file.read_text(encoding="utf-8"))
-        if settings.stands_file
-        else None
-    )
+    overrides = _stand_overrides(settings.stands_file) if settings.stands_file else None
     settings.data_dir.mkdir(parents=True, exist_ok=True)
     store: RunStore
     series: SeriesStore
@@ -264,6 +272,26 @@ def main(argv: Sequence[str] | None = None) -> int:
         type=int,
         help="largest .eln archive POST /runs/import takes (RIG_IMPORT_MAX_BYTES)",
     )
+    serve.add_argument(
+        "--import-unpacked-bytes",
+        type=int,
+        help="most bytes an imported archive's members may declare (RIG_IMPORT_UNPACKED_BYTES)",
+    )
+    serve.add_argument(
+        "--import-disk-reserve",
+        type=int,
+        help="bytes an import leaves free on the disk it unpacks to (RIG_IMPORT_DISK_RESERVE)",
+    )
+    serve.add_argument(
+        "--import-queue",
+        type=int,
+        help="archives imported at once, more answered 503 (RIG_IMPORT_QUEUE)",
+    )
+    serve.add_argument(
+        "--import-key-share",
+        type=float,
+        help="share of the imports one key may hold (RIG_IMPORT_KEY_SHARE)",
+    )
     serve.add_argument("--log-level", default="info")
     check = sub.add_parser("check", help="list the damaged runs of a data directory")
     check.add_argument("--data-dir", type=Path, required=True, help="the data directory")
@@ -299,6 +327,10 @@ def main(argv: Sequence[str] | None = None) -> int:
         "hsds_endpoint": args.hsds_endpoint,
         "license": args.license,
         "import_max_bytes": args.import_max_bytes,
+        "import_unpacked_bytes": args.import_unpacked_bytes,
+        "import_disk_reserve": args.import_disk_reserve,
+        "import_queue": args.import_queue,
+        "import_key_share": args.import_key_share,
     }
     settings = Settings(**{k: v for k, v in given.items() if v is not None})
     logging.basicConfig(

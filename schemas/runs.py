@@ -16,6 +16,10 @@ from schemas.wire import PlanValue, Scalar, Text, UtcTime
 RUN_ID_PATTERN = r"^[0-9]{8}T[0-9]{6}Z-[0-9a-f]{8}$"
 _RUN_ID = re.compile(RUN_ID_PATTERN)
 
+#: Entries of a run's specimen, and of its test plan, at most.
+SPECIMEN_KEYS = 100
+PLAN_KEYS = 100
+
 RunId = Annotated[str, StringConstraints(pattern=RUN_ID_PATTERN, max_length=25)]
 ShortText = Annotated[Text, StringConstraints(max_length=200)]
 
@@ -60,10 +64,14 @@ class RunCreate(BaseModel):
     operator: Annotated[Text, StringConstraints(min_length=1, max_length=100)]
     title: ShortText = ""
     specimen: dict[ShortText, Scalar] = Field(
-        default_factory=dict, description="specimens and materials, free key-value"
+        default_factory=dict,
+        max_length=SPECIMEN_KEYS,
+        description="specimens and materials, free key-value",
     )
     test_plan: dict[ShortText, PlanValue] = Field(
-        default_factory=dict, description="e.g. the load steps or the SMTs-2 mode"
+        default_factory=dict,
+        max_length=PLAN_KEYS,
+        description="e.g. the load steps or the SMTs-2 mode",
     )
     configuration: dict[Text, Any] = Field(
         default_factory=dict,

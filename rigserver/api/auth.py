@@ -8,12 +8,13 @@ from __future__ import annotations
 
 import hashlib
 import hmac
-import json
 from collections.abc import Iterable
 from functools import cached_property
 from pathlib import Path
 
 from pydantic import BaseModel, Field, TypeAdapter
+
+from schemas.strict_json import strict_loads
 
 READ = "read"
 
@@ -44,7 +45,7 @@ _KEYS = TypeAdapter(list[ApiKey])
 
 def load_keys(path: Path) -> list[ApiKey]:
     """Read a keys file; a bad file fails loudly at start, naming the problem (not the keys)."""
-    return _KEYS.validate_python(json.loads(path.read_text(encoding="utf-8")))
+    return _KEYS.validate_python(strict_loads(path.read_bytes()))
 
 
 class Keyring:

@@ -17,6 +17,7 @@ from starlette.requests import cookie_parser
 from starlette.types import Scope
 
 from rigserver.api.auth import READ, ApiKey, Keyring, write_scope
+from rigserver.api.import_slots import ImportSlots
 from rigserver.api.ingest_queue import IngestQueue
 from rigserver.api.problems import ApiProblem
 from rigserver.api.report_files import ReportFiles
@@ -57,6 +58,7 @@ class Services:
     ingest: IngestQueue = field(init=False)
     results: ResultsCache = field(init=False)
     reports: RenderPool = field(init=False)
+    imports: ImportSlots = field(init=False)
     report_files: ReportFiles = field(init=False)
     #: the series exports whose reports render in the background
     exports: SeriesExports = field(init=False)
@@ -68,6 +70,11 @@ class Services:
             share=self.settings.report_key_share,
             retry_after=self.settings.retry_after,
             processes=self.settings.report_processes,
+        )
+        self.imports = ImportSlots(
+            queue=self.settings.import_queue,
+            share=self.settings.import_key_share,
+            retry_after=self.settings.retry_after,
         )
         stands = "".join(self.stands[kind].model_dump_json() for kind in sorted(self.stands))
         self.report_files = ReportFiles(

@@ -37,6 +37,24 @@ class Settings(BaseSettings):
         description="most bytes the members of an imported archive may declare unpacked "
         "(more is refused as a zip bomb); each is read no further than it declares",
     )
+    import_queue: int = Field(
+        default=2,
+        gt=0,
+        description="archives imported at once (POST /runs/import); more are answered 503",
+    )
+    import_key_share: float = Field(
+        default=0.5,
+        gt=0.0,
+        le=1.0,
+        description="share of the imports one API key (or one address without a key) may "
+        "hold; more of its imports are answered 503",
+    )
+    import_disk_reserve: int = Field(
+        default=256 << 20,
+        ge=0,
+        description="bytes an import leaves free on the disk it unpacks to; an archive "
+        "whose members would leave less is answered 507",
+    )
     license: str | None = Field(
         default=None,
         max_length=500,

@@ -170,10 +170,27 @@ def rig_version() -> str:
 
 @dataclass(frozen=True, slots=True)
 class Licence:
-    """The licence a server states for what it exports: its address and its name."""
+    """The licence a server states for what it exports: its address, its name and what
+    it says in words (for a licence without an address of its own)."""
 
     id: str
     name: str
+    description: str = ""
+
+
+#: The ``@id`` of the licence an archive names when the server states none.
+NO_LICENCE = "#no-licence"
+
+
+def no_licence(publisher: Publisher) -> Licence:
+    """What an archive of a server without ``--license`` names as its licence (RO-Crate 1.1
+    requires one): that no licence was granted, and whom to ask."""
+    return Licence(
+        NO_LICENCE,
+        "No licence granted",
+        "No licence to reuse this data has been granted; ask the lab that runs "
+        f"{publisher.name} for permission",
+    )
 
 
 def licence_of(text: str | None) -> Licence | None:
@@ -243,7 +260,7 @@ class Crate:
         self.root = root
         self.made = made.astimezone(UTC)
         self.publisher = publisher
-        self.licence = licence
+        self.licence = licence if licence is not None else no_licence(publisher)
         self.graph: dict[str, Node] = {}
         self._zip = zipfile.ZipFile(target, "w", compression=zipfile.ZIP_DEFLATED)
         self._date = self.made.timetuple()[:6]
@@ -257,8 +274,11 @@ class Crate:
                 "(SMTs-2, slide bearing, MTOS, ABRIS-PM7)",
             }
         )
-        if licence is not None:
-            self.add({"@id": licence.id, "@type": "CreativeWork", "name": licence.name})
+        described: Node = {"@id": self.licence.id, "@type": "CreativeWork"}
+        described["name"] = self.licence.name
+        if self.licence.description:
+            described["description"] = self.licence.description
+        self.add(described)
 
     def add(self, node: Node) -> str:
         """Put an entity in the graph, once: a second node with the same ``@id`` adds its
@@ -335,8 +355,7 @@ class Crate:
         authors = [ref(i) for i, node in self.graph.items() if node.get("@type") == "Person"]
         if authors:
             root["author"] = authors
-        if self.licence is not None:
-            root["license"] = ref(self.licence.id)
+        root["license"] = ref(self.licence.id)
         descriptor: Node = {
             "@id": METADATA,
             "@type": "CreativeWork",
@@ -508,8 +527,7 @@ def _describe_run(
         dataset["isBasedOn"] = [ref(b) for b in based_on]
     if series is not None:
         dataset["isPartOf"] = ref(series)
-    if crate.licence is not None:
-        dataset["license"] = ref(crate.licence.id)
+    dataset["license"] = ref(crate.licence.id)
     crate.add(dataset)
     action: Node = {
         "@id": f"#run-{run.id}",
@@ -835,6 +853,5 @@ def _add_series(crate: Crate, series: SeriesPart, folder: str, runs: list[str]) 
         dataset["description"] = detail.notes
     if detail.factor:
         dataset["measurementTechnique"] = f"comparison by {detail.factor}"
-    if crate.licence is not None:
-        dataset["license"] = ref(crate.licence.id)
+    dataset["license"] = ref(crate.licence.id)
     crate.add(dataset)

@@ -10,13 +10,21 @@ add up to more than the unpacked limit (a zip bomb) or a member's size differs f
 ``contentSize`` the metadata gives; when a member inflates to other than its declared size
 or its CRC, or its SHA-256 differs from the metadata's. Every member is read (never more
 than its declared size), and the members an import needs are written into a directory.
+
+The order bounds what a hostile archive costs (:class:`RunArchive`): the zip's directory
+first (names, the sizes declared); then ``run.json`` alone, read into memory, so that the
+run is checked and the caller's scope with it before anything else is unpacked; then the
+metadata and every member. Nothing is written before the members to be written are known to
+fit the disk (less the reserve of
+:class:`ImportLimits`); each is written no further than it declares,
+looking at the free space again as it goes, and a run file must begin as an HDF5 file does.
 """
 
 from __future__ import annotations
 
 import hashlib
-import json
 import re
+import shutil
 import zipfile
 from collections.abc import Mapping
 from dataclasses import dataclass, field
@@ -24,11 +32,16 @@ from pathlib import Path, PurePosixPath
 from typing import IO, Any
 
 from rigserver.reports.eln import METADATA, REFERENCES, SOFTWARE, term
+from schemas.strict_json import JsonRefused, strict_loads
 
 #: The metadata of an archive is at most this large (bytes, unpacked).
 METADATA_BYTES = 32 << 20
 #: rig's own JSON members (run.json, results.json) are at most this large.
 JSON_BYTES = 64 << 20
+#: The free space is looked at again after every this many bytes written.
+ROOM_STEP = 64 << 20
+#: The first bytes of an HDF5 file (a run file).
+HDF5_SIGNATURE = b"\x89HDF\r\n\x1a\n"
 _DRIVE = re.compile(r"^[A-Za-z]:")
 
 
@@ -39,6 +52,10 @@ class ArchiveRefused(Exception):
         super().__init__(f"{member}: {detail}")
         self.member = member
         self.detail = detail
+
+
+class NoRoom(ArchiveRefused):
+    """The archive is not refused, but this server's disk has no room for it now."""
 
 
 @dataclass(frozen=True)
@@ -69,13 +86,15 @@ def _checked_name(name: str) -> PurePosixPath:
     return path
 
 
-def _no_duplicates(pairs: list[tuple[str, Any]]) -> dict[str, Any]:
-    found: dict[str, Any] = {}
-    for key, value in pairs:
-        if key in found:
-            raise ValueError(f"the key {key!r} is given twice")
-        found[key] = value
-    return found
+def json_member(name: str, data: bytes) -> Any:
+    """A JSON member's value, read strictly (:mod:`schemas.strict_json`: no key twice, no
+    nesting beyond its limit)."""
+    try:
+        return strict_loads(data)
+    except JsonRefused as exc:
+        raise ArchiveRefused(name, str(exc)) from None
+    except ValueError as exc:
+        raise ArchiveRefused(name, f"the member is no JSON: {exc}") from None
 
 
 def _as_list(value: Any) -> list[Any]:
@@ -92,24 +111,77 @@ def _types(node: Mapping[str, Any]) -> list[str]:
     return [str(t) for t in _as_list(node.get("@type"))]
 
 
-def read_run_archive(source: IO[bytes], directory: Path, *, unpacked_limit: int) -> ArchivedRun:
-    """Check the archive of one run made by rig (module docstring) and write its run.json,
-    run file and referenced run files into ``directory``."""
-    try:
-        archive = zipfile.ZipFile(source)
-    except (zipfile.BadZipFile, OSError, ValueError, EOFError) as exc:
-        raise ArchiveRefused("archive", f"not a zip archive ({exc})") from None
-    with archive:
-        members = _members(archive, unpacked_limit)
-        root = _root(members)
+@dataclass(frozen=True)
+class ImportLimits:
+    """What an import may unpack: ``unpacked`` bytes declared by all the members together,
+    and what it writes to disk leaving at least ``reserve`` bytes free there."""
+
+    unpacked: int
+    reserve: int
+
+
+class RunArchive:
+    """The archive of one run being read (module docstring), in three steps: opened (its
+    directory checked, nothing unpacked), :meth:`run_json` (read into memory, so that the
+    caller checks the run and the caller's scope before anything else is unpacked), then
+    :meth:`extract` (every member checked, those an import needs written)."""
+
+    def __init__(self, source: IO[bytes], limits: ImportLimits) -> None:
+        try:
+            self._zip = zipfile.ZipFile(source)
+        except (zipfile.BadZipFile, OSError, ValueError, EOFError) as exc:
+            raise ArchiveRefused("archive", f"not a zip archive ({exc})") from None
+        self.limits = limits
+        try:
+            self._members = _members(self._zip, limits.unpacked)
+            self._root = _root(self._members)
+        except BaseException:
+            self._zip.close()
+            raise
+        self._run_json: bytes | None = None
+        self._run_json_name = ""
+
+    def __enter__(self) -> RunArchive:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self._zip.close()
+
+    def run_json(self) -> bytes:
+        """The text of the run's ``run.json`` (at most :data:`JSON_BYTES`), found by its
+        place (``<root>/<run id>/run.json``); the metadata's word on it is checked by
+        :meth:`extract`."""
+        found = [
+            name for name in self._members if name.endswith("/run.json") and name.count("/") == 2
+        ]
+        if len(found) != 1:
+            raise ArchiveRefused(
+                METADATA,
+                f"the archive holds {len(found)} runs; an import takes the archive of one "
+                "run (GET /api/v1/runs/{id}/export.eln)",
+            )
+        info = self._members[found[0]]
+        self._run_json_name = info.filename
+        if info.file_size > JSON_BYTES:
+            raise ArchiveRefused(info.filename, f"oversized member: more than {JSON_BYTES} bytes")
+        self._run_json = _read(self._zip, info, limit=JSON_BYTES)
+        return self._run_json
+
+    def extract(self, directory: Path) -> ArchivedRun:
+        """Check every member and write the run file and the files it references into
+        ``directory``: their declared sizes within the disk's free space (less the
+        reserve) before any is written, each written no further than it declares."""
+        archive, members, root = self._zip, self._members, self._root
         graph = _graph(archive, members, root)
         run_dataset, server, exported = _rig_run(graph)
         files = _described_files(graph, members, root)
         parts = {str(p) for p in _ids(run_dataset.get("hasPart"))}
         run_id = str(run_dataset.get("identifier", ""))
         folder = str(run_dataset["@id"])
-        wanted = {
-            f"{folder}run.json": directory / "run.json",
+        if self._run_json is None or self._run_json_name != f"{root}/{folder}run.json":
+            raise ArchiveRefused(f"{folder}run.json", "the run's folder has no run.json")
+        wanted: dict[str, Path | None] = {
+            f"{folder}run.json": None,
             f"{folder}{run_id}.h5": directory / "run.h5",
         }
         references: dict[str, Path] = {}
@@ -121,17 +193,25 @@ def read_run_archive(source: IO[bytes], directory: Path, *, unpacked_limit: int)
         for needed in wanted:
             if needed not in parts:
                 raise ArchiveRefused(needed, "the run's Dataset does not name this file")
-        for entity_id, node in files.items():
-            _verify(archive, members[f"{root}/{entity_id}"], node, wanted.get(entity_id))
-    return ArchivedRun(
-        directory=directory,
-        run_id=run_id,
-        run_json=(directory / "run.json").read_bytes(),
-        run_file=directory / "run.h5",
-        server=server,
-        exported=exported,
-        references=references,
-    )
+        checked = {
+            entity_id: _declared(members[f"{root}/{entity_id}"], node)
+            for entity_id, node in files.items()
+        }
+        written = sum(members[f"{root}/{e}"].file_size for e, out in wanted.items() if out)
+        room(directory, written, self.limits.reserve, f"{folder}{run_id}.h5")
+        # the members that are only checked first: a lie among them costs no writing
+        for entity_id in sorted(files, key=lambda e: wanted.get(e) is not None):
+            out = wanted.get(entity_id)
+            _verify(archive, members[f"{root}/{entity_id}"], checked[entity_id], out, self.limits)
+        return ArchivedRun(
+            directory=directory,
+            run_id=run_id,
+            run_json=self._run_json,
+            run_file=directory / "run.h5",
+            server=server,
+            exported=exported,
+            references=references,
+        )
 
 
 def _members(archive: zipfile.ZipFile, unpacked_limit: int) -> dict[str, zipfile.ZipInfo]:
@@ -179,11 +259,7 @@ def _graph(
     info = members[name]
     if info.file_size > METADATA_BYTES:
         raise ArchiveRefused(name, f"the metadata is larger than {METADATA_BYTES} bytes")
-    text = _read(archive, info, limit=METADATA_BYTES)
-    try:
-        document = json.loads(text, object_pairs_hook=_no_duplicates)
-    except (ValueError, UnicodeDecodeError) as exc:
-        raise ArchiveRefused(name, f"the metadata is no JSON: {exc}") from None
+    document = json_member(name, _read(archive, info, limit=METADATA_BYTES))
     if not isinstance(document, dict) or not isinstance(document.get("@graph"), list):
         raise ArchiveRefused(name, "the metadata is no JSON-LD with a @graph")
     graph: dict[str, dict[str, Any]] = {}
@@ -241,11 +317,8 @@ def _described_files(
     return files
 
 
-def _verify(
-    archive: zipfile.ZipFile, info: zipfile.ZipInfo, node: Mapping[str, Any], out: Path | None
-) -> None:
-    """Read the member whole (writing it to ``out`` if given): its size and SHA-256 as
-    the metadata declares them."""
+def _declared(info: zipfile.ZipInfo, node: Mapping[str, Any]) -> str:
+    """The member's SHA-256 as the metadata gives it, once its size is the metadata's."""
     name = info.filename
     declared, sha256 = node.get("contentSize"), node.get("sha256")
     if not isinstance(declared, str) or not declared.isascii() or not declared.isdigit():
@@ -259,18 +332,53 @@ def _verify(
             if info.file_size > int(declared)
             else f"{info.file_size} bytes in the zip, {declared} in the metadata",
         )
-    if out is not None and out.name.endswith(".json") and info.file_size > JSON_BYTES:
+    if name.endswith(".json") and info.file_size > JSON_BYTES:
         raise ArchiveRefused(name, f"oversized member: more than {JSON_BYTES} bytes")
+    return sha256.lower()
+
+
+def room(directory: Path, needed: int, reserve: int, name: str) -> None:
+    """Refuse (:class:`NoRoom`) when writing ``needed`` more bytes into ``directory``
+    would leave less than ``reserve`` free on its disk."""
+    free = shutil.disk_usage(directory).free
+    if needed > free - reserve:
+        raise NoRoom(
+            name,
+            f"the import would write {needed} bytes where {free} are free and "
+            f"{reserve} are kept free",
+        )
+
+
+def _verify(
+    archive: zipfile.ZipFile,
+    info: zipfile.ZipInfo,
+    sha256: str,
+    out: Path | None,
+    limits: ImportLimits,
+) -> None:
+    """Read the member whole (writing it to ``out`` if given), counting: never more than
+    its declared size, the disk's free space looked at every :data:`ROOM_STEP` bytes
+    written; its SHA-256 the metadata's."""
+    name = info.filename
     digest = hashlib.sha256()
     seen = 0
-    target = out.open("wb") if out is not None else None
+    target: IO[bytes] | None = None
     try:
         with archive.open(info) as member:
             while piece := member.read(1 << 20):
                 seen += len(piece)
+                if seen > info.file_size:
+                    raise ArchiveRefused(name, f"unpacks to more than {info.file_size} bytes")
                 digest.update(piece)
-                if target is not None:
-                    target.write(piece)
+                if out is None:
+                    continue
+                if target is None:
+                    if not piece.startswith(HDF5_SIGNATURE):
+                        raise ArchiveRefused(name, "the member is no HDF5 file")
+                    target = out.open("wb")
+                if seen // ROOM_STEP != (seen - len(piece)) // ROOM_STEP:
+                    room(out.parent, len(piece), limits.reserve, name)
+                target.write(piece)
     except (zipfile.BadZipFile, OSError, EOFError, ValueError, NotImplementedError) as exc:
         raise ArchiveRefused(
             name, f"the member does not unpack to what it declares ({exc})"
@@ -280,7 +388,7 @@ def _verify(
             target.close()
     if seen != info.file_size:
         raise ArchiveRefused(name, f"unpacks to {seen} bytes, declares {info.file_size}")
-    if digest.hexdigest() != sha256.lower():
+    if digest.hexdigest() != sha256:
         raise ArchiveRefused(name, "checksum mismatch: its SHA-256 is not the metadata's")
 
 

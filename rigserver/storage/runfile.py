@@ -64,6 +64,7 @@ from schemas.channels import ChannelGroup, Order, configured_groups
 from schemas.corrections import Correction
 from schemas.runs import Run
 from schemas.stands import StandKind
+from schemas.strict_json import strict_loads
 
 STREAM_CHUNK_ROWS = 65_536
 TABLE_CHUNK_ROWS = 256
@@ -344,7 +345,7 @@ class RunFile:
         return bool(self._entry.attrs.get("finalized", False))
 
     def summary(self) -> FileSummary:
-        run = Run.model_validate_json(self._entry.attrs["run"])
+        run = Run.model_validate(strict_loads(self._entry.attrs["run"]))
         rows = {g.name: self.rows(g.name) for g in stand_groups(self._stand)}
         return FileSummary(
             run=run.model_copy(update={"rows": rows}),

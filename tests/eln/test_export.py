@@ -17,7 +17,15 @@ import rocrate
 from pyld import jsonld
 from rocrate.rocrate import ROCrate
 
-from rigserver.reports.eln import CONTEXT, METADATA, SOFTWARE, UNIT_CODES, rig_version, term
+from rigserver.reports.eln import (
+    CONTEXT,
+    METADATA,
+    NO_LICENCE,
+    SOFTWARE,
+    UNIT_CODES,
+    rig_version,
+    term,
+)
 from schemas.stands import StandKind, default_stands
 from tests.api.conftest import WRITER, auth
 from tests.eln.conftest import (
@@ -161,11 +169,18 @@ def test_the_licence_is_the_servers_setting(lab: Lab) -> None:
     licence = "https://spdx.org/licenses/" + LICENCE
     assert _links(graph["./"]["license"]) == [licence]
     assert graph[licence]["name"] == LICENCE
-    # a server without the setting states none
+    # a server without the setting says that no licence was granted, and whom to ask
+    graph = graph_of(_default_archive(lab))
+    assert _links(graph["./"]["license"]) == [NO_LICENCE]
+    assert graph[NO_LICENCE]["name"] == "No licence granted"
+    assert "rig server at http://lab-b/" in graph[NO_LICENCE]["description"]
+
+
+def _default_archive(lab: Lab) -> bytes:
+    """An archive of the server without ``--license`` (the run imported there first)."""
     answer = import_archive(lab.target, lab.archives[StandKind.PROFILOMETER])
     assert answer.status_code == 201, answer.text
-    again = export(lab.target, f"/api/v1/runs/{answer.json()['id']}/export.eln")
-    assert "license" not in graph_of(again)["./"]
+    return export(lab.target, f"/api/v1/runs/{answer.json()['id']}/export.eln")
 
 
 @pytest.mark.parametrize("kind", KINDS)
@@ -225,6 +240,13 @@ def test_roc_validator_passes_every_stands_archive(
     assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-3000:]
     report = json.loads(done.stdout[done.stdout.index("{") :])
     assert report["passed"] is True, done.stdout[-3000:]
+
+
+def test_roc_validator_passes_the_default_configurations_archive(lab: Lab, tmp_path: Path) -> None:
+    """No ``--license``: RO-Crate 1.1 requires the root's licence all the same."""
+    done = _validate(unzipped(_default_archive(lab), tmp_path))
+    assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-3000:]
+    assert json.loads(done.stdout[done.stdout.index("{") :])["passed"] is True
 
 
 def test_roc_validator_fails_a_broken_crate(lab: Lab, tmp_path: Path) -> None:

@@ -11,7 +11,9 @@ from __future__ import annotations
 import json
 import shutil
 import tempfile
+from collections.abc import Callable
 from pathlib import Path
+from typing import Any
 
 import httpx
 import numpy as np
@@ -28,12 +30,17 @@ from hypothesis.stateful import (
     rule,
 )
 
-from rigserver.api.strict_json import MAX_DEPTH
+from rigserver.api.routes.eln import example_archive
+from rigserver.reports.eln import ELN_MEDIA_TYPE
 from rigserver.reports.formatting import spreadsheet_text
 from rigserver.reports.series_plots import Curve, overlay
 from schemas.stands import CONFIG_MODELS, StandKind
+from schemas.strict_json import MAX_DEPTH
 from tests.api.conftest import READER, WRITER, Server, auth
+from tests.eln.conftest import members, resealed, rezip
 from tests.hardening.conftest import API, keys_file
+from tests.hardening.test_lying_archives import Member
+from tests.hardening.test_lying_archives import archive as lying_archive
 
 # --- hostile JSON, written as raw text (Python's json cannot write 1e400 or a duplicate) --
 
@@ -168,6 +175,58 @@ def test_any_levels_are_drawn_as_written(levels: list[str]) -> None:
     overlay(dict.fromkeys(levels, curves), xlabel="L, m", ylabel="f", mean_label="mean f_э")
 
 
+# --- hostile archives: the OpenAPI example's run, spoilt ---------------------------------
+
+
+def _spoilt_run(change: Callable[[dict[str, Any]], None]) -> Callable[[bytes], bytes]:
+    def spoil(archive: bytes) -> bytes:
+        files = members(archive)
+        name = next(n for n in files if n.endswith("/run.json"))
+        run = json.loads(files[name])
+        change(run)
+        files[name] = json.dumps(run).encode()
+        return rezip(resealed(files))
+
+    return spoil
+
+
+def _deep_metadata(archive: bytes) -> bytes:
+    files = members(archive)
+    name = next(n for n in files if n.endswith("/ro-crate-metadata.json"))
+    deep = "[" * 3000 + "]" * 3000
+    graph = f'"@graph": [{{"@id": "#x", "x": {deep}}},'.encode()
+    files[name] = files[name].replace(b'"@graph": [', graph)
+    return rezip(files)
+
+
+def _bomb(archive: bytes) -> bytes:
+    """The run file declared 1 KB, inflating to 8 MiB (its metadata agreeing with 1 KB)."""
+    files = members(archive)
+    name = next(n for n in files if n.endswith(".h5"))
+    real = files[name] + b"\0" * (8 << 20)
+    files[name] = real[:1000]
+    files = resealed(files)
+    return lying_archive(
+        *(
+            Member(n, real, deflate=True, file_size=1000) if n == name else Member(n, data)
+            for n, data in files.items()
+        )
+    )
+
+
+#: What an import is sent: the archive as it is, or spoilt (each refused with 422).
+ARCHIVES: dict[str, Callable[[bytes], bytes]] = {
+    "honest": lambda a: a,
+    "deep run.json": _spoilt_run(lambda r: r.update(deep=json.loads("[" * 200 + "]" * 200))),
+    "a title of 1 MiB": _spoilt_run(lambda r: r.update(title="t" * (1 << 20))),
+    "a specimen of 10 000 keys": _spoilt_run(
+        lambda r: r.update(specimen={f"k{i}": i for i in range(10_000)})
+    ),
+    "deep metadata": _deep_metadata,
+    "a zip bomb": _bomb,
+}
+
+
 # --- stateful: a real server process, restarted on its data directory ------------------------
 
 
@@ -272,6 +331,17 @@ class HostileClients(RuleBasedStateMachine):
             self._answer(self.http.get(f"{API}/runs?{query}", headers=auth(READER))).status_code
             == 422
         )
+
+    @rule(kind=st.sampled_from(sorted(ARCHIVES)))
+    def import_archive(self, kind: str) -> None:
+        body = ARCHIVES[kind](example_archive())
+        headers = {**auth(WRITER), "content-type": ELN_MEDIA_TYPE}
+        r = self._answer(self.http.post(f"{API}/runs/import", content=body, headers=headers))
+        if kind == "honest":
+            assert r.status_code == 201, r.text
+            self.opened += 1
+        else:
+            assert r.status_code == 422, r.text[:500]
 
     @rule(kill=st.booleans())
     def restart(self, kill: bool) -> None:

@@ -17,8 +17,8 @@ from fastapi.testclient import TestClient
 
 from rigserver.api.npz import parse_npz
 from rigserver.api.problems import ApiProblem
-from rigserver.api.strict_json import MAX_DEPTH, JsonRefused, strict_loads
 from schemas.readings import NPZ_MEDIA_TYPE
+from schemas.strict_json import MAX_DEPTH, JsonRefused, strict_loads
 from tests.api.conftest import READER, WRITER, auth
 from tests.hardening.conftest import API, friction, is_problem, npz_body, open_run
 from tests.hardening.test_hostile_values import _stored_runs

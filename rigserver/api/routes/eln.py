@@ -24,6 +24,7 @@ from pydantic import ValidationError
 from starlette.background import BackgroundTask
 
 from rigserver.analysis import Readings, analyse
+from rigserver.api.auth import ApiKey
 from rigserver.api.deps import (
     ReadAccess,
     Services,
@@ -34,10 +35,11 @@ from rigserver.api.deps import (
     services_of,
 )
 from rigserver.api.problems import ApiProblem, violations
+from rigserver.api.report_answers import caller_key
 from rigserver.api.report_jobs import FileReadings
 from rigserver.api.routes import reports as run_reports
 from rigserver.api.routes import series as series_routes
-from rigserver.api.routes.runs import load_run
+from rigserver.api.routes.runs import load_run, snapshot
 from rigserver.api.routes.series import _detail, load_series
 from rigserver.api.run_results import StoredReadings, results_payload
 from rigserver.api.series_export import Progress, Render
@@ -50,7 +52,16 @@ from rigserver.reports.eln import (
     write_run_archive,
     write_series_archive,
 )
-from rigserver.reports.eln_read import ArchivedRun, ArchiveRefused, read_run_archive
+from rigserver.reports.eln_read import (
+    ROOM_STEP,
+    ArchivedRun,
+    ArchiveRefused,
+    ImportLimits,
+    NoRoom,
+    RunArchive,
+    json_member,
+    room,
+)
 from rigserver.reports.i18n import LANGS, Lang
 from rigserver.reports.series_report import series_csv
 from rigserver.storage.archived import IMPORT_ROWS, file_batches, file_corrections, summary
@@ -58,8 +69,8 @@ from rigserver.storage.errors import RunNotFound, StorageError
 from rigserver.storage.runfile import write_file
 from schemas.channels import check_cell, check_columns
 from schemas.corrections import Correction
-from schemas.runs import ImportedFrom, Run, RunState, new_run_id
-from schemas.stands import CONFIG_MODELS, MEASUREMENTS, Stand, StandKind, default_stands
+from schemas.runs import ImportedFrom, Run, RunCreate, RunState, new_run_id
+from schemas.stands import MEASUREMENTS, Stand, StandKind, default_stands
 
 router = APIRouter(tags=["eln"])
 
@@ -273,19 +284,43 @@ def _refused(exc: ArchiveRefused) -> ApiProblem:
     return ApiProblem(422, "Archive refused", str(exc), errors)
 
 
-def _unpack(services: Services, archive: Path, directory: Path) -> tuple[ArchivedRun, Run]:
-    """The archive checked and its run as rig wrote it (run.json); 422 naming the member."""
-    limit = services.settings.import_unpacked_bytes
+def _recorded(services: Services, text: bytes) -> Run:
+    """The run of an archive's run.json, read strictly (no nesting beyond the limit) and
+    checked as ``POST /runs`` checks a run it opens (:class:`RunCreate`, the stand's
+    configuration schema): 422 naming the field and its limit as that route does."""
     try:
-        with archive.open("rb") as source:
-            found = read_run_archive(source, directory, unpacked_limit=limit)
+        tree = json_member("run.json", text)
     except ArchiveRefused as exc:
         raise _refused(exc) from None
     try:
-        run = Run.model_validate_json(found.run_json)
+        stored = Run.model_validate(tree)
+        opened = RunCreate.model_validate(stored.model_dump(mode="json", include=OPENED))
     except ValidationError as exc:
         errors = violations(exc.errors(), "run.json.")
         raise ApiProblem(422, "Archive refused", errors[0].message, errors) from None
+    return stored.model_copy(update={"configuration": snapshot(services, opened, "run.json.")})
+
+
+#: What of a stored run a lab PC posts to open it.
+OPENED = set(RunCreate.model_fields)
+
+
+def _unpack(
+    services: Services, caller: ApiKey | None, archive: Path, directory: Path
+) -> tuple[ArchivedRun, Run]:
+    """The archive checked and its run as rig wrote it (run.json); 422 naming the member.
+    The caller's scope is checked from run.json before anything else is unpacked."""
+    settings = services.settings
+    limits = ImportLimits(settings.import_unpacked_bytes, settings.import_disk_reserve)
+    try:
+        with archive.open("rb") as source, RunArchive(source, limits) as crate:
+            run = _recorded(services, crate.run_json())
+            require_write(caller, run.stand)
+            found = crate.extract(directory)
+    except NoRoom as exc:
+        raise ApiProblem(507, "Storage full", str(exc)) from None
+    except ArchiveRefused as exc:
+        raise _refused(exc) from None
     if run.id != found.run_id:
         raise _refused(ArchiveRefused("run.json", f"holds run {run.id}, not {found.run_id}"))
     return found, run
@@ -373,11 +408,6 @@ def _import(services: Services, found: ArchivedRun, original: Run) -> Run:
                 f"{original.rows})",
             )
         )
-    try:
-        CONFIG_MODELS[original.stand].model_validate(original.configuration)
-    except ValidationError as exc:
-        errors = violations(exc.errors(), "run.json.configuration.")
-        raise ApiProblem(422, "Archive refused", errors[0].message, errors) from None
     stand = services.stands[original.stand].for_run(original.configuration)
     fixes = _corrections(found.run_file, original, stand)
     batches = sum(math.ceil(rows / IMPORT_ROWS) for rows in original.rows.values())
@@ -455,9 +485,18 @@ def example_archive() -> bytes:
     return target.getvalue()
 
 
-async def _body_to(request: Request, path: Path) -> None:
+async def _body_to(request: Request, path: Path, reserve: int) -> None:
+    """The body written to ``path``, the disk's free space looked at every
+    :data:`ROOM_STEP` bytes: 507 before it would leave less than ``reserve``."""
+    written = 0
     with path.open("wb") as target:
         async for piece in request.stream():
+            if written // ROOM_STEP != (written + len(piece)) // ROOM_STEP or written == 0:
+                try:
+                    room(path.parent, len(piece), reserve, "archive")
+                except NoRoom as exc:
+                    raise ApiProblem(507, "Storage full", str(exc)) from None
+            written += len(piece)
             target.write(piece)
 
 
@@ -471,8 +510,12 @@ async def _body_to(request: Request, path: Path) -> None:
     "computed again. An archive that is damaged or not rig's is refused (422 naming the "
     "member: no metadata, not made by rig, a member missing, given twice, undeclared or "
     "larger than declared, a path that climbs out, a zip bomb, a checksum mismatch); "
-    "nothing of it is stored. Needs the scope `write:<stand>` of the run's stand, known "
-    "once the archive is read.",
+    "nothing of it is stored. run.json passes the checks of `POST /runs` (the same "
+    "limits, 422 naming the field). Needs the scope `write:<stand>` of the run's stand, "
+    "read from run.json before anything else is unpacked. At most `RIG_IMPORT_QUEUE` "
+    "imports run at once, one key at most its `RIG_IMPORT_KEY_SHARE` of them (503 with "
+    "Retry-After beyond); 507 when the members would leave less than "
+    "`RIG_IMPORT_DISK_RESERVE` free on the disk.",
     responses={201: {"model": Run}},
     dependencies=[WriteAccess],
     openapi_extra={
@@ -498,13 +541,13 @@ async def import_run(request: Request) -> Response:
     media = request.headers.get("content-type", "").split(";")[0].strip().lower()
     if media != ELN_MEDIA_TYPE:
         raise ApiProblem(415, "Unsupported media type", f"send the archive as {ELN_MEDIA_TYPE}")
-    directory = Path(await run_in_threadpool(tempfile.mkdtemp, prefix="rig-import-"))
-    try:
-        archive = directory / "archive.eln"
-        await _body_to(request, archive)
-        found, original = await run_in_threadpool(_unpack, services, archive, directory)
-        require_write(caller, original.stand)
-        run = await run_in_threadpool(_import, services, found, original)
-    finally:
-        await run_in_threadpool(shutil.rmtree, directory, True)
+    with services.imports.admitted(caller_key(request, services)):
+        directory = Path(await run_in_threadpool(tempfile.mkdtemp, prefix="rig-import-"))
+        try:
+            archive = directory / "archive.eln"
+            await _body_to(request, archive, services.settings.import_disk_reserve)
+            found, original = await run_in_threadpool(_unpack, services, caller, archive, directory)
+            run = await run_in_threadpool(_import, services, found, original)
+        finally:
+            await run_in_threadpool(shutil.rmtree, directory, True)
     return Response(run.model_dump_json(), status_code=201, media_type="application/json")

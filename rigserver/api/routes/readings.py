@@ -38,7 +38,6 @@ from rigserver.api.problems import ApiProblem, violations
 from rigserver.api.routes.api_docs import NPZ_EXAMPLE
 from rigserver.api.routes.runs import load_run
 from rigserver.api.run_results import StoredReadings
-from rigserver.api.strict_json import JsonRefused, strict_loads
 from rigserver.reports.arrow import group_arrow
 from rigserver.reports.export import group_csv
 from rigserver.storage.base import NewBatch
@@ -49,6 +48,7 @@ from schemas.corrections import Correction
 from schemas.readings import ARROW_MEDIA_TYPE, NPZ_MEDIA_TYPE, BatchReceipt, ReadingBatch
 from schemas.runs import Run
 from schemas.stands import Stand
+from schemas.strict_json import JsonRefused, strict_loads
 from schemas.wire import Text, ascii_count
 
 router = APIRouter(prefix="/runs/{run_id}/readings", tags=["readings"])

@@ -42,6 +42,19 @@ def load_run(services: Services, run_id: str) -> Run:
     return services.store.get_run(run_id)
 
 
+def snapshot(services: Services, body: RunCreate, prefix: str = "") -> dict[str, Any]:
+    """The configuration snapshot of a run opened with ``body``: the stand's with the
+    body's overrides, checked by its schema (422 naming the field, after ``prefix``). An
+    imported run's is checked here too (``rigserver.api.routes.eln``)."""
+    stand = services.stands[body.stand]
+    try:
+        configuration = with_overrides(stand.configuration, body.configuration)
+    except ValidationError as exc:
+        errors = violations(exc.errors(), f"{prefix}configuration.")
+        raise ApiProblem(422, "Invalid configuration", errors[0].message, errors) from None
+    return configuration.model_dump(mode="json")
+
+
 def owned_key(caller: ApiKey | None, idempotency_key: str | None) -> str | None:
     """The Idempotency-Key as the store keeps it: prefixed by the fingerprint of the API
     key that sent it, so that another API key sending the same string opens a run of its
@@ -94,12 +107,6 @@ def open_run(
     opened before under the same ``idempotency_key`` (and False) if there is one: the API's
     ``POST /runs`` and the page ``/runs/new`` alike."""
     require_write(caller, body.stand)
-    stand = services.stands[body.stand]
-    try:
-        configuration = with_overrides(stand.configuration, body.configuration)
-    except ValidationError as exc:
-        errors = violations(exc.errors(), "configuration.")
-        raise ApiProblem(422, "Invalid configuration", errors[0].message, errors) from None
     run = Run(
         id=new_run_id(),
         stand=body.stand,
@@ -108,7 +115,7 @@ def open_run(
         specimen=body.specimen,
         test_plan=body.test_plan,
         notes=body.notes,
-        configuration=configuration.model_dump(mode="json"),
+        configuration=snapshot(services, body),
         created=datetime.now(UTC),
     )
     try:

@@ -95,8 +95,8 @@ class Smts2Config(_Config):
 class ViscosityLaw(_Config):
     """The oil's viscosity law μ = A·exp(α·t), t in °C (3.21, 4.17)."""
 
-    A: float = quantity(0.0773, "Pa*s", "A of μ = A·exp(α·t) (3.21)", gt=0)
-    alpha: float = quantity(-0.0485, "1/degC", "α of μ = A·exp(α·t) (3.21)")
+    A: float = quantity(0.0773, "Pa*s", "A of the oil's viscosity μ = A·exp(α·t)", gt=0)
+    alpha: float = quantity(-0.0485, "1/degC", "α of the oil's viscosity μ = A·exp(α·t)")
 
 
 # --- Slide-bearing stand, lab work 3 --------------------------------------------------

@@ -15,7 +15,7 @@ from collections.abc import Iterable, Sequence
 
 from markupsafe import Markup, escape
 
-from rigserver.reports.document import Block, Figure, Paragraph, Section, Table, Text
+from rigserver.reports.document import Block, Figure, Items, Paragraph, Section, Table, Text
 from rigserver.reports.formatting import html_symbol
 from rigserver.reports.i18n import Messages
 
@@ -64,7 +64,9 @@ EQUATIONS: dict[str, str] = {
     "3.2": "H = 1 - χ cos(φ - δ)",
     "3.5": "Π(φ, ±a) = 0, Π ≥ 0, a = B/(2R) (E3)",
     "3.10": "Π_0 = 3μ̄a²·(Gχ sin φ - E cos φ)/(1 - χ cos φ)³·((z/a)² - 1)",
+    "3.11": "φ_n = π, φ_k = 2π",
     "3.12": "Π_0 = 3μ̄a²·Gχ sin φ/(1 - χ cos φ)³·((z/a)² - 1)",
+    "3.14": "∂/∂φ(H³·∂Π_∞/∂φ) = 6μ̄·(Gχ sin(φ - δ) - E cos(φ - δ))",
     "3.15": "Π_∞ = 6χμ̄(2 - χ cos φ)/((2 + χ²)(1 - χ cos φ)²)·(-G sin φ)",
     "3.16": "e_x = h_0 - |X_set - X|, e_y = h_0 - |Y_set - Y|, e = √(e_x^2 + e_y^2)",
     "3.17": "χ = e/h_0",
@@ -82,12 +84,20 @@ EQUATIONS: dict[str, str] = {
     "3.29": "Π_z(z), Π_m(z), φ = φ_max",
     # lab work 4
     "4.1": "M_fr = -½·P_τ·e + ω·μ*·R_1^3·2πB/√(h_0^2 - e²)",
-    "4.2": "P_τ = P*·V, P* = 2B·R·μ_0·ω_0/ψ²",
-    "4.4": "V = -χ·a²·μ̄·A_3^{20}·G, G = ω/ω_0",
+    "4.2": "P_τ = P*·V",
+    "4.3": "P* = 2B·R·μ_0·ω_0/ψ²",
+    "4.4": "V = -χ·a²·μ̄·A_3^{20}·G",
     "4.5": "A_1^{00} = π/√(1 - χ²), A_2^{00} = A_1^{00}/(1 - χ²), A_3^{20} = π/(2(1 - χ²)^{3/2})",
+    "4.6": "ψ = h_0/R",
+    "4.7": "χ = e/h_0",
     "4.8": "a = B/(2R) (E3)",
+    "4.9": "G = ω/ω_0",
     "4.10": "f_T = M_fr/(N·R_1)",
-    "4.11": "e = √(e_x^2 + e_y^2), χ = e/h_0",
+    "4.11": (
+        "e_x = h_0·cos 45° - |X_set - X|, e_y = h_0·cos 45° - |Y_set - Y|, "
+        "e = √(e_x^2 + e_y^2), χ = e/h_0"
+    ),
+    "4.12": "δ = 45° - arctg(e_x/e_y), γ = 45° - arctg(e_y/e_x)",
     "4.13": "F = k·Δl",
     "4.14": "M_fr = F·l_1",
     "4.15": "F_fr = M_fr/l_2",
@@ -207,7 +217,9 @@ class _Shown:
             return dataclasses.replace(block, caption=self.after(block.caption))
         if isinstance(block, Paragraph):
             return dataclasses.replace(block, text=self.after(block.text))
-        return dataclasses.replace(block, items=[self.after(item) for item in block.items])
+        if isinstance(block, Items):
+            return dataclasses.replace(block, items=[self.after(item) for item in block.items])
+        return block  # the students' own words cite what they like
 
 
 _BREAK = Markup("<br>")

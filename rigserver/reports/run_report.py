@@ -17,8 +17,11 @@ from rigserver.reports.context import Context, LabReport
 from rigserver.reports.document import Items, Paragraph, Report, Section, Table, Text
 from rigserver.reports.formatting import fmt, html_symbol, number_locale, value_text, with_unit
 from rigserver.reports.i18n import MESSAGES, Lang, Messages, translations
+from rigserver.reports.contents.common import TASKS
+from rigserver.reports.contents.registry import CONTENTS
 from rigserver.reports.labs import mtos, profilometer, slide_bearing, smts2, tribometer
 from rigserver.reports.render import render
+from rigserver.reports.students import students_part
 from schemas.labels import CONFIGURATION, PARTICULARS
 from schemas.messages import N_
 from schemas.results import (
@@ -78,7 +81,8 @@ def build_report(
         When the report is made (printed in the footer), UTC.
     notes
         The student's own words on the run: the group and the students are printed at the
-        top, the conclusions beside the computed ones, as written.
+        top, their sections of the lab's report list (:mod:`rigserver.reports.students`)
+        after the computed results, as written.
     """
     with number_locale(lang):
         return _build(run, stand, values, readings, Messages(lang), made, notes or StudentNotes())
@@ -101,9 +105,10 @@ def _build(
         first.append(Paragraph(t("open_warning")))
     first.append(_configuration(t, run))
     sections = [Section(t("sec.input"), first), *lab.sections]
-    conclusions = _conclusions(t, lab.conclusions, notes.conclusions)
-    if conclusions:
-        sections.append(Section(t("sec.conclusions"), conclusions))
+    if lab.conclusions:  # the numbers' verdicts; the students' conclusions are theirs below
+        sections.append(Section(t("sec.computed"), [Items(lab.conclusions)]))
+    contents = CONTENTS[run.stand]
+    sections += students_part(t, contents.students(), notes)
     for key, items in (("sec.pending", model.pending), ("sec.notes", model.notes)):  # type: ignore[attr-defined]
         if items:  # the analysis' words, printed as they are (x_zero is not x subscript zero)
             sections.append(Section(t(key), [Items([escape(t.gettext(item)) for item in items])]))
@@ -119,6 +124,8 @@ def _build(
         subtitle=t("stand." + kind),
         aim_label=t("aim"),
         aim=t("aim." + kind),
+        tasks_label=t.gettext(TASKS),
+        tasks=[t.gettext(task) for task in contents.tasks],
         particulars=_particulars(t, run, stand, notes),
         sections=sections,
         footer=t("footer", run=run.id, time=f"{made:%Y-%m-%d %H:%M}"),
@@ -183,25 +190,6 @@ def particulars_text(t: Messages, mapping: Mapping[str, Any]) -> str:
         unit = "" if label.unit == "1" else t.unit(label.unit)
         parts.append(f"{words}: {with_unit(shown, unit)}")
     return "; ".join(parts)
-
-
-def _conclusions(t: Messages, computed: Sequence[Text], words: str) -> list[Paragraph | Items]:
-    """The computed verdicts, and after them the students' own conclusions as they wrote
-    them (escaped; blank lines part paragraphs, line breaks stay)."""
-    if not words.strip():
-        return [Items(computed)] if computed else []
-    blocks: list[Paragraph | Items] = []
-    if computed:
-        blocks += [Paragraph(_strong(t("conclusions.computed"))), Items(computed)]
-    blocks.append(Paragraph(_strong(t("conclusions.students"))))
-    for part in re.split(r"\n\s*\n", words.strip()):
-        lines = [escape(line) for line in part.strip().splitlines()]
-        blocks.append(Paragraph(Markup("<br>").join(lines)))
-    return blocks
-
-
-def _strong(text: str) -> Markup:
-    return Markup("<strong>%s</strong>") % text
 
 
 def _particulars(t: Messages, run: Run, stand: Stand, notes: StudentNotes) -> list[tuple[str, str]]:

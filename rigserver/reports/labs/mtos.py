@@ -14,7 +14,7 @@ from scipy.interpolate import make_interp_spline
 
 from rigserver.reports import blocks
 from rigserver.reports.context import Context, LabReport
-from rigserver.reports.document import Block, Figure, Section, Table, Text
+from rigserver.reports.document import Block, Figure, Paragraph, Section, Table, Text
 from rigserver.reports.formatting import fmt, html_symbol, shown, tex
 from rigserver.reports.i18n import Messages
 from rigserver.reports.plots import axes, decorate, to_svg
@@ -55,7 +55,9 @@ def build(ctx: Context, v: MtosResults) -> LabReport:
             labels=MTOS,
         )
     )
-    processed: list[Block] = []
+    processed: list[Block] = [Paragraph(t("m.processing_formulas"))]
+    if any(s.friction_theory is not None for s in v.steps):
+        processed.append(Paragraph(t("m.theory_formulas")))
     for number, regime in enumerate(REGIMES, start=1):
         steps = _of(v.steps, regime)
         if steps:

@@ -132,7 +132,7 @@ def build(ctx: Context, v: Smts2Results) -> LabReport:
         processed.append(_validity(t, v))
     if v.sensitivity:
         processed.append(_sensitivity(t, v))
-    if v.adequacy is not None and v.experimental and v.theoretical:
+    if v.experimental and v.theoretical and v.experimental.intensity > 0:
         processed.append(_adequacy(t, v))
     if v.experimental is not None or v.theoretical is not None:
         svg, band = _wear_svg(t, v)
@@ -203,8 +203,12 @@ def _sensitivity(t: Messages, v: Smts2Results) -> Table:
 
 
 def _adequacy(t: Messages, v: Smts2Results) -> Table:
-    assert v.adequacy and v.experimental and v.theoretical
-    a = v.adequacy
+    assert v.experimental and v.theoretical
+    # the comparison the manual asks for (item 18), judged only where the theory holds
+    a = v.adequacy or wear.wear_adequacy(
+        i_exp=v.experimental.intensity, i_theor=v.theoretical.intensity
+    )
+    verdict = t("yes" if a.adequate else "no") if v.adequacy else t("w.not_judged")
     one = t.unit("1")
     rows: list[list[Text]] = [
         [
@@ -222,7 +226,7 @@ def _adequacy(t: Messages, v: Smts2Results) -> Table:
         [t("w.error"), html_symbol("ΔI_h"), fmt(a.relative_error_percent), t.unit("%")],
         [t("w.lower"), "", fmt(a.lower), one],
         [t("w.upper"), "", fmt(a.upper), one],
-        [t("w.adequate"), "", t("yes" if a.adequate else "no"), ""],
+        [t("w.adequate"), "", verdict, ""],
     ]
     head: list[Text] = [t("col.quantity"), t("col.symbol"), t("col.value"), t("col.unit")]
     return Table(

@@ -125,12 +125,16 @@ def _stranded(document: Any) -> list[str]:
                 by_page = rows.setdefault(key, {})
                 by_page[number] = by_page.get(number, 0) + count
         roots = [c for c in page._page_box.children if not isinstance(c, MarginBox)]
-        lines = [d for root in roots for d in root.descendants() if isinstance(d, LineBox)]
+        boxes = [d for root in roots for d in root.descendants()]
+        lines = [d for d in boxes if isinstance(d, LineBox)]
         if not lines:
             continue
         last, first = lines[-1], lines[0]
         classes = set((last.element.get("class") or "").split()) if last.element else set()
-        if last.element_tag in LEADS or (last.element_tag == "p" and classes & LEAD_CLASSES):
+        # the room left for the students on paper follows a heading without a line of text
+        room = any(_classes(d) & {"space"} for d in boxes[boxes.index(last) :])
+        lead = last.element_tag in LEADS or (last.element_tag == "p" and classes & LEAD_CLASSES)
+        if lead and not room:
             found.append(f"page {number} ends with <{last.element_tag}> {_line_text(last)!r}")
         if all(line.element_tag == "footer" for line in lines):
             found.append(f"page {number} holds only the footer {_line_text(first)!r}")
@@ -142,6 +146,11 @@ def _stranded(document: Any) -> list[str]:
                 if count == 1:
                     found.append(f"{names[key]} leaves a single row on page {number}")
     return found
+
+
+def _classes(box: Any) -> set[str]:
+    element = getattr(box, "element", None)
+    return set((element.get("class") or "").split()) if element is not None else set()
 
 
 def _line_text(line: Any) -> str:

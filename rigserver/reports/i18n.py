@@ -349,9 +349,12 @@ MESSAGES: dict[str, str] = {
     "p.sm": N_("mean spacing of profile elements"),
     "p.r": N_("mean asperity radius (1.1, E5)"),
     "p.table_1_6": N_(
-        "Table 1.6. Bearing length of the profile at the levels p_i below the peak line (1.5), (1.6), (1.7)"
+        "Table 1.6. Bearing length of the profile at the levels p_i below the peak line (1.5), "
+        "(1.6), (1.7)"
     ),
-    "p.table_1_7": N_("Table 1.7. Coefficients ν and b of t_p = b·ε^ν (1.16), (1.17), (1.18), (1.19)"),
+    "p.table_1_7": N_(
+        "Table 1.7. Coefficients ν and b of t_p = b·ε^ν (1.16), (1.17), (1.18), (1.19)"
+    ),
     "p.table_1_8": N_("Table 1.8. Measured t_{{p,e}} against t_{{p,t}} = b·ε^ν (manual method)"),
     "p.manual": N_("three pairs of levels (1.16)-(1.19)"),
     "p.lsq": N_("least squares in log-log"),
@@ -360,7 +363,9 @@ MESSAGES: dict[str, str] = {
     "p.ra_delta": N_("Ra from Δ (1.10)"),
     "p.delta_t": N_("equilibrium complex parameter (1.11)"),
     "p.fig_profile": N_("Profile with the mean line, the peak line and the valley line"),
-    "p.fig_bearing": N_("Initial part of the bearing curve and the fits t_p = b·ε^ν (1.8), as in fig. 1.5"),
+    "p.fig_bearing": N_(
+        "Initial part of the bearing curve and the fits t_p = b·ε^ν (1.8), as in fig. 1.5"
+    ),
     "p.profile": N_("profile"),
     "p.mean_line": N_("mean line"),
     "p.peak_line": N_("peak line"),

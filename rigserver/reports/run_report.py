@@ -8,17 +8,17 @@ from collections.abc import Callable, Mapping, Sequence
 from datetime import datetime
 from typing import Any
 
-from markupsafe import Markup, escape
+from markupsafe import escape
 from pydantic import BaseModel
 
 from rigserver.analysis import Readings
 from rigserver.reports import equations, layout
+from rigserver.reports.contents.common import TASKS
+from rigserver.reports.contents.registry import CONTENTS
 from rigserver.reports.context import Context, LabReport
 from rigserver.reports.document import Items, Paragraph, Report, Section, Table, Text
 from rigserver.reports.formatting import fmt, html_symbol, number_locale, value_text, with_unit
 from rigserver.reports.i18n import MESSAGES, Lang, Messages, translations
-from rigserver.reports.contents.common import TASKS
-from rigserver.reports.contents.registry import CONTENTS
 from rigserver.reports.labs import mtos, profilometer, slide_bearing, smts2, tribometer
 from rigserver.reports.render import render
 from rigserver.reports.students import students_part

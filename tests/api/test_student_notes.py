@@ -5,7 +5,6 @@ both languages, beside the computed conclusions; a new version renders the repor
 from __future__ import annotations
 
 import json
-import re
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Any

@@ -440,7 +440,12 @@ def test_the_russian_report_has_no_tex_and_no_english(kind: StandKind) -> None:
     # the names of standards and methods stay as they are: ASTM G99, ISO 20808, GUM (JCGM 100),
     # PELT
     names = {"ASTM", "GUM", "JCGM", "ISO", "PELT"}
-    maths = {"exp", "sin", "cos", "arctg"}  # the functions of the formulas printed beside the quantities
+    maths = {
+        "exp",
+        "sin",
+        "cos",
+        "arctg",
+    }  # the functions of the formulas printed beside the quantities
     assert words <= {"Rmax", "max", "min", "rev", "pmax", "rig", "UTC", *maths, *names}, words
 
 

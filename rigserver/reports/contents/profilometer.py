@@ -52,7 +52,9 @@ CONTENTS = Contents(
             formulas=("1.5", "1.6", "1.7"),
             tables=("p.table_1_6",),
         ),
-        Item(11, "график t_p = f(ε), подобно рис. 1.5", formulas=("1.8",), figures=("p.fig_bearing",)),
+        Item(
+            11, "график t_p = f(ε), подобно рис. 1.5", formulas=("1.8",), figures=("p.fig_bearing",)
+        ),
         Item(
             12,
             "формулы расчета ν и b и результаты расчетов в форме табл. 1.7",

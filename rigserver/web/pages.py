@@ -17,6 +17,7 @@ from jinja2 import Environment, PackageLoader, select_autoescape
 from markupsafe import Markup
 
 from rigserver.reports import results_view
+from rigserver.reports.contents.registry import CONTENTS
 from rigserver.reports.formatting import (
     decimal_sign,
     fmt,
@@ -253,6 +254,7 @@ def run_page(
         notes=notes or StudentNotes(),
         may_write=may_write,
         conclusions_limit=CONCLUSIONS_LIMIT,
+        words=[(field.value, t.gettext(heading)) for field, heading in CONTENTS[run.stand].words()],
     )
 
 

@@ -1,6 +1,7 @@
 """The student's own words on a run (issue 27 item 9): written by a key with the run's stand's
 write scope, or the run page's session of such a key; printed by the report as written, in
-both languages, beside the computed conclusions; a new version renders the report anew."""
+both languages, under the headings of the lab's report list after the computed results; a new
+version renders the report anew."""
 
 from __future__ import annotations
 
@@ -140,6 +141,23 @@ def test_the_report_prints_the_words_as_written_and_renders_again_after_an_edit(
     assert _put(client, run_id, edited, WRITER).status_code == 200
     again = client.get(url, headers=auth(READER)).text
     assert "<p>Edited.</p>" in again and escape(second) not in again
+
+
+def test_each_section_of_the_students_part_prints_its_own_words(client: TestClient) -> None:
+    # lab 3's list: conclusions (item 8) and the reasons for a mismatch (item 8), the
+    # bearing's sketch (item 4) a frame on paper; the run page writes both fields
+    run_id = post(client, simulated(StandKind.SLIDE_BEARING).sim, WRITER, finish=False)
+    words = {"conclusions": "Agreement within 30 %.", "mismatch": "End leakage & heating."}
+    assert _put(client, run_id, words, WRITER).status_code == 200
+    for lang, heading in (
+        ("en", "Reasons for the mismatch of theory and experiment"),
+        ("ru", "Причины несовпадения теории и опыта"),
+    ):
+        html = client.get(f"{API}/runs/{run_id}/report.html?lang={lang}", headers=auth(READER))
+        assert f"<p>{escape(words['mismatch'])}</p>" in _section(html.text, heading)
+    page = client.get(f"/runs/{run_id}", headers=auth(WRITER)).text
+    assert 'name="mismatch"' in page and 'name="analysis"' not in page  # lab 4's, not lab 3's
+    assert escape(words["mismatch"]) in page
 
 
 def _login(client: TestClient, key: str) -> None:

@@ -269,7 +269,7 @@ def _notes_form(body: bytes) -> StudentNotesWrite:
 
 
 #: The fields of the run page's form of the student's words.
-_NOTES_FIELDS = ("group", "students", "conclusions")
+_NOTES_FIELDS = ("group", "students", "conclusions", "analysis", "mismatch", "observations")
 
 
 def _writer(request: Request, services: Services) -> ApiKey | None:

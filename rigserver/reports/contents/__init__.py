@@ -12,6 +12,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 from enum import StrEnum
 
+from schemas.messages import N_
+
 
 class Students(StrEnum):
     """What the students put into an item themselves, and where the report takes it from:
@@ -66,3 +68,18 @@ class Contents:
     def students(self, parts: tuple[int, ...] = (1,)) -> tuple[Item, ...]:
         """The items the students fill in, in the list's order."""
         return tuple(i for i in self.items if i.students is not None and i.part in parts)
+
+    def words(self) -> list[tuple[Students, str]]:
+        """The fields of their notes the students write for a run of this lab, each with
+        the heading it is printed under (the first item's of that field; observations, which
+        lab 2 prints once per mode, under :data:`OBSERVED`)."""
+        found: dict[Students, str] = {}
+        for item in self.students(parts=(1, 2)):
+            if item.students is not Students.SKETCH and item.students not in found:
+                found[item.students] = (
+                    OBSERVED if item.students is Students.OBSERVATIONS else item.heading
+                )
+        return list(found.items())
+
+
+OBSERVED = N_("Observations of the wear in this run")

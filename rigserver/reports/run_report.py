@@ -64,6 +64,7 @@ def build_report(
     lang: Lang,
     made: datetime,
     notes: StudentNotes | None = None,
+    work: tuple[str, Sequence[Section]] | None = None,
 ) -> Report:
     """The report of ``run`` in ``lang``.
 
@@ -83,9 +84,15 @@ def build_report(
         The student's own words on the run: the group and the students are printed at the
         top, their sections of the lab's report list (:mod:`rigserver.reports.students`)
         after the computed results, as written.
+    work
+        In a lab work of several runs (:mod:`rigserver.reports.lab_work`), the heading of
+        its part 1 (this run) and the sections of its part 2, printed before the students'
+        part.
     """
     with number_locale(lang):
-        return _build(run, stand, values, readings, Messages(lang), made, notes or StudentNotes())
+        return _build(
+            run, stand, values, readings, Messages(lang), made, notes or StudentNotes(), work
+        )
 
 
 def _build(
@@ -96,6 +103,7 @@ def _build(
     t: Messages,
     made: datetime,
     notes: StudentNotes,
+    work: tuple[str, Sequence[Section]] | None = None,
 ) -> Report:
     kind = run.stand.value
     model = RESULT_MODELS[run.stand].model_validate(values)
@@ -104,9 +112,12 @@ def _build(
     if run.state is RunState.OPEN:
         first.append(Paragraph(t("open_warning")))
     first.append(_configuration(t, run))
-    sections = [Section(t("sec.input"), first), *lab.sections]
+    part_one = [Section(work[0])] if work else []
+    sections = [Section(t("sec.input"), first), *part_one, *lab.sections]
     if lab.conclusions:  # the numbers' verdicts; the students' conclusions are theirs below
         sections.append(Section(t("sec.computed"), [Items(lab.conclusions)]))
+    if work:
+        sections += work[1]
     contents = CONTENTS[run.stand]
     sections += students_part(t, contents.students(), notes)
     for key, items in (("sec.pending", model.pending), ("sec.notes", model.notes)):  # type: ignore[attr-defined]

@@ -505,6 +505,7 @@ PROFILOMETER_GROUPS = (
             ),
             _c("rz_instrument", "um", "Rz1, the profilometer's reading (1.20)", Limit(low=0.0)),
             _c("rmax_instrument", "um", "Rmax1, the profilometer's reading (1.20)", Limit(low=0.0)),
+            _c("ra_instrument", "um", "Ra1, the profilometer's reading (1.20)", Limit(low=0.0)),
         ),
     ),
 )

@@ -37,7 +37,10 @@ EQUATIONS: dict[str, str] = {
     "1.17": "ν = (ν_{13} + ν_{25} + ν_{36})/3",
     "1.18": "lg b_i = lg t_{pi} - ν·lg ε_i",
     "1.19": "b = (b_1 + b_3 + b_5)/3",
-    "1.20": "δ = (R_{max1} - R_{max2})/R_{max1}·100 %, δ_{Rz} = (R_{z1} - R_{z2})/R_{z2}·100 %",
+    "1.20": (
+        "δ = (R_{max1} - R_{max2})/R_{max1}·100 %, δ_{Rz} = (R_{z1} - R_{z2})/R_{z1}·100 %, "
+        "δ_{Ra} = (R_{a1} - R_{a2})/R_{a1}·100 % (E10)"
+    ),
     # lab work 2
     "2.1": (
         "I_h^y = C · (p_c·θ/k_ν)^{1+βt} · (k_f^y/(σ_B·θ))^t · (R_max/R)^{t(1+β)/2} · "
@@ -113,7 +116,7 @@ EQUATIONS: dict[str, str] = {
 #: of parentheses holds a citation only when all it holds is numbers and corrections, never
 #: a value ("(2.1 ± 0.1)"), a table ("(table 3.2)") or a range of values ("(0.4–3.2)").
 _NUMBER = r"[1-4]\.\d{1,2}"
-_PART = rf"(?:{_NUMBER}(?:\s*[-–]\s*{_NUMBER})?|E[1-9])"
+_PART = rf"(?:{_NUMBER}(?:\s*[-–]\s*{_NUMBER})?|E(?:10|[1-9]))"
 _CITATION = re.compile(rf"\s*{_PART}(?:\s*,\s*{_PART})*\s*")
 _PARENS = re.compile(r"\(([^()]*)\)")
 #: A symbol with a subscript or superscript, translated as a whole (f_e -> f_э).

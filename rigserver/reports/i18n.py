@@ -312,6 +312,11 @@ MESSAGES: dict[str, str] = {
         "E9 (4.21): the manual calls both μω/p̄ and p̄/(μω) S_1; the report uses "
         "S_1 = μ_t·ω/p̄ as (4.21) does."
     ),
+    "abbr.e10": N_(
+        "E10 (1.20): the manual divides δ by the profilometer's R_max1 but δ_Rz by the "
+        "profilogram's R_z2; the report divides each difference, δ_Ra too, by the "
+        "profilometer's reading."
+    ),
     "theory_outside": N_("theory outside its range"),
     "col.parameter": N_("Parameter"),
     "col.description": N_("Description"),
@@ -371,7 +376,15 @@ MESSAGES: dict[str, str] = {
     "p.peak_line": N_("peak line"),
     "p.valley_line": N_("valley line"),
     "p.levels": N_("levels p_i of table 1.6"),
-    "p.vs": N_("Profilometer against profilogram (item 10, (1.20))"),
+    "p.vs": N_("Profilometer against profilogram (item 10, (1.20, E10))"),
+    "p.vs_source": N_(
+        "The profilometer's R_a, R_z, R_max: its readings typed in from its display "
+        "(procedure item 1), in the run's single measurements; the profilogram's: computed "
+        "from the trace as (1.3), (1.4). The ISO 21920-2 values further on are rig's own, from "
+        "the filtered trace, and are not the instrument's reading. δ is relative to the "
+        "reading (E10)."
+    ),
+    "p.peaks": N_("The five highest peaks and the five deepest valleys behind R_z (1.4)"),
     "p.instrument": N_("profilometer"),
     "p.profilogram": N_("profilogram"),
     "p.difference": N_("difference"),

@@ -146,11 +146,11 @@ def _build(
 ABBREVIATIONS: dict[str, str] = {
     "GUM": "abbr.gum",
     "ASTM G99": "abbr.g99",
-    **{f"E{n}": f"abbr.e{n}" for n in range(1, 10)},
+    **{f"E{n}": f"abbr.e{n}" for n in range(1, 11)},
 }
 """The abbreviations and the corrections to the manual's printed formulas (docs/models.md)
 a report may cite, each explained once in its appendix."""
-_CITED = re.compile(r"GUM|ASTM G99|(?<=\()E[1-9]\b|(?<=, )E[1-9]\b")
+_CITED = re.compile(r"GUM|ASTM G99|(?<=\()E(?:10|[1-9])\b|(?<=, )E(?:10|[1-9])\b")
 
 
 def _texts(sections: Sequence[Section]) -> str:

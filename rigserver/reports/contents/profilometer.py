@@ -44,7 +44,7 @@ CONTENTS = Contents(
             9,
             "основные параметры R_z, R_max, привести их расчет по профилограмме",
             formulas=("1.3", "1.4"),
-            tables=("p.params",),
+            tables=("p.params", "p.peaks"),
         ),
         Item(
             10,

@@ -310,7 +310,8 @@ MESSAGES: dict[str, str] = {
     "mech.corrections": N_("Corrections to the article's printed formulas"),
     "abbr.e9": N_(
         "E9 (4.21): the manual calls both μω/p̄ and p̄/(μω) S_1; the report uses "
-        "S_1 = μ_t·ω/p̄ as (4.21) does."
+        "S_1 = μ_t·ω/p̄ as (4.21) does, and plots f against its inverse S_1^{{-1}} = p̄/(μ_t·ω) "
+        "as fig. 4.1 does."
     ),
     "abbr.e10": N_(
         "E10 (1.20): the manual divides δ by the profilometer's R_max1 but δ_Rz by the "
@@ -444,8 +445,8 @@ MESSAGES: dict[str, str] = {
         "Friction coefficient against the sliding distance; the running-in part is shaded"
     ),
     "w.fig_wear": N_(
-        "Experimental and theoretical wear intensity; no adequacy band (2.15): the theory is "
-        "not judged for this test"
+        "Experimental and theoretical wear intensity with the band (2.15) about the theory, "
+        "pale: the theory is outside its range for this test and is not judged"
     ),
     "w.fig_wear_band": N_(
         "Experimental and theoretical wear intensity with the adequacy band (2.15)"
@@ -540,7 +541,9 @@ MESSAGES: dict[str, str] = {
         "Table 4.4. Theory (4.1)-(4.10) and the finite bearing (3.1) beside the experiment"
     ),
     "m.ratio_note": N_("f_e/f_e1: against experiment 1 at the same load."),
-    "m.fig_stribeck": N_("Hersey-Stribeck diagram: f against S_1 = μ_t·ω/p̄ (4.21, E9)"),
+    "m.fig_stribeck": N_(
+        "Hersey-Stribeck diagram: f against S_1^{{-1}} = p̄/(μ_t·ω), as fig. 4.1 plots it (4.21, E9)"
+    ),
     "m.fig_trajectory": N_("Journal-centre trajectory and the Gümbel semicircle"),
     "m.fig_friction": N_("Friction coefficient against the load, three regimes"),
     "m.fig_temperature": N_("Temperature rise of the oil against the load (4.19, E4)"),

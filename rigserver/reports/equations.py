@@ -148,14 +148,46 @@ def symbols_of(formula: str) -> list[str]:
 
 def formula(t: Messages, number: str) -> Markup:
     """Equation ``number``'s formula in ``t``'s language: its symbols translated, µm in the
-    language's unit, a decimal comma in Russian (``f_э = F_тр/N``)."""
+    language's unit, a decimal comma in Russian (``f_э = F_тр/N``); a line may break only
+    between its top-level parts (:func:`unbreakable`), never inside a bracket or a script."""
     text = EQUATIONS[number]
     for symbol in dict.fromkeys(symbols_of(text)):
         text = text.replace(symbol, t.symbol(symbol))
     text = text.replace("{um}", t.unit("um"))
     if t.lang == "ru":  # a decimal comma, as the page's numbers
         text = re.sub(r"(\d)\.(\d)", r"\1,\2", text)
-    return html_symbol(text)
+    return unbreakable(text)
+
+
+#: Where a formula's line may break: after a comma or around a product's dot, outside any
+#: bracket or script.
+_BREAKS = (", ", " · ")
+
+
+def unbreakable(text: str) -> Markup:
+    """``text`` (the reports' symbol syntax) as markup whose parts between the top-level
+    breaks of :data:`_BREAKS` are each kept on one line (``<span class="nobreak">``)."""
+    parts: list[str] = []
+    depth, start, i = 0, 0, 0
+    while i < len(text):
+        if text[i] in "([{":
+            depth += 1
+        elif text[i] in ")]}":
+            depth -= 1
+        elif depth == 0 and text.startswith(_BREAKS, i):
+            separator = next(b for b in _BREAKS if text.startswith(b, i))
+            parts += [text[start:i], separator]
+            i += len(separator)
+            start = i
+            continue
+        i += 1
+    parts.append(text[start:])
+    return Markup("").join(
+        Markup('<span class="nobreak">{}</span>').format(html_symbol(part))
+        if k % 2 == 0
+        else Markup(escape(part))
+        for k, part in enumerate(parts)
+    )
 
 
 def _plain(text: Text) -> str:

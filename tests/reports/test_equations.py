@@ -85,8 +85,8 @@ def test_the_formula_stands_under_the_quantity_in_the_reports_language() -> None
     rows = re.findall(r"<td class=\"label\">([^<]*\(4\.16\)[^<]*)(<br>)?", en)
     assert rows[0][1] == "<br>" and all(not br for _, br in rows[1:]) and len(rows) > 1
     profilometer = html(StandKind.PROFILOMETER, "ru")
-    ra = '<span class="nobreak">R<sub>a</sub> = 4,3·Δ<sup>1/2</sup></span>, <span class="nobreak">мкм'
-    assert f'<span class="formula">{ra}</span></span>' in profilometer
+    ra = '<span class="nobreak">R<sub>a</sub> = 4,3·Δ<sup>1/2</sup></span>, '
+    assert f'<span class="formula">{ra}<span class="nobreak">мкм</span></span>' in profilometer
     smts2 = html(StandKind.SMTS2, "en")
     # (2.9) cited first by the pin's mass before the test, in the input data
     assert re.search(

@@ -67,7 +67,10 @@ class Smts2Accuracy(_Config):
     half-width a has the standard uncertainty a/√3)."""
 
     moment: float = quantity(
-        0.01, "1", "friction moment sensor, relative limit of error (placeholder)", ge=0
+        0.05,
+        "1",
+        "friction moment, relative limit of error of its measurement (±5 %, the SMTs-2's data)",
+        ge=0,
     )
     load: float = quantity(0.05, "1", "load, relative tolerance of the stand (±5 %)", ge=0)
     balance_resolution: float = quantity(1e-7, "kg", "balance's resolution (0.1 mg)", ge=0)

@@ -46,7 +46,11 @@ def section(t: Messages, item: Item, words: str = "") -> Section:
 def students_part(t: Messages, items: Sequence[Item], notes: StudentNotes) -> list[Section]:
     """The sections of ``items`` (the students' items of a list), with the words of
     ``notes``."""
-    return [
-        section(t, item, "" if item.students is Students.SKETCH else getattr(notes, item.students))
-        for item in items
-    ]
+    return [section(t, item, _words(notes, item)) for item in items]
+
+
+def _words(notes: StudentNotes, item: Item) -> str:
+    """What the students wrote for ``item``: the field of their notes it names (a sketch is
+    drawn on paper, never written)."""
+    field = item.students
+    return "" if field is None or field is Students.SKETCH else str(getattr(notes, field.value))

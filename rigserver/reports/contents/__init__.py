@@ -75,10 +75,9 @@ class Contents:
         lab 2 prints once per mode, under :data:`OBSERVED`)."""
         found: dict[Students, str] = {}
         for item in self.students(parts=(1, 2)):
-            if item.students is not Students.SKETCH and item.students not in found:
-                found[item.students] = (
-                    OBSERVED if item.students is Students.OBSERVATIONS else item.heading
-                )
+            field = item.students
+            if field is not None and field is not Students.SKETCH and field not in found:
+                found[field] = OBSERVED if field is Students.OBSERVATIONS else item.heading
         return list(found.items())
 
 

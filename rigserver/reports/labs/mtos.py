@@ -256,7 +256,10 @@ def _stribeck_svg(t: Messages, v: MtosResults, config: MtosConfig) -> str:
     inside the frame."""
     fig, (ax,) = axes(height=3.4)
     _plot_measured(ax, t, v, "bearing_characteristic_inverse")
-    fluid = sorted(_of(v.steps, "fluid"), key=lambda s: s.bearing_characteristic_inverse)
+    fluid = sorted(
+        (s for s in _of(v.steps, "fluid") if s.bearing_characteristic_inverse is not None),
+        key=lambda s: s.bearing_characteristic_inverse or 0.0,
+    )
     theory = [
         (s.bearing_characteristic_inverse, s.friction_theory) for s in fluid if s.friction_theory
     ]
@@ -274,7 +277,7 @@ def _stribeck_svg(t: Messages, v: MtosResults, config: MtosConfig) -> str:
         )
     ax.set_xscale("log")
     ax.set_yscale("log")
-    xs = [s.bearing_characteristic_inverse for s in v.steps]
+    xs = [x for s in v.steps if (x := s.bearing_characteristic_inverse) is not None]
     fs = [f for s in v.steps for f in (s.friction_measured, s.friction_theory) if f]
     ax.set_xlim(*decades(xs))
     ax.set_ylim(*decades(fs))

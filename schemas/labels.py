@@ -464,7 +464,7 @@ PROFILOMETER: dict[str, Label] = {
     "levels": Label(N_("depth of the level below the peak line"), "p_i", "", "um", 3),
     "eps": Label(N_("relative depth"), "ε", "1.7", digits=3),
     "tp": Label(N_("relative bearing length"), "t_p", "1.6", digits=3),
-    "bearing_lengths": Label(N_("bearing length of the profile"), "η_p", "1.6", "mm", 3),
+    "bearing_lengths": Label(N_("bearing length of the profile"), "η_p", "1.6", "um", 3),
     "outside_subrange": Label(N_("parameters outside the ranges of the subrange")),
     "rmax_difference": Label(
         N_("profilometer's Rmax against the profilogram's"), "δ", "1.20", "%", 3, 0, _COMPARISON
@@ -472,6 +472,11 @@ PROFILOMETER: dict[str, Label] = {
     "rz_difference": Label(
         N_("profilometer's Rz against the profilogram's"), "δ_{Rz}", "1.20", "%", 3, 0, _COMPARISON
     ),
+    "ra_difference": Label(
+        N_("profilometer's Ra against the profilogram's"), "δ_{Ra}", "1.20", "%", 3, 0, _COMPARISON
+    ),
+    "rz_peaks": Label(N_("the five highest peaks behind Rz"), "y_{p,i}", "1.4", "um", 4),
+    "rz_valleys": Label(N_("the five deepest valleys behind Rz"), "y_{v,i}", "1.4", "um", 4),
     **{
         f"fit_{method}.{name}": label
         for method in ("manual", "lsq")

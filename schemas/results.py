@@ -354,7 +354,16 @@ class ProfilometerResults(BaseModel):
         None, "%", "δ = (Rmax1 - Rmax2)/Rmax1: profilometer against profilogram (1.20)"
     )
     rz_difference: float | None = quantity(
-        None, "%", "δ_Rz = (Rz1 - Rz2)/Rz2: profilometer against profilogram (1.20)"
+        None, "%", "δ_Rz = (Rz1 - Rz2)/Rz1: profilometer against profilogram (1.20, E10)"
+    )
+    ra_difference: float | None = quantity(
+        None, "%", "δ_Ra = (Ra1 - Ra2)/Ra1: profilometer against profilogram (1.20, E10)"
+    )
+    rz_peaks: list[float] = quantity(
+        [], "m", "y_p,i: the five highest peaks above the mean line behind Rz (1.4)"
+    )
+    rz_valleys: list[float] = quantity(
+        [], "m", "y_v,i: the five deepest valleys below the mean line behind Rz (1.4)"
     )
     fit_manual: BearingFitResult | None = None
     fit_lsq: BearingFitResult | None = None

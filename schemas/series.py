@@ -37,6 +37,16 @@ def is_series_id(text: str) -> bool:
 class SeriesPurpose(StrEnum):
     REPEATABILITY = "repeatability"
     COMPARISON = "comparison"
+    LAB = "lab"
+    """One lab work of several runs, each at the manual's part it belongs to (its level):
+    lab 2's wear run (part 1) and its adhesive and oxidative runs (part 2)."""
+
+
+#: The manual's parts of a lab work of several runs, by the level naming each run (lab 2:
+#: part 1 the wear test, part 2 the adhesive against the oxidative test).
+LAB_PARTS: dict[StandKind, dict[str, int]] = {
+    StandKind.SMTS2: {"wear": 1, "adhesive": 2, "oxidative": 2},
+}
 
 
 class SeriesCreate(BaseModel):
@@ -71,13 +81,16 @@ class SeriesCreate(BaseModel):
     def _factor_with_comparison(self) -> SeriesCreate:
         if self.purpose is SeriesPurpose.COMPARISON and self.factor is None:
             raise ValueError("a comparison names its factor (e.g. 'oil', 'load')")
-        if self.purpose is SeriesPurpose.REPEATABILITY and self.factor is not None:
-            raise ValueError("a repeatability series has no factor: its runs are repeats")
+        if self.purpose is not SeriesPurpose.COMPARISON and self.factor is not None:
+            raise ValueError(
+                f"a {self.purpose.value} series has no factor: only a comparison names one"
+            )
         return self
 
 
 class SeriesMemberAdd(BaseModel):
-    """A run joins a series; in a comparison, at a level of the factor (e.g. 'I-20A')."""
+    """A run joins a series; in a comparison, at a level of the factor (e.g. 'I-20A'); in a
+    lab work, at the manual's part it is (lab 2: 'wear', 'adhesive', 'oxidative')."""
 
     model_config = ConfigDict(
         extra="forbid",
@@ -210,7 +223,17 @@ class AdhesiveOxidative(BaseModel):
 
     f_adhesive: float = quantity(..., "1", "f_a, mean steady friction of the adhesive runs")
     f_oxidative: float = quantity(..., "1", "f_ok, mean steady friction of the oxidative runs")
+    f_adhesive_uncertainty: float | None = quantity(
+        None, "1", "u(f_a), standard, of the mean of the adhesive runs' own u"
+    )
+    f_oxidative_uncertainty: float | None = quantity(
+        None, "1", "u(f_ok), standard, of the mean of the oxidative runs' own u"
+    )
     difference: float = quantity(..., "%", "Δf = (f_a - f_ok)/f_a (2.16)")
+    difference_uncertainty: float | None = quantity(
+        None, "%", "u(Δf), standard, propagated from u(f_a) and u(f_ok) (GUM 5.1.2)"
+    )
+    runs: dict[str, int] = Field(default_factory=dict, description="runs of each mode")
 
 
 class SeriesDetail(Series):

@@ -67,7 +67,10 @@ class Smts2Accuracy(_Config):
     half-width a has the standard uncertainty a/√3)."""
 
     moment: float = quantity(
-        0.01, "1", "friction moment sensor, relative limit of error (placeholder)", ge=0
+        0.05,
+        "1",
+        "friction moment, relative limit of error of its measurement (±5 %, the SMTs-2's data)",
+        ge=0,
     )
     load: float = quantity(0.05, "1", "load, relative tolerance of the stand (±5 %)", ge=0)
     balance_resolution: float = quantity(1e-7, "kg", "balance's resolution (0.1 mg)", ge=0)
@@ -95,8 +98,8 @@ class Smts2Config(_Config):
 class ViscosityLaw(_Config):
     """The oil's viscosity law μ = A·exp(α·t), t in °C (3.21, 4.17)."""
 
-    A: float = quantity(0.0773, "Pa*s", "A of μ = A·exp(α·t) (3.21)", gt=0)
-    alpha: float = quantity(-0.0485, "1/degC", "α of μ = A·exp(α·t) (3.21)")
+    A: float = quantity(0.0773, "Pa*s", "A of the oil's viscosity μ = A·exp(α·t)", gt=0)
+    alpha: float = quantity(-0.0485, "1/degC", "α of the oil's viscosity μ = A·exp(α·t)")
 
 
 # --- Slide-bearing stand, lab work 3 --------------------------------------------------
@@ -505,6 +508,7 @@ PROFILOMETER_GROUPS = (
             ),
             _c("rz_instrument", "um", "Rz1, the profilometer's reading (1.20)", Limit(low=0.0)),
             _c("rmax_instrument", "um", "Rmax1, the profilometer's reading (1.20)", Limit(low=0.0)),
+            _c("ra_instrument", "um", "Ra1, the profilometer's reading (1.20)", Limit(low=0.0)),
         ),
     ),
 )

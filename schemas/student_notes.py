@@ -1,4 +1,5 @@
-"""The student's own words on a run: the group, the students' names and their conclusions,
+"""The student's own words on a run: the group, the students' names, their conclusions,
+analysis of the graphs, reasons for a mismatch and observations,
 written on the run's page and printed in the report beside the computed verdicts (what
 ``/runs/{id}/notes`` takes and answers)."""
 
@@ -39,6 +40,12 @@ class StudentNotesWrite(BaseModel):
     group: Annotated[Text, AfterValidator(str.strip), StringConstraints(max_length=100)] = ""
     students: list[Name] = Field(default_factory=list, max_length=STUDENTS_LIMIT)
     conclusions: Annotated[Text, StringConstraints(max_length=CONCLUSIONS_LIMIT)] = ""
+    analysis: Annotated[Text, StringConstraints(max_length=CONCLUSIONS_LIMIT)] = ""
+    """Their analysis of the graphs (lab 4, item 6 of "Иллюстрация полученных результатов")."""
+    mismatch: Annotated[Text, StringConstraints(max_length=CONCLUSIONS_LIMIT)] = ""
+    """The reasons they see for a mismatch of theory and experiment (lab 3, item 8)."""
+    observations: Annotated[Text, StringConstraints(max_length=CONCLUSIONS_LIMIT)] = ""
+    """What they observed of the wear in the run (lab 2: adhesive, oxidative)."""
 
 
 class StudentNotes(StudentNotesWrite):
@@ -51,4 +58,5 @@ class StudentNotes(StudentNotesWrite):
 
     @property
     def empty(self) -> bool:
-        return not (self.group or self.students or self.conclusions.strip())
+        words = (self.conclusions, self.analysis, self.mismatch, self.observations)
+        return not (self.group or self.students or any(w.strip() for w in words))

@@ -40,6 +40,7 @@ def analyse(run: Run, readings: Readings) -> ProfilometerResults:
     result.base_length = params.base_length
     result.ra, result.rq, result.rz = params.ra, params.rq, params.rz
     result.rmax, result.sm, result.asperity_radius = params.rmax, params.sm, params.asperity_radius
+    result.rz_peaks, result.rz_valleys = list(params.rz_peaks), list(params.rz_valleys)
     try:
         err = roughness.instrument_error(parameters=params)
         result.ra_error, result.rz_error = err.ra, err.rz
@@ -65,8 +66,11 @@ def analyse(run: Run, readings: Readings) -> ProfilometerResults:
                 rmax_profilogram=params.rmax,
                 rz_instrument=m["rz_instrument"] * _M_PER_UM,
                 rz_profilogram=params.rz,
+                ra_instrument=m["ra_instrument"] * _M_PER_UM if "ra_instrument" in m else None,
+                ra_profilogram=params.ra,
             )
             result.rmax_difference, result.rz_difference = found.rmax, found.rz
+            result.ra_difference = found.ra
         except ModelInputError as exc:
             result.notes.append(f"(1.20) not computed: {exc}")
     # Table 1.6: strips of equal depth from the peak line down to the mean line.

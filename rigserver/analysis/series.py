@@ -14,6 +14,7 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
+import numpy as np
 from pydantic import BaseModel
 
 from rigserver.core import statistics, wear
@@ -157,7 +158,7 @@ def series_statistics(
         for m in members
     ]
     counted = [m for m in members if m.run.state is not RunState.ABORTED and m.values is not None]
-    comparison = series.purpose is SeriesPurpose.COMPARISON
+    comparison = series.purpose is not SeriesPurpose.REPEATABILITY  # levels of their own
     units = unit_paths(RESULT_MODELS[stand]) if stand else {}
     described = description_paths(RESULT_MODELS[stand]) if stand else {}
     statistics_ = [
@@ -190,27 +191,48 @@ def _mode(member: Member) -> str | None:
 
 
 def adhesive_oxidative(members: Sequence[Member]) -> AdhesiveOxidative | None:
-    """f_a, f_ok (the levels' mean steady friction) and Δf (2.16), when the series' runs
-    fall into two levels, one of each mode; None otherwise."""
+    """f_a, f_ok (the levels' mean steady friction) and Δf (2.16) with its uncertainty, when
+    the series' runs of the two modes fall into two levels, one of each (a lab work's wear
+    run, at a level of its own, is left aside); None otherwise."""
     by_level: dict[str, set[str | None]] = {}
-    friction: dict[str, list[float]] = {}
+    friction: dict[str, list[tuple[float, float | None]]] = {}
     for m in members:
         mode = _mode(m)
         by_level.setdefault(m.level or "", set()).add(mode)
         f = _number(m.values, "friction_steady")
         if mode is not None and f is not None:
-            friction.setdefault(mode, []).append(f)
-    modes = [next(iter(found)) for found in by_level.values() if len(found) == 1]
-    if len(by_level) != 2 or sorted(m or "" for m in modes) != list(_MODES):
+            u = _number(m.values, "friction_steady_uncertainty")
+            friction.setdefault(mode, []).append((f, u))
+    moded = [found for found in by_level.values() if found & set(_MODES)]
+    modes = sorted(next(iter(found)) or "" for found in moded if len(found) == 1)
+    if len(moded) != 2 or modes != list(_MODES) or any(not friction.get(k) for k in _MODES):
         return None
-    if any(not friction.get(mode) for mode in _MODES):
-        return None
-    f_a, f_ok = (float(sum(friction[k]) / len(friction[k])) for k in _MODES)
+    f_a, f_ok = (float(np.mean([f for f, _ in friction[k]])) for k in _MODES)
+    u_a, u_ok = (_mean_uncertainty([u for _, u in friction[k]]) for k in _MODES)
+    u = (
+        None
+        if u_a is None or u_ok is None
+        else wear.adhesive_oxidative_uncertainty(
+            f_adhesive=f_a, f_oxidative=f_ok, u_adhesive=u_a, u_oxidative=u_ok
+        )
+    )
     return AdhesiveOxidative(
         f_adhesive=f_a,
         f_oxidative=f_ok,
+        f_adhesive_uncertainty=u_a,
+        f_oxidative_uncertainty=u_ok,
         difference=wear.adhesive_oxidative_difference(f_adhesive=f_a, f_oxidative=f_ok),
+        difference_uncertainty=u,
+        runs={k: len(friction[k]) for k in _MODES},
     )
+
+
+def _mean_uncertainty(own: Sequence[float | None]) -> float | None:
+    """The standard uncertainty of the mean of independent runs, √(Σu_i²)/n (GUM 5.1.2);
+    None unless every run states its own."""
+    if not own or any(u is None for u in own):
+        return None
+    return math.sqrt(sum(u * u for u in own if u is not None)) / len(own)
 
 
 def identical_runs(rows: Sequence[SeriesRun]) -> list[list[str]]:
@@ -271,7 +293,8 @@ def _result_statistics(
     label = label_of(members[0].run.stand, key)
     digits = label.digits if label is not None else 4
     own = [v.uncertainty for v in values]
-    result.overall = _summary(numbers, [v.run_id for v in values], digits, own)
+    if not comparison:  # a comparison's levels differ by design: never one pooled interval
+        result.overall = _summary(numbers, [v.run_id for v in values], digits, own)
     levels: dict[str, list[RunValue]] = {}
     for v in values:
         levels.setdefault(v.level or "", []).append(v)

@@ -120,9 +120,17 @@ class ReportFiles:
         return self._file("run", run.id, version, lang, fmt)
 
     def series_report(
-        self, series: Series, runs: Iterable[Run], lang: Lang, fmt: str
+        self,
+        series: Series,
+        runs: Iterable[Run],
+        lang: Lang,
+        fmt: str,
+        notes: Iterable[StudentNotes] = (),
     ) -> ReportFile:
-        return self._file("series", series.id, series_version(series, runs), lang, fmt)
+        """A series report; a lab work's prints its runs' ``notes`` too (their versions
+        name it)."""
+        version = series_version(series, runs) + "".join(map(notes_version, notes))
+        return self._file("series", series.id, version, lang, fmt)
 
     def _file(self, kind: str, ident: str, version: str, lang: Lang, fmt: str) -> ReportFile:
         key = "\n".join((code_version(), self._salt, kind, ident, version, lang))

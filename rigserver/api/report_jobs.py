@@ -27,6 +27,7 @@ from numpy.typing import NDArray
 
 from rigserver.analysis import Readings
 from rigserver.reports.i18n import Lang
+from rigserver.reports.lab_work import WorkRun, build_lab_work, part_one
 from rigserver.reports.pdf import html_to_pdf
 from rigserver.reports.run_report import build_report, render_report
 from rigserver.reports.series_report import render_series_report, series_context
@@ -176,16 +177,30 @@ class SeriesReportJob:
     #: member run id -> its final file; members missing here are in ``readings``
     run_files: Mapping[str, Path] = field(default_factory=dict)
     readings: Mapping[str, Readings] = field(default_factory=dict, compare=False)
+    #: a lab work (purpose ``lab``): its runs at their parts, and their stand
+    work: tuple[WorkRun, ...] = ()
+    stand: Stand | None = None
 
     def render(self) -> None:
         with ExitStack() as stack:
             readings: dict[str, Readings] = dict(self.readings)
             for run_id, path in self.run_files.items():
                 readings[run_id] = FileReadings(path, stack)
-            context = series_context(
-                self.detail, values=self.values, readings=readings, lang=self.lang
-            )
-            html = render_series_report(context, made=datetime.now(UTC))
+            main = part_one(self.stand.kind, self.work) if self.stand else None
+            if self.stand is not None and main is not None:
+                report = build_lab_work(
+                    runs=self.work,
+                    stand=self.stand,
+                    readings=readings[main.run.id],
+                    lang=self.lang,
+                    made=datetime.now(UTC),
+                )
+                html = render_report(report)
+            else:
+                context = series_context(
+                    self.detail, values=self.values, readings=readings, lang=self.lang
+                )
+                html = render_series_report(context, made=datetime.now(UTC))
         write_targets(html, self.targets)
 
 

@@ -130,6 +130,9 @@ class ProfileParameters:
         Mean asperity radius R = √(π/2)/ρ2 (1.1, corrected E5), m.
     base_length : float
         Base length l = x_last - x_first, m.
+    rz_peaks, rz_valleys : tuple of float
+        The five highest peaks y_p,i (above the mean line, highest first) and the five
+        deepest valleys y_v,i (below it, negative, deepest first) behind Rz (1.4), m.
     """
 
     ra: float
@@ -142,6 +145,8 @@ class ProfileParameters:
     rms_curvature: float
     asperity_radius: float
     base_length: float
+    rz_peaks: tuple[float, ...] = ()
+    rz_valleys: tuple[float, ...] = ()
 
 
 def _profile(x: ArrayLike, y: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
@@ -229,7 +234,10 @@ def _extrema(r: NDArray[np.float64]) -> tuple[NDArray[np.intp], NDArray[np.intp]
 
 def _ten_point_height(
     r: NDArray[np.float64], peaks: NDArray[np.intp], valleys: NDArray[np.intp]
-) -> float:
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """The five highest peaks (heights above the mean line, highest first) and the five
+    deepest valleys (their y below it, deepest first) of (1.4); Rz is the difference of
+    their means."""
     if peaks.size == 0 or valleys.size == 0:
         raise ModelUndefinedError(
             f"y has {peaks.size} local peaks and {valleys.size} local valleys: Rz needs at "
@@ -237,7 +245,7 @@ def _ten_point_height(
         )
     highest = np.sort(_per_element(r, peaks, above=True))[::-1][:RZ_POINTS]
     deepest = np.sort(-_per_element(r, valleys, above=False))[:RZ_POINTS]
-    return float(highest.mean() - deepest.mean())
+    return highest, deepest
 
 
 def _per_element(
@@ -352,7 +360,8 @@ def profile_parameters(*, x: ArrayLike, y: ArrayLike) -> ProfileParameters:
     abs_integral, sq_integral = _integrals(xa, r)
     rq = float(np.sqrt(sq_integral / length))
     peaks, valleys = _extrema(r)
-    rz = _ten_point_height(r, peaks, valleys)
+    highest, deepest = _ten_point_height(r, peaks, valleys)
+    rz = float(highest.mean() - deepest.mean())
     x_up, n_down = _crossings(xa, r)
     if x_up.size < 2:
         raise ModelUndefinedError(
@@ -372,6 +381,8 @@ def profile_parameters(*, x: ArrayLike, y: ArrayLike) -> ProfileParameters:
         rms_curvature=rho2,
         asperity_radius=float(np.sqrt(np.pi / 2.0) / rho2),
         base_length=length,
+        rz_peaks=tuple(float(p) for p in highest),
+        rz_valleys=tuple(float(v) for v in deepest),
     )
 
 
@@ -831,41 +842,61 @@ def outside_subrange(
 
 @dataclass(frozen=True, slots=True)
 class ProfilogramDiscrepancy:
-    """The profilometer's readings against the profilogram's values (1.20), in %.
+    """The profilometer's readings against the profilogram's values (1.20), in %, each
+    relative to the profilometer's reading (E10).
 
     Attributes
     ----------
     rmax : float
         δ = (Rmax1 - Rmax2)/Rmax1·100 %.
     rz : float
-        δ_Rz = (Rz1 - Rz2)/Rz2·100 %.
+        δ_Rz = (Rz1 - Rz2)/Rz1·100 %.
+    ra : float or None
+        δ_Ra = (Ra1 - Ra2)/Ra1·100 % (item 10 compares Ra too), None without the reading.
     """
 
     rmax: float
     rz: float
+    ra: float | None = None
+
+
+def relative_to_reading(reading: float, profilogram: float) -> float:
+    """(reading - profilogram)/reading·100 %: (1.20) with the denominator of E10."""
+    return float((reading - profilogram) / reading * 100.0)
 
 
 def profilogram_discrepancy(
-    *, rmax_instrument: float, rmax_profilogram: float, rz_instrument: float, rz_profilogram: float
+    *,
+    rmax_instrument: float,
+    rmax_profilogram: float,
+    rz_instrument: float,
+    rz_profilogram: float,
+    ra_instrument: float | None = None,
+    ra_profilogram: float | None = None,
 ) -> ProfilogramDiscrepancy:
-    """Differences of the profilometer's Rmax, Rz from the profilogram's (1.20).
+    """Differences of the profilometer's Ra, Rz, Rmax from the profilogram's (1.20, E10).
 
     .. math:: δ = \\frac{R_{max1} - R_{max2}}{R_{max1}}\\,100\\ \\%,\\quad
-              δ_{Rz} = \\frac{Rz_1 - Rz_2}{Rz_2}\\,100\\ \\%
+              δ_{Rz} = \\frac{Rz_1 - Rz_2}{Rz_1}\\,100\\ \\%
 
     Index 1: the profilometer's reading (procedure item 1); 2: from the profilogram (items
-    4-5). The denominators are as printed: Rmax1 in δ, Rz2 in δ_Rz.
+    4-5). The manual divides δ_Rz by Rz2 but δ by Rmax1; E10 takes the reading for both
+    (and for δ_Ra), one convention for the three.
 
     References
     ----------
-    Lab manual, lab work 1, procedure item 10, (1.20).
+    Lab manual, lab work 1, procedure item 10, (1.20); models.md, E10.
     """
-    r1 = positive("rmax_instrument", rmax_instrument)
-    r2 = positive("rmax_profilogram", rmax_profilogram)
-    z1 = positive("rz_instrument", rz_instrument)
-    z2 = positive("rz_profilogram", rz_profilogram)
+    r1 = float(positive("rmax_instrument", rmax_instrument))
+    r2 = float(positive("rmax_profilogram", rmax_profilogram))
+    z1 = float(positive("rz_instrument", rz_instrument))
+    z2 = float(positive("rz_profilogram", rz_profilogram))
+    ra = None
+    if ra_instrument is not None and ra_profilogram is not None:
+        a1 = float(positive("ra_instrument", ra_instrument))
+        ra = relative_to_reading(a1, float(positive("ra_profilogram", ra_profilogram)))
     return ProfilogramDiscrepancy(
-        rmax=float((r1 - r2) / r1 * 100.0), rz=float((z1 - z2) / z2 * 100.0)
+        rmax=relative_to_reading(r1, r2), rz=relative_to_reading(z1, z2), ra=ra
     )
 
 

@@ -29,6 +29,7 @@ __all__ = [
     "TheoreticalWear",
     "WearAdequacy",
     "adhesive_oxidative_difference",
+    "adhesive_oxidative_uncertainty",
     "elastic_fatigue_factor",
     "friction_coefficient",
     "plastic_fatigue_factor",
@@ -687,3 +688,21 @@ def adhesive_oxidative_difference(*, f_adhesive: float, f_oxidative: float) -> f
     fa = _positive_float("f_adhesive", f_adhesive)
     fok = _positive_float("f_oxidative", f_oxidative)
     return (fa - fok) / fa * 100.0
+
+
+def adhesive_oxidative_uncertainty(
+    *, f_adhesive: float, f_oxidative: float, u_adhesive: float, u_oxidative: float
+) -> float:
+    """Standard uncertainty of Δf (2.16), percent, from the standard uncertainties of f_a and
+    f_ok (independent runs), by the first-order propagation of GUM 5.1.2:
+
+    .. math:: u(\\Delta f) = \\frac{100\\,\\%}{f_a}
+              \\sqrt{u(f_{ok})^2 + \\left(\\frac{f_{ok}}{f_a}\\right)^2 u(f_a)^2}
+
+    (∂Δf/∂f_ok = -100 %/f_a, ∂Δf/∂f_a = 100 %·f_ok/f_a²).
+    """
+    fa = _positive_float("f_adhesive", f_adhesive)
+    fok = _positive_float("f_oxidative", f_oxidative)
+    ua = float(non_negative("u_adhesive", u_adhesive))
+    uok = float(non_negative("u_oxidative", u_oxidative))
+    return 100.0 / fa * math.hypot(uok, fok / fa * ua)

@@ -44,6 +44,7 @@ AXES: dict[str, str] = {
     "N": N_("load"),
     "S_1": N_("bearing characteristic"),
     "S_1 = μ_t·ω/p̄": N_("bearing characteristic"),
+    "S_1^{-1} = p̄/(μ_t·ω)": N_("inverse bearing characteristic"),
     "e_x": N_("journal centre along x"),
     "e_y": N_("journal centre along y"),
     "Δt": N_("temperature rise of the oil"),

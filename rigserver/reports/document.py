@@ -63,7 +63,19 @@ class Items:
     items: Sequence[Text]
 
 
-Block = Table | Figure | Paragraph | Items
+@dataclass(frozen=True, slots=True)
+class Space:
+    """The students' own part of a report: what they wrote (markup of paragraphs), else
+    room for it on paper: ruled lines to write on, or a frame to draw in (a sketch, a
+    scheme), ``lines`` lines high."""
+
+    kind: ClassVar[str] = "space"
+    text: Text = ""
+    frame: bool = False
+    lines: int = 6
+
+
+Block = Table | Figure | Paragraph | Items | Space
 
 
 @dataclass(frozen=True, slots=True)
@@ -84,3 +96,5 @@ class Report:
     particulars: Sequence[tuple[str, str]]
     sections: Sequence[Section]
     footer: str
+    tasks_label: str = ""
+    tasks: Sequence[str] = ()

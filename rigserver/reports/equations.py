@@ -15,7 +15,7 @@ from collections.abc import Iterable, Sequence
 
 from markupsafe import Markup, escape
 
-from rigserver.reports.document import Block, Figure, Paragraph, Section, Table, Text
+from rigserver.reports.document import Block, Figure, Items, Paragraph, Section, Table, Text
 from rigserver.reports.formatting import html_symbol
 from rigserver.reports.i18n import Messages
 
@@ -37,7 +37,10 @@ EQUATIONS: dict[str, str] = {
     "1.17": "ν = (ν_{13} + ν_{25} + ν_{36})/3",
     "1.18": "lg b_i = lg t_{pi} - ν·lg ε_i",
     "1.19": "b = (b_1 + b_3 + b_5)/3",
-    "1.20": "δ = (R_{max1} - R_{max2})/R_{max1}·100 %, δ_{Rz} = (R_{z1} - R_{z2})/R_{z2}·100 %",
+    "1.20": (
+        "δ = (R_{max1} - R_{max2})/R_{max1}·100 %, δ_{Rz} = (R_{z1} - R_{z2})/R_{z1}·100 %, "
+        "δ_{Ra} = (R_{a1} - R_{a2})/R_{a1}·100 % (E10)"
+    ),
     # lab work 2
     "2.1": (
         "I_h^y = C · (p_c·θ/k_ν)^{1+βt} · (k_f^y/(σ_B·θ))^t · (R_max/R)^{t(1+β)/2} · "
@@ -64,7 +67,9 @@ EQUATIONS: dict[str, str] = {
     "3.2": "H = 1 - χ cos(φ - δ)",
     "3.5": "Π(φ, ±a) = 0, Π ≥ 0, a = B/(2R) (E3)",
     "3.10": "Π_0 = 3μ̄a²·(Gχ sin φ - E cos φ)/(1 - χ cos φ)³·((z/a)² - 1)",
+    "3.11": "φ_n = π, φ_k = 2π",
     "3.12": "Π_0 = 3μ̄a²·Gχ sin φ/(1 - χ cos φ)³·((z/a)² - 1)",
+    "3.14": "∂/∂φ(H³·∂Π_∞/∂φ) = 6μ̄·(Gχ sin(φ - δ) - E cos(φ - δ))",
     "3.15": "Π_∞ = 6χμ̄(2 - χ cos φ)/((2 + χ²)(1 - χ cos φ)²)·(-G sin φ)",
     "3.16": "e_x = h_0 - |X_set - X|, e_y = h_0 - |Y_set - Y|, e = √(e_x^2 + e_y^2)",
     "3.17": "χ = e/h_0",
@@ -82,12 +87,20 @@ EQUATIONS: dict[str, str] = {
     "3.29": "Π_z(z), Π_m(z), φ = φ_max",
     # lab work 4
     "4.1": "M_fr = -½·P_τ·e + ω·μ*·R_1^3·2πB/√(h_0^2 - e²)",
-    "4.2": "P_τ = P*·V, P* = 2B·R·μ_0·ω_0/ψ²",
-    "4.4": "V = -χ·a²·μ̄·A_3^{20}·G, G = ω/ω_0",
+    "4.2": "P_τ = P*·V",
+    "4.3": "P* = 2B·R·μ_0·ω_0/ψ²",
+    "4.4": "V = -χ·a²·μ̄·A_3^{20}·G",
     "4.5": "A_1^{00} = π/√(1 - χ²), A_2^{00} = A_1^{00}/(1 - χ²), A_3^{20} = π/(2(1 - χ²)^{3/2})",
+    "4.6": "ψ = h_0/R",
+    "4.7": "χ = e/h_0",
     "4.8": "a = B/(2R) (E3)",
+    "4.9": "G = ω/ω_0",
     "4.10": "f_T = M_fr/(N·R_1)",
-    "4.11": "e = √(e_x^2 + e_y^2), χ = e/h_0",
+    "4.11": (
+        "e_x = h_0·cos 45° - |X_set - X|, e_y = h_0·cos 45° - |Y_set - Y|, "
+        "e = √(e_x^2 + e_y^2), χ = e/h_0"
+    ),
+    "4.12": "δ = 45° - arctg(e_x/e_y), γ = 45° - arctg(e_y/e_x)",
     "4.13": "F = k·Δl",
     "4.14": "M_fr = F·l_1",
     "4.15": "F_fr = M_fr/l_2",
@@ -103,7 +116,7 @@ EQUATIONS: dict[str, str] = {
 #: of parentheses holds a citation only when all it holds is numbers and corrections, never
 #: a value ("(2.1 ± 0.1)"), a table ("(table 3.2)") or a range of values ("(0.4–3.2)").
 _NUMBER = r"[1-4]\.\d{1,2}"
-_PART = rf"(?:{_NUMBER}(?:\s*[-–]\s*{_NUMBER})?|E[1-9])"
+_PART = rf"(?:{_NUMBER}(?:\s*[-–]\s*{_NUMBER})?|E(?:10|[1-9]))"
 _CITATION = re.compile(rf"\s*{_PART}(?:\s*,\s*{_PART})*\s*")
 _PARENS = re.compile(r"\(([^()]*)\)")
 #: A symbol with a subscript or superscript, translated as a whole (f_e -> f_э).
@@ -135,14 +148,46 @@ def symbols_of(formula: str) -> list[str]:
 
 def formula(t: Messages, number: str) -> Markup:
     """Equation ``number``'s formula in ``t``'s language: its symbols translated, µm in the
-    language's unit, a decimal comma in Russian (``f_э = F_тр/N``)."""
+    language's unit, a decimal comma in Russian (``f_э = F_тр/N``); a line may break only
+    between its top-level parts (:func:`unbreakable`), never inside a bracket or a script."""
     text = EQUATIONS[number]
     for symbol in dict.fromkeys(symbols_of(text)):
         text = text.replace(symbol, t.symbol(symbol))
     text = text.replace("{um}", t.unit("um"))
     if t.lang == "ru":  # a decimal comma, as the page's numbers
         text = re.sub(r"(\d)\.(\d)", r"\1,\2", text)
-    return html_symbol(text)
+    return unbreakable(text)
+
+
+#: Where a formula's line may break: after a comma or around a product's dot, outside any
+#: bracket or script.
+_BREAKS = (", ", " · ")
+
+
+def unbreakable(text: str) -> Markup:
+    """``text`` (the reports' symbol syntax) as markup whose parts between the top-level
+    breaks of :data:`_BREAKS` are each kept on one line (``<span class="nobreak">``)."""
+    parts: list[str] = []
+    depth, start, i = 0, 0, 0
+    while i < len(text):
+        if text[i] in "([{":
+            depth += 1
+        elif text[i] in ")]}":
+            depth -= 1
+        elif depth == 0 and text.startswith(_BREAKS, i):
+            separator = next(b for b in _BREAKS if text.startswith(b, i))
+            parts += [text[start:i], separator]
+            i += len(separator)
+            start = i
+            continue
+        i += 1
+    parts.append(text[start:])
+    return Markup("").join(
+        Markup('<span class="nobreak">{}</span>').format(html_symbol(part))
+        if k % 2 == 0
+        else Markup(escape(part))
+        for k, part in enumerate(parts)
+    )
 
 
 def _plain(text: Text) -> str:
@@ -207,7 +252,9 @@ class _Shown:
             return dataclasses.replace(block, caption=self.after(block.caption))
         if isinstance(block, Paragraph):
             return dataclasses.replace(block, text=self.after(block.text))
-        return dataclasses.replace(block, items=[self.after(item) for item in block.items])
+        if isinstance(block, Items):
+            return dataclasses.replace(block, items=[self.after(item) for item in block.items])
+        return block  # the students' own words cite what they like
 
 
 _BREAK = Markup("<br>")

@@ -246,8 +246,6 @@ MESSAGES: dict[str, str] = {
     "notes": N_("Notes"),
     "group": N_("Group"),
     "students": N_("Students"),
-    "conclusions.computed": N_("Computed from the measurements:"),
-    "conclusions.students": N_("The students' conclusions:"),
     "state.open": N_("open"),
     "state.finished": N_("finished"),
     "state.aborted": N_("aborted"),
@@ -259,7 +257,8 @@ MESSAGES: dict[str, str] = {
     "sec.measured": N_("Results of the measurements"),
     "sec.processed": N_("Processing and theory"),
     "sec.plots": N_("Plots"),
-    "sec.conclusions": N_("Conclusions"),
+    "sec.computed": N_("Computed results"),
+    "table_number": N_("Table {n}"),
     "sec.pending": N_("Not computed yet"),
     "sec.notes": N_("Notes of the analysis"),
     "sec.corrections": N_("Corrections"),
@@ -338,7 +337,13 @@ MESSAGES: dict[str, str] = {
     "mech.corrections": N_("Corrections to the article's printed formulas"),
     "abbr.e9": N_(
         "E9 (4.21): the manual calls both μω/p̄ and p̄/(μω) S_1; the report uses "
-        "S_1 = μ_t·ω/p̄ as (4.21) does."
+        "S_1 = μ_t·ω/p̄ as (4.21) does, and plots f against its inverse S_1^{{-1}} = p̄/(μ_t·ω) "
+        "as fig. 4.1 does."
+    ),
+    "abbr.e10": N_(
+        "E10 (1.20): the manual divides δ by the profilometer's R_max1 but δ_Rz by the "
+        "profilogram's R_z2; the report divides each difference, δ_Ra too, by the "
+        "profilometer's reading."
     ),
     "theory_outside": N_("theory outside its range"),
     "col.parameter": N_("Parameter"),
@@ -377,9 +382,12 @@ MESSAGES: dict[str, str] = {
     "p.sm": N_("mean spacing of profile elements"),
     "p.r": N_("mean asperity radius (1.1, E5)"),
     "p.table_1_6": N_(
-        "Table 1.6. Bearing length of the profile at the levels p_i below the peak line"
+        "Table 1.6. Bearing length of the profile at the levels p_i below the peak line (1.5), "
+        "(1.6), (1.7)"
     ),
-    "p.table_1_7": N_("Table 1.7. Coefficients ν and b of t_p = b·ε^ν (1.16)-(1.19)"),
+    "p.table_1_7": N_(
+        "Table 1.7. Coefficients ν and b of t_p = b·ε^ν (1.16), (1.17), (1.18), (1.19)"
+    ),
     "p.table_1_8": N_("Table 1.8. Measured t_{{p,e}} against t_{{p,t}} = b·ε^ν (manual method)"),
     "p.manual": N_("three pairs of levels (1.16)-(1.19)"),
     "p.lsq": N_("least squares in log-log"),
@@ -388,13 +396,23 @@ MESSAGES: dict[str, str] = {
     "p.ra_delta": N_("Ra from Δ (1.10)"),
     "p.delta_t": N_("equilibrium complex parameter (1.11)"),
     "p.fig_profile": N_("Profile with the mean line, the peak line and the valley line"),
-    "p.fig_bearing": N_("Initial part of the bearing curve and the fits t_p = b·ε^ν (fig. 1.5)"),
+    "p.fig_bearing": N_(
+        "Initial part of the bearing curve and the fits t_p = b·ε^ν (1.8), as in fig. 1.5"
+    ),
     "p.profile": N_("profile"),
     "p.mean_line": N_("mean line"),
     "p.peak_line": N_("peak line"),
     "p.valley_line": N_("valley line"),
     "p.levels": N_("levels p_i of table 1.6"),
-    "p.vs": N_("Profilometer against profilogram (item 10, (1.20))"),
+    "p.vs": N_("Profilometer against profilogram (item 10, (1.20, E10))"),
+    "p.vs_source": N_(
+        "The profilometer's R_a, R_z, R_max: its readings typed in from its display "
+        "(procedure item 1), in the run's single measurements; the profilogram's: computed "
+        "from the trace as (1.3), (1.4). The ISO 21920-2 values further on are rig's own, from "
+        "the filtered trace, and are not the instrument's reading. δ is relative to the "
+        "reading (E10)."
+    ),
+    "p.peaks": N_("The five highest peaks and the five deepest valleys behind R_z (1.4)"),
     "p.instrument": N_("profilometer"),
     "p.profilogram": N_("profilogram"),
     "p.difference": N_("difference"),
@@ -439,7 +457,7 @@ MESSAGES: dict[str, str] = {
     "w.eta_c": N_("ratio of the contour to the nominal area"),
     "w.delta": N_("complex parameter of the disc (2.6, E2)"),
     "w.rmax_r": N_("ratio of the peak height to the radius"),
-    "w.C": N_("C of (2.1)"),
+    "w.C": N_("C of (2.1), (2.2, E1)"),
     "w.beta": N_("β = 1/(1 + 2ν)"),
     "w.k_nu": N_("k_ν of (2.1)"),
     "w.k_f": N_("k_f of the contact mode"),
@@ -449,12 +467,13 @@ MESSAGES: dict[str, str] = {
     "w.lower": N_("lower bound 0.4·I_{{h,th}} (2.15)"),
     "w.upper": N_("upper bound 2.6·I_{{h,th}} (2.15)"),
     "w.adequate": N_("model adequate (2.15)"),
+    "w.not_judged": N_("not judged: the theory is outside its range"),
     "w.fig_friction": N_(
         "Friction coefficient against the sliding distance; the running-in part is shaded"
     ),
     "w.fig_wear": N_(
-        "Experimental and theoretical wear intensity; no adequacy band (2.15): the theory is "
-        "not judged for this test"
+        "Experimental and theoretical wear intensity with the band (2.15) about the theory, "
+        "pale: the theory is outside its range for this test and is not judged"
     ),
     "w.fig_wear_band": N_(
         "Experimental and theoretical wear intensity with the adequacy band (2.15)"
@@ -486,6 +505,10 @@ MESSAGES: dict[str, str] = {
         "{upper} (I_{{h,th}} = {theor}, {contact} contact; ΔI_h = {error} %): the model "
         "(2.1) is not adequate to this test (2.15)."
     ),
+    "b.models": N_(
+        "The pressure by the two asymptotic models: the short bearing (3.12) over the load "
+        "zone (3.11); the bearing without end leakage (3.14), whose solution is (3.15)."
+    ),
     "b.table_3_1": N_(
         "Table 3.1. Hydrodynamic pressure along the angle at z = 0, and its processing"
     ),
@@ -504,7 +527,7 @@ MESSAGES: dict[str, str] = {
     "b.edges": N_("Π = 0 at the edges z = ±a = ±{a}."),
     "b.table_3_3": N_(
         "Table 3.3. Π along the angle at z = 0: short bearing Π_0, long bearing Π_∞, finite "
-        "bearing, measured Π_e"
+        "bearing, measured Π_e; their differences (3.26), (3.27)"
     ),
     "b.fig_phi": N_("Dimensionless pressure Π against the angle φ at z = 0 (3.28)"),
     "b.fig_z": N_("Dimensionless pressure Π against z at the angle of the largest pressure (3.29)"),
@@ -523,6 +546,17 @@ MESSAGES: dict[str, str] = {
     "b.c_axial": N_(
         "Along z at φ = {phi}°: mean |ΔΠ| = {error} % against the short bearing (3.25)."
     ),
+    "m.theory_formulas": N_(
+        "The theoretical friction coefficient of the fluid film, by the short-bearing method: "
+        "(4.1), (4.2), (4.3), (4.4), (4.5), (4.6), (4.7), (4.8, E3), (4.9), (4.10). Here P* is "
+        "the scale of the film force and V its dimensionless tangential component; μ_0 and "
+        "ω_0, the characteristic viscosity (at 50 °C) and angular velocity that make the "
+        "pressure dimensionless, cancel in P_τ = P*·V."
+    ),
+    "m.processing_formulas": N_(
+        "Processing of the readings: (4.11), (4.12), (4.13), (4.14), (4.15), (4.16), (4.17), "
+        "(4.18), (4.19, E4), (4.20, E3), (4.21, E9)."
+    ),
     "m.raw": N_("Table 4.{n}. Readings, experiment {n} ({regime})"),
     "m.film": N_("Film thickness against the critical one, and headline results"),
     "m.h_crit": N_("critical film thickness, sum of the five terms"),
@@ -534,7 +568,9 @@ MESSAGES: dict[str, str] = {
         "Table 4.4. Theory (4.1)-(4.10) and the finite bearing (3.1) beside the experiment"
     ),
     "m.ratio_note": N_("f_e/f_e1: against experiment 1 at the same load."),
-    "m.fig_stribeck": N_("Hersey-Stribeck diagram: f against S_1 = μ_t·ω/p̄ (4.21, E9)"),
+    "m.fig_stribeck": N_(
+        "Hersey-Stribeck diagram: f against S_1^{{-1}} = p̄/(μ_t·ω), as fig. 4.1 plots it (4.21, E9)"
+    ),
     "m.fig_trajectory": N_("Journal-centre trajectory and the Gümbel semicircle"),
     "m.fig_friction": N_("Friction coefficient against the load, three regimes"),
     "m.fig_temperature": N_("Temperature rise of the oil against the load (4.19, E4)"),

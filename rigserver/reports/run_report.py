@@ -9,11 +9,13 @@ from dataclasses import replace
 from datetime import datetime
 from typing import Any
 
-from markupsafe import Markup, escape
+from markupsafe import escape
 from pydantic import BaseModel
 
 from rigserver.analysis import Readings
 from rigserver.reports import equations, layout
+from rigserver.reports.contents.common import TASKS
+from rigserver.reports.contents.registry import CONTENTS
 from rigserver.reports.context import Context, LabReport
 from rigserver.reports.corrections import corrections_section
 from rigserver.reports.document import Items, Paragraph, Report, Section, Table, Text
@@ -21,6 +23,7 @@ from rigserver.reports.formatting import fmt, html_symbol, number_locale, value_
 from rigserver.reports.i18n import MESSAGES, Lang, Messages, translations
 from rigserver.reports.labs import mtos, profilometer, slide_bearing, smts2, tribometer
 from rigserver.reports.render import render
+from rigserver.reports.students import students_part
 from schemas.corrections import Correction
 from schemas.labels import CONFIGURATION, PARTICULARS
 from schemas.messages import N_
@@ -65,6 +68,7 @@ def build_report(
     made: datetime,
     notes: StudentNotes | None = None,
     corrections: Sequence[Correction] = (),
+    work: tuple[str, Sequence[Section]] | None = None,
 ) -> Report:
     """The report of ``run`` in ``lang``.
 
@@ -82,19 +86,24 @@ def build_report(
         When the report is made (printed in the footer), UTC.
     notes
         The student's own words on the run: the group and the students are printed at the
-        top, the conclusions beside the computed ones, as written.
+        top, their sections of the lab's report list (:mod:`rigserver.reports.students`)
+        after the computed results, as written.
+    work
+        In a lab work of several runs (:mod:`rigserver.reports.lab_work`), the heading of
+        its part 1 (this run) and the sections of its part 2, printed before the students'
+        part.
     corrections
         The corrections of the run's readings (``readings`` are as corrected): printed in
         the section "Corrections", with the value as typed and the reason.
     """
     with number_locale(lang):
         t = Messages(lang)
-        report = _build(run, stand, values, readings, t, made, notes or StudentNotes())
+        report = _build(run, stand, values, readings, t, made, notes or StudentNotes(), work)
         corrected = corrections_section(t, stand, corrections, run.corrected_after_finish)
     if corrected is None:
         return report
-    # after the measured tables and the plots, before the conclusions and the notes
-    closing = {t(k) for k in ("sec.conclusions", "sec.pending", "sec.notes", "sec.abbreviations")}
+    # after the measured tables and the plots, before the computed results and the students'
+    closing = {t(k) for k in ("sec.computed", "sec.pending", "sec.notes", "sec.abbreviations")}
     at = next(
         (i for i, s in enumerate(report.sections) if s.title in closing), len(report.sections)
     )
@@ -110,6 +119,7 @@ def _build(
     t: Messages,
     made: datetime,
     notes: StudentNotes,
+    work: tuple[str, Sequence[Section]] | None = None,
 ) -> Report:
     kind = run.stand.value
     model = RESULT_MODELS[run.stand].model_validate(values)
@@ -118,10 +128,14 @@ def _build(
     if run.state is RunState.OPEN:
         first.append(Paragraph(t("open_warning")))
     first.append(_configuration(t, run))
-    sections = [Section(t("sec.input"), first), *lab.sections]
-    conclusions = _conclusions(t, lab.conclusions, notes.conclusions)
-    if conclusions:
-        sections.append(Section(t("sec.conclusions"), conclusions))
+    part_one = [Section(work[0])] if work else []
+    sections = [Section(t("sec.input"), first), *part_one, *lab.sections]
+    if lab.conclusions:  # the numbers' verdicts; the students' conclusions are theirs below
+        sections.append(Section(t("sec.computed"), [Items(lab.conclusions)]))
+    if work:
+        sections += work[1]
+    contents = CONTENTS[run.stand]
+    sections += students_part(t, contents.students(), notes)
     for key, items in (("sec.pending", model.pending), ("sec.notes", model.notes)):  # type: ignore[attr-defined]
         if items:  # the analysis' words, printed as they are (x_zero is not x subscript zero)
             sections.append(Section(t(key), [Items([escape(t.gettext(item)) for item in items])]))
@@ -137,6 +151,8 @@ def _build(
         subtitle=t("stand." + kind),
         aim_label=t("aim"),
         aim=t("aim." + kind),
+        tasks_label=t.gettext(TASKS),
+        tasks=[t.gettext(task) for task in contents.tasks],
         particulars=_particulars(t, run, stand, notes),
         sections=sections,
         footer=t("footer", run=run.id, time=f"{made:%Y-%m-%d %H:%M}"),
@@ -146,11 +162,11 @@ def _build(
 ABBREVIATIONS: dict[str, str] = {
     "GUM": "abbr.gum",
     "ASTM G99": "abbr.g99",
-    **{f"E{n}": f"abbr.e{n}" for n in range(1, 10)},
+    **{f"E{n}": f"abbr.e{n}" for n in range(1, 11)},
 }
 """The abbreviations and the corrections to the manual's printed formulas (docs/models.md)
 a report may cite, each explained once in its appendix."""
-_CITED = re.compile(r"GUM|ASTM G99|(?<=\()E[1-9]\b|(?<=, )E[1-9]\b")
+_CITED = re.compile(r"GUM|ASTM G99|(?<=\()E(?:10|[1-9])\b|(?<=, )E(?:10|[1-9])\b")
 
 
 def _texts(sections: Sequence[Section]) -> str:
@@ -201,25 +217,6 @@ def particulars_text(t: Messages, mapping: Mapping[str, Any]) -> str:
         unit = "" if label.unit == "1" else t.unit(label.unit)
         parts.append(f"{words}: {with_unit(shown, unit)}")
     return "; ".join(parts)
-
-
-def _conclusions(t: Messages, computed: Sequence[Text], words: str) -> list[Paragraph | Items]:
-    """The computed verdicts, and after them the students' own conclusions as they wrote
-    them (escaped; blank lines part paragraphs, line breaks stay)."""
-    if not words.strip():
-        return [Items(computed)] if computed else []
-    blocks: list[Paragraph | Items] = []
-    if computed:
-        blocks += [Paragraph(_strong(t("conclusions.computed"))), Items(computed)]
-    blocks.append(Paragraph(_strong(t("conclusions.students"))))
-    for part in re.split(r"\n\s*\n", words.strip()):
-        lines = [escape(line) for line in part.strip().splitlines()]
-        blocks.append(Paragraph(Markup("<br>").join(lines)))
-    return blocks
-
-
-def _strong(text: str) -> Markup:
-    return Markup("<strong>%s</strong>") % text
 
 
 def _particulars(t: Messages, run: Run, stand: Stand, notes: StudentNotes) -> list[tuple[str, str]]:

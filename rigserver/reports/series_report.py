@@ -39,6 +39,8 @@ TEXT: dict[str, str] = {
     "title": N_("Series report"),
     "repeatability": N_("repeatability (repeats of one test)"),
     "comparison": N_("comparison by {factor}"),
+    "lab": N_("one lab work of several runs, each at its part of the manual's work"),
+    "by_level": N_("by level only: the levels differ by design (see the comparison below)"),
     "stand": N_("Stand"),
     "purpose": N_("Purpose"),
     "made": N_("Report made"),
@@ -172,11 +174,11 @@ def series_context(
             _statistics_row(detail.stand, s, m, _step(m, s.key, values)) for s in detail.statistics
         ]
         plots = _plots(detail, values, readings, t, m)
-    purpose = (
-        t("comparison", factor=detail.factor or "")
-        if detail.purpose is SeriesPurpose.COMPARISON
-        else t("repeatability")
-    )
+    purpose = {
+        SeriesPurpose.COMPARISON: t("comparison", factor=detail.factor or ""),
+        SeriesPurpose.REPEATABILITY: t("repeatability"),
+        SeriesPurpose.LAB: t("lab"),
+    }[detail.purpose]
     return {
         "lang": lang,
         "t": t,

@@ -19,6 +19,7 @@ from jinja2 import Environment, PackageLoader, select_autoescape
 from markupsafe import Markup
 
 from rigserver.reports import results_view
+from rigserver.reports.contents.registry import CONTENTS
 from rigserver.reports.formatting import (
     decimal_sign,
     fmt,
@@ -278,6 +279,7 @@ def run_page(
             entry_config(t, lang, run.id, form_token, config["decimal"]) if entry else None
         ),
         rows_received=t.plural(*ROWS_RECEIVED, 0),
+        words=[(field.value, t.gettext(heading)) for field, heading in CONTENTS[run.stand].words()],
     )
 
 

@@ -208,9 +208,10 @@ def simulate(
     setup = {
         "base_length": np.array([s.length / _M_PER_MM]),
         "subrange": np.array([round(s.subrange / _M_PER_UM, 6)]),
-        # the instrument's own Rz, Rmax (procedure item 1), read to its 0.001 µm
+        # the instrument's own Ra, Rz, Rmax (procedure item 1), read to its 0.001 µm
         "rz_instrument": np.array([round(params.rz / _M_PER_UM, 3)]),
         "rmax_instrument": np.array([round(params.rmax / _M_PER_UM, 3)]),
+        "ra_instrument": np.array([round(params.ra / _M_PER_UM, 3)]),
     }
     at = x / s.traverse_speed
     profile_group, setup_group = PROFILOMETER_GROUPS

@@ -1,6 +1,7 @@
 """The student's own words on a run (issue 27 item 9): written by a key with the run's stand's
 write scope, or the run page's session of such a key; printed by the report as written, in
-both languages, beside the computed conclusions; a new version renders the report anew."""
+both languages, under the headings of the lab's report list after the computed results; a new
+version renders the report anew."""
 
 from __future__ import annotations
 
@@ -103,27 +104,21 @@ def _section(html: str, title: str) -> str:
 
 
 @pytest.mark.parametrize(
-    ("lang", "head", "computed", "students", "group"),
+    ("lang", "computed", "students", "group"),
     [
-        (
-            "en",
-            "Conclusions",
-            "Computed from the measurements:",
-            "The students' conclusions:",
-            "Group",
-        ),
-        ("ru", "Выводы", "Вычислено по измерениям:", "Выводы студентов:", "Группа"),
+        ("en", "Computed results", "Conclusions from the analysis of the results", "Group"),
+        ("ru", "Вычисленные результаты", "Выводы по анализу результатов работы", "Группа"),
     ],
 )
 def test_the_report_prints_the_words_as_written_and_renders_again_after_an_edit(
-    client: TestClient, lang: str, head: str, computed: str, students: str, group: str
+    client: TestClient, lang: str, computed: str, students: str, group: str
 ) -> None:
     run_id = post(client, simulated(StandKind.PROFILOMETER).sim, WRITER, finish=False)
     url = f"{API}/runs/{run_id}/report.html?lang={lang}"
     before = client.get(url, headers=auth(READER))
     assert before.status_code == 200
-    assert str(escape(students)) not in before.text
-    verdicts = _section(before.text, head)  # the computed conclusions, before any words
+    verdicts = _section(before.text, computed)  # the computed results, before any words
+    assert "space ruled" in _section(before.text, students)  # room to write on paper
 
     assert _put(client, run_id, WORDS, WRITER).status_code == 200
     after = client.get(url, headers={**auth(READER), "If-None-Match": before.headers["etag"]})
@@ -132,21 +127,38 @@ def test_the_report_prints_the_words_as_written_and_renders_again_after_an_edit(
     html = after.text
     assert f"<tr><th>{group}</th><td>{escape(WORDS['group'])}</td></tr>" in html
     assert escape(", ".join(WORDS["students"])) in html
-    section = _section(html, head)
+    section = _section(html, students)
     first, second = WORDS["conclusions"].split("\n\n")
     lines = [escape(line) for line in first.split("\n")]
     assert f"<p>{'<br>'.join(lines)}</p>" in section
     assert f"<p>{escape(second)}</p>" in section
+    assert "space ruled" not in section
     assert "<script>" not in html
-    # the computed verdicts stay, unchanged, before the students' words
-    items = re.findall(r"<li>.*?</li>", verdicts, re.S)
-    assert items and all(item in section for item in items)
-    assert section.index(computed) < section.index(items[0]) < section.index(escape(students))
+    # the computed results stay, unchanged, in their own section before the students' words
+    assert _section(html, computed) == verdicts
+    assert html.index(f"<h2>{computed}</h2>") < html.index(f"<h2>{students}</h2>")
 
     edited = {**WORDS, "conclusions": "Edited."}
     assert _put(client, run_id, edited, WRITER).status_code == 200
     again = client.get(url, headers=auth(READER)).text
     assert "<p>Edited.</p>" in again and escape(second) not in again
+
+
+def test_each_section_of_the_students_part_prints_its_own_words(client: TestClient) -> None:
+    # lab 3's list: conclusions (item 8) and the reasons for a mismatch (item 8), the
+    # bearing's sketch (item 4) a frame on paper; the run page writes both fields
+    run_id = post(client, simulated(StandKind.SLIDE_BEARING).sim, WRITER, finish=False)
+    words = {"conclusions": "Agreement within 30 %.", "mismatch": "End leakage & heating."}
+    assert _put(client, run_id, words, WRITER).status_code == 200
+    for lang, heading in (
+        ("en", "Reasons for the mismatch of theory and experiment"),
+        ("ru", "Причины несовпадения теории и опыта"),
+    ):
+        html = client.get(f"{API}/runs/{run_id}/report.html?lang={lang}", headers=auth(READER))
+        assert f"<p>{escape(words['mismatch'])}</p>" in _section(html.text, heading)
+    page = client.get(f"/runs/{run_id}", headers=auth(WRITER)).text
+    assert 'name="mismatch"' in page and 'name="analysis"' not in page  # lab 4's, not lab 3's
+    assert escape(words["mismatch"]) in page
 
 
 def _login(client: TestClient, key: str) -> None:

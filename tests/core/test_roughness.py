@@ -474,18 +474,38 @@ def test_sm_outside_the_subrange_of_the_base_length_is_flagged() -> None:
     assert roughness.subrange_of_base_length(1.0e-3) is None  # not a cutoff of the ABRIS-PM7
 
 
-def test_profilogram_discrepancy_as_printed() -> None:
-    # (1.20): δ = (Rmax1 - Rmax2)/Rmax1·100 = (5 - 4)/5·100 = 20 %,
-    # δ_Rz = (Rz1 - Rz2)/Rz2·100 = (4 - 5)/5·100 = -20 % (the printed denominators differ)
+def test_profilogram_discrepancy_relative_to_the_reading() -> None:
+    # (1.20) with E10: δ = (Rmax1 - Rmax2)/Rmax1·100 = (5 - 4)/5·100 = 20 %,
+    # δ_Rz = (Rz1 - Rz2)/Rz1·100 = (4 - 5)/4·100 = -25 % (the print divides by Rz2: -20 %),
+    # δ_Ra = (1 - 0.8)/1·100 = 20 %
     found = roughness.profilogram_discrepancy(
-        rmax_instrument=5e-6, rmax_profilogram=4e-6, rz_instrument=4e-6, rz_profilogram=5e-6
+        rmax_instrument=5e-6,
+        rmax_profilogram=4e-6,
+        rz_instrument=4e-6,
+        rz_profilogram=5e-6,
+        ra_instrument=1e-6,
+        ra_profilogram=0.8e-6,
     )
     assert found.rmax == pytest.approx(20.0, rel=1e-12)
-    assert found.rz == pytest.approx(-20.0, rel=1e-12)
+    assert found.rz == pytest.approx(-25.0, rel=1e-12)
+    assert found.ra == pytest.approx(20.0, rel=1e-12)
     with pytest.raises(ModelInputError, match="rz_profilogram"):
         roughness.profilogram_discrepancy(
             rmax_instrument=5e-6, rmax_profilogram=4e-6, rz_instrument=4e-6, rz_profilogram=0.0
         )
+
+
+def test_the_five_peaks_and_valleys_give_rz() -> None:
+    # a cosine of amplitude 1 µm over ten periods (its least-squares mean line is y = 0, the
+    # curve being even about the middle): its five highest peaks are +1 µm, its five
+    # deepest valleys -1 µm (the mean line is y = 0), Rz = (5·1 + 5·1)/5 = 2 µm (1.4)
+    x = np.linspace(0.0, 1e-3, 20001)
+    y = 1e-6 * np.cos(2 * np.pi * 10 * x / 1e-3)
+    found = roughness.profile_parameters(x=x, y=y)
+    assert len(found.rz_peaks) == len(found.rz_valleys) == 5
+    assert found.rz_peaks == pytest.approx([1e-6] * 5, rel=1e-4)
+    assert found.rz_valleys == pytest.approx([-1e-6] * 5, rel=1e-4)
+    assert found.rz == pytest.approx(2e-6, rel=1e-4)
 
 
 def test_instrument_error_subrange_by_ra() -> None:

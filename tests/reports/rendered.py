@@ -95,6 +95,10 @@ def _outside(document: Any) -> list[Box]:
     return found
 
 
+#: A table split across pages keeps at least this many of its body rows on each.
+ROWS_KEPT = 3
+#: The last page holds at least this many lines of text (the footer's not counted).
+LAST_LINES = 5
 #: What leads into the content after it: a heading, a table's caption or its formulas.
 LEADS = {"h1", "h2", "h3"}
 LEAD_CLASSES = {"caption", "formulas"}
@@ -104,7 +108,8 @@ def _stranded(document: Any) -> list[str]:
     """Awkward page breaks: a heading, a table's caption or formulas as the last line of a
     page (its content on the next), a figure's caption as the first (its plot on the one
     before), a page of nothing but the footer ("Made by rig ..."), a table that goes on to
-    another page leaving a single row of its body on one."""
+    another page leaving fewer than :data:`ROWS_KEPT` rows of its body on one, a last page
+    of fewer than :data:`LAST_LINES` lines."""
     from weasyprint.formatting_structure.boxes import (
         LineBox,
         MarginBox,
@@ -125,12 +130,16 @@ def _stranded(document: Any) -> list[str]:
                 by_page = rows.setdefault(key, {})
                 by_page[number] = by_page.get(number, 0) + count
         roots = [c for c in page._page_box.children if not isinstance(c, MarginBox)]
-        lines = [d for root in roots for d in root.descendants() if isinstance(d, LineBox)]
+        boxes = [d for root in roots for d in root.descendants()]
+        lines = [d for d in boxes if isinstance(d, LineBox)]
         if not lines:
             continue
         last, first = lines[-1], lines[0]
         classes = set((last.element.get("class") or "").split()) if last.element else set()
-        if last.element_tag in LEADS or (last.element_tag == "p" and classes & LEAD_CLASSES):
+        # the room left for the students on paper follows a heading without a line of text
+        room = any(_classes(d) & {"space"} for d in boxes[boxes.index(last) :])
+        lead = last.element_tag in LEADS or (last.element_tag == "p" and classes & LEAD_CLASSES)
+        if lead and not room:
             found.append(f"page {number} ends with <{last.element_tag}> {_line_text(last)!r}")
         if all(line.element_tag == "footer" for line in lines):
             found.append(f"page {number} holds only the footer {_line_text(first)!r}")
@@ -139,9 +148,33 @@ def _stranded(document: Any) -> list[str]:
     for key, by_page in rows.items():
         if len(by_page) > 1:
             for number, count in by_page.items():
-                if count == 1:
-                    found.append(f"{names[key]} leaves a single row on page {number}")
+                if count < ROWS_KEPT:
+                    found.append(f"{names[key]} leaves {count} row(s) on page {number}")
+    last = document.pages[-1]._page_box
+    boxes = [d for c in last.children if not isinstance(c, MarginBox) for d in c.descendants()]
+    text = sum(_lines(d) for d in boxes)
+    if len(document.pages) > 1 and text < LAST_LINES:
+        found.append(f"the last page holds {text} line(s) of text")
     return found
+
+
+def _lines(box: Any) -> int:
+    """The lines a box gives the page: a line of text (the footer's not), a ruled line or a
+    frame's lines to write or draw in (a students' section), a plot (as :data:`LAST_LINES`)."""
+    from weasyprint.formatting_structure.boxes import LineBox
+
+    if isinstance(box, LineBox):  # a plot is a replaced box on a line of its own
+        plot = any(str(d.element_tag).endswith(("svg", "img")) for d in box.descendants())
+        return LAST_LINES if plot else int(box.element_tag != "footer")
+    classes = _classes(box)
+    if "rule" in classes:
+        return 1
+    return LAST_LINES if "frame" in classes else 0
+
+
+def _classes(box: Any) -> set[str]:
+    element = getattr(box, "element", None)
+    return set((element.get("class") or "").split()) if element is not None else set()
 
 
 def _line_text(line: Any) -> str:

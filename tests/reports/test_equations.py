@@ -21,7 +21,9 @@ _PLACES = re.compile(
     r'|<table class="particulars">.*?</table>',
     flags=re.S,
 )
-_FORMULA = re.compile(r'<span class="formula">(.*?)</span>', flags=re.S)
+#: A formula's span: it holds the spans of its unbreakable parts, and is followed by a line
+#: break or the end of the element that holds it.
+_FORMULA = re.compile(r'<span class="formula">(.*?)</span>(?=<br>|</(?!span))', flags=re.S)
 _SVG = re.compile(r"<svg\b.*?</svg>", flags=re.S)
 _TAGS = re.compile(r"<[^>]+>")
 
@@ -76,18 +78,39 @@ def test_the_formula_is_printed_where_its_number_is_first_cited(
 
 def test_the_formula_stands_under_the_quantity_in_the_reports_language() -> None:
     en, ru = html(StandKind.MTOS, "en"), html(StandKind.MTOS, "ru")
-    formula_en = '<span class="formula">f<sub>e</sub> = F<sub>fr</sub>/N</span>'
-    assert formula_en in en
-    assert '<span class="formula">f<sub>э</sub> = F<sub>тр</sub>/N</span>' in ru
+    nobreak = '<span class="formula"><span class="nobreak">{}</span></span>'
+    assert nobreak.format("f<sub>e</sub> = F<sub>fr</sub>/N") in en
+    assert nobreak.format("f<sub>э</sub> = F<sub>тр</sub>/N") in ru
     # under the first row that cites (4.16) only; the later rows give the number alone
     rows = re.findall(r"<td class=\"label\">([^<]*\(4\.16\)[^<]*)(<br>)?", en)
     assert rows[0][1] == "<br>" and all(not br for _, br in rows[1:]) and len(rows) > 1
     profilometer = html(StandKind.PROFILOMETER, "ru")
-    assert '<span class="formula">R<sub>a</sub> = 4,3·Δ<sup>1/2</sup>, мкм</span>' in profilometer
+    ra = '<span class="nobreak">R<sub>a</sub> = 4,3·Δ<sup>1/2</sup></span>, '
+    assert f'<span class="formula">{ra}<span class="nobreak">мкм</span></span>' in profilometer
     smts2 = html(StandKind.SMTS2, "en")
     # (2.9) cited first by the pin's mass before the test, in the input data
     assert re.search(
         r"m1, pin mass before the test \(2\.9\)<br><span class=\"formula\">"
-        r"Δm = m<sub>1</sub> - m<sub>2</sub></span>",
+        r"<span class=\"nobreak\">Δm = m<sub>1</sub> - m<sub>2</sub></span></span>",
         smts2,
     )
+
+
+@pytest.mark.parametrize("lang", ["en", "ru"])
+def test_a_formula_breaks_only_between_its_top_level_parts(lang: str) -> None:
+    # (2.1) once broke inside its exponent: "(1+βt" at a line's end, ")/(1−β)" on the next
+    t = Messages(lang)  # type: ignore[arg-type]
+    for number in EQUATIONS:
+        shown = str(formula(t, number))
+        kept = re.findall(
+            r'<span class="nobreak">(.*?)</span>(?=<span class="nobreak">|, | · |$)', shown
+        )
+        between = re.sub(
+            r'<span class="nobreak">.*?</span>(?=<span class="nobreak">|, | · |$)', "", shown
+        )
+        assert set(between.replace(" · ", "").replace(", ", "")) == set(), (number, between)
+        for part in kept:
+            plain = re.sub(r"<[^>]+>", "", part)
+            assert plain.count("(") == plain.count(")"), (number, plain)
+    long = str(formula(t, "2.1"))
+    assert long.count('class="nobreak"') >= 8  # its factors may go to the next line

@@ -1,16 +1,20 @@
 """Every plot of every stand's report and series report says what it shows: each axis names
 the quantity beside its symbol (and unit), a log axis ticks in powers of ten (10ⁿ), no axis
-carries offset text, the categories of a categorical axis are named, and the SMTs-2 wear
-plot's caption promises the (2.15) band only where it is drawn."""
+carries offset text, the categories of a categorical axis are named, the SMTs-2 wear plot
+draws the (2.15) band and its caption says whether the theory is judged, no two texts of a
+plot overlap, and the Hersey-Stribeck diagram spans labelled decades."""
 
 from __future__ import annotations
 
+import math
 import re
+from typing import Any
 
 import pytest
 from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 from matplotlib.ticker import FixedFormatter, LogFormatterMathtext
+from matplotlib.transforms import Bbox
 
 from rigserver.reports.i18n import LANGS, Lang
 from schemas.stands import StandKind
@@ -72,6 +76,90 @@ def test_the_wear_plot_caption_says_what_is_drawn(lang: Lang) -> None:
     wear = [fig for fig in drawn if any(ax.get_yscale() == "log" for ax in fig.axes)]
     assert len(wear) == 1
     bands = [p for ax in wear[0].axes for p in ax.patches]
-    assert bool(bands) == judged
-    no_band = {"en": "no adequacy band", "ru": "без полосы адекватности"}[lang]
-    assert (no_band in html) != judged
+    assert len(bands) == 1  # the band of (2.15), judged or not
+    theory = v.theoretical.intensity  # type: ignore[union-attr]
+    (low, high) = sorted({y for y in bands[0].get_path().vertices[:, 1]})
+    transform = bands[0].get_transform() - wear[0].axes[0].transData
+    (_, low), (_, high) = transform.transform([(0, low), (0, high)])
+    assert (low, high) == pytest.approx((0.4 * theory, 2.6 * theory))  # (2.15)
+    not_judged = {"en": "is not judged", "ru": "не оценивается"}[lang]
+    assert (not_judged in html) != judged
+
+
+def _texts(fig: Figure) -> list[tuple[str, Bbox]]:
+    """Every visible, non-empty text of a drawn figure with its box in display units."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.text import Text
+
+    FigureCanvasAgg(fig).draw()
+    renderer = fig.canvas.get_renderer()  # type: ignore[attr-defined]
+    ticks = {id(label) for ax in fig.axes for a in (ax.xaxis, ax.yaxis) for label in _all(a)}
+    # the labels of the ticks drawn (matplotlib keeps labels of ticks beyond the view limits)
+    drawn = {
+        id(label)
+        for ax in fig.axes
+        for axis in (ax.xaxis, ax.yaxis)
+        for tick in axis._update_ticks()
+        for label in (tick.label1, tick.label2)
+        if label.get_visible()
+    }
+    found = []
+    for text in fig.findobj(Text):
+        if id(text) in ticks and id(text) not in drawn:
+            continue
+        if text.get_visible() and text.get_text().strip() and text.get_alpha() != 0:
+            found.append((text.get_text(), text.get_window_extent(renderer)))
+    return found
+
+
+def _all(axis: Any) -> list[Any]:
+    ticks = [*axis.get_major_ticks(), *axis.get_minor_ticks()]
+    return [label for tick in ticks for label in (tick.label1, tick.label2)]
+
+
+@pytest.mark.parametrize(("kind", "lang"), CASES)
+def test_no_two_texts_of_a_plot_overlap(kind: StandKind, lang: Lang) -> None:
+    # the stacked plots of the profilometer's ISO figure once printed their y labels on
+    # top of each other
+    drawn, _ = figures(kind, lang)
+    for number, fig in enumerate(drawn, start=1):
+        texts = _texts(fig)
+        clashes = [
+            f"{a!r} and {b!r}"
+            for i, (a, box_a) in enumerate(texts)
+            for b, box_b in texts[i + 1 :]
+            if _overlap(box_a, box_b) > 0.15 * min(_area(box_a), _area(box_b))
+        ]
+        assert not clashes, f"figure {number}: " + "; ".join(clashes[:5])
+
+
+def _area(box: Bbox) -> float:
+    return max(box.width, 0.0) * max(box.height, 0.0) or 1.0
+
+
+def _overlap(a: Bbox, b: Bbox) -> float:
+    width = min(a.x1, b.x1) - max(a.x0, b.x0)
+    height = min(a.y1, b.y1) - max(a.y0, b.y0)
+    return width * height if width > 0 and height > 0 else 0.0
+
+
+@pytest.mark.parametrize("lang", LANGS)
+def test_the_stribeck_plot_is_against_the_inverse_with_decades_and_every_point_inside(
+    lang: Lang,
+) -> None:
+    v = simulated(StandKind.MTOS).result.values
+    drawn, _ = figures(StandKind.MTOS, lang)
+    (ax,) = [a for a in drawn[0].axes if a.get_xscale() == "log"]
+    assert "S_{1}^{-1}" in ax.get_xlabel() or "S₁⁻¹" in ax.get_xlabel()
+    inverse = sorted(s.bearing_characteristic_inverse for s in v.steps)  # type: ignore[union-attr]
+    plotted = sorted(
+        x for line in ax.lines for x in line.get_xdata() if line.get_marker() != "None"
+    )
+    assert plotted == pytest.approx(inverse)
+    (x0, x1), (y0, y1) = ax.get_xlim(), ax.get_ylim()
+    for line in ax.lines:
+        for x, y in zip(line.get_xdata(), line.get_ydata(), strict=True):
+            assert x0 < x < x1 and y0 < y < y1  # inside the frame, not on it
+    for low, high in ((x0, x1), (y0, y1)):  # whole decades at both ends: two labelled at least
+        assert math.log10(low).is_integer() and math.log10(high).is_integer()
+        assert math.log10(high) - math.log10(low) >= 1

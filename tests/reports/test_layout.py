@@ -47,18 +47,29 @@ def test_no_heading_ends_a_page_and_no_caption_leaves_its_figure(
     assert not report.stranded, f"{report.name}: " + "; ".join(report.stranded)
 
 
-@pytest.mark.parametrize(("rows", "lone"), [(11, True), (12, False), (10, False)])
-def test_a_table_leaving_one_row_on_a_page_is_found(rows: int, lone: bool) -> None:
+@pytest.mark.parametrize(("rows", "left"), [(11, 1), (12, 2), (13, 0), (10, 0)])
+def test_a_table_leaving_fewer_than_three_rows_on_a_page_is_found(rows: int, left: int) -> None:
     # pages whose content area is 100 mm high (120 mm less two 10 mm margins) and rows
-    # 10 mm high hold 10 rows each: the 11th row alone goes on to page 2
+    # 10 mm high hold 10 rows each: the 11th and 12th rows go on to page 2, too few there;
+    # 13 rows leave three; a text of ten lines or more follows on page 2 (not a last page of
+    # fewer than five lines)
     html = (
         "<style>@page { size: 100mm 120mm; margin: 10mm; } body { margin: 0; }"
         " table { border-collapse: collapse; } td { height: 10mm; padding: 0; border: 0;"
         " box-sizing: border-box; }</style>"
-        '<table id="t">' + "<tr><td>x</td></tr>" * rows + "</table>"
+        '<table id="t">' + "<tr><td>x</td></tr>" * rows + "</table>" + "<p>line</p>" * 5
     )
     found = laid_out("synthetic", html, []).stranded
-    assert found == (["t leaves a single row on page 2"] if lone else []), found
+    assert found == ([f"t leaves {left} row(s) on page 2"] if left else []), found
+
+
+def test_a_last_page_of_fewer_than_five_lines_is_found() -> None:
+    # ten lines of 10 mm fill a page; two more make a last page of two lines
+    html = (
+        "<style>@page { size: 100mm 120mm; margin: 10mm; } body { margin: 0; }"
+        " p { height: 10mm; margin: 0; }</style>" + "<p>line</p>" * 12
+    )
+    assert laid_out("synthetic", html, []).stranded == ["the last page holds 2 line(s) of text"]
 
 
 @pytest.mark.parametrize(("which", "kind", "lang"), cases())

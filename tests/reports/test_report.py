@@ -116,7 +116,7 @@ def test_profilometer_tables_1_6_to_1_8() -> None:
     assert t16.rows[0][1:] == declared(PROFILOMETER["levels"], v.levels, 1e6)
     # η_p = t_p·l (table 1.6), recomputed here from t_p and the base length, in mm
     assert t16.rows[1][1:] == declared(
-        PROFILOMETER["bearing_lengths"], [tp * (v.base_length or 0.0) for tp in v.tp], 1e3
+        PROFILOMETER["bearing_lengths"], [tp * (v.base_length or 0.0) for tp in v.tp], 1e6
     )
     assert t16.rows[2][1:] == declared(PROFILOMETER["tp"], v.tp)
     assert t16.rows[3][1:] == declared(PROFILOMETER["eps"], v.eps)
@@ -158,9 +158,14 @@ def test_profilometer_parameters_with_instrument_errors() -> None:
     assert len(svgs(html)) == 3  # the profile, the bearing curve, the ISO filtering
 
 
+def _number(cell: str) -> float:
+    return float(cell.replace(",", ".").replace("−", "-"))
+
+
 def test_profilometer_against_profilogram_and_the_subrange() -> None:
-    """Item 10: the instrument's Rmax, Rz against the trace's, (1.20) recomputed here; and
-    a parameter outside its subrange's range flagged under the parameters."""
+    """Item 10: the instrument's Ra, Rz, Rmax against the trace's, (1.20, E10) recomputed
+    here, and again from the printed cells (the report is reproducible); the five peaks and
+    valleys give the printed Rz; a parameter outside its subrange's range flagged."""
     s = simulated(StandKind.PROFILOMETER)
     v = s.result.values
     assert isinstance(v, ProfilometerResults) and v.rmax is not None and v.rz is not None
@@ -168,11 +173,20 @@ def test_profilometer_against_profilogram_and_the_subrange() -> None:
     rmax1, rz1 = float(m["rmax_instrument"][0]), float(m["rz_instrument"][0])
     rmax2, rz2 = v.rmax * 1e6, v.rz * 1e6
     assert v.rmax_difference == pytest.approx((rmax1 - rmax2) / rmax1 * 100, rel=1e-6, abs=1e-9)
-    assert v.rz_difference == pytest.approx((rz1 - rz2) / rz2 * 100, rel=1e-6, abs=1e-9)
+    assert v.rz_difference == pytest.approx((rz1 - rz2) / rz1 * 100, rel=1e-6, abs=1e-9)
     html = report(StandKind.PROFILOMETER)
     vs = table(html, "Profilometer against profilogram")
-    assert [r[0] for r in vs.rows] == ["Rmax", "Rz"]
-    assert vs.rows[0][1] == fmt(rmax1)
+    assert [r[0] for r in vs.rows] == ["Ra", "Rz", "Rmax"]
+    assert vs.rows[2][1] == f"{rmax1:.3f}"
+    for row in vs.rows:  # δ from the printed reading and profilogram, to δ's printed place
+        one, two, delta = _number(row[1]), _number(row[2]), _number(row[4])
+        assert abs((one - two) / one * 100 - delta) <= 0.006, row
+    peaks = table(html, "The five highest peaks")
+    cells = [(_number(r[1]), _number(r[2])) for r in peaks.rows[:5]]
+    assert len(cells) == 5 and all(p > 0 > w for p, w in cells)
+    rz = sum(p - w for p, w in cells) / 5  # (1.4) from the printed peaks and valleys
+    assert peaks.rows[5][0] == f"Rz = {rz:.4f}"
+    assert rz == pytest.approx(rz2, abs=1e-3)
     sm = v.sm or 0.0
     flagged = not 8e-6 <= sm <= 80e-6  # the 0.8 mm subrange's Sm range (technical data)
     assert ("Sm" in v.outside_subrange) == flagged
@@ -211,7 +225,11 @@ def test_smts2_wear_tables_and_validity() -> None:
         v.validity.cycles_to_failure
     )
     assert row_of(html, validity, "theory within its range")[1] == "no"
-    assert "outside its range" in html and "Theory against experiment" not in html
+    assert "outside its range" in html
+    # the comparison the manual asks for, its verdict withheld where the theory fails
+    assert row_of(html, "Theory against experiment", "model adequate (2.15)")[1] == (
+        "not judged: the theory is outside its range"
+    )
     k_shown = v.experimental.specific_wear_rate / 1e-9  # m³/(N·m) -> mm³/(N·m), its label's unit
     assert row_of(html, caption, "specific wear rate k = V/(F·L) (ASTM G99)")[1] == fmt(
         float(f"{k_shown:.4g}")
@@ -418,7 +436,7 @@ def test_input_data_print_the_configuration_with_units() -> None:
     clearance_um = s.run.configuration["clearance"] * 1e6
     assert rows["h0, radial clearance (3.17)"] == [fmt(clearance_um), "µm"]
     assert [v[1] for k, v in rows.items() if k.startswith("B, bearing width")] == ["mm"]
-    assert rows["α of μ = A·exp(α·t) (3.21)"] == [
+    assert rows["α of the oil's viscosity μ = A·exp(α·t)"] == [
         fmt(s.run.configuration["viscosity"]["alpha"]),
         "1/°C",
     ]
@@ -436,7 +454,12 @@ def test_the_russian_report_has_no_tex_and_no_english(kind: StandKind) -> None:
     # the names of standards and methods stay as they are: ASTM G99, ISO 20808, GUM (JCGM 100),
     # PELT
     names = {"ASTM", "GUM", "JCGM", "ISO", "PELT"}
-    maths = {"exp", "sin", "cos"}  # the functions of the formulas printed beside the quantities
+    maths = {
+        "exp",
+        "sin",
+        "cos",
+        "arctg",
+    }  # the functions of the formulas printed beside the quantities
     assert words <= {"Rmax", "max", "min", "rev", "pmax", "rig", "UTC", *maths, *names}, words
 
 

@@ -29,7 +29,7 @@ def _columns(table: HtmlTable, lang: Lang) -> tuple[int, int] | None:
 
 #: The formula printed under the first row citing it (rigserver/reports/equations.py): not
 #: part of the quantity's description.
-_FORMULA = re.compile(r'<br><span class="formula">.*?</span>', flags=re.S)
+_FORMULA = re.compile(r'<br><span class="formula">.*?</span>(?=<br>|</(?!span))', flags=re.S)
 
 
 def _visible(html: str) -> str:

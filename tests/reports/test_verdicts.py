@@ -63,7 +63,7 @@ def test_the_conclusions_quote_the_uncertainty_table() -> None:
     v, _ = _outside_run()
     html = run_report(KIND, "en").html
     quoted = with_uncertainty(v.friction_steady, v.friction_steady_expanded)
-    conclusions = html.split("Conclusions")[-1]
+    conclusions = html.split("Computed results")[-1]
     assert f"f = {quoted}" in conclusions
     assert html.count(quoted) >= 2  # the uncertainty table and the conclusions
     if not v.validity.within_range:  # type: ignore[union-attr]
@@ -85,8 +85,8 @@ def test_a_specimen_that_gained_mass_is_said_so_not_worn() -> None:
     gained = v.pin_mass  # type: ignore[union-attr]
     assert gained is not None and gained.specific_wear_rate < 0
     for lang, title, words in (
-        ("en", "Conclusions", "the specimen gained"),
-        ("ru", "Выводы", "образец прибавил"),
+        ("en", "Computed results", "the specimen gained"),
+        ("ru", "Вычисленные результаты", "образец прибавил"),
     ):
         html = run_report(StandKind.RECIPROCATING, lang).html  # type: ignore[arg-type]
         (conclusions,) = [s for s in html.split("<h2>") if s.startswith(title)]

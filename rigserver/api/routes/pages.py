@@ -326,7 +326,7 @@ def _notes_form(form: dict[str, str]) -> StudentNotesWrite:
 
 
 #: The fields of the run page's form of the student's words.
-_NOTES_FIELDS = ("group", "students", "conclusions")
+_NOTES_FIELDS = ("group", "students", "conclusions", "analysis", "mismatch", "observations")
 #: The field of every page form that carries the session's form token.
 FORM_TOKEN = "form_token"
 

@@ -3,6 +3,7 @@ the series report and the per-run table as CSV."""
 
 from __future__ import annotations
 
+from dataclasses import replace
 from typing import Annotated, Any
 
 from fastapi import APIRouter, Query, Request, status
@@ -26,10 +27,12 @@ from rigserver.api.routes.runs import load_run
 from rigserver.api.run_results import StoredReadings, results_payload
 from rigserver.api.strict_json import StrictJsonRoute
 from rigserver.reports.i18n import Lang, language_headers, negotiate
+from rigserver.reports.lab_work import WorkRun
 from rigserver.reports.series_report import series_context, series_csv
 from rigserver.storage.errors import RunNotFound, SeriesNotFound, StorageError
 from schemas.runs import RunState
 from schemas.series import (
+    LAB_PARTS,
     SERIES_RUNS_LIMIT,
     Series,
     SeriesCreate,
@@ -124,6 +127,14 @@ def _add(services: Services, series_id: str, body: SeriesMemberAdd) -> Series:
         raise ApiProblem(
             422, "No levels in a repeatability series", "its runs are repeats of one test"
         )
+    parts = LAB_PARTS.get(run.stand)
+    if series.purpose is SeriesPurpose.LAB and parts and body.level not in parts:
+        raise ApiProblem(
+            422,
+            "Part of the lab work required",
+            f"series {series.id} is a lab work: give the run's level as the manual's part it "
+            f"is, one of {', '.join(parts)}; got {body.level!r}",
+        )
     if len(series.members) >= SERIES_RUNS_LIMIT:
         raise ApiProblem(409, "Series full", f"a series holds at most {SERIES_RUNS_LIMIT} runs")
     for member in series.members:
@@ -149,7 +160,8 @@ def _add(services: Services, series_id: str, body: SeriesMemberAdd) -> Series:
     status_code=status.HTTP_201_CREATED,
     summary="Add a run to a series (a run may belong to several)",
     description=f"Needs the scope `{WRITE_SERIES}`. All runs of a series are of one stand; "
-    "in a comparison each run has a level of the factor.",
+    "in a comparison each run has a level of the factor; in a lab work (purpose `lab`) "
+    "the manual's part it is (SMTs-2: `wear`, `adhesive`, `oxidative`).",
     dependencies=[WriteAccess],
 )
 async def add_run(
@@ -210,7 +222,13 @@ def _prepare(services: Services, series_id: str, lang: Lang, fmt: str) -> Report
             runs.append(services.store.get_run(member.run_id))
         except StorageError:
             continue
-    return services.report_files.series_report(series, runs, lang, fmt)
+    notes = [services.notes.get(r.id) for r in runs] if _lab_work(series) else []
+    return services.report_files.series_report(series, runs, lang, fmt, notes)
+
+
+def _lab_work(series: Series) -> bool:
+    """Whether the series' report is a lab work's (its runs at the manual's parts)."""
+    return series.purpose is SeriesPurpose.LAB
 
 
 def _job(services: Services, series_id: str, target: ReportFile) -> tuple[SeriesReportJob, bool]:
@@ -231,6 +249,11 @@ def _job(services: Services, series_id: str, target: ReportFile) -> tuple[Series
         },
         readings={run_id: StoredReadings(services, run) for run_id, run in open_runs.items()},
     )
+    if _lab_work(detail) and members and members[0].run.stand in LAB_PARTS:
+        work = tuple(
+            WorkRun(m.run, m.level or "", m.values, services.notes.get(m.run.id)) for m in members
+        )
+        job = replace(job, work=work, stand=services.stand_of(members[0].run))
     return job, bool(open_runs)
 
 

@@ -92,6 +92,13 @@ def _explanation(t: Messages, v: ProfilometerResults, iso: IsoRoughnessResult) -
     )
 
 
+def _two_lines(t: Messages, symbol: str) -> str:
+    """The axis label of a stacked plot, the quantity's name above its symbol and unit: on
+    one line it is longer than the plot is high and runs into its neighbour's."""
+    name = t.gettext(blocks.AXES[symbol])
+    return blocks.axis(t, symbol, "um").replace(f"{name} ", f"{name}\n", 1)
+
+
 def _figure_svg(t: Messages, x: Any, y: Any, iso: IsoRoughnessResult) -> str:
     """Above: the trace with the manual's least-squares mean line and the ISO mean line
     (form + λc waviness); below: the roughness profile with the evaluation length's sections."""
@@ -123,16 +130,12 @@ def _figure_svg(t: Messages, x: Any, y: Any, iso: IsoRoughnessResult) -> str:
     bottom.axvspan(first, last, color="C2", alpha=0.08, label=t("iso.evaluation"))
     for k in range(1, found.sections):
         bottom.axvline(first + k * found.section_length / _M_PER_MM, linewidth=0.5, color="C2")
-    decorate(
-        top, xlabel=blocks.axis(t, "x", "mm"), ylabel=blocks.axis(t, "y", "um"), legend_outside=True
-    )
+    decorate(top, xlabel=blocks.axis(t, "x", "mm"), ylabel=_two_lines(t, "y"), legend_outside=True)
     top.set_xlabel("")  # the x axis is shared: named once, under the lower plot
     decorate(
-        bottom,
-        xlabel=blocks.axis(t, "x", "mm"),
-        ylabel=blocks.axis(t, "Z", "um"),
-        legend_outside=True,
+        bottom, xlabel=blocks.axis(t, "x", "mm"), ylabel=_two_lines(t, "Z"), legend_outside=True
     )
+    fig.align_ylabels([top, bottom])
     return to_svg(fig)
 
 

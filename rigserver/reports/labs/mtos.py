@@ -14,7 +14,7 @@ from scipy.interpolate import make_interp_spline
 
 from rigserver.reports import blocks
 from rigserver.reports.context import Context, LabReport
-from rigserver.reports.document import Block, Figure, Section, Table, Text
+from rigserver.reports.document import Block, Figure, Paragraph, Section, Table, Text
 from rigserver.reports.formatting import fmt, html_symbol, shown, tex
 from rigserver.reports.i18n import Messages
 from rigserver.reports.plots import axes, decorate, to_svg
@@ -55,7 +55,9 @@ def build(ctx: Context, v: MtosResults) -> LabReport:
             labels=MTOS,
         )
     )
-    processed: list[Block] = []
+    processed: list[Block] = [Paragraph(t("m.processing_formulas"))]
+    if any(s.friction_theory is not None for s in v.steps):
+        processed.append(Paragraph(t("m.theory_formulas")))
     for number, regime in enumerate(REGIMES, start=1):
         steps = _of(v.steps, regime)
         if steps:
@@ -247,30 +249,55 @@ def _plot_measured(ax: Axes, t: Messages, v: MtosResults, x: str, line: str = ""
 
 
 def _stribeck_svg(t: Messages, v: MtosResults, config: MtosConfig) -> str:
-    """f_э of every step and f_T of the fluid steps against S1 = μ_t·ω/p̄ (4.21, E9), with
-    the step of the largest eccentricity in experiment 1 marked (h_min = h0 - e_max)."""
+    """f_э of every step and f_T of the fluid steps against S1⁻¹ = p̄/(μ_t·ω) (4.21, E9), as
+    the manual's Hersey-Stribeck diagram (fig. 4.1) plots it: the boundary regime on the
+    left, the fluid film on the right; the step of the largest eccentricity in experiment 1
+    marked (h_min = h0 - e_max). Both axes span whole decades, each labelled, every point
+    inside the frame."""
     fig, (ax,) = axes(height=3.4)
-    _plot_measured(ax, t, v, "bearing_characteristic")
-    fluid = sorted(_of(v.steps, "fluid"), key=lambda s: s.bearing_characteristic)
-    theory = [(s.bearing_characteristic, s.friction_theory) for s in fluid if s.friction_theory]
+    _plot_measured(ax, t, v, "bearing_characteristic_inverse")
+    fluid = sorted(
+        (s for s in _of(v.steps, "fluid") if s.bearing_characteristic_inverse is not None),
+        key=lambda s: s.bearing_characteristic_inverse or 0.0,
+    )
+    theory = [
+        (s.bearing_characteristic_inverse, s.friction_theory) for s in fluid if s.friction_theory
+    ]
     if theory:
         ax.plot(*zip(*theory, strict=True), "-", color="C3", label=t("m.f_theory"))
     if fluid:
         worst = max(fluid, key=lambda s: s.e)
         ax.annotate(
             tex(t("m.h_min_mark", h=shown(MTOS["steps[].h_min"], config.clearance - worst.e, "m"))),
-            xy=(worst.bearing_characteristic, worst.friction_measured),
-            xytext=(0.03, 0.06),  # the low-S_1, low-f corner: no regime's points lie there
+            xy=(worst.bearing_characteristic_inverse, worst.friction_measured),
+            xytext=(0.55, 0.9),  # above the fluid film's points, below the boundary's level
             textcoords="axes fraction",
             fontsize=8,
             arrowprops={"arrowstyle": "->", "linewidth": 0.8},
         )
     ax.set_xscale("log")
     ax.set_yscale("log")
+    xs = [x for s in v.steps if (x := s.bearing_characteristic_inverse) is not None]
+    fs = [f for s in v.steps for f in (s.friction_measured, s.friction_theory) if f]
+    ax.set_xlim(*decades(xs))
+    ax.set_ylim(*decades(fs))
     decorate(
-        ax, xlabel=blocks.axis(t, "S_1 = μ_t·ω/p̄"), ylabel=blocks.axis(t, "f"), legend_outside=True
+        ax,
+        xlabel=blocks.axis(t, "S_1^{-1} = p̄/(μ_t·ω)"),
+        ylabel=blocks.axis(t, "f"),
+        legend_outside=True,
     )
     return to_svg(fig)
+
+
+def decades(values: Sequence[float]) -> tuple[float, float]:
+    """Limits of a log axis: the whole decades around ``values`` with a margin of a fifth of
+    a decade, so that every point lies inside the frame and at least two decades are
+    labelled."""
+    logs = np.log10([x for x in values if x > 0])
+    low = math.floor(float(logs.min()) - 0.2)
+    high = max(math.ceil(float(logs.max()) + 0.2), low + 1)
+    return 10.0**low, 10.0**high
 
 
 def _trajectory_svg(t: Messages, v: MtosResults, config: MtosConfig) -> str:
@@ -365,8 +392,14 @@ def _friction_svg(t: Messages, v: MtosResults) -> str:
 
 
 def _temperature_svg(t: Messages, v: MtosResults) -> str:
+    """Δt2…Δt5 (4.19, E4) against the load, a panel per regime."""
     present = [r for r in REGIMES if _of(v.steps, r)]
-    fig, found = axes(height=2.8, columns=len(present), sharey=True)
+    fig, found = axes(height=2.8, columns=len(present))
+    # the fluid film warms the oil a few degrees, the others tens: a scale of its own, the
+    # mixed and the boundary regimes on one
+    thin = [ax for ax, regime in zip(found, present, strict=True) if regime != "fluid"]
+    for ax in thin[1:]:
+        ax.sharey(thin[0])
     u = units_of(MtosStep)
     for ax, regime in zip(found, present, strict=True):
         steps = _of(v.steps, regime)
@@ -381,7 +414,9 @@ def _temperature_svg(t: Messages, v: MtosResults) -> str:
         decorate(
             ax,
             xlabel=blocks.axis(t, "N", u["load"]),
-            ylabel=blocks.axis(t, "Δt", u["temperature_rise"]) if ax is found[0] else "",
+            ylabel=blocks.axis(t, "Δt", u["temperature_rise"])
+            if ax is found[0] or thin[:1] == [ax]
+            else "",
             title=t("regime." + regime),
         )
     return to_svg(fig)

@@ -13,7 +13,14 @@ from rigserver.reports import blocks
 from rigserver.reports.context import Context, LabReport
 from rigserver.reports.document import Block, Figure, Section, Table, Text
 from rigserver.reports.downsample import min_max
-from rigserver.reports.formatting import DASH, fmt, html_symbol, shown, with_uncertainty
+from rigserver.reports.formatting import (
+    DASH,
+    decimal_sign,
+    fmt,
+    html_symbol,
+    shown,
+    with_uncertainty,
+)
 from rigserver.reports.i18n import Messages
 from rigserver.reports.labs import iso_profile
 from rigserver.reports.plots import axes, decorate, to_svg
@@ -57,6 +64,8 @@ def build(ctx: Context, v: ProfilometerResults) -> LabReport:
         if v.outside_subrange and v.base_length is not None:
             params = dataclasses.replace(params, note=_outside(t, v))
         measured.append(params)
+    if v.rz_peaks:
+        measured.append(_peaks(t, v))
     if v.rmax_difference is not None:
         measured.append(_against_profilogram(ctx, v))
     processed: list[Block] = []
@@ -167,34 +176,83 @@ def _outside(t: Messages, v: ProfilometerResults) -> Text:
     )
 
 
+#: Decimals of the item 10 table: the readings as the instrument gives them (0.001 µm), the
+#: profilogram's values one place finer, δ to 0.01 %: δ recomputed from the printed values
+#: agrees with the printed δ to its last place.
+READING_PLACES, PROFILOGRAM_PLACES, DIFFERENCE_PLACES = 3, 4, 2
+
+
+def _fixed(value: float, places: int) -> str:
+    return f"{value:.{places}f}".replace(".", decimal_sign())
+
+
 def _against_profilogram(ctx: Context, v: ProfilometerResults) -> Table:
-    """Item 10: the profilometer's Rmax, Rz against the profilogram's, δ and δ_Rz (1.20)."""
+    """Item 10: the profilometer's Ra, Rz, Rmax against the profilogram's, δ (1.20) relative
+    to the reading (E10), each input printed to the digits δ needs."""
     t = ctx.t
     m = ctx.readings.measurements()
+    um = 1.0 / UNITS["um"].factor
     rows: list[list[Text]] = []
     for name, field, symbol in (
-        ("rmax", "rmax_difference", "δ"),
+        ("ra", "ra_difference", "δ_{Ra}"),
         ("rz", "rz_difference", "δ_{Rz}"),
+        ("rmax", "rmax_difference", "δ"),
     ):
-        label = PROFILOMETER[name]
-        difference = PROFILOMETER[field]
+        reading, value, difference = (
+            m.get(f"{name}_instrument"),
+            getattr(v, name),
+            getattr(v, field),
+        )
+        if reading is None or value is None or difference is None:
+            continue
         rows.append(
             [
-                html_symbol(t.symbol(label.symbol)),
-                fmt(m[f"{name}_instrument"]),
-                shown(label, getattr(v, name), "m"),
-                html_symbol(t.symbol(symbol))
-                + Markup(" = ")
-                + shown(difference, getattr(v, field), "%"),
+                html_symbol(t.symbol(PROFILOMETER[name].symbol)),
+                _fixed(reading, READING_PLACES),
+                _fixed(value * um, PROFILOGRAM_PLACES),
+                html_symbol(t.symbol(symbol)),
+                _fixed(difference, DIFFERENCE_PLACES),
             ]
         )
     head: list[Text] = [
         t("col.quantity"),
         blocks.header(t, t("p.instrument"), "um"),
         blocks.header(t, t("p.profilogram"), "um"),
+        t("col.symbol"),
         blocks.header(t, t("p.difference"), "%"),
     ]
-    return Table(caption=html_symbol(t("p.vs")), header=head, rows=rows, labels=1)
+    return Table(
+        caption=html_symbol(t("p.vs")),
+        header=head,
+        rows=rows,
+        labels=1,
+        note=html_symbol(t("p.vs_source")),
+    )
+
+
+def _peaks(t: Messages, v: ProfilometerResults) -> Table:
+    """The five highest peaks and the five deepest valleys behind Rz (1.4), µm, and Rz from
+    them as printed."""
+    um = 1.0 / UNITS["um"].factor
+    rows: list[list[Text]] = [
+        [str(i), _fixed(p * um, PROFILOGRAM_PLACES), _fixed(w * um, PROFILOGRAM_PLACES)]
+        for i, (p, w) in enumerate(zip(v.rz_peaks, v.rz_valleys, strict=False), start=1)
+    ]
+    printed = [round(p * um, PROFILOGRAM_PLACES) for p in v.rz_peaks]
+    printed += [abs(round(w * um, PROFILOGRAM_PLACES)) for w in v.rz_valleys]
+    rz = sum(printed) / len(v.rz_peaks) if v.rz_peaks else None
+    total = (
+        Markup("{} = {}").format(html_symbol(t.symbol("R_z")), _fixed(rz, PROFILOGRAM_PLACES))
+        if rz is not None
+        else ""
+    )
+    rows.append([total, "", ""])
+    head: list[Text] = [
+        "i",
+        blocks.header(t, "y_{p,i}", "um"),
+        blocks.header(t, "y_{v,i}", "um"),
+    ]
+    return Table(caption=html_symbol(t("p.peaks")), header=head, rows=rows, labels=1)
 
 
 def _levels_table(t: Messages, caption: Text, rows: list[list[Text]], count: int) -> Table:

@@ -9,7 +9,7 @@ from markupsafe import Markup
 
 from rigserver.reports import blocks
 from rigserver.reports.context import Context, LabReport
-from rigserver.reports.document import Block, Figure, Section, Table, Text
+from rigserver.reports.document import Block, Figure, Paragraph, Section, Table, Text
 from rigserver.reports.formatting import fmt, html_symbol, shown, with_uncertainty
 from rigserver.reports.i18n import Messages
 from rigserver.reports.plots import axes, decorate, to_svg
@@ -48,7 +48,7 @@ def build(ctx: Context, v: SlideBearingResults) -> LabReport:
             labels=SLIDE_BEARING,
         )
     )
-    processed: list[Block] = []
+    processed: list[Block] = [Paragraph(t("b.models"))]
     if v.axial:
         processed.append(_table_3_2(t, v))
     if v.table:

@@ -132,7 +132,7 @@ def build(ctx: Context, v: Smts2Results) -> LabReport:
         processed.append(_validity(t, v))
     if v.sensitivity:
         processed.append(_sensitivity(t, v))
-    if v.adequacy is not None and v.experimental and v.theoretical:
+    if v.experimental and v.theoretical and v.experimental.intensity > 0:
         processed.append(_adequacy(t, v))
     if v.experimental is not None or v.theoretical is not None:
         svg, band = _wear_svg(t, v)
@@ -203,8 +203,12 @@ def _sensitivity(t: Messages, v: Smts2Results) -> Table:
 
 
 def _adequacy(t: Messages, v: Smts2Results) -> Table:
-    assert v.adequacy and v.experimental and v.theoretical
-    a = v.adequacy
+    assert v.experimental and v.theoretical
+    # the comparison the manual asks for (item 18), judged only where the theory holds
+    a = v.adequacy or wear.wear_adequacy(
+        i_exp=v.experimental.intensity, i_theor=v.theoretical.intensity
+    )
+    verdict = t("yes" if a.adequate else "no") if v.adequacy else t("w.not_judged")
     one = t.unit("1")
     rows: list[list[Text]] = [
         [
@@ -222,7 +226,7 @@ def _adequacy(t: Messages, v: Smts2Results) -> Table:
         [t("w.error"), html_symbol("ΔI_h"), fmt(a.relative_error_percent), t.unit("%")],
         [t("w.lower"), "", fmt(a.lower), one],
         [t("w.upper"), "", fmt(a.upper), one],
-        [t("w.adequate"), "", t("yes" if a.adequate else "no"), ""],
+        [t("w.adequate"), "", verdict, ""],
     ]
     head: list[Text] = [t("col.quantity"), t("col.symbol"), t("col.value"), t("col.unit")]
     return Table(
@@ -279,13 +283,15 @@ def _friction_svg(ctx: Context, v: Smts2Results, config: Smts2Config) -> str:
 
 def _wear_svg(t: Messages, v: Smts2Results) -> tuple[str, bool]:
     """I_h,exp (2.13) and I_h,th (2.1) on a log axis, each named under its point, with the
-    band 0.4·I_h,th … 2.6·I_h,th (2.15) where the theory is judged; and whether the band is
-    drawn (the caption says what is there)."""
+    band 0.4·I_h,th … 2.6·I_h,th (2.15) about the theory; and whether the theory is judged
+    (the caption says so: a theory outside its range is drawn, its band paler, not judged)."""
     fig, (ax,) = axes(height=2.8)
     ax.set_yscale("log")
-    band = v.adequacy is not None and (v.validity is None or v.validity.within_range)
-    if band and v.adequacy is not None:
-        ax.axhspan(v.adequacy.lower, v.adequacy.upper, color="C2", alpha=0.25, label=t("w.band"))
+    judged = v.adequacy is not None and (v.validity is None or v.validity.within_range)
+    if v.theoretical is not None:  # the band of (2.15) about the theory, judged or not
+        lower = wear.ADEQUACY_LOWER * v.theoretical.intensity
+        upper = wear.ADEQUACY_UPPER * v.theoretical.intensity
+        ax.axhspan(lower, upper, color="C2", alpha=0.25 if judged else 0.12, label=t("w.band"))
     names: list[str] = []
     if v.experimental is not None:
         ax.plot([len(names)], [v.experimental.intensity], "o", color="C0", markersize=8)
@@ -299,7 +305,7 @@ def _wear_svg(t: Messages, v: Smts2Results) -> tuple[str, bool]:
     ax.set_xticks(range(len(names)), names)
     ax.set_xlim(-0.6, len(names) - 0.4)
     decorate(ax, xlabel=t("w.source"), ylabel=blocks.axis(t, "I_h"))
-    return to_svg(fig), band
+    return to_svg(fig), judged
 
 
 def _conclusions(t: Messages, v: Smts2Results) -> list[Text]:

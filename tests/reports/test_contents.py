@@ -89,9 +89,14 @@ def test_a_translation_cites_the_equations_its_english_cites() -> None:
     # the Russian label of X_set once dropped "(3.16)", and with it the formula's place
     from tests.i18n.test_catalogs import catalog
 
+    def cites(text: str | tuple[str, ...]) -> list[list[str]]:
+        """Each form's citations (a count's message has several forms)."""
+        forms = text if isinstance(text, tuple) else (text,)
+        return [sorted(equations.citations(form)) for form in forms]
+
     differ = [
         f"{m.id!r} -> {m.string!r}"
         for m in catalog("ru")
-        if m.id and sorted(equations.citations(m.id)) != sorted(equations.citations(m.string))
+        if m.id and any(c != cites(m.id)[0] for c in cites(m.string))
     ]
     assert not differ, "\n".join(differ)

@@ -549,7 +549,7 @@ TRIBOMETER: dict[str, Label] = {
     "mean_load": Label(N_("mean normal load"), "F", unit="N"),
     "friction_mean": Label(N_("friction coefficient, whole record"), "μ̄"),
     "friction_static": Label(N_("static (peak) friction coefficient at the start"), "μ_s"),
-    "running_in_distance": Label(N_("running-in distance (change points, PELT)"), "L_r", unit="m"),
+    "running_in_distance": Label(N_("running-in distance (settled within ±5 %)"), "L_r", unit="m"),
     "running_in_laps": Label(N_("laps (cycles) of the running-in"), "n_r", digits=6),
     "change_points": Label(N_("changes in the mean found"), "", digits=3),
     "friction_steady": Label(N_("friction coefficient, steady part"), "μ"),

@@ -455,11 +455,18 @@ class TribometerResults(BaseModel):
     mean_load: float = quantity(..., "N", "F, mean normal load")
     friction_mean: float = quantity(..., "1", "μ, mean over the whole record")
     friction_static: float = quantity(..., "1", "μ_s, the peak μ at the start (static)")
-    running_in_distance: float = quantity(..., "m", "sliding distance of the running-in")
-    running_in_laps: float = quantity(..., "1", "laps (cycles) of the running-in")
+    running_in_distance: float | None = quantity(
+        ...,
+        "m",
+        "sliding distance of the running-in: where μ's lap means settle within ±5 % of the "
+        "steady mean; null when the friction did not settle",
+    )
+    running_in_laps: float | None = quantity(..., "1", "laps (cycles) of the running-in")
     change_points: int = Field(description="changes in the mean found by PELT")
-    friction_steady: float = quantity(..., "1", "μ, mean over the steady part")
-    friction_steady_std: float = quantity(..., "1", "standard deviation of μ there")
+    friction_steady: float | None = quantity(
+        ..., "1", "μ, mean over the steady part; null when the friction did not settle"
+    )
+    friction_steady_std: float | None = quantity(..., "1", "standard deviation of μ there")
     friction_steady_uncertainty: float | None = quantity(
         None, "1", "u(μ): batch means of the steady part and the sensors' limits (GUM)"
     )

@@ -54,6 +54,10 @@ NOTE_LOAD = N_("the record has no normal load: the test plan's load is taken")
 NOTE_DISTANCE_LAPS = N_("the record has no distance: it is the laps times the track's length")
 NOTE_DISTANCE_TIME = N_("the record has neither distance nor laps: the planned speed times time")
 NOTE_LAPS = N_("the record has no laps: they are the distance over the track's length")
+NOTE_UNSETTLED = N_(
+    "the friction did not settle: no part of at least the record's last fifth stays within "
+    "±5 % of its mean, so neither a running-in distance nor a steady friction is given"
+)
 PENDING_RECORD = N_("no friction record yet")
 PENDING_TRACK = N_("the disc's wear needs profiles across the track (group wear_track)")
 PENDING_SCAR = N_("the pin's wear needs scar_diameter (a ball) or pin_height_loss (a flat pin)")
@@ -141,7 +145,8 @@ def analyse(run: Run, readings: Readings, profiles: Profiles | None = None) -> R
     steady, changes = _steady_start(r)
     series = BlockSeries(total)
     series.add(r.distance - r.distance[0], r.mu)
-    static_until = steady if steady > 0 else _first_lap_end(r)
+    static_until = _first_lap_end(r) if steady == 0 else (steady or total)
+    tail = r.mu[steady:] if steady is not None else None
     result = model(
         rows=total,
         duration=float(r.time[-1] - r.time[0]),
@@ -150,20 +155,22 @@ def analyse(run: Run, readings: Readings, profiles: Profiles | None = None) -> R
         mean_load=float(r.load.mean()),
         friction_mean=float(r.mu.mean()),
         friction_static=float(r.mu[:static_until].max()),
-        running_in_distance=float(r.distance[steady] - r.distance[0]),
-        running_in_laps=float(r.laps[steady] - r.laps[0]),
+        running_in_distance=None if steady is None else float(r.distance[steady] - r.distance[0]),
+        running_in_laps=None if steady is None else float(r.laps[steady] - r.laps[0]),
         change_points=changes,
-        friction_steady=float(r.mu[steady:].mean()),
-        friction_steady_std=float(r.mu[steady:].std()),
+        friction_steady=None if tail is None else float(tail.mean()),
+        friction_steady_std=None if tail is None else float(tail.std()),
         friction=series.series("sliding distance", "friction coefficient"),
         temperature_mean=float(r.temperature.mean()) if r.temperature.size else None,
         wear_depth_change=float(r.wear_depth[-1] - r.wear_depth[0]) if r.wear_depth.size else None,
     )
     result.notes.extend(r.notes)
+    if tail is None:
+        result.notes.append(NOTE_UNSETTLED)
     acc = config.accuracy
-    if total - steady >= 2:
+    if tail is not None and tail.size >= 2:
         u = estimate(
-            batch_mean(r.mu[steady:].tolist())
+            batch_mean(tail.tolist())
             * from_limit(1.0, acc.friction_force, "F_t")
             / from_limit(1.0, acc.load, "F_N")
         )
@@ -182,8 +189,9 @@ def analyse(run: Run, readings: Readings, profiles: Profiles | None = None) -> R
     return result
 
 
-def _steady_start(r: _Record) -> tuple[int, int]:
-    """The first row of the steady part and the change points found (module running_in)."""
+def _steady_start(r: _Record) -> tuple[int | None, int]:
+    """The first row of the steady part (None: the friction did not settle) and the change
+    points found (module running_in)."""
     lap = np.floor(r.laps - np.floor(r.laps[0])).astype(np.int64)
     laps, means, counts = tribometer.segment_means(lap, r.mu)
     per_block = blocks_of(laps.size)
@@ -197,6 +205,8 @@ def _steady_start(r: _Record) -> tuple[int, int]:
     sums = np.bincount(block, weights=means * counts)
     rows = np.bincount(block, weights=counts.astype(np.float64))
     found = running_in(sums / rows)  # each block's mean over its rows
+    if found.steady_from is None:
+        return None, len(found.change_points)
     first_lap = laps[found.steady_from * per_block] if found.steady_from else laps[0]
     return int(np.searchsorted(lap, first_lap)), len(found.change_points)
 
@@ -350,7 +360,7 @@ def _track(
     )
 
 
-def _lap_views(r: _Record, steady: int, result: PinOnDiscResults) -> None:
+def _lap_views(r: _Record, steady: int | None, result: PinOnDiscResults) -> None:
     """μ against lap and angle; the once-per-lap amplitude in the steady part."""
     laps = r.laps - np.floor(r.laps[0])
     found = tribometer.lap_map(laps=laps, values=r.mu)
@@ -359,15 +369,16 @@ def _lap_views(r: _Record, steady: int, result: PinOnDiscResults) -> None:
         angle=found.angle.tolist(),
         values=[[None if math.isnan(v) else float(v) for v in row] for row in found.values],
     )
-    if r.mu.size - steady >= 3:
+    if steady is not None and r.mu.size - steady >= 3:
         _, result.lap_amplitude = tribometer.lap_harmonic(laps=laps[steady:], values=r.mu[steady:])
 
 
-def _strokes(r: _Record, steady: int, result: ReciprocatingResults) -> None:
+def _strokes(r: _Record, steady: int | None, result: ReciprocatingResults) -> None:
     """Forward and backward strokes (the direction by the friction's sign: it opposes the
     sliding), per block of cycles; three friction loops: the first, middle and last cycle."""
     forward = r.signed >= 0
-    tail_f, tail_b = r.mu[steady:][forward[steady:]], r.mu[steady:][~forward[steady:]]
+    rest = r.mu.size if steady is None else steady  # no steady strokes: none averaged
+    tail_f, tail_b = r.mu[rest:][forward[rest:]], r.mu[rest:][~forward[rest:]]
     result.friction_forward = float(tail_f.mean()) if tail_f.size else None
     result.friction_backward = float(tail_b.mean()) if tail_b.size else None
     cycle = np.floor(r.laps - np.floor(r.laps[0])).astype(np.int64)

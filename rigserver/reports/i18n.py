@@ -557,7 +557,7 @@ MESSAGES: dict[str, str] = {
     "t.load": N_("mean normal load"),
     "t.mean": N_("friction coefficient, whole record"),
     "t.static": N_("static (peak) friction coefficient at the start"),
-    "t.running_in": N_("running-in distance (change points, PELT)"),
+    "t.running_in": N_("running-in distance (settled within ±5 %)"),
     "t.steady": N_("friction coefficient, steady part"),
     "t.lap_amplitude": N_("once-per-lap amplitude of μ"),
     "t.forward": N_("friction coefficient, forward strokes"),
@@ -601,6 +601,11 @@ MESSAGES: dict[str, str] = {
         "and is μ = {mu} (s = {std}) after it; over the whole record μ̄ = {mean}."
     ),
     "t.c_wear": N_("{what}: k = {k} mm³/(N·m)."),
+    "t.c_unsettled": N_(
+        "The friction coefficient starts at μ_s = {static} and does not settle: no part of at "
+        "least the record's last fifth stays within ±5 % of its mean, so no running-in "
+        "distance and no steady μ are given; over the whole record μ̄ = {mean}."
+    ),
     "t.c_gain": N_(
         "{what}: k = {k} mm³/(N·m), below zero: the specimen gained, material was "
         "transferred onto it; its wear is not measured this way."

@@ -141,11 +141,11 @@ def _friction_svg(t: Messages, v: Results) -> str:
     shaded, the steady mean drawn over the steady part."""
     s = v.friction
     fig, (ax,) = axes(height=3.0)
-    if v.running_in_distance > 0:
+    if v.running_in_distance:
         ax.axvspan(0.0, v.running_in_distance, color="0.88", label=t("t.running_in_band"))
     ax.fill_between(s.x, s.y_min, s.y_max, color="C0", alpha=0.25, linewidth=0)
     ax.plot(s.x, s.y, color="C0", linewidth=0.8, label=t("w.block_mean"))
-    if s.x:
+    if s.x and v.friction_steady is not None and v.running_in_distance is not None:
         ax.hlines(
             v.friction_steady,
             v.running_in_distance,
@@ -201,7 +201,13 @@ def _loops_svg(t: Messages, v: ReciprocatingResults) -> str:
 
 def _conclusions(t: Messages, v: Results) -> list[Text]:
     found: list[Text] = []
-    if v.rows:
+    if v.rows and v.friction_steady is None:
+        found.append(
+            html_symbol(
+                t("t.c_unsettled", static=fmt(v.friction_static), mean=fmt(v.friction_mean))
+            )
+        )
+    elif v.rows:
         found.append(
             html_symbol(
                 t(

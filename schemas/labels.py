@@ -561,6 +561,14 @@ TRIBOMETER: dict[str, Label] = {
         N_("expanded uncertainty of the friction coefficient (k = 2)"), "U(μ)", "GUM"
     ),
     "temperature_mean": Label(N_("mean temperature"), "T", unit="degC", digits=3),
+    "steps[].step": Label(N_("step"), "i", digits=6),
+    "steps[].sliding_speed": Label(N_("sliding speed"), "v", unit="m/s"),
+    "steps[].track_radius": Label(N_("track radius"), "R", unit="mm"),
+    "steps[].normal_load": Label(N_("normal load"), "F", unit="N"),
+    "steps[].duration": Label(N_("duration"), "t", unit="s"),
+    "steps[].distance": Label(N_("sliding distance"), "L", unit="m"),
+    "steps[].friction_mean": Label(N_("friction coefficient, whole step"), "μ̄"),
+    "steps[].friction_steady": Label(N_("friction coefficient, steady part"), "μ"),
     "wear_depth_change": Label(N_("wear depth by the displacement sensor"), "h", unit="um"),
     "hertz.modulus": Label(N_("contact modulus"), "E*", "", "GPa", part=_THEORY),
     "hertz.contact_radius": Label(N_("radius of the contact circle"), "a", "", "um", part=_THEORY),
@@ -682,8 +690,11 @@ TABLES: dict[StandKind, tuple[RowTable, ...]] = {
             ("fit_manual.nu_partial", "fit_manual.b_partial"),
         ),
     ),
-    StandKind.PIN_ON_DISC: (),
+    StandKind.PIN_ON_DISC: (
+        RowTable("steps", N_("The recipe's steps"), _columns(PIN_ON_DISC, "steps[].")),
+    ),
     StandKind.RECIPROCATING: (
+        RowTable("steps", N_("The recipe's steps"), _columns(RECIPROCATING, "steps[].")),
         RowTable(
             "strokes",
             N_("Forward and backward strokes, by blocks of cycles"),

@@ -445,6 +445,23 @@ class FrictionLoop(BaseModel):
     friction: list[float] = quantity(..., "1", "μ, signed by the direction of sliding")
 
 
+class TribometerStep(BaseModel):
+    """One step of a test's recipe (a speed or load sweep), in the record's order."""
+
+    step: int = quantity(..., "1", "the step's number, as the record gives it")
+    sliding_speed: float | None = quantity(
+        None, "m/s", "v, mean sliding speed: recorded, or 2πRn/60 from the rotational speed"
+    )
+    track_radius: float | None = quantity(None, "m", "R, mean track radius of the step")
+    normal_load: float = quantity(..., "N", "F, mean normal load of the step")
+    duration: float = quantity(..., "s", "time from the step's first to its last reading")
+    distance: float = quantity(..., "m", "sliding distance of the step")
+    friction_mean: float = quantity(..., "1", "μ, mean over the step")
+    friction_steady: float | None = quantity(
+        None, "1", "μ, mean over the step's steady part; null when it did not settle"
+    )
+
+
 class TribometerResults(BaseModel):
     """What both tribometers report (ASTM G99, G133, ISO 20808)."""
 
@@ -482,6 +499,9 @@ class TribometerResults(BaseModel):
     pin_scar: ScarWear | None = None
     pin_mass: MassWear | None = None
     friction: Series = Field(description="μ against the sliding distance, block means")
+    steps: list[TribometerStep] = Field(
+        default_factory=list, description="the recipe's steps in order (a record with `step`)"
+    )
     pending: list[str] = Field(default_factory=list)
     notes: list[str] = Field(default_factory=list)
 

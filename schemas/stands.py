@@ -527,6 +527,21 @@ def _friction_group(*extra: Channel) -> ChannelGroup:
             _c("distance", "m", "s, sliding distance", Limit(low=0.0), Order.NON_DECREASING),
             _c("laps", "1", "laps (cycles) run", Limit(low=0.0), Order.NON_DECREASING),
             *extra,
+            _c(
+                "step",
+                "1",
+                "step of the test's recipe (a speed or load sweep)",
+                Limit(low=0, high=100000, integer=True),
+                Order.NON_DECREASING,
+            ),
+            _c(
+                "rotational_speed",
+                "rpm",
+                "n, rotational speed of the disc",
+                Limit(low=0.0, high=100000.0),
+            ),
+            _c("sliding_speed", "m/s", "v, sliding speed", Limit(low=0.0, high=100.0)),
+            _c("track_radius", "m", "R, radius of the track", Limit(low=0.0, high=1.0)),
             _c("temperature", "degC", "temperature of the contact", Limit(low=-100, high=1000)),
             _c(
                 "wear_depth",

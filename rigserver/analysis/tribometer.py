@@ -36,6 +36,7 @@ from schemas.results import (
     ScarWear,
     StrokeBlock,
     TrackWear,
+    TribometerStep,
 )
 from schemas.runs import Run
 from schemas.stands import PinOnDiscConfig, ReciprocatingConfig, StandKind, TribometerConfig
@@ -46,12 +47,16 @@ TRACK = "wear_track"
 _KG_PER_G = UNITS["g"].factor
 _M_PER_UM = UNITS["um"].factor
 _M_PER_MM = UNITS["mm"].factor
+_RAD_S_PER_RPM = UNITS["rpm"].factor
 #: Rows of the stroke table and points of a drawn friction loop, at most.
 STROKE_BLOCKS = 40
 LOOP_POINTS = 200
 
 NOTE_LOAD = N_("the record has no normal load: the test plan's load is taken")
 NOTE_DISTANCE_LAPS = N_("the record has no distance: it is the laps times the track's length")
+NOTE_DISTANCE_SPEED = N_(
+    "the record has neither distance nor laps: they are its sliding speed integrated over time"
+)
 NOTE_DISTANCE_TIME = N_("the record has neither distance nor laps: the planned speed times time")
 NOTE_LAPS = N_("the record has no laps: they are the distance over the track's length")
 NOTE_UNSETTLED = N_(
@@ -69,7 +74,9 @@ Results = PinOnDiscResults | ReciprocatingResults
 class _Record:
     """The friction record's columns the analysis uses, whole, in SI."""
 
-    def __init__(self, readings: Readings, config: TribometerConfig, lap_length: float) -> None:
+    def __init__(
+        self, readings: Readings, config: PinOnDiscConfig | ReciprocatingConfig, lap_length: float
+    ) -> None:
         parts: dict[str, list[NDArray[np.float64]]] = {}
         for chunk in readings.iter_chunks(GROUP):
             for name, values in chunk.items():
@@ -89,25 +96,50 @@ class _Record:
         with np.errstate(invalid="ignore", divide="ignore"):
             self.signed = np.where(np.isfinite(mu), mu, force / load)
         self.mu = np.abs(self.signed)
+        self.step = cols.get("step", nan)
+        radius = cols.get("track_radius", nan)
+        if isinstance(config, PinOnDiscConfig):
+            radius = np.where(np.isfinite(radius), radius, config.track_radius)
+        self.radius = radius
+        rpm = cols.get("rotational_speed", nan) * _RAD_S_PER_RPM
+        speed = cols.get("sliding_speed", nan)
+        self.speed = np.where(np.isfinite(speed), speed, rpm * radius)  # v = 2πRn/60
+        # a lap's length row by row: 2πR of the row's radius on the disc (a radial stage)
+        varies = np.isfinite(radius).all() and bool(np.ptp(radius) > 0)
+        lap_lengths = 2.0 * np.pi * radius if varies else lap_length
         distance, laps = cols.get("distance", nan), cols.get("laps", nan)
         have_distance, have_laps = np.isfinite(distance).all(), np.isfinite(laps).all()
         if not have_distance:
             if have_laps:
                 self.notes.append(NOTE_DISTANCE_LAPS)
-                distance = laps * lap_length
+                distance = _integral(laps, lap_lengths)
+            elif np.isfinite(self.speed).all():
+                self.notes.append(NOTE_DISTANCE_SPEED)
+                distance = _integral(self.time, self.speed)
             else:
                 self.notes.append(NOTE_DISTANCE_TIME)
                 distance = self.time * config.plan.speed
         if not have_laps:
             if have_distance:
                 self.notes.append(NOTE_LAPS)
-            laps = distance / lap_length
+            laps = _integral(distance, 1.0 / lap_lengths)
         self.distance, self.laps = distance, laps
         self.position = cols.get("position", nan) * _M_PER_MM
         temperature = cols.get("temperature", nan)
         self.temperature = temperature[np.isfinite(temperature)]
         depth = cols.get("wear_depth", nan)
         self.wear_depth = depth[np.isfinite(depth)] * _M_PER_UM
+
+
+def _integral(x: NDArray[np.float64], rate: NDArray[np.float64] | float) -> NDArray[np.float64]:
+    """∫ rate dx from the first row, rate taken at each step's end (exact for a rate constant
+    over each step, as the radius and speed of a recipe's step are); x itself times a
+    constant rate."""
+    if isinstance(rate, float):
+        return x * rate
+    steps = np.diff(x, prepend=x[0]) * rate
+    found: NDArray[np.float64] = x[0] * float(rate[0]) + np.cumsum(steps)
+    return found
 
 
 def analyse(run: Run, readings: Readings, profiles: Profiles | None = None) -> Results:
@@ -142,7 +174,7 @@ def analyse(run: Run, readings: Readings, profiles: Profiles | None = None) -> R
         empty.pending.append(PENDING_RECORD)
         return empty
     r = _Record(readings, config, lap_length)
-    steady, changes = _steady_start(r)
+    steady, changes = _steady_start(r.laps, r.mu)
     series = BlockSeries(total)
     series.add(r.distance - r.distance[0], r.mu)
     static_until = _first_lap_end(r) if steady == 0 else (steady or total)
@@ -165,6 +197,7 @@ def analyse(run: Run, readings: Readings, profiles: Profiles | None = None) -> R
         wear_depth_change=float(r.wear_depth[-1] - r.wear_depth[0]) if r.wear_depth.size else None,
     )
     result.notes.extend(r.notes)
+    result.steps = _steps(r)
     if tail is None:
         result.notes.append(NOTE_UNSETTLED)
     acc = config.accuracy
@@ -189,11 +222,11 @@ def analyse(run: Run, readings: Readings, profiles: Profiles | None = None) -> R
     return result
 
 
-def _steady_start(r: _Record) -> tuple[int | None, int]:
-    """The first row of the steady part (None: the friction did not settle) and the change
-    points found (module running_in)."""
-    lap = np.floor(r.laps - np.floor(r.laps[0])).astype(np.int64)
-    laps, means, counts = tribometer.segment_means(lap, r.mu)
+def _steady_start(turns: NDArray[np.float64], mu: NDArray[np.float64]) -> tuple[int | None, int]:
+    """The first row of the steady part of the record μ over ``turns`` (laps or cycles;
+    None: the friction did not settle) and the change points found (module running_in)."""
+    lap = np.floor(turns - np.floor(turns[0])).astype(np.int64)
+    laps, means, counts = tribometer.segment_means(lap, mu)
     per_block = blocks_of(laps.size)
     block = (np.arange(laps.size) // per_block).astype(np.int64)
     if block.size > 2 * per_block and counts[block == block[-1]].sum() < 0.5 * (
@@ -209,6 +242,33 @@ def _steady_start(r: _Record) -> tuple[int | None, int]:
         return None, len(found.change_points)
     first_lap = laps[found.steady_from * per_block] if found.steady_from else laps[0]
     return int(np.searchsorted(lap, first_lap)), len(found.change_points)
+
+
+def _steps(r: _Record) -> list[TribometerStep]:
+    """One entry per step of the recipe, in the record's order (none without ``step``): its
+    speed (recorded, or v = 2πRn/60), radius, load, duration, distance and μ, the steady μ
+    by the running-in's criterion within the step."""
+    if not np.isfinite(r.step).all():
+        return []
+    starts = np.flatnonzero(np.r_[True, r.step[1:] != r.step[:-1]])
+    found = []
+    for first, end in zip(starts, [*starts[1:], r.step.size], strict=True):
+        rows = slice(int(first), int(end))
+        mu, speed, radius = r.mu[rows], r.speed[rows], r.radius[rows]
+        steady = _steady_start(r.laps[rows], mu)[0] if mu.size > 1 else 0
+        found.append(
+            TribometerStep(
+                step=int(r.step[first]),
+                sliding_speed=float(speed.mean()) if np.isfinite(speed).all() else None,
+                track_radius=float(radius.mean()) if np.isfinite(radius).all() else None,
+                normal_load=float(r.load[rows].mean()),
+                duration=float(r.time[end - 1] - r.time[first]),
+                distance=float(r.distance[end - 1] - r.distance[first]),
+                friction_mean=float(mu.mean()),
+                friction_steady=None if steady is None else float(mu[steady:].mean()),
+            )
+        )
+    return found
 
 
 def _first_lap_end(r: _Record) -> int:

@@ -384,3 +384,69 @@ def simulate_reciprocating(
 ) -> SimulatedRun[TribometerTruth]:
     """:func:`simulate` of a reciprocating test (its defaults when ``settings`` is None)."""
     return simulate(settings or TribometerSettings.reciprocating(), seed)
+
+
+@dataclass(frozen=True, slots=True)
+class SweepTruth:
+    """A speed sweep's truth, step by step (SI): the sliding speed, the track's radius, the
+    steps' μ (a Stribeck-like fall with the speed), the load and each step's duration."""
+
+    sliding_speed: tuple[float, ...]
+    track_radius: tuple[float, ...]
+    friction: tuple[float, ...]
+    load: float
+    duration: float
+
+
+#: The sweep of a rotary tribometer's recipe: (track radius, m; sliding speed, m/s).
+SWEEP = ((6e-3, 0.075), (9e-3, 0.150), (12e-3, 0.225), (15e-3, 0.300))
+
+
+def sweep_friction(speed: float) -> float:
+    """μ(v) of the simulated sweep: a boundary value falling towards a lower one with the
+    speed, μ = 0.12 + 0.4·e^(-v/(0.1 m/s)) (a Stribeck curve's mixed-lubrication side)."""
+    return 0.12 + 0.4 * math.exp(-speed / 0.1)
+
+
+def simulate_sweep(
+    seed: int = 0, *, step_time: float = 180.0, rate: float = 10.0, load: float = 5.0
+) -> SimulatedRun[SweepTruth]:
+    """A pin-on-disc speed sweep as a rotary tribometer's recipe runs it: four steps of
+    ``step_time`` s at the radii and speeds of :data:`SWEEP` (the radial stage moved between
+    steps), read ``rate`` times a second. The record has the step, the rotational speed
+    n = 60v/(2πR) in rpm and the radius per row, no distance and no laps: the analysis
+    derives them, v = 2πRn/60. μ of each step is :func:`sweep_friction` with a 2 % AR(1)
+    fluctuation."""
+    rng = np.random.default_rng(seed)
+    per_step = round(step_time * rate)
+    columns: dict[str, list[FloatArray]] = {}
+    for k, (radius, speed) in enumerate(SWEEP):
+        t = (k * per_step + np.arange(per_step)) / rate
+        mu = sweep_friction(speed) * (1.0 + _fluctuation(per_step, 0.02, rng))
+        part = {
+            "time": t,
+            "step": np.full(per_step, float(k + 1)),
+            "rotational_speed": np.full(per_step, 60.0 * speed / (2.0 * math.pi * radius)),
+            "track_radius": np.full(per_step, radius),
+            "normal_load": np.full(per_step, load),
+            "friction_coefficient": mu,
+        }
+        for name, values in part.items():
+            columns.setdefault(name, []).append(values)
+    record = {name: np.concatenate(parts) for name, parts in columns.items()}
+    body = RunCreate(
+        stand=StandKind.PIN_ON_DISC,
+        operator="rigsim",
+        title=f"Simulated speed sweep, {load:g} N, {len(SWEEP)} steps",
+        test_plan={"load_N": load, "simulated": True},
+        configuration={"track_radius": SWEEP[0][0]},
+    )
+    truth = SweepTruth(
+        sliding_speed=tuple(v for _, v in SWEEP),
+        track_radius=tuple(r for r, _ in SWEEP),
+        friction=tuple(sweep_friction(v) for _, v in SWEEP),
+        load=load,
+        duration=(per_step - 1) / rate,
+    )
+    batches = split("friction", record, record["time"], rows=2000)
+    return SimulatedRun(run_create=body, batches=tuple(batches), truth=truth)

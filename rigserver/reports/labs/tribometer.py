@@ -13,8 +13,8 @@ from rigserver.reports.formatting import fmt, html_symbol
 from rigserver.reports.i18n import Messages
 from rigserver.reports.labs import iso_profile
 from rigserver.reports.plots import axes, decorate, to_svg
-from schemas.labels import RESULTS, TABLES, WEAR_SUBSCRIPTS
-from schemas.results import PinOnDiscResults, ReciprocatingResults, WearEstimate
+from schemas.labels import RESULTS, TABLES, WEAR_SUBSCRIPTS, RowTable, row_labels
+from schemas.results import PinOnDiscResults, ReciprocatingResults, TribometerStep, WearEstimate
 from schemas.stands import MEASUREMENTS
 
 Results = PinOnDiscResults | ReciprocatingResults
@@ -56,13 +56,15 @@ def build(ctx: Context, v: Results) -> LabReport:
             ]
         measured.append(blocks.quantities(t, t("t.record"), v, fields, labels=labels))
         measured.append(Figure(t("t.fig_friction"), _friction_svg(t, v)))
+        if v.steps:
+            measured += _steps(ctx, v)
         if isinstance(v, PinOnDiscResults) and v.friction_map is not None:
             measured.append(Figure(t("t.fig_map"), _map_svg(t, v)))
         if isinstance(v, ReciprocatingResults):
             if v.loops:
                 measured.append(Figure(t("t.fig_loops"), _loops_svg(t, v)))
             if v.strokes:
-                (table,) = TABLES[ctx.run.stand]
+                table = _table(ctx, "strokes")
                 measured.append(
                     blocks.result_table(
                         t,
@@ -119,6 +121,52 @@ def build(ctx: Context, v: Results) -> LabReport:
         ],
         conclusions=_conclusions(t, v),
     )
+
+
+def _table(ctx: Context, name: str) -> RowTable:
+    return next(table for table in TABLES[ctx.run.stand] if table.name == name)
+
+
+def _steps(ctx: Context, v: Results) -> list[Block]:
+    """The recipe's steps: their table and μ against the sliding speed (a Stribeck curve)."""
+    t = ctx.t
+    labels = row_labels(RESULTS[ctx.run.stand], "steps[].")
+    table = blocks.result_table(
+        t,
+        t.gettext(_table(ctx, "steps").caption),
+        v.steps,
+        [
+            ("step", "i"),
+            ("sliding_speed", "v"),
+            ("track_radius", "R"),
+            ("normal_load", "F"),
+            ("duration", "t"),
+            ("distance", "L"),
+            ("friction_mean", "μ̄"),
+            ("friction_steady", "μ"),
+        ],
+        model=TribometerStep,
+        labels=labels,
+    )
+    found: list[Block] = [table]
+    if any(step.sliding_speed is not None for step in v.steps):
+        found.append(Figure(t("t.fig_stribeck"), _stribeck_svg(t, v)))
+    return found
+
+
+def _stribeck_svg(t: Messages, v: Results) -> str:
+    """μ of each step against its sliding speed (a Stribeck curve): the steady μ where the
+    step settled, the step's mean beside it."""
+    known = [s for s in v.steps if s.sliding_speed is not None]
+    fig, (ax,) = axes(height=3.0)
+    speed = [s.sliding_speed or 0.0 for s in known]
+    ax.plot(speed, [s.friction_mean for s in known], "o--", color="C0", label=t("t.step_mean"))
+    steady = [(s.sliding_speed, s.friction_steady) for s in known if s.friction_steady is not None]
+    if steady:
+        x, y = zip(*steady, strict=True)
+        ax.plot(x, y, "s-", color="C3", label=t("t.step_steady"))
+    decorate(ax, xlabel=blocks.axis(t, "v", "m/s"), ylabel=blocks.axis(t, "μ"))
+    return to_svg(fig)
 
 
 def _wear_fields(name: str) -> list[tuple[str, str, str]]:

@@ -5,6 +5,7 @@ which recreates a run exported by a rig server under a new id (naming the origin
 from __future__ import annotations
 
 import io
+import itertools
 import math
 import os
 import shutil
@@ -238,7 +239,7 @@ def _present(columns: dict[str, Any]) -> Iterator[dict[str, Any]]:
     pattern = np.stack(list(finite.values()), axis=1)
     rows = pattern.shape[0]
     starts = [0, *np.flatnonzero((pattern[1:] != pattern[:-1]).any(axis=1)) + 1, rows]
-    for first, end in zip(starts[:-1], starts[1:], strict=True):
+    for first, end in itertools.pairwise(starts):
         yield {n: np.asarray(v)[first:end] for n, v in columns.items() if finite[n][first]}
 
 

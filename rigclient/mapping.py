@@ -32,6 +32,12 @@ the run's metadata. Written by the lab in TOML or JSON::
     decimal = ","              # "," or "."
     header = 12                # the header's line number; the lines before it: the preamble
 
+    [profile]                  # a profilometer's export: the profile it holds
+    kind = "roughness"         # "primary" (filtered by rig) or "roughness" (the instrument's)
+    lambda_c = { value = 0.8, unit = "mm" }         # the instrument's λc, λs as it states
+    lambda_s = { value = 2.5, unit = "um" }
+    sections = 5               # sampling lengths of the evaluation length
+
 A unit is one of the wire's units (``schemas.units``) or one of :data:`FILE_UNITS`; a factor
 multiplies the file's value into the channel's unit. A header cell is found in
 ``[columns]`` by its whole text, by its name without the unit, or by either with case,
@@ -154,7 +160,14 @@ class StandMap:
 
 
 _RUN_FIELDS = ("operator", "title", "specimen", "test_plan", "configuration", "notes")
-_KEYS = ("stand", "group", "run", "columns", "measurements", "constants", "file")
+_KEYS = ("stand", "group", "run", "columns", "measurements", "constants", "file", "profile")
+#: The ``[profile]`` table's keys -> the profilometer's configuration fields.
+PROFILE_FIELDS = {
+    "kind": "profile_kind",
+    "lambda_c": "lambda_c",
+    "lambda_s": "lambda_s",
+    "sections": "sections",
+}
 
 
 def load_map(path: str | Path) -> StandMap:
@@ -183,6 +196,8 @@ def load_map(path: str | Path) -> StandMap:
         raise InputError(
             f"[run] has {', '.join(extra)}; it takes {', '.join(_RUN_FIELDS)}", file=where
         )
+    if "profile" in data:
+        run["configuration"] = _profile(data["profile"], dict(run.get("configuration", {})), where)
     columns = {str(k): _column(v, where, str(k)) for k, v in data.get("columns", {}).items()}
     measurements = {
         str(k): _constant(v, where, str(k)) for k, v in data.get("measurements", {}).items()
@@ -225,6 +240,34 @@ def _file(value: Any, where: str) -> FileSettings:
     if header is not None and header < 1:
         raise InputError(f"[file] header is a line number from 1, not {header}", file=where)
     return FileSettings(encoding, None if delimiter is None else str(delimiter), decimal, header)
+
+
+def _profile(value: Any, into: dict[str, Any], where: str) -> dict[str, Any]:
+    """``[profile]`` as the profilometer's configuration fields (:data:`PROFILE_FIELDS`),
+    added to ``[run.configuration]``, which must not set them too."""
+    if not isinstance(value, dict):
+        raise InputError("[profile] must be a table", file=where)
+    extra = sorted(set(value) - set(PROFILE_FIELDS))
+    if extra:
+        raise InputError(
+            f"[profile] has {', '.join(extra)}; it takes {', '.join(PROFILE_FIELDS)}",
+            file=where,
+        )
+    if value.get("kind", "primary") not in ("primary", "roughness"):
+        raise InputError(
+            f'[profile] kind is "primary" or "roughness", not {value["kind"]!r}', file=where
+        )
+    for key, name in PROFILE_FIELDS.items():
+        if key not in value:
+            continue
+        if name in into:
+            raise InputError(
+                f"[profile] {key} and [run.configuration] {name} both set it: keep one",
+                file=where,
+                column=name,
+            )
+        into[name] = value[key]
+    return into
 
 
 def configuration(kind: str, given: dict[str, Any], *, where: str = "") -> dict[str, Any]:

@@ -91,12 +91,17 @@ ISO_LAMBDA_C_SOURCE = {
     "ra": N_("by Ra, table of ISO 21920-3"),
     "rz": N_("by Rz, table of ISO 21920-3"),
     "rsm": N_("by RSm, table of ISO 21920-3"),
+    "instrument": N_("the instrument's, as its file states"),
 }
 
 #: How the filter's end effects were handled, in words (the values of ``ends``).
 ISO_ENDS = {
     "discarded": N_("λc/2 discarded at each end"),
     "corrected": N_("kept, corrected by renormalised weights (ISO 16610-28)"),
+    "instrument": N_(
+        "none: the instrument's roughness profile, not filtered again, evaluated whole, the "
+        "parameters averaged over its sampling lengths (ISO 4287, ISO 4288)"
+    ),
 }
 
 #: The ISO analysis' remarks (rigserver.core.iso_roughness.REMARKS) as notes of the results.

@@ -225,6 +225,22 @@ class ProfilometerConfig(_Config):
     lambda_s: float = quantity(
         0.0, "m", "λs of the ISO short-wave filter (0: by the ISO 21920-3 table)", ge=0
     )
+    profile_kind: Literal["primary", "roughness"] = Field(
+        default="primary",
+        description=N_(
+            "the profile posted: primary (filtered here, ISO 16610-21) or roughness (the "
+            "instrument's own roughness profile, not filtered again; λc and λs are then the "
+            "instrument's, as stated)"
+        ),
+    )
+    sections: int = quantity(
+        0,
+        "1",
+        "sampling lengths of a roughness profile's evaluation length (0: its length over "
+        "λc, or five without λc)",
+        ge=0,
+        le=1000,
+    )
 
 
 # --- commercial tribometers: pin- or ball-on-disc (ASTM G99, ISO 20808), reciprocating

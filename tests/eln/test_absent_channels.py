@@ -5,15 +5,19 @@ and results, whatever it lacks, in every batch or in some."""
 from __future__ import annotations
 
 from dataclasses import replace
+from types import SimpleNamespace
 
 import numpy as np
+import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
+from rigserver.api.problems import ApiProblem
+from rigserver.api.routes.eln import _checked
 from rigsim.batches import Batch
 from rigsim.cli import settings_for
 from rigsim.stands import SIMULATORS
-from schemas.stands import StandKind
+from schemas.stands import StandKind, default_stands
 from tests.api.conftest import WRITER
 from tests.eln.conftest import Lab, export, import_archive
 from tests.eln.test_import import _results, _run_file
@@ -74,3 +78,34 @@ def test_a_run_lacking_channels_comes_back_whole(
     for name, values in before.items():
         np.testing.assert_array_equal(after[name], values, err_msg=name)
     assert _results(lab.target, imported) == _results(lab.source, original)
+
+
+def _check(columns: dict[str, np.ndarray]) -> None:
+    stand = default_stands()[StandKind.PIN_ON_DISC]
+    batches = iter([(0, SimpleNamespace(group="friction"), columns)])
+    list(_checked(batches, stand))
+
+
+def test_the_channels_a_run_of_rows_lacks_are_not_checked() -> None:
+    # the archive of issue 37: no distance at all, a temperature in the first rows only;
+    # refused before as "distance[0] = nan is not a finite number"
+    n = 6
+    _check(
+        {
+            "time": np.arange(n, dtype=np.float64),
+            "friction_coefficient": np.full(n, 0.5),
+            "distance": np.full(n, np.nan),
+            "temperature": np.r_[20.0, 21.0, 22.0, np.full(3, np.nan)],
+        }
+    )
+
+
+def test_a_bad_reading_among_absent_ones_is_still_refused() -> None:
+    # the temperature's rows present are checked as posted: 5000 °C is past its limit, and
+    # the distance must not decrease across the rows that have it
+    n = 4
+    base = {"time": np.arange(n, dtype=np.float64), "friction_coefficient": np.full(n, 0.5)}
+    with pytest.raises(ApiProblem, match=r"temperature\[1\] = 5000"):
+        _check({**base, "temperature": np.r_[20.0, 5000.0, np.nan, np.nan]})
+    with pytest.raises(ApiProblem, match="distance"):
+        _check({**base, "distance": np.r_[1.0, 0.5, 0.4, np.nan]})

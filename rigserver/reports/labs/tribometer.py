@@ -150,11 +150,11 @@ def _steps(ctx: Context, v: Results) -> list[Block]:
     )
     found: list[Block] = [table]
     if any(step.sliding_speed is not None for step in v.steps):
-        found.append(Figure(t("t.fig_stribeck"), _stribeck_svg(t, v)))
+        found.append(Figure(t("t.fig_stribeck"), stribeck_svg(t, v)))
     return found
 
 
-def _stribeck_svg(t: Messages, v: Results) -> str:
+def stribeck_svg(t: Messages, v: Results) -> str:
     """μ of each step against its sliding speed (a Stribeck curve): the steady μ where the
     step settled, the step's mean beside it."""
     known = [s for s in v.steps if s.sliding_speed is not None]

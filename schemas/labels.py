@@ -819,6 +819,8 @@ WORDS: tuple[str, ...] = (
     N_("none"),
     N_("profilograph-profilometer"),
     N_("profilograph"),
+    N_("primary"),
+    N_("roughness"),
     *ISO_LAMBDA_C_SOURCE.values(),
     *ISO_ENDS.values(),
 )

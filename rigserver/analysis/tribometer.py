@@ -58,6 +58,14 @@ NOTE_DISTANCE_SPEED = N_(
     "the record has neither distance nor laps: they are its sliding speed integrated over time"
 )
 NOTE_DISTANCE_TIME = N_("the record has neither distance nor laps: the planned speed times time")
+NOTE_SPEED_DEFAULT = N_(
+    "the sliding distance rests on the planned speed, which was not given for this run: it "
+    "is the stand's default; give plan.speed in the run's configuration"
+)
+NOTE_LOAD_DEFAULT = N_(
+    "the normal load rests on the test plan's load, which was not given for this run: it is "
+    "the stand's default; give plan.load in the run's configuration"
+)
 NOTE_LAPS = N_("the record has no laps: they are the distance over the track's length")
 NOTE_UNSETTLED = N_(
     "the friction did not settle: no part of at least the record's last fifth stays within "
@@ -174,6 +182,9 @@ def analyse(run: Run, readings: Readings, profiles: Profiles | None = None) -> R
         empty.pending.append(PENDING_RECORD)
         return empty
     r = _Record(readings, config, lap_length)
+    for note, path in ((NOTE_DISTANCE_TIME, "plan.speed"), (NOTE_LOAD, "plan.load")):
+        if note in r.notes and run.from_default(path):
+            r.notes.append(NOTE_SPEED_DEFAULT if path == "plan.speed" else NOTE_LOAD_DEFAULT)
     steady, changes = _steady_start(r.laps, r.mu)
     series = BlockSeries(total)
     series.add(r.distance - r.distance[0], r.mu)

@@ -331,6 +331,7 @@ MESSAGES: dict[str, str] = {
     "sym.i_theor": N_("I_{{h,th}}"),
     "yes": N_("yes"),
     "no": N_("no"),
+    "config.default": N_("not given: the stand's default ({value})"),
     "regime.fluid": N_("fluid film"),
     "regime.mixed": N_("mixed"),
     "regime.boundary": N_("boundary"),

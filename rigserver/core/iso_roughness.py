@@ -597,6 +597,19 @@ def _trace(x_m: ArrayLike, z_m: ArrayLike) -> tuple[NDArray[np.float64], NDArray
     return x, z
 
 
+def _uniform(
+    x: NDArray[np.float64], z: NDArray[np.float64]
+) -> tuple[NDArray[np.float64], NDArray[np.float64], float, bool]:
+    """The trace on a uniform grid and its step: as it is when uniformly sampled, else
+    interpolated linearly onto the grid of its median step (and True)."""
+    step = uniform_step(x)
+    if step is not None:
+        return x, z, step, False
+    step = float(np.median(np.diff(x)))
+    grid = x[0] + step * np.arange(math.floor((x[-1] - x[0]) / step + 1e-9) + 1)
+    return grid, np.interp(grid, x, z), step, True
+
+
 def _evaluate(
     x: NDArray[np.float64], z: NDArray[np.float64], lc: float, ls: float
 ) -> tuple[FilteredProfile, int, int, Ends, int, IsoParameters]:
@@ -662,17 +675,8 @@ def iso_profile(
     renormalised weights, ISO 16610-28) and has floor(length/λc) sections, at least one.
     The sections are centred on the trace.
     """
-    x, z = _trace(x_m, z_m)
-    remarks: list[str] = []
-    resampled = False
-    step = uniform_step(x)
-    if step is None:
-        step = float(np.median(np.diff(x)))
-        grid = x[0] + step * np.arange(math.floor((x[-1] - x[0]) / step + 1e-9) + 1)
-        z = np.interp(grid, x, z)
-        x = grid
-        resampled = True
-        remarks.append("resampled")
+    x, z, _, resampled = _uniform(*_trace(x_m, z_m))
+    remarks: list[str] = ["resampled"] if resampled else []
     length = float(x[-1] - x[0])
     fitting = [c for c in CUTOFFS if c <= length * (1.0 + 1e-9)]
     if lambda_c is not None:
@@ -853,18 +857,10 @@ def instrument_roughness(
     lambda_c, lambda_s : float
         The instrument's λc and λs, m (>= 0).
     """
-    x, z = _trace(x_m, z_m)
+    x, z, step, resampled = _uniform(*_trace(x_m, z_m))
     lc = float(_stated_cutoff("lambda_c", lambda_c))
     ls = float(_stated_cutoff("lambda_s", lambda_s))
-    remarks: list[str] = []
-    step = uniform_step(x)
-    resampled = step is None
-    if step is None:
-        step = float(np.median(np.diff(x)))
-        grid = x[0] + step * np.arange(math.floor((x[-1] - x[0]) / step + 1e-9) + 1)
-        z = np.interp(grid, x, z)
-        x = grid
-        remarks.append("resampled")
+    remarks: list[str] = ["resampled"] if resampled else []
     params = section_mean_parameters(x=x, z=z, step=step, sections=sections)
     if sections < DEFAULT_SECTIONS:
         remarks.append("few_sections")

@@ -16,12 +16,12 @@ from numpy.typing import NDArray
 
 from rigserver.core.tribometer import STEADY_BAND, STEADY_SHARE, settled_from
 from rigserver.reports.i18n import Lang
-from rigserver.reports.run_report import build_report, render_report
 from rigsim.batches import Batch, SimulatedRun
 from schemas.results import PinOnDiscResults
 from schemas.runs import RunCreate
 from schemas.stands import StandKind
-from tests.reports.simulated import MADE, Simulated, analysed
+from tests.reports.rendered import report_html
+from tests.reports.simulated import Simulated, analysed
 
 #: A pin-on-disc record as a real one reads: 3 N over 30 m on a 5 mm track radius.
 RADIUS = 5e-3
@@ -98,16 +98,7 @@ def test_a_record_that_never_settles_says_so_without_a_number() -> None:
 )
 def test_the_report_of_a_record_that_never_settles_says_so(lang: Lang, said: str) -> None:
     s = _record(lambda s: 0.8 - 0.5 * s / 10.0, 10.0)
-    html = render_report(
-        build_report(
-            run=s.run,
-            stand=s.stand,
-            values=s.result.payload["values"],
-            readings=s.readings,
-            lang=lang,
-            made=MADE,
-        )
-    )
+    html = report_html(s, lang)
     assert said in html
 
 

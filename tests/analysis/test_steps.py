@@ -12,11 +12,11 @@ import pytest
 
 from rigserver.reports import plots
 from rigserver.reports.i18n import Lang
-from rigserver.reports.run_report import build_report, render_report
 from rigsim.stands.tribometer import SweepTruth, simulate_sweep
 from schemas.results import PinOnDiscResults
 from schemas.stands import StandKind
-from tests.reports.simulated import MADE, Simulated, analysed
+from tests.reports.rendered import report_html
+from tests.reports.simulated import Simulated, analysed
 
 
 def _sweep() -> tuple[Simulated, PinOnDiscResults, SweepTruth]:
@@ -71,16 +71,7 @@ def test_a_record_without_steps_has_none() -> None:
 def test_the_report_draws_and_tabulates_the_steps(lang: Lang, caption: str, figure: str) -> None:
     done, v, _ = _sweep()
     with plots.recording() as drawn:
-        html = render_report(
-            build_report(
-                run=done.run,
-                stand=done.stand,
-                values=done.result.payload["values"],
-                readings=done.readings,
-                lang=lang,
-                made=MADE,
-            )
-        )
+        html = report_html(done, lang)
     text = unescape(html)
     assert caption in text and figure in text
     # the Stribeck curve: the steps' mean μ against their speeds, as the results hold them

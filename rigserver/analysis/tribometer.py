@@ -20,6 +20,7 @@ from rigserver.analysis.iso import iso_result
 from rigserver.analysis.readings import Readings
 from rigserver.analysis.references import Profiles
 from rigserver.analysis.running_in import blocks_of, running_in
+from rigserver.analysis.specimens import specimen_materials
 from rigserver.analysis.streaming import BlockSeries
 from rigserver.analysis.uncertainty import batch_mean, estimate, from_limit, from_resolution
 from rigserver.core import tribometer, wear
@@ -161,6 +162,8 @@ def analyse(run: Run, readings: Readings, profiles: Profiles | None = None) -> R
     else:
         config = ReciprocatingConfig.model_validate(run.configuration)
         lap_length = 2.0 * config.stroke_length
+    specimens = specimen_materials(run, config)
+    config = specimens.config
     model = PinOnDiscResults if pin_on_disc else ReciprocatingResults
     total = readings.rows(GROUP)
     if total == 0:
@@ -207,7 +210,8 @@ def analyse(run: Run, readings: Readings, profiles: Profiles | None = None) -> R
         temperature_mean=float(r.temperature.mean()) if r.temperature.size else None,
         wear_depth_change=float(r.wear_depth[-1] - r.wear_depth[0]) if r.wear_depth.size else None,
     )
-    result.notes.extend(r.notes)
+    result.notes.extend(r.notes + specimens.notes)
+    result.pending.extend(specimens.pending)
     result.steps = _steps(r)
     if tail is None:
         result.notes.append(NOTE_UNSETTLED)
@@ -222,10 +226,11 @@ def analyse(run: Run, readings: Readings, profiles: Profiles | None = None) -> R
             u.standard,
             u.expanded,
         )
-    _contact(config, result)
+    if not specimens.unknown:
+        _contact(config, result)
     load = result.mean_load * from_limit(1.0, acc.load, "F_N")
     distance = result.sliding_distance
-    _wear(run, readings, config, result, load, distance)
+    _wear(run, readings, config, result, load, distance, specimens.unknown)
     if isinstance(result, PinOnDiscResults):
         _lap_views(r, steady, result)
     else:
@@ -333,8 +338,10 @@ def _wear(
     result: PinOnDiscResults | ReciprocatingResults,
     load: UFloat | float,
     distance: float,
+    unknown: frozenset[str] = frozenset(),
 ) -> None:
-    """Every worn volume the readings allow: track profiles, scar or height loss, masses."""
+    """Every worn volume the readings allow: track profiles, scar or height loss, masses
+    (the density the posted one, else the material's: none of a material ``unknown``)."""
     if distance <= 0:
         return
     acc = config.accuracy
@@ -359,6 +366,8 @@ def _wear(
     for specimen, material in (("pin", config.pin), ("disc", config.disc)):
         before, after = m.get(f"{specimen}_mass_before"), m.get(f"{specimen}_mass_after")
         if before is None or after is None:
+            continue
+        if specimen in unknown and f"{specimen}_density" not in m:
             continue
         density = m.get(f"{specimen}_density", material.density)
         loss = from_resolution(before * _KG_PER_G, acc.balance_resolution) - from_resolution(

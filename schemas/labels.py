@@ -611,6 +611,12 @@ TRIBOMETER: dict[str, Label] = {
         N_("worn volume of the ball or pin, from its scar"),
         N_("specific wear rate of the ball or pin, from its scar"),
     ),
+    "disc_mass_below": Label(
+        N_("mass change of the disc: below the balance's resolution"), "|Δm| <", unit="mg"
+    ),
+    "pin_mass_below": Label(
+        N_("mass change of the ball or pin: below the balance's resolution"), "|Δm| <", unit="mg"
+    ),
     "pin_mass.mass_loss": Label(N_("mass loss of the ball or pin"), "Δm", unit="mg"),
     "pin_mass.density": Label(N_("density of the ball or pin"), "ρ", unit="kg/m^3"),
     **_wear_labels(

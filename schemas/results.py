@@ -498,6 +498,16 @@ class TribometerResults(BaseModel):
     disc_mass: MassWear | None = None
     pin_scar: ScarWear | None = None
     pin_mass: MassWear | None = None
+    disc_mass_below: float | None = quantity(
+        None,
+        "kg",
+        "the balance's resolution, when the disc's mass changed by no more: no wear by mass",
+    )
+    pin_mass_below: float | None = quantity(
+        None,
+        "kg",
+        "the balance's resolution, when the pin's mass changed by no more: no wear by mass",
+    )
     friction: Series = Field(description="μ against the sliding distance, block means")
     steps: list[TribometerStep] = Field(
         default_factory=list, description="the recipe's steps in order (a record with `step`)"

@@ -367,6 +367,10 @@ def _wear(
         before, after = m.get(f"{specimen}_mass_before"), m.get(f"{specimen}_mass_after")
         if before is None or after is None:
             continue
+        if abs(before - after) * _KG_PER_G <= acc.balance_resolution * (1.0 + 1e-9):
+            # within the balance's resolution: no mass change measured, no k from it
+            setattr(result, f"{specimen}_mass_below", acc.balance_resolution)
+            continue
         if specimen in unknown and f"{specimen}_density" not in m:
             continue
         density = m.get(f"{specimen}_density", material.density)

@@ -610,6 +610,10 @@ MESSAGES: dict[str, str] = {
         "least the record's last fifth stays within ±5 % of its mean, so no running-in "
         "distance and no steady μ are given; over the whole record μ̄ = {mean}."
     ),
+    "t.c_below": N_(
+        "{what}: below the balance's resolution (< {resolution} mg): the mass changed by no "
+        "more than one step of the balance, so no k is given from it."
+    ),
     "t.c_gain": N_(
         "{what}: k = {k} mm³/(N·m), below zero: the specimen gained, material was "
         "transferred onto it; its wear is not measured this way."

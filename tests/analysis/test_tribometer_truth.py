@@ -95,11 +95,15 @@ def test_without_noise_the_truth_comes_back(
     assert v.disc_track.track_area == pytest.approx(t.track_area * trapezoid, rel=1e-9)
     assert v.disc_track.volume == pytest.approx(t.disc_volume * trapezoid, rel=1e-9)
     assert v.disc_track.specific_wear_rate == pytest.approx(t.disc_rate * trapezoid, rel=1e-9)
-    for found, loss, rate in (
-        (v.pin_mass, t.ball_mass_loss, t.ball_rate),
-        (v.disc_mass, t.disc_mass_loss, t.disc_rate),
+    resolution = s.configuration.accuracy.balance_resolution
+    for found, below, loss, rate in (
+        (v.pin_mass, v.pin_mass_below, t.ball_mass_loss, t.ball_rate),
+        (v.disc_mass, v.disc_mass_below, t.disc_mass_loss, t.disc_rate),
     ):
-        assert found is not None
+        if loss <= resolution:  # the balance cannot tell it (issue 37): no k by mass
+            assert found is None and below == resolution
+            continue
+        assert found is not None and below is None
         assert found.mass_loss == pytest.approx(loss, rel=1e-6)  # grams less grams, in kg
         assert found.specific_wear_rate == pytest.approx(rate, rel=1e-6)
     if isinstance(v, PinOnDiscResults):

@@ -15,7 +15,8 @@ from rigserver.reports.labs import iso_profile
 from rigserver.reports.plots import axes, decorate, to_svg
 from schemas.labels import RESULTS, TABLES, WEAR_SUBSCRIPTS, RowTable, row_labels
 from schemas.results import PinOnDiscResults, ReciprocatingResults, TribometerStep, WearEstimate
-from schemas.stands import MEASUREMENTS
+from schemas.stands import CONFIG_MODELS, MEASUREMENTS, TribometerConfig
+from schemas.units import UNITS
 
 Results = PinOnDiscResults | ReciprocatingResults
 
@@ -31,8 +32,16 @@ WEAR = (
 def build(ctx: Context, v: Results) -> LabReport:
     t = ctx.t
     labels = RESULTS[ctx.run.stand]
+    config = CONFIG_MODELS[ctx.run.stand].model_validate(ctx.run.configuration)
+    assert isinstance(config, TribometerConfig)
+    balance = config.accuracy.balance_resolution
+    masses = {
+        f"{specimen}_mass_{when}": balance / UNITS["g"].factor
+        for specimen in ("pin", "disc")
+        for when in ("before", "after")
+    }
     measured: list[Block] = [
-        blocks.measurements(t, ctx.group(MEASUREMENTS), ctx.readings.measurements())
+        blocks.measurements(t, ctx.group(MEASUREMENTS), ctx.readings.measurements(), masses)
     ]
     if v.rows:
         fields = [
@@ -269,6 +278,10 @@ def _conclusions(t: Messages, v: Results) -> list[Text]:
             )
         )
     for name, key in WEAR:
+        below: float | None = getattr(v, f"{name}_below", None)
+        if below is not None:
+            milligrams = below / UNITS["mg"].factor
+            found.append(html_symbol(t("t.c_below", what=t(key), resolution=fmt(milligrams))))
         estimate: WearEstimate | None = getattr(v, name)
         if estimate is not None:
             rate = estimate.specific_wear_rate / 1e-9  # mm³/(N·m)

@@ -610,6 +610,23 @@ MESSAGES: dict[str, str] = {
         "least the record's last fifth stays within ±5 % of its mean, so no running-in "
         "distance and no steady μ are given; over the whole record μ̄ = {mean}."
     ),
+    "t.c_trust_mass": N_(
+        "The {specimen}'s k by its mass loss ({k_mass} mm³/(N·m)) and by its {shape} "
+        "({k_shape} mm³/(N·m)) differ {ratio}-fold, beyond their uncertainties: trust the "
+        "mass loss, whose relative uncertainty is the smaller ({relative} %); the {shape} "
+        "gives a volume only as far as the worn shape is the one assumed."
+    ),
+    "t.c_trust_shape": N_(
+        "The {specimen}'s k by its mass loss ({k_mass} mm³/(N·m)) and by its {shape} "
+        "({k_shape} mm³/(N·m)) differ {ratio}-fold, beyond their uncertainties: trust the "
+        "{shape}, whose relative uncertainty is the smaller ({relative} %); a weighing also "
+        "counts material transferred, oxide and moisture, and a loss near the balance's "
+        "resolution."
+    ),
+    "t.specimen_disc": N_("disc"),
+    "t.specimen_pin": N_("ball or pin"),
+    "t.by.disc_track": N_("profiles across the track"),
+    "t.by.pin_scar": N_("scar"),
     "t.c_below": N_(
         "{what}: below the balance's resolution (< {resolution} mg): the mass changed by no "
         "more than one step of the balance, so no k is given from it."

@@ -4,6 +4,7 @@ balance's resolution."""
 
 from __future__ import annotations
 
+import math
 from dataclasses import replace
 from html import unescape
 
@@ -60,3 +61,45 @@ def test_the_masses_are_printed_to_the_balances_resolution() -> None:
     mass = done.readings.measurements()["pin_mass_before"]
     html = unescape(report_html(done, "en"))
     assert f">{mass:.5f}<" in html  # 0.01 mg = 1e-5 g: five decimals of the gram
+
+
+def _disc_weighed(factor: float) -> Simulated:
+    """The default ball-on-disc test (400 laps) whose disc lost ``factor`` times the mass
+    of the volume its track shows."""
+    kind = StandKind.PIN_ON_DISC
+    s = replace(settings_for(kind, noise=False), laps=400, running_in_laps=80)
+    sim = SIMULATORS[kind].simulate(s, 3)
+    before = next(b for b in sim.batches if "disc_mass_before" in b.columns)
+    mass = float(before.columns["disc_mass_before"][0])
+    loss = sim.truth.disc_mass_loss / 1e-3  # g
+
+    def weighed(b: Batch) -> Batch:
+        if b.group != MEASUREMENTS or "disc_mass_after" not in b.columns:
+            return b
+        after = np.array([mass - factor * loss])
+        return Batch(b.group, {**b.columns, "disc_mass_after": after}, b.at)
+
+    return analysed(kind, replace(sim, batches=tuple(weighed(b) for b in sim.batches)))
+
+
+def test_k_by_mass_and_by_track_that_disagree_are_weighed() -> None:
+    # the disc weighed 10 times the track's volume (material lost off the track's edges, a
+    # chipped disc): the two k differ beyond U = 2√(u₁² + u₂²), and the report trusts the
+    # one of the smaller relative uncertainty
+    done = _disc_weighed(10.0)
+    v = done.result.values
+    assert isinstance(v, PinOnDiscResults) and v.disc_mass and v.disc_track
+    mass, track = v.disc_mass, v.disc_track
+    assert mass.specific_wear_rate_uncertainty and track.specific_wear_rate_uncertainty
+    gap = abs(mass.specific_wear_rate - track.specific_wear_rate)
+    assert gap > 2 * math.hypot(
+        mass.specific_wear_rate_uncertainty, track.specific_wear_rate_uncertainty
+    )
+    html = unescape(report_html(done, "en"))
+    relative_mass = mass.specific_wear_rate_uncertainty / mass.specific_wear_rate
+    relative_track = track.specific_wear_rate_uncertainty / track.specific_wear_rate
+    trusted = "trust the mass loss" if relative_mass < relative_track else "trust the profiles"
+    assert "The disc's k by its mass loss" in html and trusted in html
+    assert "differ 10-fold" in html
+    # weighed as the track shows: no word
+    assert "The disc's k by its mass loss" not in unescape(report_html(_disc_weighed(1.0), "en"))

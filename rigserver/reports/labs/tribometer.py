@@ -4,6 +4,8 @@ volumes and specific wear rates, the Hertz contact."""
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from rigserver.reports import blocks
@@ -288,4 +290,34 @@ def _conclusions(t: Messages, v: Results) -> list[Text]:
             # below zero the specimen gained mass (or volume): said, never a bare negative wear
             said = "t.c_gain" if rate < 0 else "t.c_wear"
             found.append(html_symbol(t(said, what=t(key), k=fmt(rate))))
+    for by_mass, by_shape in (("disc_mass", "disc_track"), ("pin_mass", "pin_scar")):
+        verdict = _disagreement(t, getattr(v, by_mass), getattr(v, by_shape), by_shape)
+        if verdict is not None:
+            found.append(html_symbol(verdict))
     return found
+
+
+def _disagreement(
+    t: Messages, mass: WearEstimate | None, shape: WearEstimate | None, name: str
+) -> str | None:
+    """Which k to trust when the one by mass and the one by the specimen's shape (the scar,
+    the track's profiles) differ beyond U = 2·√(u₁² + u₂²) (GUM, k = 2): the one of the
+    smaller relative uncertainty, with why the other may be off."""
+    if mass is None or shape is None:
+        return None
+    u_mass, u_shape = mass.specific_wear_rate_uncertainty, shape.specific_wear_rate_uncertainty
+    k_mass, k_shape = mass.specific_wear_rate, shape.specific_wear_rate
+    if u_mass is None or u_shape is None or k_mass <= 0 or k_shape <= 0:
+        return None
+    if abs(k_mass - k_shape) <= 2.0 * math.hypot(u_mass, u_shape):
+        return None
+    trust_mass = u_mass / k_mass < u_shape / k_shape
+    return t(
+        "t.c_trust_mass" if trust_mass else "t.c_trust_shape",
+        specimen=t("t.specimen_disc" if name == "disc_track" else "t.specimen_pin"),
+        shape=t(f"t.by.{name}"),
+        k_mass=fmt(k_mass / 1e-9),
+        k_shape=fmt(k_shape / 1e-9),
+        ratio=fmt(max(k_mass, k_shape) / min(k_mass, k_shape), 2),
+        relative=fmt(100.0 * min(u_mass / k_mass, u_shape / k_shape), 2),
+    )

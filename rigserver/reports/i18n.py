@@ -610,6 +610,38 @@ MESSAGES: dict[str, str] = {
         "least the record's last fifth stays within ±5 % of its mean, so no running-in "
         "distance and no steady μ are given; over the whole record μ̄ = {mean}."
     ),
+    "c.caption_g99": N_("Test conditions, planned and measured (ASTM G99-17, clause 10)"),
+    "c.caption_g133": N_("Test conditions, planned and measured (ASTM G133-05, clause 10)"),
+    "c.planned": N_("Planned"),
+    "c.measured": N_("Measured"),
+    "c.not_recorded": N_("not recorded"),
+    "c.load": N_("normal load"),
+    "c.speed": N_("sliding speed"),
+    "c.rpm": N_("rotational speed of the disc"),
+    "c.frequency": N_("frequency of the cycles"),
+    "c.stroke": N_("stroke length"),
+    "c.distance": N_("sliding distance"),
+    "c.laps": N_("laps"),
+    "c.cycles": N_("cycles"),
+    "c.temperature": N_("temperature"),
+    "c.humidity": N_("relative humidity"),
+    "c.off_distance": N_(
+        "The sliding distance run, {measured} m, departs from the planned {planned} m."
+    ),
+    "c.off_load": N_("The mean normal load, {measured} N, departs from the planned {planned} N."),
+    "c.dev_load": N_("load {given} N instead of {standard} N"),
+    "c.dev_stroke": N_("stroke {given} mm instead of {standard} mm"),
+    "c.dev_frequency": N_("frequency {given} Hz instead of {standard} Hz"),
+    "c.dev_distance": N_("distance {given} m instead of {standard} m"),
+    "c.g133_apart": N_(
+        "The test on the flat departs from ASTM G133 procedure {procedure}: {what}."
+    ),
+    "c.g133_as": N_(
+        "The test on the flat follows the parameters of ASTM G133 procedure {procedure}."
+    ),
+    "t.flat_track": N_("Wear of the flat from profiles across its track"),
+    "t.flat_mass": N_("Wear of the flat from its mass loss"),
+    "t.cycles": N_("cycles run"),
     "t.c_trust_mass": N_(
         "The {specimen}'s k by its mass loss ({k_mass} mm³/(N·m)) and by its {shape} "
         "({k_shape} mm³/(N·m)) differ {ratio}-fold, beyond their uncertainties: trust the "

@@ -14,13 +14,17 @@ from rigserver.reports.document import Block, Figure, Section, Text
 from rigserver.reports.formatting import fmt, html_symbol
 from rigserver.reports.i18n import Messages
 from rigserver.reports.labs import iso_profile
+from rigserver.reports.labs.tribometer_conditions import conditions_table, deviations
 from rigserver.reports.plots import axes, decorate, to_svg
 from schemas.labels import RESULTS, TABLES, WEAR_SUBSCRIPTS, RowTable, row_labels
 from schemas.results import PinOnDiscResults, ReciprocatingResults, TribometerStep, WearEstimate
-from schemas.stands import CONFIG_MODELS, MEASUREMENTS, TribometerConfig
+from schemas.stands import CONFIG_MODELS, MEASUREMENTS, PinOnDiscConfig, ReciprocatingConfig
 from schemas.units import UNITS
 
 Results = PinOnDiscResults | ReciprocatingResults
+
+#: The flat's captions on a reciprocating tribometer (ASTM G133 says "flat", not "disc").
+FLAT = {"disc_track": "t.flat_track", "disc_mass": "t.flat_mass"}
 
 #: The wear estimates in the report's order: (field, message key of its caption).
 WEAR = (
@@ -35,7 +39,7 @@ def build(ctx: Context, v: Results) -> LabReport:
     t = ctx.t
     labels = RESULTS[ctx.run.stand]
     config = CONFIG_MODELS[ctx.run.stand].model_validate(ctx.run.configuration)
-    assert isinstance(config, TribometerConfig)
+    assert isinstance(config, PinOnDiscConfig | ReciprocatingConfig)
     balance = config.accuracy.balance_resolution
     masses = {
         f"{specimen}_mass_{when}": balance / UNITS["g"].factor
@@ -46,11 +50,13 @@ def build(ctx: Context, v: Results) -> LabReport:
         blocks.measurements(t, ctx.group(MEASUREMENTS), ctx.readings.measurements(), masses)
     ]
     if v.rows:
+        measured.append(conditions_table(t, ctx.run, config, v))
+        flat = isinstance(v, ReciprocatingResults)
         fields = [
             ("rows", "", "w.rows"),
             ("duration", "t", "w.duration"),
             ("sliding_distance", "L", "t.distance"),
-            ("laps", "n_L", "t.laps"),
+            ("laps", "n_c" if flat else "n_L", "t.cycles" if flat else "t.laps"),
             ("mean_load", "F", "t.load"),
             ("friction_mean", "μ̄", "t.mean"),
             ("friction_static", "μ_s", "t.static"),
@@ -104,7 +110,7 @@ def build(ctx: Context, v: Results) -> LabReport:
             )
         )
     spread = blocks.uncertainties(t, v, [("friction_steady", "μ", "t.steady")], labels=labels)
-    for name, key in WEAR:
+    for name, key in _wear(v):
         estimate: WearEstimate | None = getattr(v, name)
         if estimate is None:
             continue
@@ -130,8 +136,16 @@ def build(ctx: Context, v: Results) -> LabReport:
             Section(t("sec.measured"), measured),
             Section(t("sec.processed"), processed),
         ],
-        conclusions=_conclusions(t, v),
+        conclusions=_conclusions(t, v)
+        + ([html_symbol(line) for line in deviations(t, config, v)] if v.rows else []),
     )
+
+
+def _wear(v: Results) -> list[tuple[str, str]]:
+    """The wear estimates and their captions, the flat's on a reciprocating tribometer."""
+    if isinstance(v, ReciprocatingResults):
+        return [(name, FLAT.get(name, key)) for name, key in WEAR]
+    return list(WEAR)
 
 
 def _table(ctx: Context, name: str) -> RowTable:
@@ -279,7 +293,7 @@ def _conclusions(t: Messages, v: Results) -> list[Text]:
                 )
             )
         )
-    for name, key in WEAR:
+    for name, key in _wear(v):
         below: float | None = getattr(v, f"{name}_below", None)
         if below is not None:
             milligrams = below / UNITS["mg"].factor

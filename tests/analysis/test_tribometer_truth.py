@@ -68,14 +68,16 @@ def test_without_noise_the_truth_comes_back(
     mu = t.friction_steady
     # the first block starting after the true entry into the band has every lap mean within
     # (1 + δ)·μ_ss of a tail mean ≥ μ_ss, so the search stops there at the latest; it may
-    # stop earlier, by as much as the tail mean's own excess widens the band: the excess at
-    # the found start stays within δ·μ_ss + (1 + δ)·(the tail's mean excess)
+    # stop earlier, by as much as the tail mean's own excess and the noise allowance z·σ̂
+    # widen the band: the excess at the found start stays within δ·μ_ss + (1 + δ)·(the
+    # tail's mean excess) + z·σ̂
     start = v.running_in_distance
     assert start <= t.running_in_distance + block + 1e-9
     rows = np.arange(round(start / lap * s.samples_per_lap), v.rows) / s.samples_per_lap * lap
     excess = (static - mu) * running_in_shape(rows, t.transient_distance)
     first = excess[: round(block / lap * s.samples_per_lap)].mean()
-    assert first <= STEADY_BAND * mu + (1.0 + STEADY_BAND) * excess.mean() + 1e-12
+    allowed = STEADY_BAND * mu + (1.0 + STEADY_BAND) * excess.mean() + _allowance(v, s, t)
+    assert first <= allowed + 1e-12
     assert v.running_in_laps == pytest.approx(start / lap, rel=1e-12)
     # the steady mean: the true record's over the steady part (the lap part averages out)
     assert v.friction_steady == pytest.approx(mu + excess.mean(), rel=1e-12)
@@ -125,6 +127,29 @@ def test_without_noise_the_truth_comes_back(
         assert v.friction_forward == pytest.approx(true_mu[ahead].mean(), rel=1e-12)
         assert v.friction_backward == pytest.approx(true_mu[~ahead].mean(), rel=1e-12)
         assert [loop.cycle for loop in v.loops] == [0, 499, 999 - 1]
+
+
+def _allowance(v: Any, s: Any, t: Any) -> float:
+    """z·σ̂ of the running-in's band for the true record: its block means (whole laps, a last
+    block of a few rows joined to the one before, as module running_in groups them), σ̂ =
+    MAD(Δ²y)/(0.6745·√6), z = Φ⁻¹(1 - 0.01/(2n)) over the n blocks; σ̂ is not 0 when the
+    transient fills most of the record (its curvature then sets the median)."""
+    from scipy.stats import norm
+
+    k = np.arange(v.rows)
+    lap_of = k // s.samples_per_lap
+    per = blocks_of(int(lap_of[-1]) + 1)
+    block = lap_of // per
+    if np.count_nonzero(block == block[-1]) < 0.5 * per * s.samples_per_lap:
+        block[block == block[-1]] -= 1
+    base = t.friction_steady + (t.friction_static - t.friction_steady) * running_in_shape(
+        k / s.samples_per_lap * s.lap_length, t.transient_distance
+    )
+    y = np.bincount(block, weights=base) / np.bincount(block)
+    second = np.diff(y, 2)
+    sigma = float(np.median(np.abs(second - np.median(second)))) / (0.6744897501960817 * 6**0.5)
+    sigma = max(sigma, 1e-9 * float(np.abs(y).mean()))
+    return float(norm.isf(NOISE_ALPHA / (2.0 * y.size))) * sigma
 
 
 def test_the_block_of_the_search_is_as_stated() -> None:

@@ -49,7 +49,7 @@ def conditions_table(t: Messages, run: Run, config: Config, v: Results) -> Table
     plan = config.plan
     speed = v.sliding_distance / v.duration if v.duration > 0 else None
     rows: list[tuple[str, str, str | None, float | None, float | None, str]] = [
-        ("c.load", "F", "plan.load", plan.load, v.mean_load, "N"),
+        ("t.load", "F", "plan.load", plan.load, v.mean_load, "N"),
     ]
     if isinstance(config, PinOnDiscConfig):
         per_minute = 60.0 / (2.0 * math.pi * config.track_radius)
@@ -58,7 +58,7 @@ def conditions_table(t: Messages, run: Run, config: Config, v: Results) -> Table
             ("c.rpm", "n", "plan.speed", plan.speed * per_minute, _times(speed, per_minute), "rpm"),
             ("c.distance", "L", "plan.distance", plan.distance, v.sliding_distance, "m"),
             (
-                "c.laps",
+                "t.laps",
                 "n_L",
                 "plan.distance",
                 plan.distance / (2 * math.pi * config.track_radius),
@@ -73,7 +73,7 @@ def conditions_table(t: Messages, run: Run, config: Config, v: Results) -> Table
             ("c.stroke", "S", "stroke_length", config.stroke_length * 1e3, None, "mm"),
             ("c.distance", "L", "plan.distance", plan.distance, v.sliding_distance, "m"),
             (
-                "c.cycles",
+                "t.cycles",
                 "n_c",
                 "plan.distance",
                 plan.distance / (2 * config.stroke_length),

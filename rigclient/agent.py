@@ -106,6 +106,7 @@ def run_metadata(path: Path, stand: str, mapping: StandMap | None, **given: Any)
     if isinstance(meta.get("configuration"), dict):
         where = mapping.source if mapping is not None else ""
         meta["configuration"] = configuration(stand, meta["configuration"], where=where)
+        meta["given_by"] = "file"  # the map's, for the file: not the operator's at the stand
     return meta
 
 

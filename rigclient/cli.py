@@ -52,7 +52,7 @@ from rigclient.mapping import StandMap, load_map
 from rigclient.profile import GROUP, read_profile, roughness_lines
 from rigclient.salvage import salvage
 from rigclient.spool import RunRecord, Spool, SpoolLimits, amount
-from rigclient.summary import results_tables
+from rigclient.summary import result_notes, results_tables
 from schemas.runs import RunState
 from schemas.stands import StandKind
 
@@ -374,6 +374,8 @@ def _print_results(args: argparse.Namespace, record: RunRecord | None, run_id: s
             _say(f"run {run_id}: its results could not be read: {exc}")
             return
     console.print(results_tables(results)[0])
+    for line in result_notes(results):
+        console.print(line, markup=False, highlight=False)
 
 
 def _import(client: Client, agent: Agent, drain: float, stop: threading.Event) -> Outcome | None:

@@ -26,7 +26,7 @@ import time
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, TypeVar
+from typing import Any, Literal, TypeVar
 
 import httpx
 import numpy as np
@@ -303,13 +303,15 @@ class Client:
         test_plan: Mapping[str, Scalar | list[float]] | None = None,
         configuration: Mapping[str, Any] | None = None,
         notes: str = "",
+        given_by: Literal["operator", "file"] = "operator",
         constants: Mapping[str, Mapping[str, ArrayLike]] | None = None,
         cursor: Cursor | None = None,
         idempotency_key: str | None = None,
     ) -> RunHandle:
         """Spool the opening of a run (and its ``constants``: group -> columns, e.g. the
         masses and zero readings; the file ``cursor`` it follows; the ``idempotency_key``
-        that opens it, else a fresh one); its handle."""
+        that opens it, else a fresh one); its handle. ``given_by``: who gave the
+        ``configuration``, the operator or the file and its map."""
         try:
             body = RunCreate(
                 stand=stand,
@@ -319,6 +321,7 @@ class Client:
                 test_plan=dict(test_plan or {}),
                 configuration=dict(configuration or {}),
                 notes=notes,
+                given_by=given_by,
             )
         except ValidationError as exc:
             first = exc.errors()[0]

@@ -35,6 +35,12 @@ the run's metadata. Written by the lab in TOML or JSON::
     header = 12                # the header's line number; the lines before it: the preamble
     continue_time = true       # a time that restarts (each step, block, file) goes on
 
+    [profile]                  # a profilometer's export: the profile it holds
+    kind = "roughness"         # "primary" (filtered by rig) or "roughness" (the instrument's)
+    lambda_c = { value = 0.8, unit = "mm" }         # the instrument's λc, λs as it states
+    lambda_s = { value = 2.5, unit = "um" }
+    sections = 5               # sampling lengths of the evaluation length
+
 A column's value is the file's value × ``factor`` + ``offset`` (1 and 0 unless given), in
 its ``unit``: the map's, else the header's or the units line's, else the channel's; then
 converted to the channel's unit (:mod:`rigclient.units`). A header cell is found in
@@ -190,6 +196,15 @@ class RunModel(_Strict):
     notes: Annotated[str, StringConstraints(max_length=5000)] | None = None
 
 
+class ProfileModel(_Strict):
+    """The ``[profile]`` table: the profile a profilometer's export holds."""
+
+    kind: Literal["primary", "roughness"] = "primary"
+    lambda_c: _Finite | dict[_Name, _Finite | _Name] | None = None
+    lambda_s: _Finite | dict[_Name, _Finite | _Name] | None = None
+    sections: Annotated[int, Field(ge=1, le=1000)] | None = None
+
+
 class MapModel(_Strict):
     """A map (see the module's docstring)."""
 
@@ -202,6 +217,7 @@ class MapModel(_Strict):
     )
     constants: dict[str, Annotated[ConstantModel, _table_of("value")]] = Field(default_factory=dict)
     file: FileModel = Field(default_factory=FileModel)
+    profile: ProfileModel | None = None
 
 
 #: What a table of the map takes, for the message about a key it does not.
@@ -209,6 +225,7 @@ _TAKES: dict[str, type[BaseModel]] = {
     "": MapModel,
     "run": RunModel,
     "file": FileModel,
+    "profile": ProfileModel,
     "columns": ColumnModel,
     "measurements": ConstantModel,
     "constants": ConstantModel,
@@ -248,6 +265,15 @@ def _mistake(error: Any) -> str:
     return text
 
 
+#: The ``[profile]`` table's keys -> the profilometer's configuration fields.
+PROFILE_FIELDS = {
+    "kind": "profile_kind",
+    "lambda_c": "lambda_c",
+    "lambda_s": "lambda_s",
+    "sections": "sections",
+}
+
+
 def load_map(path: str | Path) -> StandMap:
     """Read a map from TOML (``.toml``) or JSON; :class:`InputError` names what is wrong
     (the key, on one line)."""
@@ -275,6 +301,8 @@ def load_map(path: str | Path) -> StandMap:
         more = f" (and {len(errors) - 1} more)" if len(errors) > 1 else ""
         raise InputError(_mistake(errors[0]) + more, file=where) from None
     run = {k: getattr(model.run, k) for k in model.run.model_fields_set}
+    if model.profile is not None:
+        run["configuration"] = _profile(model.profile, dict(run.get("configuration", {})), where)
     return StandMap(
         stand=model.stand,
         group=model.group,
@@ -297,6 +325,21 @@ def _file(value: FileModel, where: str) -> FileSettings:
     except InputError as exc:
         raise InputError(f"file: {exc}", file=where) from None
     return FileSettings(encoding, value.delimiter, value.decimal, value.header, value.continue_time)
+
+
+def _profile(given: ProfileModel, into: dict[str, Any], where: str) -> dict[str, Any]:
+    """``[profile]`` as the profilometer's configuration fields (:data:`PROFILE_FIELDS`),
+    added to ``[run.configuration]``, which must not set them too."""
+    for key in sorted(given.model_fields_set, key=list(PROFILE_FIELDS).index):
+        name = PROFILE_FIELDS[key]
+        if name in into:
+            raise InputError(
+                f"[profile] {key} and [run.configuration] {name} both set it: keep one",
+                file=where,
+                column=name,
+            )
+        into[name] = getattr(given, key)
+    return into
 
 
 def configuration(kind: str, given: dict[str, Any], *, where: str = "") -> dict[str, Any]:

@@ -72,6 +72,14 @@ def results_tables(results: Mapping[str, Any], width: int = 100) -> list[Table]:
     return tables
 
 
+def result_notes(results: Mapping[str, Any]) -> list[str]:
+    """The analysis' notes of a run's results, each a line: what a result rests on (a
+    distance from the planned speed, a default of the stand's) and what departs from the
+    method."""
+    notes = results.get("values", {}).get("notes", [])
+    return [f"note: {note}" for note in notes if isinstance(note, str)]
+
+
 def _parts(widths: list[int], width: int) -> list[list[int]]:
     """The columns (by index) of each part of a table whose columns need ``widths``
     characters: as many as fit in ``width`` (3 characters of rule and padding each), the

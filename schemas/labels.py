@@ -93,12 +93,17 @@ ISO_LAMBDA_C_SOURCE = {
     "ra": N_("by Ra, table of ISO 21920-3"),
     "rz": N_("by Rz, table of ISO 21920-3"),
     "rsm": N_("by RSm, table of ISO 21920-3"),
+    "instrument": N_("the instrument's, as its file states"),
 }
 
 #: How the filter's end effects were handled, in words (the values of ``ends``).
 ISO_ENDS = {
     "discarded": N_("λc/2 discarded at each end"),
     "corrected": N_("kept, corrected by renormalised weights (ISO 16610-28)"),
+    "instrument": N_(
+        "none: the instrument's roughness profile, not filtered again, evaluated whole, the "
+        "parameters averaged over its sampling lengths (ISO 4287, ISO 4288)"
+    ),
 }
 
 #: The ISO analysis' remarks (rigserver.core.iso_roughness.REMARKS) as notes of the results.
@@ -556,7 +561,7 @@ TRIBOMETER: dict[str, Label] = {
     "mean_load": Label(N_("mean normal load"), "F", unit="N"),
     "friction_mean": Label(N_("friction coefficient, whole record"), "μ̄"),
     "friction_static": Label(N_("static (peak) friction coefficient at the start"), "μ_s"),
-    "running_in_distance": Label(N_("running-in distance (change points, PELT)"), "L_r", unit="m"),
+    "running_in_distance": Label(N_("running-in distance (settled within ±5 %)"), "L_r", unit="m"),
     "running_in_laps": Label(N_("laps (cycles) of the running-in"), "n_r", digits=6),
     "change_points": Label(N_("changes in the mean found"), "", digits=3),
     "friction_steady": Label(N_("friction coefficient, steady part"), "μ"),
@@ -568,6 +573,14 @@ TRIBOMETER: dict[str, Label] = {
         N_("expanded uncertainty of the friction coefficient (k = 2)"), "U(μ)", "GUM"
     ),
     "temperature_mean": Label(N_("mean temperature"), "T", unit="degC", digits=3),
+    "steps[].step": Label(N_("step"), "i", digits=6),
+    "steps[].sliding_speed": Label(N_("sliding speed"), "v", unit="m/s"),
+    "steps[].track_radius": Label(N_("track radius"), "R", unit="mm"),
+    "steps[].normal_load": Label(N_("normal load"), "F", unit="N"),
+    "steps[].duration": Label(N_("duration"), "t", unit="s"),
+    "steps[].distance": Label(N_("sliding distance"), "L", unit="m"),
+    "steps[].friction_mean": Label(N_("friction coefficient, whole step"), "μ̄"),
+    "steps[].friction_steady": Label(N_("friction coefficient, steady part"), "μ"),
     "wear_depth_change": Label(N_("wear depth by the displacement sensor"), "h", unit="um"),
     "hertz.modulus": Label(N_("contact modulus"), "E*", "", "GPa", part=_THEORY),
     "hertz.contact_radius": Label(N_("radius of the contact circle"), "a", "", "um", part=_THEORY),
@@ -604,6 +617,12 @@ TRIBOMETER: dict[str, Label] = {
         "pin_scar",
         N_("worn volume of the ball or pin, from its scar"),
         N_("specific wear rate of the ball or pin, from its scar"),
+    ),
+    "disc_mass_below": Label(
+        N_("mass change of the disc: below the balance's resolution"), "|Δm| <", unit="mg"
+    ),
+    "pin_mass_below": Label(
+        N_("mass change of the ball or pin: below the balance's resolution"), "|Δm| <", unit="mg"
     ),
     "pin_mass.mass_loss": Label(N_("mass loss of the ball or pin"), "Δm", unit="mg"),
     "pin_mass.density": Label(N_("density of the ball or pin"), "ρ", unit="kg/m^3"),
@@ -689,8 +708,11 @@ TABLES: dict[StandKind, tuple[RowTable, ...]] = {
             ("fit_manual.nu_partial", "fit_manual.b_partial"),
         ),
     ),
-    StandKind.PIN_ON_DISC: (),
+    StandKind.PIN_ON_DISC: (
+        RowTable("steps", N_("The recipe's steps"), _columns(PIN_ON_DISC, "steps[].")),
+    ),
     StandKind.RECIPROCATING: (
+        RowTable("steps", N_("The recipe's steps"), _columns(RECIPROCATING, "steps[].")),
         RowTable(
             "strokes",
             N_("Forward and backward strokes, by blocks of cycles"),
@@ -810,6 +832,8 @@ WORDS: tuple[str, ...] = (
     N_("none"),
     N_("profilograph-profilometer"),
     N_("profilograph"),
+    N_("primary"),
+    N_("roughness"),
     *ISO_LAMBDA_C_SOURCE.values(),
     *ISO_ENDS.values(),
 )

@@ -454,6 +454,23 @@ class FrictionLoop(BaseModel):
     friction: list[float] = quantity(..., "1", "μ, signed by the direction of sliding")
 
 
+class TribometerStep(BaseModel):
+    """One step of a test's recipe (a speed or load sweep), in the record's order."""
+
+    step: int = quantity(..., "1", "the step's number, as the record gives it")
+    sliding_speed: float | None = quantity(
+        None, "m/s", "v, mean sliding speed: recorded, or 2πRn/60 from the rotational speed"
+    )
+    track_radius: float | None = quantity(None, "m", "R, mean track radius of the step")
+    normal_load: float = quantity(..., "N", "F, mean normal load of the step")
+    duration: float = quantity(..., "s", "time from the step's first to its last reading")
+    distance: float = quantity(..., "m", "sliding distance of the step")
+    friction_mean: float = quantity(..., "1", "μ, mean over the step")
+    friction_steady: float | None = quantity(
+        None, "1", "μ, mean over the step's steady part; null when it did not settle"
+    )
+
+
 class TribometerResults(BaseModel):
     """What both tribometers report (ASTM G99, G133, ISO 20808)."""
 
@@ -464,11 +481,18 @@ class TribometerResults(BaseModel):
     mean_load: float = quantity(..., "N", "F, mean normal load")
     friction_mean: float = quantity(..., "1", "μ, mean over the whole record")
     friction_static: float = quantity(..., "1", "μ_s, the peak μ at the start (static)")
-    running_in_distance: float = quantity(..., "m", "sliding distance of the running-in")
-    running_in_laps: float = quantity(..., "1", "laps (cycles) of the running-in")
+    running_in_distance: float | None = quantity(
+        ...,
+        "m",
+        "sliding distance of the running-in: where μ's lap means settle within ±5 % of the "
+        "steady mean; null when the friction did not settle",
+    )
+    running_in_laps: float | None = quantity(..., "1", "laps (cycles) of the running-in")
     change_points: int = Field(description="changes in the mean found by PELT")
-    friction_steady: float = quantity(..., "1", "μ, mean over the steady part")
-    friction_steady_std: float = quantity(..., "1", "standard deviation of μ there")
+    friction_steady: float | None = quantity(
+        ..., "1", "μ, mean over the steady part; null when the friction did not settle"
+    )
+    friction_steady_std: float | None = quantity(..., "1", "standard deviation of μ there")
     friction_steady_uncertainty: float | None = quantity(
         None, "1", "u(μ): batch means of the steady part and the sensors' limits (GUM)"
     )
@@ -483,7 +507,20 @@ class TribometerResults(BaseModel):
     disc_mass: MassWear | None = None
     pin_scar: ScarWear | None = None
     pin_mass: MassWear | None = None
+    disc_mass_below: float | None = quantity(
+        None,
+        "kg",
+        "the balance's resolution, when the disc's mass changed by no more: no wear by mass",
+    )
+    pin_mass_below: float | None = quantity(
+        None,
+        "kg",
+        "the balance's resolution, when the pin's mass changed by no more: no wear by mass",
+    )
     friction: Series = Field(description="μ against the sliding distance, block means")
+    steps: list[TribometerStep] = Field(
+        default_factory=list, description="the recipe's steps in order (a record with `step`)"
+    )
     pending: list[str] = Field(default_factory=list)
     notes: list[str] = Field(default_factory=list)
 

@@ -4,9 +4,10 @@ from __future__ import annotations
 
 import re
 import secrets
+from collections.abc import Mapping
 from datetime import UTC, datetime
 from enum import StrEnum
-from typing import Annotated, Any
+from typing import Annotated, Any, Literal
 
 from pydantic import BaseModel, ConfigDict, Field, StringConstraints
 
@@ -22,6 +23,8 @@ PLAN_KEYS = 100
 
 RunId = Annotated[str, StringConstraints(pattern=RUN_ID_PATTERN, max_length=25)]
 ShortText = Annotated[Text, StringConstraints(max_length=200)]
+#: Who gave a configuration value: the file and its map, or the operator.
+Source = Literal["file", "operator"]
 
 
 def new_run_id(now: datetime | None = None) -> str:
@@ -78,6 +81,23 @@ class RunCreate(BaseModel):
         description="overrides of the stand's configuration for this run (checked by its schema)",
     )
     notes: Annotated[Text, StringConstraints(max_length=5000)] = ""
+    given_by: Source = Field(
+        default="operator",
+        description="who gave the configuration's overrides: the operator (a form, the API) "
+        "or the file and its map (rigclient import, tail, profile)",
+    )
+
+
+def given_paths(given: Mapping[str, Any], prefix: str = "") -> list[str]:
+    """The dotted paths of the values a configuration's overrides give
+    (``{"plan": {"speed": 0.2}}`` -> ``["plan.speed"]``)."""
+    paths: list[str] = []
+    for key, value in given.items():
+        if isinstance(value, Mapping):
+            paths += given_paths(value, f"{prefix}{key}.")
+        else:
+            paths.append(f"{prefix}{key}")
+    return paths
 
 
 class ImportedFrom(BaseModel):
@@ -127,6 +147,18 @@ class Run(BaseModel):
         description="true once a reading was corrected after the run finished (its results "
         "and reports were made again)",
     )
+    configuration_given: dict[Text, Source] | None = Field(
+        default=None,
+        description="where each configuration value given for this run came from, by its "
+        "dotted path (the file and its map, or the operator); a value not named here is the "
+        "stand's default; null for a run opened before this was recorded",
+    )
+
+    def from_default(self, path: str) -> bool:
+        """Whether the configuration's value at ``path`` (dotted) is the stand's default,
+        given by nobody for this run (False when that was not recorded)."""
+        given = self.configuration_given
+        return given is not None and path not in given
 
 
 class RunQuery(BaseModel):

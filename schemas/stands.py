@@ -228,6 +228,22 @@ class ProfilometerConfig(_Config):
     lambda_s: float = quantity(
         0.0, "m", "λs of the ISO short-wave filter (0: by the ISO 21920-3 table)", ge=0
     )
+    profile_kind: Literal["primary", "roughness"] = Field(
+        default="primary",
+        description=N_(
+            "the profile posted: primary (filtered here, ISO 16610-21) or roughness (the "
+            "instrument's own roughness profile, not filtered again; λc and λs are then the "
+            "instrument's, as stated)"
+        ),
+    )
+    sections: int = quantity(
+        0,
+        "1",
+        "sampling lengths of a roughness profile's evaluation length (0: its length over "
+        "λc, or five without λc)",
+        ge=0,
+        le=1000,
+    )
 
 
 # --- commercial tribometers: pin- or ball-on-disc (ASTM G99, ISO 20808), reciprocating
@@ -531,6 +547,21 @@ def _friction_group(*extra: Channel) -> ChannelGroup:
             _c("distance", "m", "s, sliding distance", Limit(low=0.0), Order.NON_DECREASING),
             _c("laps", "1", "laps (cycles) run", Limit(low=0.0), Order.NON_DECREASING),
             *extra,
+            _c(
+                "step",
+                "1",
+                "step of the test's recipe (a speed or load sweep)",
+                Limit(low=0, high=100000, integer=True),
+                Order.NON_DECREASING,
+            ),
+            _c(
+                "rotational_speed",
+                "rpm",
+                "n, rotational speed of the disc",
+                Limit(low=0.0, high=100000.0),
+            ),
+            _c("sliding_speed", "m/s", "v, sliding speed", Limit(low=0.0, high=100.0)),
+            _c("track_radius", "m", "R, radius of the track", Limit(low=0.0, high=1.0)),
             _c("temperature", "degC", "temperature of the contact", Limit(low=-100, high=1000)),
             _c(
                 "wear_depth",

@@ -30,7 +30,13 @@ def analyse(run: Run, readings: Readings) -> ProfilometerResults:
     x = trace["x"] * _M_PER_MM
     y = trace["y"] * _M_PER_UM
     result.iso = iso_result(
-        x, y, lambda_c=c.lambda_c or None, lambda_s=c.lambda_s or None, notes=result.notes
+        x,
+        y,
+        lambda_c=c.lambda_c or None,
+        lambda_s=c.lambda_s or None,
+        notes=result.notes,
+        roughness=c.profile_kind == "roughness",
+        sections=c.sections,
     )
     try:
         params = roughness.profile_parameters(x=x, y=y)

@@ -20,6 +20,7 @@ from rigserver.analysis.iso import iso_result
 from rigserver.analysis.readings import Readings
 from rigserver.analysis.references import Profiles
 from rigserver.analysis.running_in import blocks_of, running_in
+from rigserver.analysis.specimens import specimen_materials
 from rigserver.analysis.streaming import BlockSeries
 from rigserver.analysis.uncertainty import batch_mean, estimate, from_limit, from_resolution
 from rigserver.core import tribometer, wear
@@ -36,6 +37,7 @@ from schemas.results import (
     ScarWear,
     StrokeBlock,
     TrackWear,
+    TribometerStep,
 )
 from schemas.runs import Run
 from schemas.stands import PinOnDiscConfig, ReciprocatingConfig, StandKind, TribometerConfig
@@ -46,14 +48,30 @@ TRACK = "wear_track"
 _KG_PER_G = UNITS["g"].factor
 _M_PER_UM = UNITS["um"].factor
 _M_PER_MM = UNITS["mm"].factor
+_RAD_S_PER_RPM = UNITS["rpm"].factor
 #: Rows of the stroke table and points of a drawn friction loop, at most.
 STROKE_BLOCKS = 40
 LOOP_POINTS = 200
 
 NOTE_LOAD = N_("the record has no normal load: the test plan's load is taken")
 NOTE_DISTANCE_LAPS = N_("the record has no distance: it is the laps times the track's length")
+NOTE_DISTANCE_SPEED = N_(
+    "the record has neither distance nor laps: they are its sliding speed integrated over time"
+)
 NOTE_DISTANCE_TIME = N_("the record has neither distance nor laps: the planned speed times time")
+NOTE_SPEED_DEFAULT = N_(
+    "the sliding distance rests on the planned speed, which was not given for this run: it "
+    "is the stand's default; give plan.speed in the run's configuration"
+)
+NOTE_LOAD_DEFAULT = N_(
+    "the normal load rests on the test plan's load, which was not given for this run: it is "
+    "the stand's default; give plan.load in the run's configuration"
+)
 NOTE_LAPS = N_("the record has no laps: they are the distance over the track's length")
+NOTE_UNSETTLED = N_(
+    "the friction did not settle: no part of at least the record's last fifth stays within "
+    "±5 % of its mean, so neither a running-in distance nor a steady friction is given"
+)
 PENDING_RECORD = N_("no friction record yet")
 PENDING_TRACK = N_("the disc's wear needs profiles across the track (group wear_track)")
 PENDING_SCAR = N_("the pin's wear needs scar_diameter (a ball) or pin_height_loss (a flat pin)")
@@ -65,7 +83,9 @@ Results = PinOnDiscResults | ReciprocatingResults
 class _Record:
     """The friction record's columns the analysis uses, whole, in SI."""
 
-    def __init__(self, readings: Readings, config: TribometerConfig, lap_length: float) -> None:
+    def __init__(
+        self, readings: Readings, config: PinOnDiscConfig | ReciprocatingConfig, lap_length: float
+    ) -> None:
         parts: dict[str, list[NDArray[np.float64]]] = {}
         for chunk in readings.iter_chunks(GROUP):
             for name, values in chunk.items():
@@ -85,25 +105,50 @@ class _Record:
         with np.errstate(invalid="ignore", divide="ignore"):
             self.signed = np.where(np.isfinite(mu), mu, force / load)
         self.mu = np.abs(self.signed)
+        self.step = cols.get("step", nan)
+        radius = cols.get("track_radius", nan)
+        if isinstance(config, PinOnDiscConfig):
+            radius = np.where(np.isfinite(radius), radius, config.track_radius)
+        self.radius = radius
+        rpm = cols.get("rotational_speed", nan) * _RAD_S_PER_RPM
+        speed = cols.get("sliding_speed", nan)
+        self.speed = np.where(np.isfinite(speed), speed, rpm * radius)  # v = 2πRn/60
+        # a lap's length row by row: 2πR of the row's radius on the disc (a radial stage)
+        varies = np.isfinite(radius).all() and bool(np.ptp(radius) > 0)
+        lap_lengths = 2.0 * np.pi * radius if varies else lap_length
         distance, laps = cols.get("distance", nan), cols.get("laps", nan)
         have_distance, have_laps = np.isfinite(distance).all(), np.isfinite(laps).all()
         if not have_distance:
             if have_laps:
                 self.notes.append(NOTE_DISTANCE_LAPS)
-                distance = laps * lap_length
+                distance = _integral(laps, lap_lengths)
+            elif np.isfinite(self.speed).all():
+                self.notes.append(NOTE_DISTANCE_SPEED)
+                distance = _integral(self.time, self.speed)
             else:
                 self.notes.append(NOTE_DISTANCE_TIME)
                 distance = self.time * config.plan.speed
         if not have_laps:
             if have_distance:
                 self.notes.append(NOTE_LAPS)
-            laps = distance / lap_length
+            laps = _integral(distance, 1.0 / lap_lengths)
         self.distance, self.laps = distance, laps
         self.position = cols.get("position", nan) * _M_PER_MM
         temperature = cols.get("temperature", nan)
         self.temperature = temperature[np.isfinite(temperature)]
         depth = cols.get("wear_depth", nan)
         self.wear_depth = depth[np.isfinite(depth)] * _M_PER_UM
+
+
+def _integral(x: NDArray[np.float64], rate: NDArray[np.float64] | float) -> NDArray[np.float64]:
+    """∫ rate dx from the first row, rate taken at each step's end (exact for a rate constant
+    over each step, as the radius and speed of a recipe's step are); x itself times a
+    constant rate."""
+    if isinstance(rate, float):
+        return x * rate
+    steps = np.diff(x, prepend=x[0]) * rate
+    found: NDArray[np.float64] = x[0] * float(rate[0]) + np.cumsum(steps)
+    return found
 
 
 def analyse(run: Run, readings: Readings, profiles: Profiles | None = None) -> Results:
@@ -117,6 +162,8 @@ def analyse(run: Run, readings: Readings, profiles: Profiles | None = None) -> R
     else:
         config = ReciprocatingConfig.model_validate(run.configuration)
         lap_length = 2.0 * config.stroke_length
+    specimens = specimen_materials(run, config)
+    config = specimens.config
     model = PinOnDiscResults if pin_on_disc else ReciprocatingResults
     total = readings.rows(GROUP)
     if total == 0:
@@ -138,10 +185,14 @@ def analyse(run: Run, readings: Readings, profiles: Profiles | None = None) -> R
         empty.pending.append(PENDING_RECORD)
         return empty
     r = _Record(readings, config, lap_length)
-    steady, changes = _steady_start(r)
+    for note, path in ((NOTE_DISTANCE_TIME, "plan.speed"), (NOTE_LOAD, "plan.load")):
+        if note in r.notes and run.from_default(path):
+            r.notes.append(NOTE_SPEED_DEFAULT if path == "plan.speed" else NOTE_LOAD_DEFAULT)
+    steady, changes = _steady_start(r.laps, r.mu)
     series = BlockSeries(total)
     series.add(r.distance - r.distance[0], r.mu)
-    static_until = steady if steady > 0 else _first_lap_end(r)
+    static_until = _first_lap_end(r) if steady == 0 else (steady or total)
+    tail = r.mu[steady:] if steady is not None else None
     result = model(
         rows=total,
         duration=float(r.time[-1] - r.time[0]),
@@ -150,20 +201,24 @@ def analyse(run: Run, readings: Readings, profiles: Profiles | None = None) -> R
         mean_load=float(r.load.mean()),
         friction_mean=float(r.mu.mean()),
         friction_static=float(r.mu[:static_until].max()),
-        running_in_distance=float(r.distance[steady] - r.distance[0]),
-        running_in_laps=float(r.laps[steady] - r.laps[0]),
+        running_in_distance=None if steady is None else float(r.distance[steady] - r.distance[0]),
+        running_in_laps=None if steady is None else float(r.laps[steady] - r.laps[0]),
         change_points=changes,
-        friction_steady=float(r.mu[steady:].mean()),
-        friction_steady_std=float(r.mu[steady:].std()),
+        friction_steady=None if tail is None else float(tail.mean()),
+        friction_steady_std=None if tail is None else float(tail.std()),
         friction=series.series("sliding distance", "friction coefficient"),
         temperature_mean=float(r.temperature.mean()) if r.temperature.size else None,
         wear_depth_change=float(r.wear_depth[-1] - r.wear_depth[0]) if r.wear_depth.size else None,
     )
-    result.notes.extend(r.notes)
+    result.notes.extend(r.notes + specimens.notes)
+    result.pending.extend(specimens.pending)
+    result.steps = _steps(r)
+    if tail is None:
+        result.notes.append(NOTE_UNSETTLED)
     acc = config.accuracy
-    if total - steady >= 2:
+    if tail is not None and tail.size >= 2:
         u = estimate(
-            batch_mean(r.mu[steady:].tolist())
+            batch_mean(tail.tolist())
             * from_limit(1.0, acc.friction_force, "F_t")
             / from_limit(1.0, acc.load, "F_N")
         )
@@ -171,10 +226,11 @@ def analyse(run: Run, readings: Readings, profiles: Profiles | None = None) -> R
             u.standard,
             u.expanded,
         )
-    _contact(config, result)
+    if not specimens.unknown:
+        _contact(config, result)
     load = result.mean_load * from_limit(1.0, acc.load, "F_N")
     distance = result.sliding_distance
-    _wear(run, readings, config, result, load, distance)
+    _wear(run, readings, config, result, load, distance, specimens.unknown)
     if isinstance(result, PinOnDiscResults):
         _lap_views(r, steady, result)
     else:
@@ -182,10 +238,11 @@ def analyse(run: Run, readings: Readings, profiles: Profiles | None = None) -> R
     return result
 
 
-def _steady_start(r: _Record) -> tuple[int, int]:
-    """The first row of the steady part and the change points found (module running_in)."""
-    lap = np.floor(r.laps - np.floor(r.laps[0])).astype(np.int64)
-    laps, means, counts = tribometer.segment_means(lap, r.mu)
+def _steady_start(turns: NDArray[np.float64], mu: NDArray[np.float64]) -> tuple[int | None, int]:
+    """The first row of the steady part of the record μ over ``turns`` (laps or cycles;
+    None: the friction did not settle) and the change points found (module running_in)."""
+    lap = np.floor(turns - np.floor(turns[0])).astype(np.int64)
+    laps, means, counts = tribometer.segment_means(lap, mu)
     per_block = blocks_of(laps.size)
     block = (np.arange(laps.size) // per_block).astype(np.int64)
     if block.size > 2 * per_block and counts[block == block[-1]].sum() < 0.5 * (
@@ -197,8 +254,37 @@ def _steady_start(r: _Record) -> tuple[int, int]:
     sums = np.bincount(block, weights=means * counts)
     rows = np.bincount(block, weights=counts.astype(np.float64))
     found = running_in(sums / rows)  # each block's mean over its rows
+    if found.steady_from is None:
+        return None, len(found.change_points)
     first_lap = laps[found.steady_from * per_block] if found.steady_from else laps[0]
     return int(np.searchsorted(lap, first_lap)), len(found.change_points)
+
+
+def _steps(r: _Record) -> list[TribometerStep]:
+    """One entry per step of the recipe, in the record's order (none without ``step``): its
+    speed (recorded, or v = 2πRn/60), radius, load, duration, distance and μ, the steady μ
+    by the running-in's criterion within the step."""
+    if not np.isfinite(r.step).all():
+        return []
+    starts = np.flatnonzero(np.r_[True, r.step[1:] != r.step[:-1]])
+    found = []
+    for first, end in zip(starts, [*starts[1:], r.step.size], strict=True):
+        rows = slice(int(first), int(end))
+        mu, speed, radius = r.mu[rows], r.speed[rows], r.radius[rows]
+        steady = _steady_start(r.laps[rows], mu)[0] if mu.size > 1 else 0
+        found.append(
+            TribometerStep(
+                step=int(r.step[first]),
+                sliding_speed=float(speed.mean()) if np.isfinite(speed).all() else None,
+                track_radius=float(radius.mean()) if np.isfinite(radius).all() else None,
+                normal_load=float(r.load[rows].mean()),
+                duration=float(r.time[end - 1] - r.time[first]),
+                distance=float(r.distance[end - 1] - r.distance[first]),
+                friction_mean=float(mu.mean()),
+                friction_steady=None if steady is None else float(mu[steady:].mean()),
+            )
+        )
+    return found
 
 
 def _first_lap_end(r: _Record) -> int:
@@ -252,8 +338,10 @@ def _wear(
     result: PinOnDiscResults | ReciprocatingResults,
     load: UFloat | float,
     distance: float,
+    unknown: frozenset[str] = frozenset(),
 ) -> None:
-    """Every worn volume the readings allow: track profiles, scar or height loss, masses."""
+    """Every worn volume the readings allow: track profiles, scar or height loss, masses
+    (the density the posted one, else the material's: none of a material ``unknown``)."""
     if distance <= 0:
         return
     acc = config.accuracy
@@ -278,6 +366,12 @@ def _wear(
     for specimen, material in (("pin", config.pin), ("disc", config.disc)):
         before, after = m.get(f"{specimen}_mass_before"), m.get(f"{specimen}_mass_after")
         if before is None or after is None:
+            continue
+        if abs(before - after) * _KG_PER_G <= acc.balance_resolution * (1.0 + 1e-9):
+            # within the balance's resolution: no mass change measured, no k from it
+            setattr(result, f"{specimen}_mass_below", acc.balance_resolution)
+            continue
+        if specimen in unknown and f"{specimen}_density" not in m:
             continue
         density = m.get(f"{specimen}_density", material.density)
         loss = from_resolution(before * _KG_PER_G, acc.balance_resolution) - from_resolution(
@@ -350,7 +444,7 @@ def _track(
     )
 
 
-def _lap_views(r: _Record, steady: int, result: PinOnDiscResults) -> None:
+def _lap_views(r: _Record, steady: int | None, result: PinOnDiscResults) -> None:
     """μ against lap and angle; the once-per-lap amplitude in the steady part."""
     laps = r.laps - np.floor(r.laps[0])
     found = tribometer.lap_map(laps=laps, values=r.mu)
@@ -359,15 +453,16 @@ def _lap_views(r: _Record, steady: int, result: PinOnDiscResults) -> None:
         angle=found.angle.tolist(),
         values=[[None if math.isnan(v) else float(v) for v in row] for row in found.values],
     )
-    if r.mu.size - steady >= 3:
+    if steady is not None and r.mu.size - steady >= 3:
         _, result.lap_amplitude = tribometer.lap_harmonic(laps=laps[steady:], values=r.mu[steady:])
 
 
-def _strokes(r: _Record, steady: int, result: ReciprocatingResults) -> None:
+def _strokes(r: _Record, steady: int | None, result: ReciprocatingResults) -> None:
     """Forward and backward strokes (the direction by the friction's sign: it opposes the
     sliding), per block of cycles; three friction loops: the first, middle and last cycle."""
     forward = r.signed >= 0
-    tail_f, tail_b = r.mu[steady:][forward[steady:]], r.mu[steady:][~forward[steady:]]
+    rest = r.mu.size if steady is None else steady  # no steady strokes: none averaged
+    tail_f, tail_b = r.mu[rest:][forward[rest:]], r.mu[rest:][~forward[rest:]]
     result.friction_forward = float(tail_f.mean()) if tail_f.size else None
     result.friction_backward = float(tail_b.mean()) if tail_b.size else None
     cycle = np.floor(r.laps - np.floor(r.laps[0])).astype(np.int64)

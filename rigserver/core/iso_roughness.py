@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import heapq
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Literal
 
@@ -62,7 +63,7 @@ MAX_ROUNDS = 6
 #: Fewest samples of a trace.
 MIN_POINTS = 16
 
-Ends = Literal["discarded", "corrected"]
+Ends = Literal["discarded", "corrected", "instrument"]
 
 #: The codes of :attr:`IsoProfile.remarks`, what departs from the standard's defaults:
 #: ``resampled`` (a trace not uniformly sampled, interpolated onto its median step),
@@ -596,6 +597,19 @@ def _trace(x_m: ArrayLike, z_m: ArrayLike) -> tuple[NDArray[np.float64], NDArray
     return x, z
 
 
+def _uniform(
+    x: NDArray[np.float64], z: NDArray[np.float64]
+) -> tuple[NDArray[np.float64], NDArray[np.float64], float, bool]:
+    """The trace on a uniform grid and its step: as it is when uniformly sampled, else
+    interpolated linearly onto the grid of its median step (and True)."""
+    step = uniform_step(x)
+    if step is not None:
+        return x, z, step, False
+    step = float(np.median(np.diff(x)))
+    grid = x[0] + step * np.arange(math.floor((x[-1] - x[0]) / step + 1e-9) + 1)
+    return grid, np.interp(grid, x, z), step, True
+
+
 def _evaluate(
     x: NDArray[np.float64], z: NDArray[np.float64], lc: float, ls: float
 ) -> tuple[FilteredProfile, int, int, Ends, int, IsoParameters]:
@@ -661,17 +675,8 @@ def iso_profile(
     renormalised weights, ISO 16610-28) and has floor(length/λc) sections, at least one.
     The sections are centred on the trace.
     """
-    x, z = _trace(x_m, z_m)
-    remarks: list[str] = []
-    resampled = False
-    step = uniform_step(x)
-    if step is None:
-        step = float(np.median(np.diff(x)))
-        grid = x[0] + step * np.arange(math.floor((x[-1] - x[0]) / step + 1e-9) + 1)
-        z = np.interp(grid, x, z)
-        x = grid
-        resampled = True
-        remarks.append("resampled")
+    x, z, _, resampled = _uniform(*_trace(x_m, z_m))
+    remarks: list[str] = ["resampled"] if resampled else []
     length = float(x[-1] - x[0])
     fitting = [c for c in CUTOFFS if c <= length * (1.0 + 1e-9)]
     if lambda_c is not None:
@@ -744,3 +749,146 @@ def iso_profile(
         resampled=resampled,
         remarks=tuple(remarks),
     )
+
+
+def section_mean_parameters(
+    *,
+    x: ArrayLike,
+    z: ArrayLike,
+    step: float,
+    sections: int,
+) -> IsoParameters:
+    """The parameters of a roughness profile as ISO 4287:1997 defines them on the sampling
+    length and ISO 4288:1996 (clause 4) reports them: each the mean of its values over the
+    ``sections`` sampling lengths of the evaluation length; Rt and the Rk family (ISO
+    13565-2) over the whole evaluation length.
+
+    Per section: Ra, Rq, Rsk, Rku, RΔq, Rp, Rv, Rz and RSm (the height discrimination 10 %
+    of that section's Rz, the spacing 1 % of its length), each on the section's ordinates
+    from the profile's mean line (not re-centred per section). RΔq takes the local slope
+    of ISO 4287:1997's seven-point difference (:func:`local_slope`) over the whole profile,
+    so that a section's ends use its neighbours' samples. RSm is the mean over the sections
+    that have two elements or more (None when none has).
+
+    Parameters
+    ----------
+    x, z : array_like
+        Positions and roughness ordinates, m (uniform step), the whole evaluation length.
+    step : float
+        Sampling step, m.
+    sections : int
+        Sampling lengths in the evaluation length (>= 1); the samples are cut into that
+        many runs of equal length (one sample more in the first ones when it does not
+        divide).
+    """
+    xa = finite("x", x)
+    za = _ordinates(z)
+    if xa.shape != za.shape:
+        raise ModelInputError(f"x and z must be of one length, got {xa.shape}, {za.shape}")
+    if sections < 1 or sections * 4 > za.size:
+        raise ModelInputError(
+            f"sections must lie in [1, {za.size // 4}] (four samples each), got {sections}"
+        )
+    slope = local_slope(za, step=step)
+    parts = list(
+        zip(
+            np.array_split(xa, sections),
+            np.array_split(za, sections),
+            np.array_split(slope, sections),
+            strict=True,
+        )
+    )
+    heights = section_heights(za, sections=sections)
+    widths = []
+    for xs, zs, _ in parts:
+        rz = float(zs.max() - zs.min())
+        width = mean_width(
+            x=xs,
+            z=zs,
+            height_discrimination=HEIGHT_DISCRIMINATION * rz,
+            spacing_discrimination=SPACING_DISCRIMINATION * (float(xs[-1] - xs[0]) + step),
+        )
+        if width is not None:
+            widths.append(width)
+    rk = rk_family(za)
+
+    def mean_of(value: Callable[[NDArray[np.float64], NDArray[np.float64]], float]) -> float:
+        return float(np.mean([value(zs, ds) for _, zs, ds in parts]))
+
+    return IsoParameters(
+        ra=mean_of(lambda zs, _: arithmetic_mean_height(zs)),
+        rq=mean_of(lambda zs, _: root_mean_square_height(zs)),
+        rsk=mean_of(lambda zs, _: skewness(zs)),
+        rku=mean_of(lambda zs, _: kurtosis(zs)),
+        rp=heights.rp,
+        rv=heights.rv,
+        rz=heights.rz,
+        rt=total_height(za),
+        rsm=float(np.mean(widths)) if widths else None,
+        rdq=mean_of(lambda _, ds: float(np.sqrt(np.mean(ds**2)))),
+        rk=rk.rk,
+        rpk=rk.rpk,
+        rvk=rk.rvk,
+        mr1=rk.mr1,
+        mr2=rk.mr2,
+    )
+
+
+def instrument_roughness(
+    x_m: ArrayLike,
+    z_m: ArrayLike,
+    *,
+    sections: int,
+    lambda_c: float = 0.0,
+    lambda_s: float = 0.0,
+) -> IsoProfile:
+    """The ISO parameters of a roughness profile an instrument has already filtered: not
+    filtered again, evaluated over its whole length in ``sections`` sampling lengths
+    (:func:`section_mean_parameters`). λc and λs are the instrument's, as its file states
+    them (0: not stated), reported, not applied.
+
+    Parameters
+    ----------
+    x_m, z_m : array_like
+        Positions (strictly increasing; a trace not uniformly sampled is interpolated onto
+        a uniform grid of its median step) and the roughness profile's ordinates, m.
+    sections : int
+        The sampling lengths the instrument evaluated (>= 1).
+    lambda_c, lambda_s : float
+        The instrument's λc and λs, m (>= 0).
+    """
+    x, z, step, resampled = _uniform(*_trace(x_m, z_m))
+    lc = float(_stated_cutoff("lambda_c", lambda_c))
+    ls = float(_stated_cutoff("lambda_s", lambda_s))
+    remarks: list[str] = ["resampled"] if resampled else []
+    params = section_mean_parameters(x=x, z=z, step=step, sections=sections)
+    if sections < DEFAULT_SECTIONS:
+        remarks.append("few_sections")
+    length = float(x.size * step)
+    zero = np.zeros_like(z)
+    return IsoProfile(
+        x=x,
+        primary=z,
+        waviness=zero,
+        roughness=z,
+        form=zero,
+        start=0,
+        stop=x.size,
+        lambda_c=lc,
+        lambda_s=ls,
+        lambda_c_basis="instrument",
+        ends="instrument",
+        sections=sections,
+        section_length=length / sections,
+        evaluation_length=length,
+        parameters=params,
+        resampled=resampled,
+        remarks=tuple(remarks),
+    )
+
+
+def _stated_cutoff(name: str, value: float) -> float:
+    """A cut-off as the instrument states it, m: finite and >= 0 (0: not stated)."""
+    if not (math.isfinite(value) and value >= 0):
+        raise ModelInputError(f"{name} must be >= 0 m (0: not stated), got {value}")
+    return value

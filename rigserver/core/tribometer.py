@@ -19,6 +19,8 @@ from rigserver.core._checks import finite, non_negative, positive, within
 from rigserver.core.errors import ModelInputError
 
 __all__ = [
+    "STEADY_BAND",
+    "STEADY_SHARE",
     "HertzContact",
     "LapMap",
     "disc_track_volume",
@@ -28,6 +30,7 @@ __all__ = [
     "lap_harmonic",
     "lap_map",
     "segment_means",
+    "settled_from",
     "specific_wear_rate",
     "spherical_cap_volume",
     "stroke_track_volume",
@@ -170,6 +173,63 @@ def specific_wear_rate(*, volume: float, load: float, distance: float) -> float:
     """
     v = float(non_negative("volume", volume))
     return v / (float(positive("load", load)) * float(positive("distance", distance)))
+
+
+#: The band of a steady state: every block mean within ±5 % of the steady part's mean.
+STEADY_BAND = 0.05
+#: The share of the record a steady part holds at least; a shorter one is no steady state.
+STEADY_SHARE = 0.2
+
+
+def settled_from(
+    levels: ArrayLike,
+    *,
+    band: float = STEADY_BAND,
+    allowance: float = 0.0,
+    share: float = STEADY_SHARE,
+) -> int | None:
+    """Where a friction record has settled: the first of its block means from which every
+    later one stays within ``band``·|m| + ``allowance`` of their mean m (docs/models.md,
+    section 6).
+
+    .. math:: \\max_{i \\ge j} |y_i - \\bar y_j| \\le δ·|\\bar y_j| + a, \\qquad
+              \\bar y_j = \\frac{1}{n - j}\\sum_{i \\ge j} y_i
+
+    the smallest such j. For an exponential approach μ = μ_ss + Δμ·e^(-s/s0) (P. J. Blau,
+    ASME J. Tribol. 109 (1987) 537) the band is entered near s = s0·ln(Δμ/(δ·μ_ss)); a slow
+    drift of the steady level by less than 2δ over the steady part stays inside it.
+
+    Parameters
+    ----------
+    levels : array_like
+        y, the block means in order (laps or cycles, or blocks of them).
+    band : float
+        δ, the band's half-width relative to the steady mean (0 <= δ < 1).
+    allowance : float
+        a, the block means' noise allowed beyond the band (>= 0), in y's unit.
+    share : float
+        The steady part's least share of the blocks (0 < share <= 1).
+
+    Returns
+    -------
+    int or None
+        j, the steady part's first block; None when no tail of at least ``share`` of the
+        blocks stays within the band: the record has not settled.
+    """
+    y = finite("levels", levels)
+    if y.ndim != 1 or not y.size:
+        raise ModelInputError(f"levels must be 1-D and not empty, got shape {y.shape}")
+    delta = float(within("band", band, 0.0, 1.0, closed=(True, False)))
+    a = float(non_negative("allowance", allowance))
+    least = math.ceil(float(within("share", share, 0.0, 1.0, closed=(False, True))) * y.size)
+    count = np.arange(y.size, 0, -1, dtype=np.float64)
+    mean = np.cumsum(y[::-1])[::-1] / count
+    high = np.maximum.accumulate(y[::-1])[::-1]
+    low = np.minimum.accumulate(y[::-1])[::-1]
+    tolerance = delta * np.abs(mean) + a
+    inside = np.flatnonzero((high - mean <= tolerance) & (mean - low <= tolerance))
+    first = int(inside[0])  # the last block alone always holds
+    return first if y.size - first >= least else None
 
 
 def segment_means(

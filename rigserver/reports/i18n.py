@@ -363,6 +363,7 @@ MESSAGES: dict[str, str] = {
     "sym.i_theor": N_("I_{{h,th}}"),
     "yes": N_("yes"),
     "no": N_("no"),
+    "config.default": N_("not given: the stand's default ({value})"),
     "regime.fluid": N_("fluid film"),
     "regime.mixed": N_("mixed"),
     "regime.boundary": N_("boundary"),
@@ -620,7 +621,7 @@ MESSAGES: dict[str, str] = {
     "t.load": N_("mean normal load"),
     "t.mean": N_("friction coefficient, whole record"),
     "t.static": N_("static (peak) friction coefficient at the start"),
-    "t.running_in": N_("running-in distance (change points, PELT)"),
+    "t.running_in": N_("running-in distance (settled within ±5 %)"),
     "t.steady": N_("friction coefficient, steady part"),
     "t.lap_amplitude": N_("once-per-lap amplitude of μ"),
     "t.forward": N_("friction coefficient, forward strokes"),
@@ -635,6 +636,9 @@ MESSAGES: dict[str, str] = {
     ),
     "t.fig_loops": N_("Friction loops: μ against the position along the stroke"),
     "t.running_in_band": N_("running-in"),
+    "t.fig_stribeck": N_("Friction coefficient against the sliding speed over the steps"),
+    "t.step_mean": N_("mean of the step"),
+    "t.step_steady": N_("steady part of the step"),
     "t.laps_range": N_("laps {first} to {last}"),
     "t.loop": N_("cycle {cycle}"),
     "t.hertz": N_("Initial contact of the ball on the flat (Hertz)"),
@@ -664,6 +668,61 @@ MESSAGES: dict[str, str] = {
         "and is μ = {mu} (s = {std}) after it; over the whole record μ̄ = {mean}."
     ),
     "t.c_wear": N_("{what}: k = {k} mm³/(N·m)."),
+    "t.c_unsettled": N_(
+        "The friction coefficient starts at μ_s = {static} and does not settle: no part of at "
+        "least the record's last fifth stays within ±5 % of its mean, so no running-in "
+        "distance and no steady μ are given; over the whole record μ̄ = {mean}."
+    ),
+    "c.caption_g99": N_("Test conditions, planned and measured (ASTM G99-17, clause 10)"),
+    "c.caption_g133": N_("Test conditions, planned and measured (ASTM G133-05, clause 10)"),
+    "c.planned": N_("Planned"),
+    "c.measured": N_("Measured"),
+    "c.not_recorded": N_("not recorded"),
+    "c.speed": N_("sliding speed"),
+    "c.rpm": N_("rotational speed of the disc"),
+    "c.frequency": N_("frequency of the cycles"),
+    "c.stroke": N_("stroke length"),
+    "c.distance": N_("sliding distance"),
+    "c.temperature": N_("temperature"),
+    "c.humidity": N_("relative humidity"),
+    "c.off_distance": N_(
+        "The sliding distance run, {measured} m, departs from the planned {planned} m."
+    ),
+    "c.off_load": N_("The mean normal load, {measured} N, departs from the planned {planned} N."),
+    "c.dev_load": N_("load {given} N instead of {standard} N"),
+    "c.dev_stroke": N_("stroke {given} mm instead of {standard} mm"),
+    "c.dev_frequency": N_("frequency {given} Hz instead of {standard} Hz"),
+    "c.dev_distance": N_("distance {given} m instead of {standard} m"),
+    "c.g133_apart": N_(
+        "The test on the flat departs from ASTM G133 procedure {procedure}: {what}."
+    ),
+    "c.g133_as": N_(
+        "The test on the flat follows the parameters of ASTM G133 procedure {procedure}."
+    ),
+    "t.flat_track": N_("Wear of the flat from profiles across its track"),
+    "t.flat_mass": N_("Wear of the flat from its mass loss"),
+    "t.cycles": N_("cycles run"),
+    "t.c_trust_mass": N_(
+        "The {specimen}'s k by its mass loss ({k_mass} mm³/(N·m)) and by its {shape} "
+        "({k_shape} mm³/(N·m)) differ {ratio}-fold, beyond their uncertainties: trust the "
+        "mass loss, whose relative uncertainty is the smaller ({relative} %); the {shape} "
+        "gives a volume only as far as the worn shape is the one assumed."
+    ),
+    "t.c_trust_shape": N_(
+        "The {specimen}'s k by its mass loss ({k_mass} mm³/(N·m)) and by its {shape} "
+        "({k_shape} mm³/(N·m)) differ {ratio}-fold, beyond their uncertainties: trust the "
+        "{shape}, whose relative uncertainty is the smaller ({relative} %); a weighing also "
+        "counts material transferred, oxide and moisture, and a loss near the balance's "
+        "resolution."
+    ),
+    "t.specimen_disc": N_("disc"),
+    "t.specimen_pin": N_("ball or pin"),
+    "t.by.disc_track": N_("profiles across the track"),
+    "t.by.pin_scar": N_("scar"),
+    "t.c_below": N_(
+        "{what}: below the balance's resolution (< {resolution} mg): the mass changed by no "
+        "more than one step of the balance, so no k is given from it."
+    ),
     "t.c_gain": N_(
         "{what}: k = {k} mm³/(N·m), below zero: the specimen gained, material was "
         "transferred onto it; its wear is not measured this way."

@@ -267,7 +267,8 @@ def _configuration(t: Messages, run: Run) -> Table:
 def configuration_rows(t: Messages, run: Run) -> list[tuple[Text, str, str]]:
     """The configuration snapshot of the run: each field's description (with the manual's
     symbol) in ``t``'s language, its value and its unit, in the display unit of
-    :data:`schemas.labels.CONFIGURATION` (mm, µm, MPa, GPa, mg) as the results print them."""
+    :data:`schemas.labels.CONFIGURATION` (mm, µm, MPa, GPa, mg) as the results print them;
+    a value nobody gave for this run as "not given: the stand's default (value)"."""
     rows: list[tuple[Text, str, str]] = []
 
     def walk(model: type[BaseModel], data: Mapping[str, Any], owner: str, path: str) -> None:
@@ -295,6 +296,8 @@ def configuration_rows(t: Messages, run: Run) -> list[tuple[Text, str, str]]:
             number = isinstance(value, int | float) and not isinstance(value, bool)
             # a number without a unit is dimensionless ("—", as the results print it)
             unit_text = t.unit(str(unit or "1")) if number or unit not in (None, "1") else ""
+            if run.from_default(path + name):  # never printed as the test's fact
+                shown = t("config.default", value=shown)
             rows.append((html_symbol(words), shown, unit_text))
 
     walk(CONFIG_MODELS[run.stand], run.configuration, "", "")

@@ -30,6 +30,7 @@ from rigserver.reports.formatting import (
     with_unit,
 )
 from rigserver.reports.i18n import LANGS, Lang, Messages
+from rigserver.reports.labs.tribometer import stribeck_svg
 from rigserver.reports.run_report import RESULT_MODELS, configuration_rows, particulars_text
 from rigserver.reports.x3p import PROFILE_GROUP, NoProfile, profile_group
 from rigserver.web.entry import entry_config, entry_groups, typed
@@ -37,6 +38,7 @@ from schemas import labelled
 from schemas.labels import RESULTS, THEORY_VERDICT, Part, theory_outside
 from schemas.messages import NP_
 from schemas.quantity import unit_paths
+from schemas.results import PinOnDiscResults, ReciprocatingResults
 from schemas.runs import Run, RunPage, RunState
 from schemas.stands import Stand, StandKind
 from schemas.student_notes import CONCLUSIONS_LIMIT, StudentNotes
@@ -155,8 +157,24 @@ def results_html(*, run: Run, payload: Mapping[str, Any], lang: Lang) -> str:
             }
             for found in labelled.row_tables(run.stand, payload)
         ]
+        figures = _figures(t, run, payload)
     pending = [t.gettext(item) for item in payload.get("values", {}).get("pending", [])]
-    return render_page("results.html", lang, parts=parts, tables=tables, pending=pending)
+    return render_page(
+        "results.html", lang, parts=parts, tables=tables, figures=figures, pending=pending
+    )
+
+
+def _figures(t: Messages, run: Run, payload: Mapping[str, Any]) -> list[dict[str, Any]]:
+    """The plots of the results part beside the live chart: a tribometer's μ against the
+    sliding speed over its recipe's steps (a Stribeck curve), as the report draws it."""
+    values = payload.get("values", {})
+    if run.stand not in (StandKind.PIN_ON_DISC, StandKind.RECIPROCATING):
+        return []
+    if not any(step.get("sliding_speed") is not None for step in values.get("steps", [])):
+        return []
+    found = RESULT_MODELS[run.stand].model_validate(values)
+    assert isinstance(found, PinOnDiscResults | ReciprocatingResults)
+    return [{"caption": t("t.fig_stribeck"), "svg": Markup(stribeck_svg(t, found))}]
 
 
 def runs_page(

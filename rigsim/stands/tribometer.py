@@ -6,7 +6,9 @@ known distance L_r along a truncated exponential that ends there,
 
     μ(s) = μ_ss + (μ_s - μ_ss)·(e^(-s/λ) - e^(-L_r/λ))/(1 - e^(-L_r/λ)) for s < L_r, λ = L_r/3,
 
-and is μ_ss after it; on the disc a once-per-lap part μ_ss·a·sin θ rides on it (a run-out),
+and is μ_ss after it. Its running-in as a tribologist reads it ends earlier, where the
+transient's excess falls to the steady band, δ·μ_ss (``settled_distance``, in closed form);
+on the disc a once-per-lap part μ_ss·a·sin θ rides on it (a run-out),
 on the flat μ_ss·a·cos 2φ over the cycle's phase φ (friction highest at the stroke's ends,
 x = -S/2·cos φ), both averaging out over whole laps; the friction's fluctuation is AR(1)
 (as the SMTs-2's). Readings are taken a whole number of times per lap (cycle), so lap means
@@ -31,6 +33,7 @@ from numpy.typing import NDArray
 from scipy.optimize import brentq
 
 from rigserver.core import tribometer
+from rigserver.core.tribometer import STEADY_BAND
 from rigsim.batches import Batch, SimulatedRun, split
 from rigsim.errors import SettingsError
 from rigsim.instruments import Fault, Instrument, apply_faults
@@ -176,7 +179,9 @@ class TribometerSettings:
 class TribometerTruth:
     """The simulated run's truth (SI; μ of the noise-free record).
 
-    ``friction_static`` is the largest true μ before the steady part, ``friction_mean``
+    ``running_in_distance`` is where the true μ's excess over μ_ss falls to the steady band
+    δ·μ_ss (:func:`settled_distance`), ``transient_distance`` L_r, where it ends;
+    ``friction_static`` is the largest true μ before the running-in's end, ``friction_mean``
     the true μ's mean over the record; the wear volumes are Archard's, the scar's diameter
     and the track's area those of the volumes.
     """
@@ -190,6 +195,7 @@ class TribometerTruth:
     friction_mean: float
     running_in_distance: float
     running_in_laps: float
+    transient_distance: float
     lap_amplitude: float
     ball_volume: float
     disc_volume: float
@@ -208,6 +214,18 @@ def running_in_shape(s: FloatArray, length: float) -> FloatArray:
     lam = length / 3.0
     tail = math.exp(-length / lam)
     return np.where(s < length, (np.exp(-s / lam) - tail) / (1.0 - tail), 0.0)
+
+
+def settled_distance(length: float, static: float, steady: float) -> float:
+    """Where the running-in of :func:`running_in_shape` (from μ_s = ``static`` to μ_ss =
+    ``steady`` over L_r = ``length``) enters the steady band: (μ_s - μ_ss)·g(s) = δ·|μ_ss|,
+    δ = STEADY_BAND, so e^(-s/λ) = e^(-3) + δ·|μ_ss|·(1 - e^(-3))/|μ_s - μ_ss|; 0 when the
+    whole transient lies inside the band."""
+    drop, allowed = abs(static - steady), STEADY_BAND * abs(steady)
+    if drop <= allowed:
+        return 0.0
+    tail = math.exp(-3.0)
+    return -length / 3.0 * math.log(tail + allowed * (1.0 - tail) / drop)
 
 
 def scar_of(volume: float, radius: float) -> float:
@@ -324,7 +342,9 @@ def simulate(
         poisson_2=c.disc.poisson,
     )
     hertz = tribometer.hertz_ball_on_flat(load=s.load, ball_radius=radius, modulus=modulus)
-    steady = int(np.searchsorted(distance - first, s.running_in_laps * s.lap_length - 1e-12))
+    transient = s.running_in_laps * s.lap_length
+    settled = settled_distance(transient, s.friction_static, s.friction_steady)
+    steady = max(1, int(np.searchsorted(distance - first, settled - 1e-12)))
     body = RunCreate(
         stand=kind,
         operator=s.operator,
@@ -341,8 +361,9 @@ def simulate(
         friction_static=float(np.abs(true_mu[:steady]).max()),
         friction_steady=s.friction_steady,
         friction_mean=float(np.abs(true_mu).mean()),
-        running_in_distance=float(distance[steady] - first),
-        running_in_laps=float(s.running_in_laps),
+        running_in_distance=settled,
+        running_in_laps=settled / s.lap_length,
+        transient_distance=transient,
         lap_amplitude=s.friction_steady * s.periodic,
         ball_volume=ball_volume,
         disc_volume=disc_volume,
@@ -363,3 +384,69 @@ def simulate_reciprocating(
 ) -> SimulatedRun[TribometerTruth]:
     """:func:`simulate` of a reciprocating test (its defaults when ``settings`` is None)."""
     return simulate(settings or TribometerSettings.reciprocating(), seed)
+
+
+@dataclass(frozen=True, slots=True)
+class SweepTruth:
+    """A speed sweep's truth, step by step (SI): the sliding speed, the track's radius, the
+    steps' μ (a Stribeck-like fall with the speed), the load and each step's duration."""
+
+    sliding_speed: tuple[float, ...]
+    track_radius: tuple[float, ...]
+    friction: tuple[float, ...]
+    load: float
+    duration: float
+
+
+#: The sweep of a rotary tribometer's recipe: (track radius, m; sliding speed, m/s).
+SWEEP = ((6e-3, 0.075), (9e-3, 0.150), (12e-3, 0.225), (15e-3, 0.300))
+
+
+def sweep_friction(speed: float) -> float:
+    """μ(v) of the simulated sweep: a boundary value falling towards a lower one with the
+    speed, μ = 0.12 + 0.4·e^(-v/(0.1 m/s)) (a Stribeck curve's mixed-lubrication side)."""
+    return 0.12 + 0.4 * math.exp(-speed / 0.1)
+
+
+def simulate_sweep(
+    seed: int = 0, *, step_time: float = 180.0, rate: float = 10.0, load: float = 5.0
+) -> SimulatedRun[SweepTruth]:
+    """A pin-on-disc speed sweep as a rotary tribometer's recipe runs it: four steps of
+    ``step_time`` s at the radii and speeds of :data:`SWEEP` (the radial stage moved between
+    steps), read ``rate`` times a second. The record has the step, the rotational speed
+    n = 60v/(2πR) in rpm and the radius per row, no distance and no laps: the analysis
+    derives them, v = 2πRn/60. μ of each step is :func:`sweep_friction` with a 2 % AR(1)
+    fluctuation."""
+    rng = np.random.default_rng(seed)
+    per_step = round(step_time * rate)
+    columns: dict[str, list[FloatArray]] = {}
+    for k, (radius, speed) in enumerate(SWEEP):
+        t = (k * per_step + np.arange(per_step)) / rate
+        mu = sweep_friction(speed) * (1.0 + _fluctuation(per_step, 0.02, rng))
+        part = {
+            "time": t,
+            "step": np.full(per_step, float(k + 1)),
+            "rotational_speed": np.full(per_step, 60.0 * speed / (2.0 * math.pi * radius)),
+            "track_radius": np.full(per_step, radius),
+            "normal_load": np.full(per_step, load),
+            "friction_coefficient": mu,
+        }
+        for name, values in part.items():
+            columns.setdefault(name, []).append(values)
+    record = {name: np.concatenate(parts) for name, parts in columns.items()}
+    body = RunCreate(
+        stand=StandKind.PIN_ON_DISC,
+        operator="rigsim",
+        title=f"Simulated speed sweep, {load:g} N, {len(SWEEP)} steps",
+        test_plan={"load_N": load, "simulated": True},
+        configuration={"track_radius": SWEEP[0][0]},
+    )
+    truth = SweepTruth(
+        sliding_speed=tuple(v for _, v in SWEEP),
+        track_radius=tuple(r for r, _ in SWEEP),
+        friction=tuple(sweep_friction(v) for _, v in SWEEP),
+        load=load,
+        duration=(per_step - 1) / rate,
+    )
+    batches = split("friction", record, record["time"], rows=2000)
+    return SimulatedRun(run_create=body, batches=tuple(batches), truth=truth)

@@ -2,11 +2,13 @@
 noise, within bounds derived from the noise with it.
 
 Without noise (``rigsim run --noise off``) the readings are the true record, taken a whole
-number of times per lap: the steady mean, the once-per-lap amplitude, the whole-record mean,
-the peak, the distance and the running-in's end (a lap boundary that is a block boundary of
-module running_in) come back to round-off. The one stated discretisation is the track's
-profile: the trapezoid rule on a parabolic groove whose edges are samples gives the area
-times 1 - (step/width)² exactly (the rule's error on a parabola, -h²f''/12 per unit length).
+number of times per lap: the once-per-lap amplitude, the whole-record mean, the peak and the
+distance come back to round-off; the running-in's end (issue 37: where the lap means settle
+within ±δ of the steady part's mean) lies within the block of the search where the true
+excess falls to δ·μ_ss, and the steady mean is the true record's mean from there. The one
+stated discretisation is the track's profile: the trapezoid rule on a parabolic groove
+whose edges are samples gives the area times 1 - (step/width)² exactly (the rule's error on
+a parabola, -h²f''/12 per unit length).
 """
 
 from __future__ import annotations
@@ -20,7 +22,8 @@ import pytest
 from hypothesis import HealthCheck, Phase, given, settings
 from hypothesis import strategies as st
 
-from rigserver.analysis.running_in import JOIN_ALPHA, blocks_of
+from rigserver.analysis.running_in import NOISE_ALPHA, blocks_of
+from rigserver.core.tribometer import STEADY_BAND
 from rigsim.cli import settings_for
 from rigsim.stands import SIMULATORS
 from rigsim.stands.tribometer import TRACE_STEP, running_in_shape
@@ -54,18 +57,32 @@ def test_without_noise_the_truth_comes_back(
     kind: StandKind, load: float, blocks: int, static: float
 ) -> None:
     laps = 1000
-    # the running-in ends on a block boundary of the change-point search (1000 laps and one
-    # reading of lap 1000 on the disc: blocks of 5 laps; 1000 cycles: blocks of 4): 20 laps
     running = 20 * blocks
-    v, t, _ = _run(
+    v, t, s = _run(
         kind, 0, False, load=load, laps=laps, running_in_laps=running, friction_static=static
     )
     assert isinstance(v, PinOnDiscResults | ReciprocatingResults)
-    assert v.friction_steady == pytest.approx(t.friction_steady, rel=1e-12)
+    assert v.running_in_distance is not None and v.friction_steady is not None
+    lap = s.lap_length
+    block = blocks_of(laps + 1) * lap
+    mu = t.friction_steady
+    # the first block starting after the true entry into the band has every lap mean within
+    # (1 + δ)·μ_ss of a tail mean ≥ μ_ss, so the search stops there at the latest; it may
+    # stop earlier, by as much as the tail mean's own excess and the noise allowance z·σ̂
+    # widen the band: the excess at the found start stays within δ·μ_ss + (1 + δ)·(the
+    # tail's mean excess) + z·σ̂
+    start = v.running_in_distance
+    assert start <= t.running_in_distance + block + 1e-9
+    rows = np.arange(round(start / lap * s.samples_per_lap), v.rows) / s.samples_per_lap * lap
+    excess = (static - mu) * running_in_shape(rows, t.transient_distance)
+    first = excess[: round(block / lap * s.samples_per_lap)].mean()
+    allowed = STEADY_BAND * mu + (1.0 + STEADY_BAND) * excess.mean() + _allowance(v, s, t)
+    assert first <= allowed + 1e-12
+    assert v.running_in_laps == pytest.approx(start / lap, rel=1e-12)
+    # the steady mean: the true record's over the steady part (the lap part averages out)
+    assert v.friction_steady == pytest.approx(mu + excess.mean(), rel=1e-12)
     assert v.friction_mean == pytest.approx(t.friction_mean, rel=1e-12)
     assert v.friction_static == pytest.approx(t.friction_static, rel=1e-12)
-    assert v.running_in_distance == pytest.approx(t.running_in_distance, rel=1e-12)
-    assert v.running_in_laps == pytest.approx(running, rel=1e-12)
     assert v.sliding_distance == pytest.approx(t.sliding_distance, rel=1e-12)
     assert v.laps == pytest.approx(t.laps, rel=1e-12)
     assert v.mean_load == pytest.approx(load, rel=1e-12)
@@ -80,20 +97,59 @@ def test_without_noise_the_truth_comes_back(
     assert v.disc_track.track_area == pytest.approx(t.track_area * trapezoid, rel=1e-9)
     assert v.disc_track.volume == pytest.approx(t.disc_volume * trapezoid, rel=1e-9)
     assert v.disc_track.specific_wear_rate == pytest.approx(t.disc_rate * trapezoid, rel=1e-9)
-    for found, loss, rate in (
-        (v.pin_mass, t.ball_mass_loss, t.ball_rate),
-        (v.disc_mass, t.disc_mass_loss, t.disc_rate),
+    resolution = s.configuration.accuracy.balance_resolution
+    for found, below, loss, rate in (
+        (v.pin_mass, v.pin_mass_below, t.ball_mass_loss, t.ball_rate),
+        (v.disc_mass, v.disc_mass_below, t.disc_mass_loss, t.disc_rate),
     ):
-        assert found is not None
+        if loss <= resolution:  # the balance cannot tell it (issue 37): no k by mass
+            assert found is None and below == resolution
+            continue
+        assert found is not None and below is None
         assert found.mass_loss == pytest.approx(loss, rel=1e-6)  # grams less grams, in kg
         assert found.specific_wear_rate == pytest.approx(rate, rel=1e-6)
     if isinstance(v, PinOnDiscResults):
-        assert v.lap_amplitude == pytest.approx(t.lap_amplitude, rel=1e-9)
+        # the once-per-lap fit over the steady part takes up a little of the transient's
+        # tail there: the least-squares fit of the true record over those rows
+        theta = 2.0 * math.pi * rows / lap
+        true_mu = mu + excess + t.lap_amplitude * np.sin(theta)
+        basis = np.column_stack([np.ones_like(theta), np.cos(theta), np.sin(theta)])
+        (_, ca, sb), *_ = np.linalg.lstsq(basis, true_mu, rcond=None)
+        assert v.lap_amplitude == pytest.approx(math.hypot(ca, sb), rel=1e-9)
+        assert abs(math.hypot(ca, sb) - t.lap_amplitude) <= 0.01 * t.lap_amplitude
         assert v.friction_map is not None and len(v.friction_map.angle) == 36
     else:
-        assert v.friction_forward == pytest.approx(t.friction_steady, rel=1e-12)
-        assert v.friction_backward == pytest.approx(t.friction_steady, rel=1e-12)
+        # the strokes of the steady part: the true record there, a cycle's phase θ, the
+        # reading half a step off a reversal, forward where sin θ > 0
+        theta = 2.0 * math.pi * (rows / lap + 0.5 / s.samples_per_lap)
+        true_mu = mu + excess + t.lap_amplitude * np.cos(2.0 * theta)
+        ahead = np.sin(theta) > 0
+        assert v.friction_forward == pytest.approx(true_mu[ahead].mean(), rel=1e-12)
+        assert v.friction_backward == pytest.approx(true_mu[~ahead].mean(), rel=1e-12)
         assert [loop.cycle for loop in v.loops] == [0, 499, 999 - 1]
+
+
+def _allowance(v: Any, s: Any, t: Any) -> float:
+    """z·σ̂ of the running-in's band for the true record: its block means (whole laps, a last
+    block of a few rows joined to the one before, as module running_in groups them), σ̂ =
+    MAD(Δ²y)/(0.6745·√6), z = Φ⁻¹(1 - 0.01/(2n)) over the n blocks; σ̂ is not 0 when the
+    transient fills most of the record (its curvature then sets the median)."""
+    from scipy.stats import norm
+
+    k = np.arange(v.rows)
+    lap_of = k // s.samples_per_lap
+    per = blocks_of(int(lap_of[-1]) + 1)
+    block = lap_of // per
+    if np.count_nonzero(block == block[-1]) < 0.5 * per * s.samples_per_lap:
+        block[block == block[-1]] -= 1
+    base = t.friction_steady + (t.friction_static - t.friction_steady) * running_in_shape(
+        k / s.samples_per_lap * s.lap_length, t.transient_distance
+    )
+    y = np.bincount(block, weights=base) / np.bincount(block)
+    second = np.diff(y, 2)
+    sigma = float(np.median(np.abs(second - np.median(second)))) / (0.6744897501960817 * 6**0.5)
+    sigma = max(sigma, 1e-9 * float(np.abs(y).mean()))
+    return float(norm.isf(NOISE_ALPHA / (2.0 * y.size))) * sigma
 
 
 def test_the_block_of_the_search_is_as_stated() -> None:
@@ -121,23 +177,26 @@ def test_with_noise_within_the_derived_bounds(kind: StandKind, seed: int) -> Non
     sigma = mu * math.sqrt(s.friction_fluctuation**2 * 19.0 + white**2) / math.sqrt(n)
     # the steady part found may start before the running-in's true end: the true excess
     # over its rows is a bias, computed from the known shape
+    assert v.running_in_distance is not None and v.friction_steady is not None
     start = v.running_in_distance
     rows = np.arange(n) / s.samples_per_lap * lap + start
-    excess = (s.friction_static - mu) * running_in_shape(rows, t.running_in_distance)
+    excess = (s.friction_static - mu) * running_in_shape(rows, t.transient_distance)
     assert v.friction_steady == pytest.approx(mu + excess.mean(), abs=5 * sigma)
-    # the running-in's end: a block of b laps has the standard error σ_b of its mean; the
-    # join test lets through a segment whose mean is within z·σ_b·√2 of the steady part's
-    # (z of 1 % with Bonferroni over the blocks), so the true excess where the steady part
-    # starts is below twice that; and no change is found in the steady part's noise at the
-    # seeds here, so it starts no later than the block after the true end
+    # the running-in's end: a block of b laps has the standard error σ_b of its mean, the
+    # band is widened by z·σ̂ (z of 1 % with Bonferroni over the blocks). A block passes
+    # when its mean is within (1 + δ)·m + z·σ̂ of the tail's mean m: the true excess at the
+    # start is below δ·μ_ss + (1 + δ)·(the tail's true excess) + the noise of the block and
+    # of the allowance (2z·σ_b, σ̂ within its own scatter); the first block after the true
+    # entry passes unless its noise exceeds z·σ_b, which the seeds here do not
     from scipy.stats import norm
 
     per_block = blocks_of(int(t.laps) + 1)
     block_rows = per_block * s.samples_per_lap
     sigma_b = mu * math.sqrt(s.friction_fluctuation**2 * 19.0 + white**2) / math.sqrt(block_rows)
-    z = float(norm.isf(JOIN_ALPHA / (2.0 * (int(t.laps) + 1) / per_block)))
-    at_start = (s.friction_static - mu) * running_in_shape(np.array([start]), t.running_in_distance)
-    assert at_start[0] <= 2 * z * math.sqrt(2.0) * sigma_b
+    z = float(norm.isf(NOISE_ALPHA / (2.0 * (int(t.laps) + 1) / per_block)))
+    first = excess[:block_rows].mean()
+    allowed = STEADY_BAND * mu + (1.0 + STEADY_BAND) * excess.mean() + 2.0 * z * sigma_b
+    assert first <= allowed
     assert start <= t.running_in_distance + per_block * lap + 1e-9
     # the peak: the largest true μ of the running-in, moved by at most 5σ of one reading's
     # fluctuation and noise (a reading at the true peak reads at least 5σ below it; no

@@ -208,7 +208,11 @@ def squeezed(text: str) -> str:
 
 
 def run_html(kind: StandKind, lang: Lang) -> str:
-    s = simulated(kind)
+    return report_html(simulated(kind), lang)
+
+
+def report_html(s: Simulated, lang: Lang) -> str:
+    """The report of an analysed run, as the service renders it."""
     return render_report(
         build_report(
             run=s.run,

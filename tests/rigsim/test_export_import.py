@@ -18,6 +18,7 @@ from typing import Any
 import httpx
 import pytest
 
+from rigserver.core.tribometer import STEADY_BAND
 from rigsim.cli import main as rigsim
 from tests.api.conftest import READER, WRITER, Server, auth
 from tests.rigclient.conftest import AgentProcess
@@ -88,13 +89,24 @@ def test_without_noise_the_import_gives_the_truth(
 ) -> None:
     v, t = imported(server, agents, tmp_path, stand, dialect, "off")
     assert v["stand"] == stand
-    for name in ("friction_steady", "friction_mean", "friction_static", "running_in_distance"):
+    for name in ("friction_mean", "friction_static"):
         assert v[name] == pytest.approx(t[name], rel=1e-12), name
+    # the running-in ends in the block of laps (here one) where the true excess enters the
+    # band (issue 37), or earlier where the tail's mean excess ē ≤ δ·μ_ss widens the band:
+    # by λ·ln(1 + (1 + δ)ē/(δμ_ss)) < λ = L_r/3 at most; the steady mean holds only the
+    # transient's tail, within the band
+    lap = t["sliding_distance"] / t["laps"]
+    assert v["running_in_distance"] <= t["running_in_distance"] + lap + 1e-9
+    assert v["running_in_distance"] >= t["running_in_distance"] - t["transient_distance"] / 3
+    mu = t["friction_steady"]
+    assert mu <= v["friction_steady"] <= mu * (1.0 + STEADY_BAND)
     assert v["sliding_distance"] == pytest.approx(t["sliding_distance"], rel=1e-12)
     assert v["laps"] == pytest.approx(t["laps"], rel=1e-12)
     assert v["mean_load"] == pytest.approx(t["load"], rel=1e-12)
     if stand == "pin_on_disc":
-        assert v["lap_amplitude"] == pytest.approx(t["lap_amplitude"], rel=1e-9)
+        # the fit over the steady part takes up a little of the transient's tail (its exact
+        # value: tests/analysis/test_tribometer_truth.py), within 1 % here
+        assert v["lap_amplitude"] == pytest.approx(t["lap_amplitude"], rel=0.01)
 
 
 @pytest.mark.parametrize("stand", ["pin_on_disc", "reciprocating"])

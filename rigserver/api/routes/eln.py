@@ -5,6 +5,7 @@ which recreates a run exported by a rig server under a new id (naming the origin
 from __future__ import annotations
 
 import io
+import itertools
 import math
 import os
 import shutil
@@ -359,30 +360,49 @@ def _wrong_correction(c: Correction, run: Run, stand: Stand) -> str | None:
     return problems[0].message if problems else None
 
 
+def _present(columns: dict[str, Any]) -> Iterator[dict[str, Any]]:
+    """The rows of an aligned group's slice in runs of the same channels present, each with
+    only those: a channel a batch did not carry is stored as NaN (a vendor's file without a
+    temperature), and the batch was checked without it."""
+    finite = {n: np.isfinite(np.asarray(v, dtype=np.float64)) for n, v in columns.items()}
+    if all(mask.all() for mask in finite.values()):
+        yield columns
+        return
+    pattern = np.stack(list(finite.values()), axis=1)
+    rows = pattern.shape[0]
+    starts = [0, *np.flatnonzero((pattern[1:] != pattern[:-1]).any(axis=1)) + 1, rows]
+    for first, end in itertools.pairwise(starts):
+        yield {n: np.asarray(v)[first:end] for n, v in columns.items() if finite[n][first]}
+
+
 def _checked(
     batches: Iterator[tuple[int, Any, dict[str, Any]]], stand: Stand
 ) -> Iterator[tuple[int, Any, dict[str, Any]]]:
     """The batches of an archive's run file, each checked as a posted batch is (limits,
-    ordering across batches); the single measurements without the NaN that stands for
-    "not in that batch"."""
+    ordering across batches); the NaN that stands for "not in that batch" left out: of the
+    single measurements value by value, of an aligned group the channels a run of rows
+    lacks."""
     last: dict[str, dict[str, float]] = {}
     for seq, stored, columns in batches:
         decl = stand.group(stored.group)
         if decl is None:
             raise _refused(ArchiveRefused("run file", f"no channel group {stored.group!r}"))
-        checked = columns
         if stored.group == MEASUREMENTS:
-            checked = {n: v[~np.isnan(v)] for n, v in columns.items() if (~np.isnan(v)).any()}
-        found = check_columns(decl, checked, last.get(stored.group)) if checked else []
-        if found:
-            raise ApiProblem(
-                422,
-                "Archive refused",
-                f"the run file's readings of group {stored.group!r} would be refused here: "
-                f"{found[0].message}",
-                found,
-            )
-        last[stored.group] = {n: float(v[-1]) for n, v in checked.items() if len(v)}
+            parts = [{n: v[~np.isnan(v)] for n, v in columns.items() if (~np.isnan(v)).any()}]
+        else:
+            parts = list(_present(columns))
+        for checked in parts:
+            previous = last.setdefault(stored.group, {})
+            found = check_columns(decl, checked, previous) if checked else []
+            if found:
+                raise ApiProblem(
+                    422,
+                    "Archive refused",
+                    f"the run file's readings of group {stored.group!r} would be refused "
+                    f"here: {found[0].message}",
+                    found,
+                )
+            previous.update({n: float(v[-1]) for n, v in checked.items() if len(v)})
         yield seq, stored, columns
 
 

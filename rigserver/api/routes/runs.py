@@ -22,7 +22,16 @@ from rigserver.api.report_answers import render_finished
 from rigserver.api.run_results import compute_results
 from rigserver.api.strict_json import StrictJsonRoute
 from rigserver.storage.errors import KeyReused
-from schemas.runs import Run, RunCreate, RunPage, RunQuery, RunState, is_run_id, new_run_id
+from schemas.runs import (
+    Run,
+    RunCreate,
+    RunPage,
+    RunQuery,
+    RunState,
+    given_paths,
+    is_run_id,
+    new_run_id,
+)
 from schemas.stands import with_overrides
 
 #: An Idempotency-Key: printable ASCII, no spaces (a UUID, a counter, a hash).
@@ -116,6 +125,7 @@ def open_run(
         test_plan=body.test_plan,
         notes=body.notes,
         configuration=snapshot(services, body),
+        configuration_given=dict.fromkeys(given_paths(body.configuration), body.given_by),
         created=datetime.now(UTC),
     )
     try:

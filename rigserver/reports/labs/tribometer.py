@@ -4,6 +4,8 @@ volumes and specific wear rates, the Hertz contact."""
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from rigserver.reports import blocks
@@ -12,12 +14,17 @@ from rigserver.reports.document import Block, Figure, Section, Text
 from rigserver.reports.formatting import fmt, html_symbol
 from rigserver.reports.i18n import Messages
 from rigserver.reports.labs import iso_profile
+from rigserver.reports.labs.tribometer_conditions import conditions_table, deviations
 from rigserver.reports.plots import axes, decorate, to_svg
-from schemas.labels import RESULTS, TABLES, WEAR_SUBSCRIPTS
-from schemas.results import PinOnDiscResults, ReciprocatingResults, WearEstimate
-from schemas.stands import MEASUREMENTS
+from schemas.labels import RESULTS, TABLES, WEAR_SUBSCRIPTS, RowTable, row_labels
+from schemas.results import PinOnDiscResults, ReciprocatingResults, TribometerStep, WearEstimate
+from schemas.stands import CONFIG_MODELS, MEASUREMENTS, PinOnDiscConfig, ReciprocatingConfig
+from schemas.units import UNITS
 
 Results = PinOnDiscResults | ReciprocatingResults
+
+#: The flat's captions on a reciprocating tribometer (ASTM G133 says "flat", not "disc").
+FLAT = {"disc_track": "t.flat_track", "disc_mass": "t.flat_mass"}
 
 #: The wear estimates in the report's order: (field, message key of its caption).
 WEAR = (
@@ -31,15 +38,25 @@ WEAR = (
 def build(ctx: Context, v: Results) -> LabReport:
     t = ctx.t
     labels = RESULTS[ctx.run.stand]
+    config = CONFIG_MODELS[ctx.run.stand].model_validate(ctx.run.configuration)
+    assert isinstance(config, PinOnDiscConfig | ReciprocatingConfig)
+    balance = config.accuracy.balance_resolution
+    masses = {
+        f"{specimen}_mass_{when}": balance / UNITS["g"].factor
+        for specimen in ("pin", "disc")
+        for when in ("before", "after")
+    }
     measured: list[Block] = [
-        blocks.measurements(t, ctx.group(MEASUREMENTS), ctx.readings.measurements())
+        blocks.measurements(t, ctx.group(MEASUREMENTS), ctx.readings.measurements(), masses)
     ]
     if v.rows:
+        measured.append(conditions_table(t, ctx.run, config, v))
+        flat = isinstance(v, ReciprocatingResults)
         fields = [
             ("rows", "", "w.rows"),
             ("duration", "t", "w.duration"),
             ("sliding_distance", "L", "t.distance"),
-            ("laps", "n_L", "t.laps"),
+            ("laps", "n_c" if flat else "n_L", "t.cycles" if flat else "t.laps"),
             ("mean_load", "F", "t.load"),
             ("friction_mean", "μ̄", "t.mean"),
             ("friction_static", "μ_s", "t.static"),
@@ -56,13 +73,15 @@ def build(ctx: Context, v: Results) -> LabReport:
             ]
         measured.append(blocks.quantities(t, t("t.record"), v, fields, labels=labels))
         measured.append(Figure(t("t.fig_friction"), _friction_svg(t, v)))
+        if v.steps:
+            measured += _steps(ctx, v)
         if isinstance(v, PinOnDiscResults) and v.friction_map is not None:
             measured.append(Figure(t("t.fig_map"), _map_svg(t, v)))
         if isinstance(v, ReciprocatingResults):
             if v.loops:
                 measured.append(Figure(t("t.fig_loops"), _loops_svg(t, v)))
             if v.strokes:
-                (table,) = TABLES[ctx.run.stand]
+                table = _table(ctx, "strokes")
                 measured.append(
                     blocks.result_table(
                         t,
@@ -91,7 +110,7 @@ def build(ctx: Context, v: Results) -> LabReport:
             )
         )
     spread = blocks.uncertainties(t, v, [("friction_steady", "μ", "t.steady")], labels=labels)
-    for name, key in WEAR:
+    for name, key in _wear(v):
         estimate: WearEstimate | None = getattr(v, name)
         if estimate is None:
             continue
@@ -117,8 +136,62 @@ def build(ctx: Context, v: Results) -> LabReport:
             Section(t("sec.measured"), measured),
             Section(t("sec.processed"), processed),
         ],
-        conclusions=_conclusions(t, v),
+        conclusions=_conclusions(t, v)
+        + ([html_symbol(line) for line in deviations(t, config, v)] if v.rows else []),
     )
+
+
+def _wear(v: Results) -> list[tuple[str, str]]:
+    """The wear estimates and their captions, the flat's on a reciprocating tribometer."""
+    if isinstance(v, ReciprocatingResults):
+        return [(name, FLAT.get(name, key)) for name, key in WEAR]
+    return list(WEAR)
+
+
+def _table(ctx: Context, name: str) -> RowTable:
+    return next(table for table in TABLES[ctx.run.stand] if table.name == name)
+
+
+def _steps(ctx: Context, v: Results) -> list[Block]:
+    """The recipe's steps: their table and μ against the sliding speed (a Stribeck curve)."""
+    t = ctx.t
+    labels = row_labels(RESULTS[ctx.run.stand], "steps[].")
+    table = blocks.result_table(
+        t,
+        t.gettext(_table(ctx, "steps").caption),
+        v.steps,
+        [
+            ("step", "i"),
+            ("sliding_speed", "v"),
+            ("track_radius", "R"),
+            ("normal_load", "F"),
+            ("duration", "t"),
+            ("distance", "L"),
+            ("friction_mean", "μ̄"),
+            ("friction_steady", "μ"),
+        ],
+        model=TribometerStep,
+        labels=labels,
+    )
+    found: list[Block] = [table]
+    if any(step.sliding_speed is not None for step in v.steps):
+        found.append(Figure(t("t.fig_stribeck"), stribeck_svg(t, v)))
+    return found
+
+
+def stribeck_svg(t: Messages, v: Results) -> str:
+    """μ of each step against its sliding speed (a Stribeck curve): the steady μ where the
+    step settled, the step's mean beside it."""
+    known = [s for s in v.steps if s.sliding_speed is not None]
+    fig, (ax,) = axes(height=3.0)
+    speed = [s.sliding_speed or 0.0 for s in known]
+    ax.plot(speed, [s.friction_mean for s in known], "o--", color="C0", label=t("t.step_mean"))
+    steady = [(s.sliding_speed, s.friction_steady) for s in known if s.friction_steady is not None]
+    if steady:
+        x, y = zip(*steady, strict=True)
+        ax.plot(x, y, "s-", color="C3", label=t("t.step_steady"))
+    decorate(ax, xlabel=blocks.axis(t, "v", "m/s"), ylabel=blocks.axis(t, "μ"))
+    return to_svg(fig)
 
 
 def _wear_fields(name: str) -> list[tuple[str, str, str]]:
@@ -141,11 +214,11 @@ def _friction_svg(t: Messages, v: Results) -> str:
     shaded, the steady mean drawn over the steady part."""
     s = v.friction
     fig, (ax,) = axes(height=3.0)
-    if v.running_in_distance > 0:
+    if v.running_in_distance:
         ax.axvspan(0.0, v.running_in_distance, color="0.88", label=t("t.running_in_band"))
     ax.fill_between(s.x, s.y_min, s.y_max, color="C0", alpha=0.25, linewidth=0)
     ax.plot(s.x, s.y, color="C0", linewidth=0.8, label=t("w.block_mean"))
-    if s.x:
+    if s.x and v.friction_steady is not None and v.running_in_distance is not None:
         ax.hlines(
             v.friction_steady,
             v.running_in_distance,
@@ -201,7 +274,13 @@ def _loops_svg(t: Messages, v: ReciprocatingResults) -> str:
 
 def _conclusions(t: Messages, v: Results) -> list[Text]:
     found: list[Text] = []
-    if v.rows:
+    if v.rows and v.friction_steady is None:
+        found.append(
+            html_symbol(
+                t("t.c_unsettled", static=fmt(v.friction_static), mean=fmt(v.friction_mean))
+            )
+        )
+    elif v.rows:
         found.append(
             html_symbol(
                 t(
@@ -214,11 +293,45 @@ def _conclusions(t: Messages, v: Results) -> list[Text]:
                 )
             )
         )
-    for name, key in WEAR:
+    for name, key in _wear(v):
+        below: float | None = getattr(v, f"{name}_below", None)
+        if below is not None:
+            milligrams = below / UNITS["mg"].factor
+            found.append(html_symbol(t("t.c_below", what=t(key), resolution=fmt(milligrams))))
         estimate: WearEstimate | None = getattr(v, name)
         if estimate is not None:
             rate = estimate.specific_wear_rate / 1e-9  # mm³/(N·m)
             # below zero the specimen gained mass (or volume): said, never a bare negative wear
             said = "t.c_gain" if rate < 0 else "t.c_wear"
             found.append(html_symbol(t(said, what=t(key), k=fmt(rate))))
+    for by_mass, by_shape in (("disc_mass", "disc_track"), ("pin_mass", "pin_scar")):
+        verdict = _disagreement(t, getattr(v, by_mass), getattr(v, by_shape), by_shape)
+        if verdict is not None:
+            found.append(html_symbol(verdict))
     return found
+
+
+def _disagreement(
+    t: Messages, mass: WearEstimate | None, shape: WearEstimate | None, name: str
+) -> str | None:
+    """Which k to trust when the one by mass and the one by the specimen's shape (the scar,
+    the track's profiles) differ beyond U = 2·√(u₁² + u₂²) (GUM, k = 2): the one of the
+    smaller relative uncertainty, with why the other may be off."""
+    if mass is None or shape is None:
+        return None
+    u_mass, u_shape = mass.specific_wear_rate_uncertainty, shape.specific_wear_rate_uncertainty
+    k_mass, k_shape = mass.specific_wear_rate, shape.specific_wear_rate
+    if u_mass is None or u_shape is None or k_mass <= 0 or k_shape <= 0:
+        return None
+    if abs(k_mass - k_shape) <= 2.0 * math.hypot(u_mass, u_shape):
+        return None
+    trust_mass = u_mass / k_mass < u_shape / k_shape
+    return t(
+        "t.c_trust_mass" if trust_mass else "t.c_trust_shape",
+        specimen=t("t.specimen_disc" if name == "disc_track" else "t.specimen_pin"),
+        shape=t(f"t.by.{name}"),
+        k_mass=fmt(k_mass / 1e-9),
+        k_shape=fmt(k_shape / 1e-9),
+        ratio=fmt(max(k_mass, k_shape) / min(k_mass, k_shape), 2),
+        relative=fmt(100.0 * min(u_mass / k_mass, u_shape / k_shape), 2),
+    )

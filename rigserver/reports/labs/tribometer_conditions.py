@@ -1,0 +1,139 @@
+"""A tribometer report's test conditions as ASTM G99-17 (clause 10) and G133-05 (clause 10)
+ask them to be reported: each planned value beside the one measured (load, sliding speed,
+rotational speed or frequency, distance, laps or cycles, temperature, humidity), and the
+deviations from the standard's procedure (G133's procedures A and B fix their parameters;
+G99 leaves them to the test)."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from rigserver.reports.document import Table
+from rigserver.reports.formatting import fmt, html_symbol
+from rigserver.reports.i18n import Messages
+from schemas.results import PinOnDiscResults, ReciprocatingResults
+from schemas.runs import Run
+from schemas.stands import PinOnDiscConfig, ReciprocatingConfig
+
+
+@dataclass(frozen=True, slots=True)
+class Procedure:
+    """The fixed parameters of a standard's procedure (SI; temperature in °C)."""
+
+    name: str
+    load: float
+    stroke_length: float
+    frequency: float
+    distance: float
+    temperature: float | None
+    lubricated: bool
+
+
+#: ASTM G133-05 (2016), clause 9: procedure A unlubricated at room temperature, procedure B
+#: lubricated (diesel fuel) at 150 °C; both a 9.525 mm ball and a 10 mm stroke.
+G133 = (
+    Procedure("A", 25.0, 10e-3, 5.0, 100.0, None, False),
+    Procedure("B", 200.0, 10e-3, 10.0, 400.0, 150.0, True),
+)
+#: A measured value departs from the planned or the standard's one beyond this share.
+TOLERANCE = 0.05
+
+Config = PinOnDiscConfig | ReciprocatingConfig
+Results = PinOnDiscResults | ReciprocatingResults
+
+
+def conditions_table(t: Messages, run: Run, config: Config, v: Results) -> Table:
+    """Planned against measured; a planned value nobody gave is printed as the stand's
+    default, a measured one the record does not hold as "not recorded"."""
+    plan = config.plan
+    speed = v.sliding_distance / v.duration if v.duration > 0 else None
+    rows: list[tuple[str, str, str | None, float | None, float | None, str]] = [
+        ("t.load", "F", "plan.load", plan.load, v.mean_load, "N"),
+    ]
+    if isinstance(config, PinOnDiscConfig):
+        per_minute = 60.0 / (2.0 * math.pi * config.track_radius)
+        rows += [
+            ("c.speed", "v", "plan.speed", plan.speed, speed, "m/s"),
+            ("c.rpm", "n", "plan.speed", plan.speed * per_minute, _times(speed, per_minute), "rpm"),
+            ("c.distance", "L", "plan.distance", plan.distance, v.sliding_distance, "m"),
+            (
+                "t.laps",
+                "n_L",
+                "plan.distance",
+                plan.distance / (2 * math.pi * config.track_radius),
+                v.laps,
+                "",
+            ),
+        ]
+    else:
+        frequency = v.laps / v.duration if v.duration > 0 else None
+        rows += [
+            ("c.frequency", "f", "frequency", config.frequency, frequency, "Hz"),
+            ("c.stroke", "S", "stroke_length", config.stroke_length * 1e3, None, "mm"),
+            ("c.distance", "L", "plan.distance", plan.distance, v.sliding_distance, "m"),
+            (
+                "t.cycles",
+                "n_c",
+                "plan.distance",
+                plan.distance / (2 * config.stroke_length),
+                v.laps,
+                "",
+            ),
+        ]
+    rows += [
+        ("c.temperature", "T", "plan.temperature", plan.temperature, v.temperature_mean, "degC"),
+        ("c.humidity", "RH", "plan.humidity", plan.humidity, None, "%"),
+    ]
+    printed: list[list[str]] = []
+    for key, symbol, path, planned, measured, unit in rows:
+        shown = fmt(planned)
+        if path is not None and run.from_default(path):
+            shown = t("config.default", value=shown)
+        printed.append(
+            [
+                html_symbol(t(key)),
+                html_symbol(t.symbol(symbol)),
+                shown,
+                fmt(measured) if measured is not None else t("c.not_recorded"),
+                t.unit(unit) if unit else "",
+            ]
+        )
+    head = [t("col.quantity"), t("col.symbol"), t("c.planned"), t("c.measured"), t("col.unit")]
+    caption = t("c.caption_g99" if isinstance(config, PinOnDiscConfig) else "c.caption_g133")
+    return Table(caption=caption, header=head, rows=printed, labels=2)
+
+
+def _times(value: float | None, factor: float) -> float | None:
+    return None if value is None else value * factor
+
+
+def deviations(t: Messages, config: Config, v: Results) -> list[str]:
+    """The sentences of the report on what departs: from the plan (distance, load), and on
+    the flat from G133's procedure of the same lubrication (A dry, B lubricated)."""
+    found: list[str] = []
+    plan = config.plan
+    for key, planned, measured in (
+        ("c.off_distance", plan.distance, v.sliding_distance),
+        ("c.off_load", plan.load, v.mean_load),
+    ):
+        if planned > 0 and abs(measured - planned) > TOLERANCE * planned:
+            found.append(t(key, planned=fmt(planned), measured=fmt(measured)))
+    if isinstance(config, ReciprocatingConfig):
+        lubricated = plan.lubricant.strip().casefold() not in ("", "none", "dry")
+        procedure = G133[1] if lubricated else G133[0]
+        apart = [
+            t(key, given=fmt(given), standard=fmt(standard))
+            for key, given, standard in (
+                ("c.dev_load", plan.load, procedure.load),
+                ("c.dev_stroke", config.stroke_length * 1e3, procedure.stroke_length * 1e3),
+                ("c.dev_frequency", config.frequency, procedure.frequency),
+                ("c.dev_distance", plan.distance, procedure.distance),
+            )
+            if abs(given - standard) > TOLERANCE * standard
+        ]
+        if apart:
+            found.append(t("c.g133_apart", procedure=procedure.name, what="; ".join(apart)))
+        else:
+            found.append(t("c.g133_as", procedure=procedure.name))
+    return found

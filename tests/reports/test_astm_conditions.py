@@ -1,0 +1,56 @@
+"""The tribometer report as ASTM G99 and G133 ask (issue 37, item 7): planned against
+measured conditions (rotational speed, environment, distance), the deviations from the plan
+and from G133's procedure, "flat" and "cycles" on the reciprocating tribometer."""
+
+from __future__ import annotations
+
+import math
+from html import unescape
+
+from rigserver.reports.i18n import Messages
+from rigserver.reports.labs.tribometer_conditions import deviations
+from schemas.results import PinOnDiscResults, ReciprocatingResults
+from schemas.stands import PlannedTest, ReciprocatingConfig, StandKind
+from tests.reports.rendered import report_html
+from tests.reports.simulated import simulated
+
+
+def test_the_disc_report_has_the_g99_conditions() -> None:
+    done = simulated(StandKind.PIN_ON_DISC)
+    v = done.result.values
+    assert isinstance(v, PinOnDiscResults)
+    html = unescape(report_html(done, "en"))
+    assert "Test conditions, planned and measured (ASTM G99-17, clause 10)" in html
+    # n = 60·v/(2πR): 0.1 m/s on the 10 mm track, 95.49 rpm planned
+    assert "rotational speed of the disc" in html and "95.49" in html
+    assert "relative humidity" in html and "not recorded" in html
+
+
+def test_the_flat_report_cites_g133_and_says_flat_and_cycles() -> None:
+    done = simulated(StandKind.RECIPROCATING)
+    v = done.result.values
+    assert isinstance(v, ReciprocatingResults)
+    for lang, words in (
+        ("en", ("ASTM G133-05", "Wear of the flat", "cycles run", "procedure A: load 5 N")),
+        ("ru", ("ASTM G133-05", "Износ пластины", "пройдено циклов", "процедуры A ASTM G133")),
+    ):
+        html = unescape(report_html(done, lang))  # type: ignore[arg-type]
+        for said in words:
+            assert said in html, (lang, said)
+        assert "Wear of the disc" not in html
+
+
+def test_a_flat_test_as_procedure_a_is_said_to_follow_it() -> None:
+    v = simulated(StandKind.RECIPROCATING).result.values
+    assert isinstance(v, ReciprocatingResults)
+    # G133 procedure A: 25 N, 10 mm stroke, 5 Hz, 100 m, dry; the record as planned
+    config = ReciprocatingConfig(plan=PlannedTest(load=25.0, distance=100.0))
+    as_run = v.model_copy(update={"mean_load": 25.0, "sliding_distance": 100.0})
+    said = deviations(Messages("en"), config, as_run)
+    assert said == ["The test on the flat follows the parameters of ASTM G133 procedure A."]
+    # lubricated: procedure B's 200 N, 10 Hz, 400 m
+    oiled = config.model_copy(update={"plan": PlannedTest(load=25.0, lubricant="diesel")})
+    (apart,) = deviations(Messages("en"), oiled, as_run)
+    assert apart.startswith("The test on the flat departs from ASTM G133 procedure B")
+    assert "load 25 N instead of 200 N" in apart and "frequency 5 Hz instead of 10 Hz" in apart
+    assert math.isclose(config.stroke_length, 0.01)

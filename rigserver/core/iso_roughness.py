@@ -33,10 +33,11 @@ from rigserver.core.profile_filter import (
     STEPS_PER_LAMBDA_S,
     Basis,
     FilteredProfile,
+    UniformParts,
     cutoff_for,
     filter_profile,
     lambda_s_for,
-    uniform_step,
+    uniform_parts,
 )
 
 #: Sections (sampling lengths, lsc = λc) of the default evaluation length (ISO 21920-3;
@@ -69,8 +70,18 @@ Ends = Literal["discarded", "corrected"]
 #: ``no_rsm`` (no RSm to choose λc by), ``capped`` (the table's λc is longer than the trace:
 #: the longest that fits is used), ``unsettled`` (the choice by the table does not settle),
 #: ``short`` (shorter than 2λc: the corrected ends are kept), ``few_sections`` (fewer than
-#: five sections), ``coarse_step`` (a sampling step longer than λs/5, ISO 3274).
-REMARKS = ("resampled", "no_rsm", "capped", "unsettled", "short", "few_sections", "coarse_step")
+#: five sections), ``coarse_step`` (a sampling step longer than λs/5, ISO 3274), ``parts``
+#: (a trace with gaps, analysed in its parts between them, ``RESAMPLING_LIMIT``).
+REMARKS = (
+    "resampled",
+    "no_rsm",
+    "capped",
+    "unsettled",
+    "short",
+    "few_sections",
+    "coarse_step",
+    "parts",
+)
 
 
 # --- field parameters of the ordinates -----------------------------------------------------
@@ -559,6 +570,13 @@ class IsoProfile:
     parameters : IsoParameters
     resampled : bool
         The trace was not uniformly sampled and was interpolated onto a uniform grid.
+    parts : int
+        Parts of the trace between its gaps that were analysed (1 but for a trace whose
+        resampling would exceed ``RESAMPLING_LIMIT`` times its points); the arrays above are
+        then the parts end to end, and ``start``, ``stop`` run from the first evaluation
+        length to the last.
+    left_out : int
+        Points of parts too short to analyse (fewer than ``MIN_POINTS``, or shorter than λc).
     remarks : tuple of str
         What departs from the standard's defaults, as the codes of :data:`REMARKS`.
     """
@@ -579,6 +597,8 @@ class IsoProfile:
     evaluation_length: float
     parameters: IsoParameters
     resampled: bool = False
+    parts: int = 1
+    left_out: int = 0
     remarks: tuple[str, ...] = field(default_factory=tuple)
 
 
@@ -596,28 +616,82 @@ def _trace(x_m: ArrayLike, z_m: ArrayLike) -> tuple[NDArray[np.float64], NDArray
     return x, z
 
 
-def _evaluate(
-    x: NDArray[np.float64], z: NDArray[np.float64], lc: float, ls: float
-) -> tuple[FilteredProfile, int, int, Ends, int, IsoParameters]:
-    fp = filter_profile(x=x, z=z, lambda_c=lc, lambda_s=ls if ls > 0 else None)
-    length = float(x[-1] - x[0])
-    n_points = x.size
+@dataclass(frozen=True, slots=True)
+class _Evaluation:
+    """The filtered parts of a trace joined end to end, and the parameters of their
+    evaluation lengths taken together (one part: the trace's own analysis)."""
+
+    x: NDArray[np.float64]
+    primary: NDArray[np.float64]
+    waviness: NDArray[np.float64]
+    roughness: NDArray[np.float64]
+    form: NDArray[np.float64]
+    start: int
+    stop: int
     ends: Ends
-    if length >= 2.0 * lc * (1.0 - 1e-9):
-        ends = "discarded"
-        sections = max(1, math.floor((length - lc) / lc + 1e-9))
-    else:
-        ends = "corrected"
-        sections = max(1, math.floor(length / lc + 1e-9))
-    per_section = max(1, round(lc / fp.step))
-    count = min(sections * per_section, n_points)
-    start = (n_points - count) // 2
-    stop = start + count
-    slope = local_slope(fp.roughness, step=fp.step)[start:stop]
-    params = roughness_parameters(
-        x=x[start:stop], z=fp.roughness[start:stop], step=fp.step, sections=sections, slope=slope
+    sections: int
+    evaluation_length: float
+    parts: int
+    left_out: int  # points of the parts shorter than λc
+    params: IsoParameters
+
+
+def _evaluate(parts: UniformParts, lc: float, ls: float) -> _Evaluation:
+    """Each part at least λc long filtered on its own, its evaluation length centred on it;
+    the parameters from the evaluation lengths joined (the sections stay whole, the filters
+    never reach across a gap)."""
+    step = parts.step
+    filtered: list[FilteredProfile] = []
+    windows: list[tuple[int, int]] = []
+    ends: Ends = "discarded"
+    sections = left_out = 0
+    for x, z in parts.parts:
+        length = float(x[-1] - x[0])
+        if length < lc * (1.0 - 1e-9):
+            left_out += x.size
+            continue
+        fp = filter_profile(x=x, z=z, lambda_c=lc, lambda_s=ls if ls > 0 else None)
+        if length >= 2.0 * lc * (1.0 - 1e-9):
+            own = max(1, math.floor((length - lc) / lc + 1e-9))
+        else:
+            ends = "corrected"
+            own = max(1, math.floor(length / lc + 1e-9))
+        count = min(own * max(1, round(lc / step)), x.size)
+        start = (x.size - count) // 2
+        filtered.append(fp)
+        windows.append((start, start + count))
+        sections += own
+    if not filtered:
+        raise ModelInputError(f"no part of the trace between its gaps is as long as λc ({lc} m)")
+    offsets = np.cumsum([0] + [fp.x.size for fp in filtered])
+    z_eval = np.concatenate(
+        [fp.roughness[a:b] for fp, (a, b) in zip(filtered, windows, strict=True)]
     )
-    return fp, start, stop, ends, sections, params
+    slope = np.concatenate(
+        [
+            local_slope(fp.roughness, step=step)[a:b]
+            for fp, (a, b) in zip(filtered, windows, strict=True)
+        ]
+    )
+    x0 = filtered[0].x[windows[0][0]]
+    params = roughness_parameters(
+        x=x0 + step * np.arange(z_eval.size), z=z_eval, step=step, sections=sections, slope=slope
+    )
+    return _Evaluation(
+        x=np.concatenate([fp.x for fp in filtered]),
+        primary=np.concatenate([fp.primary for fp in filtered]),
+        waviness=np.concatenate([fp.waviness for fp in filtered]),
+        roughness=np.concatenate([fp.roughness for fp in filtered]),
+        form=np.concatenate([fp.form for fp in filtered]),
+        start=int(offsets[0]) + windows[0][0],
+        stop=int(offsets[-2]) + windows[-1][1],
+        ends=ends,
+        sections=sections,
+        evaluation_length=float(z_eval.size * step),
+        parts=len(filtered),
+        left_out=left_out,
+        params=params,
+    )
 
 
 def iso_profile(
@@ -663,16 +737,16 @@ def iso_profile(
     """
     x, z = _trace(x_m, z_m)
     remarks: list[str] = []
-    resampled = False
-    step = uniform_step(x)
-    if step is None:
-        step = float(np.median(np.diff(x)))
-        grid = x[0] + step * np.arange(math.floor((x[-1] - x[0]) / step + 1e-9) + 1)
-        z = np.interp(grid, x, z)
-        x = grid
-        resampled = True
+    parts = uniform_parts(x, z, min_points=MIN_POINTS)
+    if parts.resampled:
         remarks.append("resampled")
-    length = float(x[-1] - x[0])
+    if len(parts.parts) > 1 or parts.left_out:
+        remarks.append("parts")
+    if not parts.parts:
+        raise ModelInputError(
+            f"no part of the trace between its gaps holds {MIN_POINTS} points or more"
+        )
+    length = max(float(px[-1] - px[0]) for px, _ in parts.parts)
     fitting = [c for c in CUTOFFS if c <= length * (1.0 + 1e-9)]
     if lambda_c is not None:
         lc = float(positive("lambda_c", lambda_c))
@@ -699,7 +773,8 @@ def iso_profile(
     choice: list[str] = []  # remarks of the last round of the choice only
     while True:
         ls = lambda_s_of(lc)
-        fp, start, stop, ends, sections, params = _evaluate(x, z, lc, ls)
+        found = _evaluate(parts, lc, ls)
+        params = found.params
         if lambda_c is not None:
             break
         value = {"ra": params.ra, "rz": params.rz, "rsm": params.rsm}[basis]
@@ -719,28 +794,30 @@ def iso_profile(
             break
         lc = wanted
     remarks += choice
-    if ends == "corrected":
+    if found.ends == "corrected":
         remarks.append("short")
-    if sections < DEFAULT_SECTIONS:
+    if found.sections < DEFAULT_SECTIONS:
         remarks.append("few_sections")
-    if ls > 0 and fp.step > ls / STEPS_PER_LAMBDA_S * (1.0 + 1e-6):
+    if ls > 0 and parts.step > ls / STEPS_PER_LAMBDA_S * (1.0 + 1e-6):
         remarks.append("coarse_step")
     return IsoProfile(
-        x=x,
-        primary=fp.primary,
-        waviness=fp.waviness,
-        roughness=fp.roughness,
-        form=fp.form,
-        start=start,
-        stop=stop,
+        x=found.x,
+        primary=found.primary,
+        waviness=found.waviness,
+        roughness=found.roughness,
+        form=found.form,
+        start=found.start,
+        stop=found.stop,
         lambda_c=lc,
         lambda_s=ls,
         lambda_c_basis=basis_used,
-        ends=ends,
-        sections=sections,
+        ends=found.ends,
+        sections=found.sections,
         section_length=lc,
-        evaluation_length=float((stop - start) * fp.step),
+        evaluation_length=found.evaluation_length,
         parameters=params,
-        resampled=resampled,
+        resampled=parts.resampled,
+        parts=found.parts,
+        left_out=parts.left_out + found.left_out,
         remarks=tuple(remarks),
     )

@@ -40,6 +40,11 @@ def analyse(run: Run, readings: Readings) -> ProfilometerResults:
     result.base_length = params.base_length
     result.ra, result.rq, result.rz = params.ra, params.rq, params.rz
     result.rmax, result.sm, result.asperity_radius = params.rmax, params.sm, params.asperity_radius
+    if params.asperity_radius is None:
+        result.notes.append(
+            f"R (1.1) not computed: ρ2 = {params.rms_curvature:.3g} 1/m, R = √(π/2)/ρ2 "
+            "exceeds the largest number a double holds"
+        )
     try:
         err = roughness.instrument_error(parameters=params)
         result.ra_error, result.rz_error = err.ra, err.rz
@@ -95,27 +100,39 @@ def analyse(run: Run, readings: Readings) -> ProfilometerResults:
         else:
             result.fit_lsq = model
     if result.fit_manual is not None:
+        _complex_parameters(result, result.fit_manual, params, c)
+    return result
+
+
+def _complex_parameters(
+    result: ProfilometerResults,
+    fit: BearingFitResult,
+    params: roughness.ProfileParameters,
+    c: ProfilometerConfig,
+) -> None:
+    """Δ (1.9), Ra from Δ (1.10) and Δ_T (1.11), or what stops each, in ``result.notes``."""
+    try:
+        if params.asperity_radius is None:
+            raise ModelInputError("it needs R (1.1)")
         delta = float(
             roughness.complex_parameter(
-                rmax=params.rmax,
-                radius=params.asperity_radius,
-                b=result.fit_manual.b,
-                nu=result.fit_manual.nu,
+                rmax=params.rmax, radius=params.asperity_radius, b=fit.b, nu=fit.nu
             )
         )
-        result.complex_parameter = delta
-        result.ra_from_complex = float(roughness.ra_from_complex_parameter(delta=delta))
-        try:
-            result.complex_parameter_equilibrium = float(
-                roughness.equilibrium_complex_parameter(
-                    nu=result.fit_manual.nu,
-                    poisson=c.poisson,
-                    youngs_modulus=c.youngs_modulus,
-                    contour_pressure=c.contour_pressure,
-                    tau0=c.tau0,
-                    alpha_r=c.alpha_r,
-                )
+        ra_from_complex = float(roughness.ra_from_complex_parameter(delta=delta))
+        result.complex_parameter, result.ra_from_complex = delta, ra_from_complex
+    except ModelInputError as exc:
+        result.notes.append(f"Δ (1.9) not computed: {exc}")
+    try:
+        result.complex_parameter_equilibrium = float(
+            roughness.equilibrium_complex_parameter(
+                nu=fit.nu,
+                poisson=c.poisson,
+                youngs_modulus=c.youngs_modulus,
+                contour_pressure=c.contour_pressure,
+                tau0=c.tau0,
+                alpha_r=c.alpha_r,
             )
-        except ModelInputError as exc:
-            result.notes.append(f"Δ_T not computed: {exc}")
-    return result
+        )
+    except ModelInputError as exc:
+        result.notes.append(f"Δ_T not computed: {exc}")

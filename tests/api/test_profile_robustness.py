@@ -5,15 +5,23 @@ and heights whose derived numbers overflow (item 7)."""
 from __future__ import annotations
 
 import io
+import math
+from collections.abc import Iterator
 from typing import Any
 
 import numpy as np
 import pytest
 import x3pio
 from fastapi.testclient import TestClient
+from hypothesis import HealthCheck, assume, example, given, settings
+from hypothesis import strategies as st
 from numpy.typing import ArrayLike
+from pydantic import BaseModel
 
+from rigserver.analysis import analyse
 from rigserver.core.profile_filter import RESAMPLING_LIMIT
+from schemas.runs import Run
+from tests.analysis.conftest import FakeReadings
 from tests.api.conftest import READER, WRITER, auth
 from tests.api.test_service import open_run
 
@@ -63,3 +71,68 @@ def test_a_trace_with_a_huge_gap_is_analysed_in_parts_within_its_size(
     assert len(x3p.content) <= 24 * received + 16_384
     found = x3pio.read(io.BytesIO(x3p.content))
     assert "points as received" in (found.metadata.comment or "")
+
+
+def _numbers(node: object, path: str = "") -> Iterator[tuple[str, float]]:
+    """Every number of a results model (or its JSON), with its path."""
+    if isinstance(node, BaseModel):
+        node = dict(node)
+    if isinstance(node, dict):
+        for key, value in node.items():
+            yield from _numbers(value, f"{path}.{key}")
+    elif isinstance(node, list | tuple):
+        for i, value in enumerate(node):
+            yield from _numbers(value, f"{path}[{i}]")
+    elif isinstance(node, float | int) and not isinstance(node, bool):
+        yield path, float(node)
+
+
+_SCALES = (1e-300, 1e-200, 1e-12, 1e-3, 1.0, 1000.0)  # µm, within the post's limit of ±1000
+
+
+@st.composite
+def _profiles(draw: st.DrawFn) -> tuple[list[float], list[float]]:
+    """Profiles the post accepts: x strictly increasing in [0, 100] mm (steps down to 1e-300
+    mm), heights within ±1000 µm of any magnitude, constant, a step or two points."""
+    n = draw(st.integers(min_value=2, max_value=60))
+    step = draw(st.sampled_from((1e-300, 1e-9, 1e-3, 0.01, 1.0)))
+    x = draw(st.floats(min_value=0.0, max_value=10.0)) + step * np.arange(n)
+    assume(np.all(np.diff(x) > 0) and x[-1] <= 100.0)
+    scale = draw(st.sampled_from(_SCALES))
+    shape = draw(st.sampled_from(("random", "constant", "step", "sine")))
+    if shape == "random":
+        unit = np.array(draw(st.lists(st.floats(-1.0, 1.0), min_size=n, max_size=n)))
+    elif shape == "constant":
+        unit = np.full(n, draw(st.floats(-1.0, 1.0)))
+    elif shape == "step":
+        unit = np.where(np.arange(n) < n // 2, 0.0, 1.0)
+    else:
+        unit = np.sin(np.arange(n) * 0.7)
+    return [float(v) for v in x], [float(v) for v in scale * unit]
+
+
+@settings(
+    max_examples=40, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture]
+)
+@given(profile=_profiles())
+@example(profile=([0.01 * i for i in range(60)], [1e-300 * math.sin(0.7 * i) for i in range(60)]))
+@example(profile=([0.0, 1.0], [1.0, -1.0]))
+@example(profile=([0.01 * i for i in range(60)], [5.0] * 60))
+@example(profile=([1e-300 * i for i in range(60)], [math.sin(0.7 * i) for i in range(60)]))
+def test_every_profile_the_post_accepts_finishes_with_finite_results(
+    client: TestClient, profile: tuple[list[float], list[float]]
+) -> None:
+    """A profile of heights around 1e-300 µm once posted (201) and then every finish answered
+    422 "radius must be finite, got inf": the run could never finish. Now the finish answers
+    200 and what cannot be computed is None with the reason in pending or notes."""
+    x_mm, y_um = profile
+    run_id = _post_profile(client, x_mm, y_um)
+    finished = client.post(f"{API}/runs/{run_id}/finish", headers=auth(WRITER))
+    assert finished.status_code == 200, finished.text
+    values = client.get(f"{API}/runs/{run_id}/results", headers=auth(READER)).json()["values"]
+    run = Run.model_validate(finished.json())
+    found = analyse(run, FakeReadings({"profile": {"x": x_mm, "y": y_um}}, {}))
+    bad = [(p, v) for p, v in _numbers(found.values) if not math.isfinite(v)]
+    assert not bad, bad
+    assert values["ra"] is not None or values["pending"]
+    assert values["complex_parameter"] is not None or values["pending"] or values["notes"]

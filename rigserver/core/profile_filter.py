@@ -174,7 +174,7 @@ def on_grid(
 def resampling_size(x: NDArray[np.float64]) -> int:
     """Points of ``x``'s grid at its median step (``x`` strictly increasing)."""
     step = float(np.median(np.diff(x)))
-    return math.floor((x[-1] - x[0]) / step * (1.0 + 1e-9)) + 1
+    return math.floor(float(x[-1] - x[0]) / step * (1.0 + 1e-9)) + 1
 
 
 def uniform_parts(

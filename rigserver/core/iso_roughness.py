@@ -621,11 +621,7 @@ class _Evaluation:
     """The filtered parts of a trace joined end to end, and the parameters of their
     evaluation lengths taken together (one part: the trace's own analysis)."""
 
-    x: NDArray[np.float64]
-    primary: NDArray[np.float64]
-    waviness: NDArray[np.float64]
-    roughness: NDArray[np.float64]
-    form: NDArray[np.float64]
+    profile: FilteredProfile
     start: int
     stop: int
     ends: Ends
@@ -677,12 +673,22 @@ def _evaluate(parts: UniformParts, lc: float, ls: float) -> _Evaluation:
     params = roughness_parameters(
         x=x0 + step * np.arange(z_eval.size), z=z_eval, step=step, sections=sections, slope=slope
     )
+    joined = (
+        filtered[0]
+        if len(filtered) == 1
+        else FilteredProfile(
+            x=np.concatenate([fp.x for fp in filtered]),
+            step=step,
+            form=np.concatenate([fp.form for fp in filtered]),
+            primary=np.concatenate([fp.primary for fp in filtered]),
+            waviness=np.concatenate([fp.waviness for fp in filtered]),
+            roughness=np.concatenate([fp.roughness for fp in filtered]),
+            lambda_c=lc,
+            lambda_s=filtered[0].lambda_s,
+        )
+    )
     return _Evaluation(
-        x=np.concatenate([fp.x for fp in filtered]),
-        primary=np.concatenate([fp.primary for fp in filtered]),
-        waviness=np.concatenate([fp.waviness for fp in filtered]),
-        roughness=np.concatenate([fp.roughness for fp in filtered]),
-        form=np.concatenate([fp.form for fp in filtered]),
+        profile=joined,
         start=int(offsets[0]) + windows[0][0],
         stop=int(offsets[-2]) + windows[-1][1],
         ends=ends,
@@ -801,11 +807,11 @@ def iso_profile(
     if ls > 0 and parts.step > ls / STEPS_PER_LAMBDA_S * (1.0 + 1e-6):
         remarks.append("coarse_step")
     return IsoProfile(
-        x=found.x,
-        primary=found.primary,
-        waviness=found.waviness,
-        roughness=found.roughness,
-        form=found.form,
+        x=found.profile.x,
+        primary=found.profile.primary,
+        waviness=found.profile.waviness,
+        roughness=found.profile.roughness,
+        form=found.profile.form,
         start=found.start,
         stop=found.stop,
         lambda_c=lc,

@@ -36,6 +36,19 @@ def _post_profile(client: TestClient, x_mm: list[float], y_um: list[float]) -> s
     return run_id
 
 
+def grids_made(monkeypatch: pytest.MonkeyPatch) -> list[int]:
+    """The sizes of the grids np.interp is asked for from now on (every resampling)."""
+    made: list[int] = []
+    interp = np.interp
+
+    def spy(grid: ArrayLike, *args: Any, **kwargs: Any) -> Any:
+        made.append(np.size(grid))
+        return interp(grid, *args, **kwargs)
+
+    monkeypatch.setattr(np, "interp", spy)
+    return made
+
+
 def test_a_trace_with_a_huge_gap_is_analysed_in_parts_within_its_size(
     client: TestClient, monkeypatch: pytest.MonkeyPatch
 ) -> None:
@@ -45,14 +58,7 @@ def test_a_trace_with_a_huge_gap_is_analysed_in_parts_within_its_size(
     x_mm = [i * 1e-3 for i in range(n)] + [100.0]  # the post's limit of x
     y_um = [float(np.sin(2 * np.pi * i / 40)) for i in range(n)] + [0.0]
     received = len(x_mm)
-    made: list[int] = []
-    interp = np.interp
-
-    def spy(grid: ArrayLike, *args: Any, **kwargs: Any) -> Any:
-        made.append(np.size(grid))
-        return interp(grid, *args, **kwargs)
-
-    monkeypatch.setattr(np, "interp", spy)
+    made = grids_made(monkeypatch)
     run_id = _post_profile(client, x_mm, y_um)
     finished = client.post(f"{API}/runs/{run_id}/finish", headers=auth(WRITER))
     assert finished.status_code == 200, finished.text

@@ -4,7 +4,6 @@ other software opens, read back here with x3pio (issue 23)."""
 from __future__ import annotations
 
 import io
-from typing import Any
 
 import numpy as np
 import pytest
@@ -19,6 +18,7 @@ from rigserver.reports.x3p import NoProfile, profile_group, profile_x3p
 from schemas.stands import StandKind, default_stands
 from tests.analysis.conftest import FakeReadings, make_run
 from tests.api.conftest import READER, auth
+from tests.api.test_profile_robustness import grids_made
 from tests.reports.simulated import simulated
 
 API = "/api/v1"
@@ -112,14 +112,7 @@ def test_the_iso_figure_of_a_trace_with_a_gap_stays_within_its_points(
     readings = FakeReadings({"profile": {"x": list(x * 1e3), "y": list(y * 1e6)}}, {})
     values = profilometer.analyse(make_run(StandKind.PROFILOMETER), readings)
     assert values.iso is not None and values.iso.parts == 1
-    made: list[int] = []
-    interp = np.interp
-
-    def spy(grid: Any, *args: Any, **kwargs: Any) -> Any:
-        made.append(np.size(grid))
-        return interp(grid, *args, **kwargs)
-
-    monkeypatch.setattr(np, "interp", spy)
+    made = grids_made(monkeypatch)
     section = iso_profile.profilometer_section(Messages("en"), values, {"x": x, "y": y})
     assert section is not None
     assert made and max(made) <= RESAMPLING_LIMIT * x.size

@@ -86,7 +86,11 @@ def analyse(run: Run, readings: Readings) -> ProfilometerResults:
     )
     result.bearing_lengths = (curve.tp * params.base_length).tolist()  # η_p = t_p·l (1.6)
     for method in ("manual", "lsq"):
-        fit = roughness.fit_bearing_curve(eps=curve.eps, tp=curve.tp, method=method)
+        try:
+            fit = roughness.fit_bearing_curve(eps=curve.eps, tp=curve.tp, method=method)
+        except ModelInputError as exc:
+            result.notes.append(f"bearing curve (1.8) not fitted by the {method} method: {exc}")
+            continue
         model = BearingFitResult(
             method=method,
             b=fit.b,

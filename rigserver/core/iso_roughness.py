@@ -20,7 +20,7 @@ from __future__ import annotations
 
 import heapq
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Literal
 
 import numpy as np
@@ -417,8 +417,23 @@ def rk_family(z: ArrayLike) -> RkFamily:
     Parameters
     ----------
     z : array_like
-        Ordinates of the evaluation length, m.
+        Ordinates of the evaluation length, m; the curve is built on them scaled to a largest
+        magnitude of 1 (so that no fit underflows on heights of 1e-300 m) and scaled back.
     """
+    za = _ordinates(z)
+    scale = float(np.max(np.abs(za))) or 1.0
+    unit = _rk_family(za / scale)
+    return replace(
+        unit,
+        rk=unit.rk * scale,
+        rpk=unit.rpk * scale,
+        rvk=unit.rvk * scale,
+        upper=unit.upper * scale,
+        lower=unit.lower * scale,
+    )
+
+
+def _rk_family(z: NDArray[np.float64]) -> RkFamily:
     curve = material_ratio_curve(z)
     mr, c = curve.mr[1:-1], curve.c[1:-1]  # the samples (the end points repeat them)
     if float(c[0] - c[-1]) == 0.0:

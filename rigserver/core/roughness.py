@@ -509,9 +509,12 @@ def _fit_manual(
         # (1.16) with t_p and ε: the ratios η_pi/η_pj and p_i/p_j are the same
         nus.append(float(np.log10(tp[i - 1] / tp[j - 1]) / np.log10(eps[i - 1] / eps[j - 1])))
     nu = sum(nus) / len(nus)
-    bs = tuple(
-        float(10 ** (np.log10(tp[i - 1]) - nu * np.log10(eps[i - 1]))) for i in MANUAL_B_LEVELS
-    )
+    with np.errstate(over="ignore"):
+        bs = tuple(
+            float(10 ** (np.log10(tp[i - 1]) - nu * np.log10(eps[i - 1]))) for i in MANUAL_B_LEVELS
+        )
+    if not all(math.isfinite(b) for b in bs):
+        raise ModelUndefinedError(f"b of (1.8) overflows: ν = {nu}, b = {bs}")
     return sum(bs) / len(bs), nu, tuple(nus), bs
 
 
@@ -618,9 +621,15 @@ def complex_parameter(
     ----------
     Lab manual, lab work 1, (1.9).
     """
-    return positive("rmax", rmax) / (
-        positive("radius", radius) * positive("b", b) ** (1.0 / positive("nu", nu))
-    )
+    with np.errstate(over="ignore", divide="ignore", under="ignore"):
+        delta = positive("rmax", rmax) / (
+            positive("radius", radius) * positive("b", b) ** (1.0 / positive("nu", nu))
+        )
+    if not np.all(np.isfinite(delta)):
+        raise ModelUndefinedError(
+            f"Δ overflows: Rmax = {rmax} m, R = {radius} m, b = {b}, ν = {nu}"
+        )
+    return delta
 
 
 class K1K2(NamedTuple):

@@ -99,10 +99,13 @@ _SCALES = (1e-300, 1e-200, 1e-12, 1e-3, 1.0, 1000.0)  # µm, within the post's l
 @st.composite
 def _profiles(draw: st.DrawFn) -> tuple[list[float], list[float]]:
     """Profiles the post accepts: x strictly increasing in [0, 100] mm (steps down to 1e-300
-    mm), heights within ±1000 µm of any magnitude, constant, a step or two points."""
-    n = draw(st.integers(min_value=2, max_value=60))
+    mm, a gap or none), heights within ±1000 µm of any magnitude, constant, a step or two
+    points."""
+    n = draw(st.integers(min_value=2, max_value=300))
     step = draw(st.sampled_from((1e-300, 1e-9, 1e-3, 0.01, 1.0)))
     x = draw(st.floats(min_value=0.0, max_value=10.0)) + step * np.arange(n)
+    if draw(st.booleans()):  # a gap before the last point, to the post's limit of x
+        x[-1] = 100.0
     assume(np.all(np.diff(x) > 0) and x[-1] <= 100.0)
     scale = draw(st.sampled_from(_SCALES))
     shape = draw(st.sampled_from(("random", "constant", "step", "sine")))
@@ -123,6 +126,13 @@ def _profiles(draw: st.DrawFn) -> tuple[list[float], list[float]]:
 @given(profile=_profiles())
 @example(profile=([0.01 * i for i in range(60)], [1e-300 * math.sin(0.7 * i) for i in range(60)]))
 @example(profile=([0.0, 1.0], [1.0, -1.0]))
+@example(  # Δ and b of (1.8) overflowed
+    profile=(
+        [1e-300 * i for i in range(16)] + [100.0],
+        [1e-300 * math.sin(0.7 * i) for i in range(17)],
+    )
+)
+@example(profile=([0.01 * i for i in range(300)], [1e-300 * (i >= 150) for i in range(300)]))
 @example(profile=([0.01 * i for i in range(60)], [5.0] * 60))
 @example(profile=([1e-300 * i for i in range(60)], [math.sin(0.7 * i) for i in range(60)]))
 def test_every_profile_the_post_accepts_finishes_with_finite_results(

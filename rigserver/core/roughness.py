@@ -621,14 +621,12 @@ def complex_parameter(
     ----------
     Lab manual, lab work 1, (1.9).
     """
-    with np.errstate(over="ignore", divide="ignore", under="ignore"):
-        delta = positive("rmax", rmax) / (
-            positive("radius", radius) * positive("b", b) ** (1.0 / positive("nu", nu))
-        )
+    rm, r = positive("rmax", rmax), positive("radius", radius)
+    bb, n = positive("b", b), positive("nu", nu)
+    with np.errstate(over="ignore", divide="ignore"):
+        delta = rm / (r * bb ** (1.0 / n))
     if not np.all(np.isfinite(delta)):
-        raise ModelUndefinedError(
-            f"Δ overflows: Rmax = {rmax} m, R = {radius} m, b = {b}, ν = {nu}"
-        )
+        raise ModelUndefinedError(f"Δ overflows: Rmax = {rm} m, R = {r} m, b = {bb}, ν = {n}")
     return delta
 
 

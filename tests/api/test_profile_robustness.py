@@ -97,7 +97,7 @@ _SCALES = (1e-300, 1e-200, 1e-12, 1e-3, 1.0, 1000.0)  # µm, within the post's l
 
 
 @st.composite
-def _profiles(draw: st.DrawFn) -> tuple[list[float], list[float]]:
+def posted_profiles(draw: st.DrawFn) -> tuple[list[float], list[float]]:
     """Profiles the post accepts: x strictly increasing in [0, 100] mm (steps down to 1e-300
     mm, a gap or none), heights within ±1000 µm of any magnitude, constant, a step or two
     points."""
@@ -123,7 +123,7 @@ def _profiles(draw: st.DrawFn) -> tuple[list[float], list[float]]:
 @settings(
     max_examples=40, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture]
 )
-@given(profile=_profiles())
+@given(profile=posted_profiles())
 @example(profile=([0.01 * i for i in range(60)], [1e-300 * math.sin(0.7 * i) for i in range(60)]))
 @example(profile=([0.0, 1.0], [1.0, -1.0]))
 @example(  # Δ and b of (1.8) overflowed

@@ -107,15 +107,22 @@ def root_mean_square_height(z: ArrayLike) -> float:
 
     .. math:: R_q = \\Big(\\frac{1}{l_e}\\int_0^{l_e} Z^2(x)\\,dx\\Big)^{1/2}
     """
-    return float(np.sqrt(np.mean(_ordinates(z) ** 2)))
+    scale, unit = _unit(_ordinates(z))
+    return scale * float(np.sqrt(np.mean(unit**2)))
+
+
+def _unit(za: NDArray[np.float64]) -> tuple[float, NDArray[np.float64]]:
+    """``za`` as its largest magnitude times ordinates of at most 1 (no power underflows)."""
+    scale = float(np.max(np.abs(za))) or 1.0
+    return scale, za / scale
 
 
 def _moment(z: ArrayLike, power: int, name: str) -> float:
-    za = _ordinates(z)
-    rq = float(np.sqrt(np.mean(za**2)))
+    _, unit = _unit(_ordinates(z))  # the ratio is the same for the scaled ordinates
+    rq = float(np.sqrt(np.mean(unit**2)))
     if rq == 0:
         raise ModelUndefinedError(f"{name} of a flat profile (Rq = 0) is undefined")
-    return float(np.mean(za**power) / rq**power)
+    return float(np.mean(unit**power) / rq**power)
 
 
 def skewness(z: ArrayLike) -> float:
@@ -420,9 +427,8 @@ def rk_family(z: ArrayLike) -> RkFamily:
         Ordinates of the evaluation length, m; the curve is built on them scaled to a largest
         magnitude of 1 (so that no fit underflows on heights of 1e-300 m) and scaled back.
     """
-    za = _ordinates(z)
-    scale = float(np.max(np.abs(za))) or 1.0
-    unit = _rk_family(za / scale)
+    scale, ordinates = _unit(_ordinates(z))
+    unit = _rk_family(ordinates)
     return replace(
         unit,
         rk=unit.rk * scale,
@@ -547,7 +553,7 @@ def roughness_parameters(
             height_discrimination=HEIGHT_DISCRIMINATION * heights.rz,
             spacing_discrimination=SPACING_DISCRIMINATION * section_length,
         ),
-        rdq=float(np.sqrt(np.mean(dz**2))),
+        rdq=root_mean_square_height(dz),
         rk=rk.rk,
         rpk=rk.rpk,
         rvk=rk.rvk,

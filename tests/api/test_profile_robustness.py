@@ -126,6 +126,9 @@ def posted_profiles(draw: st.DrawFn) -> tuple[list[float], list[float]]:
 @given(profile=posted_profiles())
 @example(profile=([0.01 * i for i in range(60)], [1e-300 * math.sin(0.7 * i) for i in range(60)]))
 @example(profile=([0.0, 1.0], [1.0, -1.0]))
+@example(  # Rsk and Rku of ISO: Rq³ underflowed to 0
+    profile=([0.001 * i for i in range(300)], [1e-300 * math.sin(0.7 * i) for i in range(300)])
+)
 @example(  # Δ and b of (1.8) overflowed
     profile=(
         [1e-300 * i for i in range(16)] + [100.0],
@@ -152,3 +155,5 @@ def test_every_profile_the_post_accepts_finishes_with_finite_results(
     assert not bad, bad
     assert values["ra"] is not None or values["pending"]
     assert values["complex_parameter"] is not None or values["pending"] or values["notes"]
+    x3p = client.get(f"{API}/runs/{run_id}/profile.x3p", headers=auth(READER))
+    assert x3p.status_code == 200 and len(x3p.content) <= 24 * len(x_mm) + 16_384

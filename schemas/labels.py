@@ -127,6 +127,11 @@ ISO_REMARKS = {
         "ISO roughness: fewer sections of λc than the standard's five (a trace of 6λc gives five)"
     ),
     "coarse_step": N_("ISO roughness: the sampling step is longer than λs/5 (ISO 3274)"),
+    "parts": N_(
+        "ISO roughness: the trace has gaps (its resampling onto its median step would hold more "
+        "than four times its points); it was analysed in its parts between them, each on its "
+        "own grid, and the parameters taken over their evaluation lengths together"
+    ),
 }
 
 
@@ -143,6 +148,7 @@ def _iso(prefix: str) -> dict[str, Label]:
             N_("sections in the evaluation length"), "n_{sc}", "ISO 21920-3", digits=9
         ),
         "evaluation_length": Label(N_("evaluation length"), "l_e", "ISO 21920-3", "mm"),
+        "parts": Label(N_("parts of the trace between its gaps analysed"), "n_p", digits=9),
         "ra": Label(
             N_("arithmetic mean height of the roughness profile"), "R_a^{ISO}", iso, "um", 3
         ),

@@ -37,6 +37,9 @@ class IsoRoughnessResult(BaseModel):
     ends: str = Field(description="how the filter's end effects were handled")
     sections: int = quantity(..., "1", "sections of length λc in the evaluation length")
     evaluation_length: float = quantity(..., "m", "evaluation length")
+    parts: int = quantity(
+        1, "1", "parts of the trace between its gaps analysed (docs/roughness.md)"
+    )
     ra: float = quantity(..., "m", "Ra, arithmetic mean height (ISO 4287 4.2.1)")
     rq: float = quantity(..., "m", "Rq, root-mean-square height (ISO 4287 4.2.2)")
     rsk: float = quantity(..., "1", "Rsk, skewness (ISO 4287 4.2.3)")

@@ -56,5 +56,6 @@ def iso_result(
         ends=ISO_ENDS[found.ends],
         sections=found.sections,
         evaluation_length=found.evaluation_length,
+        parts=found.parts,
         **dataclasses.asdict(found.parameters),
     )

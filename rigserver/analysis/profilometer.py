@@ -47,6 +47,11 @@ def analyse(run: Run, readings: Readings) -> ProfilometerResults:
     result.ra, result.rq, result.rz = params.ra, params.rq, params.rz
     result.rmax, result.sm, result.asperity_radius = params.rmax, params.sm, params.asperity_radius
     result.rz_peaks, result.rz_valleys = list(params.rz_peaks), list(params.rz_valleys)
+    if params.asperity_radius is None:
+        result.notes.append(
+            f"R (1.1) not computed: ρ2 = {params.rms_curvature:.3g} 1/m, R = √(π/2)/ρ2 "
+            "exceeds the largest number a double holds"
+        )
     try:
         err = roughness.instrument_error(parameters=params)
         result.ra_error, result.rz_error = err.ra, err.rz
@@ -91,7 +96,11 @@ def analyse(run: Run, readings: Readings) -> ProfilometerResults:
     )
     result.bearing_lengths = (curve.tp * params.base_length).tolist()  # η_p = t_p·l (1.6)
     for method in ("manual", "lsq"):
-        fit = roughness.fit_bearing_curve(eps=curve.eps, tp=curve.tp, method=method)
+        try:
+            fit = roughness.fit_bearing_curve(eps=curve.eps, tp=curve.tp, method=method)
+        except ModelInputError as exc:
+            result.notes.append(f"bearing curve (1.8) not fitted by the {method} method: {exc}")
+            continue
         model = BearingFitResult(
             method=method,
             b=fit.b,
@@ -105,27 +114,39 @@ def analyse(run: Run, readings: Readings) -> ProfilometerResults:
         else:
             result.fit_lsq = model
     if result.fit_manual is not None:
+        _complex_parameters(result, result.fit_manual, params, c)
+    return result
+
+
+def _complex_parameters(
+    result: ProfilometerResults,
+    fit: BearingFitResult,
+    params: roughness.ProfileParameters,
+    c: ProfilometerConfig,
+) -> None:
+    """Δ (1.9), Ra from Δ (1.10) and Δ_T (1.11), or what stops each, in ``result.notes``."""
+    try:
+        if params.asperity_radius is None:
+            raise ModelInputError("it needs R (1.1)")
         delta = float(
             roughness.complex_parameter(
-                rmax=params.rmax,
-                radius=params.asperity_radius,
-                b=result.fit_manual.b,
-                nu=result.fit_manual.nu,
+                rmax=params.rmax, radius=params.asperity_radius, b=fit.b, nu=fit.nu
             )
         )
-        result.complex_parameter = delta
-        result.ra_from_complex = float(roughness.ra_from_complex_parameter(delta=delta))
-        try:
-            result.complex_parameter_equilibrium = float(
-                roughness.equilibrium_complex_parameter(
-                    nu=result.fit_manual.nu,
-                    poisson=c.poisson,
-                    youngs_modulus=c.youngs_modulus,
-                    contour_pressure=c.contour_pressure,
-                    tau0=c.tau0,
-                    alpha_r=c.alpha_r,
-                )
+        ra_from_complex = float(roughness.ra_from_complex_parameter(delta=delta))
+        result.complex_parameter, result.ra_from_complex = delta, ra_from_complex
+    except ModelInputError as exc:
+        result.notes.append(f"Δ (1.9) not computed: {exc}")
+    try:
+        result.complex_parameter_equilibrium = float(
+            roughness.equilibrium_complex_parameter(
+                nu=fit.nu,
+                poisson=c.poisson,
+                youngs_modulus=c.youngs_modulus,
+                contour_pressure=c.contour_pressure,
+                tau0=c.tau0,
+                alpha_r=c.alpha_r,
             )
-        except ModelInputError as exc:
-            result.notes.append(f"Δ_T not computed: {exc}")
-    return result
+        )
+    except ModelInputError as exc:
+        result.notes.append(f"Δ_T not computed: {exc}")

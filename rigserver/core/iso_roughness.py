@@ -21,7 +21,7 @@ from __future__ import annotations
 import heapq
 import math
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Literal
 
 import numpy as np
@@ -34,10 +34,11 @@ from rigserver.core.profile_filter import (
     STEPS_PER_LAMBDA_S,
     Basis,
     FilteredProfile,
+    UniformParts,
     cutoff_for,
     filter_profile,
     lambda_s_for,
-    uniform_step,
+    uniform_parts,
 )
 
 #: Sections (sampling lengths, lsc = λc) of the default evaluation length (ISO 21920-3;
@@ -70,8 +71,18 @@ Ends = Literal["discarded", "corrected", "instrument"]
 #: ``no_rsm`` (no RSm to choose λc by), ``capped`` (the table's λc is longer than the trace:
 #: the longest that fits is used), ``unsettled`` (the choice by the table does not settle),
 #: ``short`` (shorter than 2λc: the corrected ends are kept), ``few_sections`` (fewer than
-#: five sections), ``coarse_step`` (a sampling step longer than λs/5, ISO 3274).
-REMARKS = ("resampled", "no_rsm", "capped", "unsettled", "short", "few_sections", "coarse_step")
+#: five sections), ``coarse_step`` (a sampling step longer than λs/5, ISO 3274), ``parts``
+#: (a trace with gaps, analysed in its parts between them, ``RESAMPLING_LIMIT``).
+REMARKS = (
+    "resampled",
+    "no_rsm",
+    "capped",
+    "unsettled",
+    "short",
+    "few_sections",
+    "coarse_step",
+    "parts",
+)
 
 
 # --- field parameters of the ordinates -----------------------------------------------------
@@ -97,15 +108,22 @@ def root_mean_square_height(z: ArrayLike) -> float:
 
     .. math:: R_q = \\Big(\\frac{1}{l_e}\\int_0^{l_e} Z^2(x)\\,dx\\Big)^{1/2}
     """
-    return float(np.sqrt(np.mean(_ordinates(z) ** 2)))
+    scale, unit = _unit(_ordinates(z))
+    return scale * float(np.sqrt(np.mean(unit**2)))
+
+
+def _unit(za: NDArray[np.float64]) -> tuple[float, NDArray[np.float64]]:
+    """``za`` as its largest magnitude times ordinates of at most 1 (no power underflows)."""
+    scale = float(np.max(np.abs(za))) or 1.0
+    return scale, za / scale
 
 
 def _moment(z: ArrayLike, power: int, name: str) -> float:
-    za = _ordinates(z)
-    rq = float(np.sqrt(np.mean(za**2)))
+    _, unit = _unit(_ordinates(z))  # the ratio is the same for the scaled ordinates
+    rq = float(np.sqrt(np.mean(unit**2)))
     if rq == 0:
         raise ModelUndefinedError(f"{name} of a flat profile (Rq = 0) is undefined")
-    return float(np.mean(za**power) / rq**power)
+    return float(np.mean(unit**power) / rq**power)
 
 
 def skewness(z: ArrayLike) -> float:
@@ -407,8 +425,22 @@ def rk_family(z: ArrayLike) -> RkFamily:
     Parameters
     ----------
     z : array_like
-        Ordinates of the evaluation length, m.
+        Ordinates of the evaluation length, m; the curve is built on them scaled to a largest
+        magnitude of 1 (so that no fit underflows on heights of 1e-300 m) and scaled back.
     """
+    scale, ordinates = _unit(_ordinates(z))
+    unit = _rk_family(ordinates)
+    return replace(
+        unit,
+        rk=unit.rk * scale,
+        rpk=unit.rpk * scale,
+        rvk=unit.rvk * scale,
+        upper=unit.upper * scale,
+        lower=unit.lower * scale,
+    )
+
+
+def _rk_family(z: NDArray[np.float64]) -> RkFamily:
     curve = material_ratio_curve(z)
     mr, c = curve.mr[1:-1], curve.c[1:-1]  # the samples (the end points repeat them)
     if float(c[0] - c[-1]) == 0.0:
@@ -522,7 +554,7 @@ def roughness_parameters(
             height_discrimination=HEIGHT_DISCRIMINATION * heights.rz,
             spacing_discrimination=SPACING_DISCRIMINATION * section_length,
         ),
-        rdq=float(np.sqrt(np.mean(dz**2))),
+        rdq=root_mean_square_height(dz),
         rk=rk.rk,
         rpk=rk.rpk,
         rvk=rk.rvk,
@@ -560,6 +592,13 @@ class IsoProfile:
     parameters : IsoParameters
     resampled : bool
         The trace was not uniformly sampled and was interpolated onto a uniform grid.
+    parts : int
+        Parts of the trace between its gaps that were analysed (1 but for a trace whose
+        resampling would exceed ``RESAMPLING_LIMIT`` times its points); the arrays above are
+        then the parts end to end, and ``start``, ``stop`` run from the first evaluation
+        length to the last.
+    left_out : int
+        Points of parts too short to analyse (fewer than ``MIN_POINTS``, or shorter than λc).
     remarks : tuple of str
         What departs from the standard's defaults, as the codes of :data:`REMARKS`.
     """
@@ -580,6 +619,8 @@ class IsoProfile:
     evaluation_length: float
     parameters: IsoParameters
     resampled: bool = False
+    parts: int = 1
+    left_out: int = 0
     remarks: tuple[str, ...] = field(default_factory=tuple)
 
 
@@ -597,41 +638,88 @@ def _trace(x_m: ArrayLike, z_m: ArrayLike) -> tuple[NDArray[np.float64], NDArray
     return x, z
 
 
-def _uniform(
-    x: NDArray[np.float64], z: NDArray[np.float64]
-) -> tuple[NDArray[np.float64], NDArray[np.float64], float, bool]:
-    """The trace on a uniform grid and its step: as it is when uniformly sampled, else
-    interpolated linearly onto the grid of its median step (and True)."""
-    step = uniform_step(x)
-    if step is not None:
-        return x, z, step, False
-    step = float(np.median(np.diff(x)))
-    grid = x[0] + step * np.arange(math.floor((x[-1] - x[0]) / step + 1e-9) + 1)
-    return grid, np.interp(grid, x, z), step, True
+@dataclass(frozen=True, slots=True)
+class _Evaluation:
+    """The filtered parts of a trace joined end to end, and the parameters of their
+    evaluation lengths taken together (one part: the trace's own analysis)."""
 
-
-def _evaluate(
-    x: NDArray[np.float64], z: NDArray[np.float64], lc: float, ls: float
-) -> tuple[FilteredProfile, int, int, Ends, int, IsoParameters]:
-    fp = filter_profile(x=x, z=z, lambda_c=lc, lambda_s=ls if ls > 0 else None)
-    length = float(x[-1] - x[0])
-    n_points = x.size
+    profile: FilteredProfile
+    start: int
+    stop: int
     ends: Ends
-    if length >= 2.0 * lc * (1.0 - 1e-9):
-        ends = "discarded"
-        sections = max(1, math.floor((length - lc) / lc + 1e-9))
-    else:
-        ends = "corrected"
-        sections = max(1, math.floor(length / lc + 1e-9))
-    per_section = max(1, round(lc / fp.step))
-    count = min(sections * per_section, n_points)
-    start = (n_points - count) // 2
-    stop = start + count
-    slope = local_slope(fp.roughness, step=fp.step)[start:stop]
-    params = roughness_parameters(
-        x=x[start:stop], z=fp.roughness[start:stop], step=fp.step, sections=sections, slope=slope
+    sections: int
+    evaluation_length: float
+    parts: int
+    left_out: int  # points of the parts shorter than λc
+    params: IsoParameters
+
+
+def _evaluate(parts: UniformParts, lc: float, ls: float) -> _Evaluation:
+    """Each part at least λc long filtered on its own, its evaluation length centred on it;
+    the parameters from the evaluation lengths joined (the sections stay whole, the filters
+    never reach across a gap)."""
+    step = parts.step
+    filtered: list[FilteredProfile] = []
+    windows: list[tuple[int, int]] = []
+    ends: Ends = "discarded"
+    sections = left_out = 0
+    for x, z in parts.parts:
+        length = float(x[-1] - x[0])
+        if length < lc * (1.0 - 1e-9):
+            left_out += x.size
+            continue
+        fp = filter_profile(x=x, z=z, lambda_c=lc, lambda_s=ls if ls > 0 else None)
+        if length >= 2.0 * lc * (1.0 - 1e-9):
+            own = max(1, math.floor((length - lc) / lc + 1e-9))
+        else:
+            ends = "corrected"
+            own = max(1, math.floor(length / lc + 1e-9))
+        count = min(own * max(1, round(lc / step)), x.size)
+        start = (x.size - count) // 2
+        filtered.append(fp)
+        windows.append((start, start + count))
+        sections += own
+    if not filtered:
+        raise ModelInputError(f"no part of the trace between its gaps is as long as λc ({lc} m)")
+    offsets = np.cumsum([0] + [fp.x.size for fp in filtered])
+    z_eval = np.concatenate(
+        [fp.roughness[a:b] for fp, (a, b) in zip(filtered, windows, strict=True)]
     )
-    return fp, start, stop, ends, sections, params
+    slope = np.concatenate(
+        [
+            local_slope(fp.roughness, step=step)[a:b]
+            for fp, (a, b) in zip(filtered, windows, strict=True)
+        ]
+    )
+    x0 = filtered[0].x[windows[0][0]]
+    params = roughness_parameters(
+        x=x0 + step * np.arange(z_eval.size), z=z_eval, step=step, sections=sections, slope=slope
+    )
+    joined = (
+        filtered[0]
+        if len(filtered) == 1
+        else FilteredProfile(
+            x=np.concatenate([fp.x for fp in filtered]),
+            step=step,
+            form=np.concatenate([fp.form for fp in filtered]),
+            primary=np.concatenate([fp.primary for fp in filtered]),
+            waviness=np.concatenate([fp.waviness for fp in filtered]),
+            roughness=np.concatenate([fp.roughness for fp in filtered]),
+            lambda_c=lc,
+            lambda_s=filtered[0].lambda_s,
+        )
+    )
+    return _Evaluation(
+        profile=joined,
+        start=int(offsets[0]) + windows[0][0],
+        stop=int(offsets[-2]) + windows[-1][1],
+        ends=ends,
+        sections=sections,
+        evaluation_length=float(z_eval.size * step),
+        parts=len(filtered),
+        left_out=left_out,
+        params=params,
+    )
 
 
 def iso_profile(
@@ -675,9 +763,18 @@ def iso_profile(
     renormalised weights, ISO 16610-28) and has floor(length/λc) sections, at least one.
     The sections are centred on the trace.
     """
-    x, z, _, resampled = _uniform(*_trace(x_m, z_m))
-    remarks: list[str] = ["resampled"] if resampled else []
-    length = float(x[-1] - x[0])
+    x, z = _trace(x_m, z_m)
+    remarks: list[str] = []
+    parts = uniform_parts(x, z, min_points=MIN_POINTS)
+    if parts.resampled:
+        remarks.append("resampled")
+    if len(parts.parts) > 1 or parts.left_out:
+        remarks.append("parts")
+    if not parts.parts:
+        raise ModelInputError(
+            f"no part of the trace between its gaps holds {MIN_POINTS} points or more"
+        )
+    length = max(float(px[-1] - px[0]) for px, _ in parts.parts)
     fitting = [c for c in CUTOFFS if c <= length * (1.0 + 1e-9)]
     if lambda_c is not None:
         lc = float(positive("lambda_c", lambda_c))
@@ -704,7 +801,8 @@ def iso_profile(
     choice: list[str] = []  # remarks of the last round of the choice only
     while True:
         ls = lambda_s_of(lc)
-        fp, start, stop, ends, sections, params = _evaluate(x, z, lc, ls)
+        found = _evaluate(parts, lc, ls)
+        params = found.params
         if lambda_c is not None:
             break
         value = {"ra": params.ra, "rz": params.rz, "rsm": params.rsm}[basis]
@@ -724,29 +822,31 @@ def iso_profile(
             break
         lc = wanted
     remarks += choice
-    if ends == "corrected":
+    if found.ends == "corrected":
         remarks.append("short")
-    if sections < DEFAULT_SECTIONS:
+    if found.sections < DEFAULT_SECTIONS:
         remarks.append("few_sections")
-    if ls > 0 and fp.step > ls / STEPS_PER_LAMBDA_S * (1.0 + 1e-6):
+    if ls > 0 and parts.step > ls / STEPS_PER_LAMBDA_S * (1.0 + 1e-6):
         remarks.append("coarse_step")
     return IsoProfile(
-        x=x,
-        primary=fp.primary,
-        waviness=fp.waviness,
-        roughness=fp.roughness,
-        form=fp.form,
-        start=start,
-        stop=stop,
+        x=found.profile.x,
+        primary=found.profile.primary,
+        waviness=found.profile.waviness,
+        roughness=found.profile.roughness,
+        form=found.profile.form,
+        start=found.start,
+        stop=found.stop,
         lambda_c=lc,
         lambda_s=ls,
         lambda_c_basis=basis_used,
-        ends=ends,
-        sections=sections,
+        ends=found.ends,
+        sections=found.sections,
         section_length=lc,
-        evaluation_length=float((stop - start) * fp.step),
+        evaluation_length=found.evaluation_length,
         parameters=params,
-        resampled=resampled,
+        resampled=parts.resampled,
+        parts=found.parts,
+        left_out=parts.left_out + found.left_out,
         remarks=tuple(remarks),
     )
 
@@ -857,10 +957,18 @@ def instrument_roughness(
     lambda_c, lambda_s : float
         The instrument's λc and λs, m (>= 0).
     """
-    x, z, step, resampled = _uniform(*_trace(x_m, z_m))
+    found = uniform_parts(*_trace(x_m, z_m), min_points=MIN_POINTS)
+    if not found.parts:
+        raise ModelInputError(
+            f"no part of the trace between its gaps holds {MIN_POINTS} points or more"
+        )
+    x, z = max(found.parts, key=lambda part: part[0].size)  # a gap: the longest part
+    step, resampled = found.step, found.resampled
     lc = float(_stated_cutoff("lambda_c", lambda_c))
     ls = float(_stated_cutoff("lambda_s", lambda_s))
     remarks: list[str] = ["resampled"] if resampled else []
+    if len(found.parts) > 1 or found.left_out:
+        remarks.append("parts")
     params = section_mean_parameters(x=x, z=z, step=step, sections=sections)
     if sections < DEFAULT_SECTIONS:
         remarks.append("few_sections")
@@ -883,6 +991,7 @@ def instrument_roughness(
         evaluation_length=length,
         parameters=params,
         resampled=resampled,
+        left_out=found.left_out + sum(px.size for px, _ in found.parts) - x.size,
         remarks=tuple(remarks),
     )
 

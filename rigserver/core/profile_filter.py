@@ -146,6 +146,61 @@ def uniform_step(x: NDArray[np.float64]) -> float | None:
     return step
 
 
+#: Most points a trace is resampled into, as a multiple of the points received: a trace whose
+#: median-step grid would hold more (a gap much longer than the rest of it) is split at its
+#: gaps longer than this many median steps, so that work and memory follow what was received,
+#: not the span its positions cover (issue 39; ``docs/roughness.md``, "Gaps").
+RESAMPLING_LIMIT = 4
+
+
+@dataclass(frozen=True, slots=True)
+class UniformParts:
+    """A trace on a uniform grid: one part, or its parts between gaps on a common step."""
+
+    parts: tuple[tuple[NDArray[np.float64], NDArray[np.float64]], ...]
+    step: float
+    resampled: bool
+    left_out: int  # points of parts shorter than ``min_points``
+
+
+def on_grid(
+    x: NDArray[np.float64], z: NDArray[np.float64], step: float
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """``z`` interpolated linearly onto the grid of ``step`` from ``x[0]`` to ``x[-1]``."""
+    grid = x[0] + step * np.arange(math.floor((x[-1] - x[0]) / step * (1.0 + 1e-9)) + 1)
+    return grid, np.asarray(np.interp(grid, x, z), dtype=np.float64)
+
+
+def resampling_size(x: NDArray[np.float64]) -> int:
+    """Points of ``x``'s grid at its median step (``x`` strictly increasing)."""
+    step = float(np.median(np.diff(x)))
+    return math.floor(float(x[-1] - x[0]) / step * (1.0 + 1e-9)) + 1
+
+
+def uniform_parts(
+    x: NDArray[np.float64], z: NDArray[np.float64], *, min_points: int
+) -> UniformParts:
+    """``x``, ``z`` (strictly increasing ``x``) on a uniform grid of their median step.
+
+    A uniformly sampled trace is kept as it is; another is interpolated linearly onto the grid
+    of its median step, or, when that grid would hold more than ``RESAMPLING_LIMIT`` times the
+    points received, split at its steps longer than ``RESAMPLING_LIMIT`` median steps and each
+    part interpolated onto the grid of that step from its own first point (a part of n points
+    then makes at most ``RESAMPLING_LIMIT``·n). Parts of fewer than ``min_points`` are left out.
+    """
+    step = uniform_step(x)
+    if step is not None:
+        return UniformParts(parts=((x, z),), step=step, resampled=False, left_out=0)
+    step = float(np.median(np.diff(x)))
+    if resampling_size(x) <= RESAMPLING_LIMIT * x.size:
+        return UniformParts(parts=(on_grid(x, z, step),), step=step, resampled=True, left_out=0)
+    cuts = np.flatnonzero(np.diff(x) > RESAMPLING_LIMIT * step) + 1
+    kept = [(xs, zs) for xs, zs in zip(np.split(x, cuts), np.split(z, cuts), strict=True)]
+    parts = tuple(on_grid(xs, zs, step) for xs, zs in kept if xs.size >= min_points)
+    left_out = sum(xs.size for xs, _ in kept if xs.size < min_points)
+    return UniformParts(parts=parts, step=step, resampled=True, left_out=left_out)
+
+
 def _kernel(step: float, cutoff: float) -> NDArray[np.float64]:
     half = max(math.floor(TRUNCATION * cutoff / step), 0)
     offsets = np.arange(-half, half + 1, dtype=np.float64) * step

@@ -10,6 +10,7 @@ subranges are in :mod:`rigserver.core.roughness_tables`.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import NamedTuple
 
@@ -126,8 +127,9 @@ class ProfileParameters:
         λ, local maxima of the profile per unit length, 1/m.
     rms_curvature : float
         ρ2 = 2π²·ρ·ξ·λ (1.1), 1/m.
-    asperity_radius : float
-        Mean asperity radius R = √(π/2)/ρ2 (1.1, corrected E5), m.
+    asperity_radius : float or None
+        Mean asperity radius R = √(π/2)/ρ2 (1.1, corrected E5), m; None when it exceeds the
+        largest double (heights so small that ρ2 underflows).
     base_length : float
         Base length l = x_last - x_first, m.
     rz_peaks, rz_valleys : tuple of float
@@ -143,7 +145,7 @@ class ProfileParameters:
     crossings_per_length: float
     peaks_per_length: float
     rms_curvature: float
-    asperity_radius: float
+    asperity_radius: float | None
     base_length: float
     rz_peaks: tuple[float, ...] = ()
     rz_valleys: tuple[float, ...] = ()
@@ -171,11 +173,24 @@ def _profile(x: ArrayLike, y: ArrayLike) -> tuple[NDArray[np.float64], NDArray[n
 
 
 def _fit_mean_line(x: NDArray[np.float64], y: NDArray[np.float64]) -> MeanLine:
+    """The least-squares line, its sums taken on x and y scaled to a largest deviation of 1
+    so that no square underflows (a trace 1e-300 m long) or overflows."""
     x_mean = float(x.mean())
     y_mean = float(y.mean())
-    xc = x - x_mean
-    slope = float(np.dot(xc, y - y_mean) / np.dot(xc, xc))
-    return MeanLine(slope=slope, intercept=y_mean - slope * x_mean)
+    xc, yc = x - x_mean, y - y_mean
+    sx = float(np.max(np.abs(xc)))
+    sy = float(np.max(np.abs(yc))) or 1.0
+    if sx == 0.0:
+        raise ModelUndefinedError("x spans no length: no mean line can be fitted")
+    u, v = xc / sx, yc / sy
+    with np.errstate(over="ignore"):
+        slope = float(np.dot(u, v) / np.dot(u, u) * (sy / sx))
+        intercept = y_mean - slope * x_mean
+    if not (math.isfinite(slope) and math.isfinite(intercept)):
+        raise ModelUndefinedError(
+            f"the mean line's slope overflows (heights over {sy} m on a trace {2 * sx} m long)"
+        )
+    return MeanLine(slope=slope, intercept=intercept)
 
 
 def mean_line(*, x: ArrayLike, y: ArrayLike) -> MeanLine:
@@ -357,8 +372,9 @@ def profile_parameters(*, x: ArrayLike, y: ArrayLike) -> ProfileParameters:
     xa, ya = _profile(x, y)
     r = _deviation(xa, ya)
     length = float(xa[-1] - xa[0])
-    abs_integral, sq_integral = _integrals(xa, r)
-    rq = float(np.sqrt(sq_integral / length))
+    height = float(np.max(np.abs(r)))  # integrals of r/height: no square underflows
+    abs_integral, sq_integral = _integrals(xa, r / height)
+    rq = height * float(np.sqrt(sq_integral / length))
     peaks, valleys = _extrema(r)
     highest, deepest = _ten_point_height(r, peaks, valleys)
     rz = float(highest.mean() - deepest.mean())
@@ -370,8 +386,10 @@ def profile_parameters(*, x: ArrayLike, y: ArrayLike) -> ProfileParameters:
     xi = (x_up.size + n_down) / length
     lam = peaks.size / length
     rho2 = 2.0 * np.pi**2 * rq * xi * lam
+    with np.errstate(divide="ignore", over="ignore"):
+        radius = float(np.sqrt(np.pi / 2.0) / rho2)
     return ProfileParameters(
-        ra=abs_integral / length,
+        ra=height * abs_integral / length,
         rq=rq,
         rz=rz,
         rmax=float(np.ptp(r)),
@@ -379,7 +397,7 @@ def profile_parameters(*, x: ArrayLike, y: ArrayLike) -> ProfileParameters:
         crossings_per_length=xi,
         peaks_per_length=lam,
         rms_curvature=rho2,
-        asperity_radius=float(np.sqrt(np.pi / 2.0) / rho2),
+        asperity_radius=radius if math.isfinite(radius) else None,
         base_length=length,
         rz_peaks=tuple(float(p) for p in highest),
         rz_valleys=tuple(float(v) for v in deepest),
@@ -502,9 +520,12 @@ def _fit_manual(
         # (1.16) with t_p and ε: the ratios η_pi/η_pj and p_i/p_j are the same
         nus.append(float(np.log10(tp[i - 1] / tp[j - 1]) / np.log10(eps[i - 1] / eps[j - 1])))
     nu = sum(nus) / len(nus)
-    bs = tuple(
-        float(10 ** (np.log10(tp[i - 1]) - nu * np.log10(eps[i - 1]))) for i in MANUAL_B_LEVELS
-    )
+    with np.errstate(over="ignore"):
+        bs = tuple(
+            float(10 ** (np.log10(tp[i - 1]) - nu * np.log10(eps[i - 1]))) for i in MANUAL_B_LEVELS
+        )
+    if not all(math.isfinite(b) for b in bs):
+        raise ModelUndefinedError(f"b of (1.8) overflows: ν = {nu}, b = {bs}")
     return sum(bs) / len(bs), nu, tuple(nus), bs
 
 
@@ -611,9 +632,13 @@ def complex_parameter(
     ----------
     Lab manual, lab work 1, (1.9).
     """
-    return positive("rmax", rmax) / (
-        positive("radius", radius) * positive("b", b) ** (1.0 / positive("nu", nu))
-    )
+    rm, r = positive("rmax", rmax), positive("radius", radius)
+    bb, n = positive("b", b), positive("nu", nu)
+    with np.errstate(over="ignore", divide="ignore"):
+        delta = rm / (r * bb ** (1.0 / n))
+    if not np.all(np.isfinite(delta)):
+        raise ModelUndefinedError(f"Δ overflows: Rmax = {rm} m, R = {r} m, b = {bb}, ν = {n}")
+    return delta
 
 
 class K1K2(NamedTuple):

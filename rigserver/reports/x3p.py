@@ -3,7 +3,10 @@ MountainsMap, Gwyddion, surfalize and the instruments' own software open.
 
 The heights in metres on an incremental x axis (the trace's sampling step); a trace not
 uniformly sampled is interpolated linearly onto its median step, and the file's comment says
-so. The record names the operator, the instrument and the run.
+so. A trace whose grid at its median step would hold more than ``RESAMPLING_LIMIT`` times its
+points (a large gap) is written as the points received instead, an X3P point cloud, so that
+the file's size follows what was received. The record names the operator, the instrument and
+the run.
 """
 
 from __future__ import annotations
@@ -15,7 +18,7 @@ import numpy as np
 import x3pio
 
 from rigserver.analysis import Readings
-from rigserver.core.profile_filter import uniform_step
+from rigserver.core.profile_filter import RESAMPLING_LIMIT, on_grid, resampling_size, uniform_step
 from schemas.channels import ChannelGroup
 from schemas.runs import Run
 from schemas.units import UNITS
@@ -41,6 +44,15 @@ def profile_group(groups: tuple[ChannelGroup, ...] | list[ChannelGroup], name: s
     raise NoProfile(f"the stand has no profile group {name!r} with channels x and y in lengths")
 
 
+def _metadata(run: Run, comment: str) -> x3pio.Metadata:
+    instrument: Any = run.configuration.get("instrument", "")
+    return x3pio.Metadata(
+        creator=run.operator,
+        instrument=x3pio.Instrument(model=str(instrument), version="rig"),
+        comment=f"{comment}; {run.title}" if run.title else comment,
+    )
+
+
 def profile_x3p(run: Run, group: ChannelGroup, readings: Readings) -> bytes:
     """The traced profile of ``group`` as the bytes of an X3P file."""
     if readings.rows(group.name) < 2:
@@ -50,20 +62,19 @@ def profile_x3p(run: Run, group: ChannelGroup, readings: Readings) -> bytes:
     x = np.asarray(trace["x"], dtype=np.float64) * UNITS[units["x"]].factor
     z = np.asarray(trace["y"], dtype=np.float64) * UNITS[units["y"]].factor
     comment = f"rig run {run.id}, group {group.name}; x from {x[0]:.9g} m"
+    out = io.BytesIO()
     step = uniform_step(x)
+    if step is None and resampling_size(x) > RESAMPLING_LIMIT * x.size:
+        comment += (
+            f"; not uniformly sampled, with a gap: its grid at the median step would hold more "
+            f"than {RESAMPLING_LIMIT} times its {x.size} points, so the points as received"
+        )
+        points = np.column_stack([x, np.zeros_like(x), z])
+        x3pio.write_points(out, points, metadata=_metadata(run, comment))
+        return out.getvalue()
     if step is None:
         step = float(np.median(np.diff(x)))
-        grid = x[0] + step * np.arange(int(np.floor((x[-1] - x[0]) / step + 1e-9)) + 1)
-        z = np.interp(grid, x, z)
+        _, z = on_grid(x, z, step)
         comment += f"; not uniformly sampled, interpolated linearly onto a step of {step:.6g} m"
-    if run.title:
-        comment += f"; {run.title}"
-    instrument: Any = run.configuration.get("instrument", "")
-    metadata = x3pio.Metadata(
-        creator=run.operator,
-        instrument=x3pio.Instrument(model=str(instrument), version="rig"),
-        comment=comment,
-    )
-    out = io.BytesIO()
-    x3pio.write(out, z, x_scale=step, metadata=metadata)
+    x3pio.write(out, z, x_scale=step, metadata=_metadata(run, comment))
     return out.getvalue()

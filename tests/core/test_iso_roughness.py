@@ -313,3 +313,61 @@ def test_every_remark_has_words_in_the_results() -> None:
     from schemas.labels import ISO_REMARKS
 
     assert set(iso.REMARKS) == set(ISO_REMARKS)
+
+
+# --- gaps (issue 39, item 1) ----------------------------------------------------------------
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    steps=st.lists(
+        st.floats(min_value=1e-9, max_value=1.0, allow_nan=False), min_size=1, max_size=60
+    )
+)
+def test_the_parts_of_any_trace_hold_at_most_the_limit_times_its_points(
+    steps: list[float],
+) -> None:
+    """Whatever its gaps, a trace is resampled into at most RESAMPLING_LIMIT times its points
+    (each part's steps are at most that many median steps)."""
+    x = np.concatenate([[0.0], np.cumsum(steps)])
+    x = x[np.concatenate([[True], np.diff(x) > 0])]
+    found = pf.uniform_parts(x, np.zeros_like(x), min_points=1)
+    made = sum(px.size for px, _ in found.parts)
+    assert made <= pf.RESAMPLING_LIMIT * x.size
+
+
+def test_a_trace_with_a_gap_is_analysed_in_its_parts() -> None:
+    """Two stretches of 4.8 mm, 60 mm apart (a grid of 10⁵ points over 2·10⁴ received): the
+    parts are filtered each on its own, and the parameters over both evaluation lengths are
+    those of each part alone combined by the definitions: Ra and Rq as means over the
+    ordinates (weighted by the evaluation lengths), Rz as the mean over the sections, Rt as
+    the larger."""
+    first = trace(4.8e-3)
+    second = first + 65e-3
+    rng = np.random.default_rng(7)
+    x = np.concatenate([first, second])
+    z = np.concatenate(
+        [A * np.sin(2 * np.pi * first / WAVE), 2 * A * np.sin(2 * np.pi * second / WAVE)]
+    ) + rng.normal(0, 0.05 * A, x.size)
+    assert pf.resampling_size(x) > pf.RESAMPLING_LIMIT * x.size
+    both = iso.iso_profile(x, z, lambda_c=0.8e-3)
+    one = iso.iso_profile(x[: first.size], z[: first.size], lambda_c=0.8e-3)
+    two = iso.iso_profile(x[first.size :], z[first.size :], lambda_c=0.8e-3)
+    assert both.parts == 2 and "parts" in both.remarks and both.x.size <= x.size + 2
+    assert both.sections == one.sections + two.sections
+    le1, le2 = one.evaluation_length, two.evaluation_length
+    assert both.evaluation_length == pytest.approx(le1 + le2)
+    p, p1, p2 = both.parameters, one.parameters, two.parameters
+    assert p.ra == pytest.approx((le1 * p1.ra + le2 * p2.ra) / (le1 + le2), rel=1e-3)
+    assert p.rq == pytest.approx(
+        math.sqrt((le1 * p1.rq**2 + le2 * p2.rq**2) / (le1 + le2)), rel=1e-3
+    )
+    s1, s2 = one.sections, two.sections
+    assert p.rz == pytest.approx((s1 * p1.rz + s2 * p2.rz) / (s1 + s2), rel=1e-6)
+    assert p.rt == pytest.approx(max(p1.rt, p2.rt), rel=1e-9)
+
+
+def test_a_trace_whose_parts_are_all_too_short_is_refused() -> None:
+    x = np.concatenate([trace(5e-6), trace(5e-6) + 1e-3, trace(5e-6) + 2e-3])
+    with pytest.raises(ModelInputError, match="gaps"):
+        iso.iso_profile(x, np.sin(x))

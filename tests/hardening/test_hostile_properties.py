@@ -37,6 +37,7 @@ from rigserver.reports.series_plots import Curve, overlay
 from schemas.stands import CONFIG_MODELS, StandKind
 from schemas.strict_json import MAX_DEPTH
 from tests.api.conftest import READER, WRITER, Server, auth
+from tests.api.test_profile_robustness import posted_profiles
 from tests.eln.conftest import members, resealed, rezip
 from tests.hardening.conftest import API, keys_file
 from tests.hardening.test_lying_archives import Member
@@ -306,6 +307,27 @@ class HostileClients(RuleBasedStateMachine):
             self.state[run_id] = "finished" if end == "finish" else "aborted"
         else:  # ended before, or too few readings for the results
             assert r.status_code in (409, 422), r.text
+
+    @rule(profile=posted_profiles())
+    def a_profile_finishes(self, profile: tuple[list[float], list[float]]) -> None:
+        """A profile the post accepts finishes and exports, whatever its heights' magnitude
+        or its gaps (issue 39: 1e-300 µm once left its run open for ever, a gap made the
+        finish and the X3P grow with the span of x)."""
+        opened = self._answer(
+            self.http.post(
+                f"{API}/runs", json={"stand": "profilometer", "operator": "x"}, headers=auth(WRITER)
+            )
+        )
+        assert opened.status_code == 201
+        self.opened += 1
+        run_id = opened.json()["id"]
+        body = {"seq": 0, "group": "profile", "columns": {"x": profile[0], "y": profile[1]}}
+        posted = self.http.post(f"{API}/runs/{run_id}/readings", json=body, headers=auth(WRITER))
+        assert self._answer(posted).status_code == 201
+        finished = self.http.post(f"{API}/runs/{run_id}/finish", headers=auth(WRITER))
+        assert self._answer(finished).status_code == 200, finished.text
+        x3p = self.http.get(f"{API}/runs/{run_id}/profile.x3p", headers=auth(READER))
+        assert self._answer(x3p).status_code == 200
 
     @rule(run_id=runs)
     def read(self, run_id: str) -> None:

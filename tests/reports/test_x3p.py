@@ -10,10 +10,15 @@ import pytest
 import x3pio
 from fastapi.testclient import TestClient
 
+from rigserver.analysis import profilometer
+from rigserver.core.profile_filter import RESAMPLING_LIMIT
+from rigserver.reports.i18n import Messages
+from rigserver.reports.labs import iso_profile
 from rigserver.reports.x3p import NoProfile, profile_group, profile_x3p
 from schemas.stands import StandKind, default_stands
 from tests.analysis.conftest import FakeReadings, make_run
 from tests.api.conftest import READER, auth
+from tests.api.test_profile_robustness import grids_made
 from tests.reports.simulated import simulated
 
 API = "/api/v1"
@@ -95,3 +100,19 @@ def test_the_run_page_and_the_csv_show_the_iso_results(
     text = client.get(f"{API}/runs/{ids['profile']}/results.csv", headers=auth(READER)).text
     assert "cut-off λc of the roughness filter" in text
     assert "arithmetic mean height of the roughness profile" in text
+
+
+def test_the_iso_figure_of_a_trace_with_a_gap_stays_within_its_points(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """The report's ISO figure analyses the trace again: a gap of 100 mm after 1000 points
+    1 µm apart draws the parts, not a grid of 10⁵ points (issue 39)."""
+    x = np.r_[np.arange(1000) * 1e-6, 0.1]
+    y = np.r_[1e-6 * np.sin(2 * np.pi * np.arange(1000) / 40), 0.0]
+    readings = FakeReadings({"profile": {"x": list(x * 1e3), "y": list(y * 1e6)}}, {})
+    values = profilometer.analyse(make_run(StandKind.PROFILOMETER), readings)
+    assert values.iso is not None and values.iso.parts == 1
+    made = grids_made(monkeypatch)
+    section = iso_profile.profilometer_section(Messages("en"), values, {"x": x, "y": y})
+    assert section is not None
+    assert made and max(made) <= RESAMPLING_LIMIT * x.size

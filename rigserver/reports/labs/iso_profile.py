@@ -128,8 +128,9 @@ def _figure_svg(t: Messages, x: Any, y: Any, iso: IsoRoughnessResult) -> str:
     first, last = xs[found.start], xs[found.stop - 1]
     top.axvspan(first, last, color="C2", alpha=0.08)
     bottom.axvspan(first, last, color="C2", alpha=0.08, label=t("iso.evaluation"))
-    for k in range(1, found.sections):
-        bottom.axvline(first + k * found.section_length / _M_PER_MM, linewidth=0.5, color="C2")
+    if found.parts == 1:  # a trace analysed in parts has its sections apart, in each part
+        for k in range(1, found.sections):
+            bottom.axvline(first + k * found.section_length / _M_PER_MM, linewidth=0.5, color="C2")
     decorate(top, xlabel=blocks.axis(t, "x", "mm"), ylabel=_two_lines(t, "y"), legend_outside=True)
     top.set_xlabel("")  # the x axis is shared: named once, under the lower plot
     decorate(

@@ -134,19 +134,23 @@ def open_run_with(client: TestClient, key: str, stand: str = "smts2", **headers:
     return str(r.json()["id"])
 
 
+#: The header of a JSON body (without it the body is refused 415, naming the header).
+JSON = {"Content-Type": "application/json"}
+
+
 def test_public_reads_need_no_key_but_writes_do() -> None:
     with TestClient(_app(public_reads=True), raise_server_exceptions=False) as client:
         assert client.get(f"{API}/stands").status_code == 200
         assert client.get(f"{API}/runs/{MADE_UP}").status_code == 404
         assert client.post(f"{API}/runs/{MADE_UP}/finish").status_code == 401
-        r = client.post(f"{API}/models/bearing/friction", content=b"{")
+        r = client.post(f"{API}/models/bearing/friction", content=b"{", headers=JSON)
         assert r.status_code == 422  # a calculator is a read
 
 
 def test_then_parse_then_the_stand_scope(client: TestClient) -> None:
     smts2 = open_run_with(client, WRITER)
     # POST /runs: a read-only key gets the body's 422 first, then 403 for a good body
-    r = client.post(f"{API}/runs", content=b'{"stand": ', headers=auth(READER))
+    r = client.post(f"{API}/runs", content=b'{"stand": ', headers={**auth(READER), **JSON})
     assert r.status_code == 422
     r = client.post(f"{API}/runs", json={"stand": "smts2", "operator": "x"}, headers=auth(READER))
     assert (r.status_code, "write:smts2" in r.json()["detail"]) == (403, True)

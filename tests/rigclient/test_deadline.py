@@ -168,6 +168,7 @@ def test_the_rigsim_command_says_what_fails_at_once(tmp_path: Path) -> None:
         while "connection refused" not in out.read_text() and time.monotonic() < deadline:
             time.sleep(0.1)
         said = out.read_text()
-        assert f"POST {url}/api/v1/runs: connection refused" in said, said
+        # the first contact, before the run is opened (issue 39, item 11)
+        assert f"GET {url}/api/v1/stands: connection refused" in said, said
     finally:
         stop(proc)

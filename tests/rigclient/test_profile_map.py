@@ -38,8 +38,8 @@ def test_the_profile_table_becomes_the_run_configuration(tmp_path: Path) -> None
 @pytest.mark.parametrize(
     ("table", "said"),
     [
-        ('kind = "filtered"', 'kind is "primary" or "roughness"'),
-        ("cutoff = 0.8", "[profile] has cutoff; it takes kind, lambda_c, lambda_s, sections"),
+        ('kind = "filtered"', "profile.kind: Input should be 'primary' or 'roughness'"),
+        ("cutoff = 0.8", "profile.cutoff: not a key of the map's [profile]; it takes kind"),
         (
             "sections = 5\n[run.configuration]\nsections = 4",
             "[profile] sections and [run.configuration] sections both set it",

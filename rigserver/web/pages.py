@@ -31,7 +31,7 @@ from rigserver.reports.formatting import (
 from rigserver.reports.i18n import LANGS, Lang, Messages
 from rigserver.reports.run_report import RESULT_MODELS, configuration_rows, particulars_text
 from rigserver.reports.x3p import PROFILE_GROUP, NoProfile, profile_group
-from rigserver.web.entry import entry_config, entry_groups, typed
+from rigserver.web.entry import ReceivedRow, entry_config, entry_groups, typed
 from schemas import labelled
 from schemas.labels import RESULTS, THEORY_VERDICT, Part, theory_outside
 from schemas.quantity import unit_paths
@@ -213,7 +213,7 @@ def run_page(
     notes: StudentNotes | None = None,
     may_write: bool = False,
     form_token: str = "",
-    received: Mapping[str, Sequence[Sequence[float | None]]] | None = None,
+    received: Mapping[str, Sequence[ReceivedRow]] | None = None,
 ) -> str:
     """A run: its particulars, the live chart of its record, its results (``payload``, as
     ``/results`` answers), the downloads, the student's ``notes`` on it, and the form that
@@ -266,7 +266,7 @@ def run_page(
         may_write=may_write,
         form_token=form_token,
         conclusions_limit=CONCLUSIONS_LIMIT,
-        groups=entry_groups(t, stand, received or {}, run.rows) if entry else [],
+        groups=entry_groups(t, stand, received or {}) if entry else [],
         entry_config=(
             entry_config(t, lang, run.id, form_token, config["decimal"]) if entry else None
         ),

@@ -13,10 +13,13 @@ from __future__ import annotations
 import json
 import math
 import os
+import re
 from collections.abc import Iterator
+from dataclasses import replace
 from typing import Any
 
 import httpx
+import numpy as np
 import pytest
 
 from rigsim.batches import SimulatedRun
@@ -309,3 +312,154 @@ def test_the_smts2_masses_in_russian_and_a_key_of_another_stand(
         "У этого ключа нет права write:smts2: он не может записывать прогоны этого стенда."
     )
     mtos_page.close()
+
+
+def posted_open(url: str, sim: SimulatedRun[Any]) -> str:
+    """The simulated run opened and its batches posted through the API, left open."""
+    with LabClient(url, WRITER) as client:
+        run = client.create_run(sim.run_create)
+        for seq, batch in enumerate(sim.batches):
+            client.post_batch(run.id, seq, batch)
+    return run.id
+
+
+def edit_row(page: Any, row: Any, kind: str, cells: dict[str, str], reason: str) -> None:
+    """Correct (or strike out) a row of the rows received by keyboard: its button, the
+    cells typed over, the reason, Enter."""
+    row.locator(f"button.{kind}").focus()
+    page.keyboard.press("Enter")
+    for name, text in cells.items():
+        page.fill(f"tr.correcting input[name={name}]", text)
+    page.focus("tr.correcting input[name=reason]")
+    page.keyboard.type(reason)
+    page.keyboard.press("Enter")
+
+
+def test_two_corrections_of_a_cell_and_a_row_struck_out_on_the_page(
+    stand_server: Server, browser: Any
+) -> None:
+    url = stand_server.url
+    sim = slide_bearing.simulate(seed=5)
+    run_id = posted_open(url, sim)
+    rows = [b for b in sim.batches if b.group == "rows"]
+    typed_p3 = float(rows[2].columns["p3"][0])
+    first, second = typed_p3 + 0.25, typed_p3 + 0.5  # within the manometer's -1 .. 100 at
+    page = sign_in(browser, url)
+    page.goto(f"{url}/runs/{run_id}?lang=en")
+    row = page.locator("#rows-rows tbody tr[data-index='2']")
+    sent: list[str] = []
+    page.on("request", lambda r: sent.append(r.url) if "/readings/" in r.url else None)
+
+    # beyond the gauge's range: refused beside the cell, nothing sent, nothing stored
+    edit_row(page, row, "correct", {"p3": "150"}, "misread")
+    assert page.text_content("#fix-err-rows-p3") == "p₃ = 150 at is above the limit 100 at"
+    assert page.get_attribute("#fix-rows-p3", "aria-invalid") == "true"
+    page.keyboard.press("Escape")
+    assert page.locator("tr.correcting").count() == 0
+    assert sent == [] and run_of(url, run_id)["corrections"] == 0
+
+    # an empty reason is refused too
+    edit_row(page, row, "correct", {"p3": typed(first)}, "")
+    assert page.text_content("#fix-err-rows-reason") == "say why the reading is corrected"
+    page.keyboard.press("Escape")
+    assert sent == []
+
+    edit_row(page, row, "correct", {"p3": typed(first)}, "a digit misread")
+    until(lambda: page.locator("tr.correcting").count() == 0)
+    edit_row(page, row, "correct", {"p3": typed(second)}, "the instructor read it again")
+    until(lambda: page.locator("tr.correcting").count() == 0)
+    # the corrected value shown, the typed one struck through with the reasons
+    cell = row.locator("td[data-channel=p3]")
+    assert cell.locator("span.value").text_content() == repr(second)
+    was = cell.locator("s.typed")
+    assert was.text_content() == repr(typed_p3)
+    assert was.get_attribute("title") == (
+        "Corrected: a digit misread; the instructor read it again"
+    )
+    # a row struck out on the page
+    struck = page.locator("#rows-rows tbody tr[data-index='5']")
+    edit_row(page, struck, "strike", {}, "typed twice")
+    until(lambda: "struck" in (struck.get_attribute("class") or ""))
+    assert struck.get_attribute("title") == "Struck out: typed twice"
+    assert len(sent) == 3
+
+    fixes = httpx.get(f"{url}{API}/runs/{run_id}/corrections", headers=auth(READER)).json()
+    cells = [
+        (c["row"], c["channel"], c["was"], c["now"], c["reason"]) for c in fixes["corrections"]
+    ]
+    assert cells == [
+        (2, "p3", typed_p3, first, "a digit misread"),
+        (2, "p3", first, second, "the instructor read it again"),
+        (5, None, None, None, "typed twice"),
+    ]
+    original = httpx.get(
+        f"{url}{API}/runs/{run_id}/readings",
+        params={"group": "rows", "original": "true"},
+        headers=auth(READER),
+    ).json()["rows"]["columns"]
+    assert original["p3"][2] == typed_p3 and len(original["p3"]) == len(rows)
+    # the page after a reload reads the same from the server
+    page.reload()
+    cell = page.locator("#rows-rows tbody tr[data-index='2'] td[data-channel=p3]")
+    assert cell.locator("span.value").text_content() == repr(second)
+    assert cell.locator("s.typed").text_content() == repr(typed_p3)
+    assert "struck" in (page.get_attribute("#rows-rows tbody tr[data-index='5']", "class") or "")
+
+    page.on("dialog", lambda dialog: dialog.accept())
+    page.click("#finish button")
+    until(lambda: run_of(url, run_id)["state"] == "finished")
+    page.close()
+    # the same run posted with the corrected value and without the struck row
+    fixed = replace(rows[2], columns={**rows[2].columns, "p3": np.array([second])})
+    batches = tuple(fixed if b is rows[2] else b for b in sim.batches if b is not rows[5])
+    expected = reference(url, replace(sim, batches=batches))
+    assert same(results_of(url, run_id), results_of(url, expected))
+    report = httpx.get(
+        f"{url}{API}/runs/{run_id}/report.html", headers=auth(READER), timeout=120
+    ).text
+    for words in ("Corrections", "a digit misread", "the instructor read it again"):
+        assert words in report, words
+
+
+def test_the_page_corrections_take_this_sessions_form_only(stand_server: Server) -> None:
+    url = stand_server.url
+    run_id = posted_open(url, slide_bearing.simulate(seed=5))
+    target = f"{url}/runs/{run_id}/readings/rows/2?lang=en"
+    body = {"values": {"p3": 1.0}, "reason": "misread"}
+
+    def session(key: str, stand: str) -> tuple[httpx.Client, str]:
+        """A signed-in client and its form token (on the new-run form of ``stand``)."""
+        client = httpx.Client(base_url=url, timeout=30)
+        client.post("/login", data={"key": key, "next": "/"}, headers={"origin": url})
+        form = client.get(f"/runs/new?stand={stand}").text
+        found = re.search(r'name="form_token" value="([^"]+)"', form)
+        assert found is not None
+        return client, found[1]
+
+    writer, token = session(WRITER, "slide_bearing")
+    host = {"origin": url}
+    stale = "This form is not of this page's session: reload the page."
+    # no form token, a made-up one, another site's page: refused, nothing stored
+    for headers, message in (
+        (host, stale),
+        ({**host, "x-rig-form": "x" * 32}, stale),
+        ({"origin": "http://evil.example", "x-rig-form": token}, None),
+    ):
+        answer = writer.post(target, json=body, headers=headers)
+        assert answer.status_code == 403
+        if message is not None:
+            assert answer.json()["message"] == message
+    # a key that writes MTOS runs only, with its own session's token
+    mtos_writer, mtos_token = session(MTOS_READER, "mtos")
+    answer = mtos_writer.post(target, json=body, headers={**host, "x-rig-form": mtos_token})
+    assert answer.status_code == 403
+    assert answer.json()["message"] == (
+        "This key lacks the scope write:slide_bearing: it may not write runs of this stand."
+    )
+    assert run_of(url, run_id)["corrections"] == 0
+    # this session's token: stored, the row as it now reads
+    answer = writer.post(target, json=body, headers={**host, "x-rig-form": token})
+    assert answer.status_code == 200 and answer.json()["values"]["p3"] == 1.0
+    assert run_of(url, run_id)["corrections"] == 1
+    writer.close()
+    mtos_writer.close()

@@ -300,6 +300,26 @@ def test_the_smts2_masses_in_russian_and_a_key_of_another_stand(
     wait_sent(page)
     values = read_columns(url, run_id, "measurements")
     assert values == {"pin_mass_before": [12.3456], "pin_mass_after": [12.3401]}
+    # the masses corrected in Russian: one row of the latest values, each from its own row
+    page.reload()
+    masses = page.locator("#rows-measurements tbody tr").first
+    assert masses.locator("button.correct").text_content() == "Исправить"
+    assert masses.locator("button.strike").text_content() == "Вычеркнуть"
+    edit_row(page, masses, "correct", {"pin_mass_after": "12,3402"}, "")
+    assert page.text_content("#fix-err-measurements-reason") == (
+        "укажите, почему показание исправлено"
+    )
+    page.focus("tr.correcting input[name=reason]")
+    page.keyboard.type("перепутана цифра")
+    page.keyboard.press("Enter")
+    until(lambda: page.locator("tr.correcting").count() == 0)
+    after = masses.locator("td[data-channel=pin_mass_after]")
+    assert after.get_attribute("data-index") == "1"  # the second row posted holds it
+    assert after.locator("s.typed").text_content() == "12,3401"
+    assert after.locator("s.typed").get_attribute("title") == "Исправлено: перепутана цифра"
+    assert after.locator("span.value").text_content() == "12,3402"
+    values = read_columns(url, run_id, "measurements")
+    assert values == {"pin_mass_before": [12.3456], "pin_mass_after": [12.3402]}
     page.close()
 
     # a key that writes MTOS only: no form on an SMTs-2 run, and no way in by the page

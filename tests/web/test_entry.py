@@ -401,6 +401,9 @@ def test_two_corrections_of_a_cell_and_a_row_struck_out_on_the_page(
     edit_row(page, struck, "strike", {}, "typed twice")
     until(lambda: "struck" in (struck.get_attribute("class") or ""))
     assert struck.get_attribute("title") == "Struck out: typed twice"
+    # the results refresh: the struck row is left out of table 3.1's computed columns
+    table = page.locator("#results table.rows").first.locator("tbody tr")
+    until(lambda: table.count() == len(rows) - 1)
     assert len(sent) == 3
 
     fixes = httpx.get(f"{url}{API}/runs/{run_id}/corrections", headers=auth(READER)).json()
@@ -446,40 +449,57 @@ def test_the_page_corrections_take_this_sessions_form_only(stand_server: Server)
     run_id = posted_open(url, slide_bearing.simulate(seed=5))
     target = f"{url}/runs/{run_id}/readings/rows/2?lang=en"
     body = {"values": {"p3": 1.0}, "reason": "misread"}
-
-    def session(key: str, stand: str) -> tuple[httpx.Client, str]:
-        """A signed-in client and its form token (on the new-run form of ``stand``)."""
-        client = httpx.Client(base_url=url, timeout=30)
-        client.post("/login", data={"key": key, "next": "/"}, headers={"origin": url})
-        form = client.get(f"/runs/new?stand={stand}").text
-        found = re.search(r'name="form_token" value="([^"]+)"', form)
-        assert found is not None
-        return client, found[1]
-
-    writer, token = session(WRITER, "slide_bearing")
     host = {"origin": url}
     stale = "This form is not of this page's session: reload the page."
-    # no form token, a made-up one, another site's page: refused, nothing stored
-    for headers, message in (
-        (host, stale),
-        ({**host, "x-rig-form": "x" * 32}, stale),
-        ({"origin": "http://evil.example", "x-rig-form": token}, None),
+
+    def signed_in(client: httpx.Client, key: str, stand: str) -> str:
+        """The form token of the client's new session (on the new-run form of ``stand``)."""
+        client.post("/login", data={"key": key, "next": "/"}, headers=host)
+        found = re.search(
+            r'name="form_token" value="([^"]+)"', client.get(f"/runs/new?stand={stand}").text
+        )
+        assert found is not None
+        return found[1]
+
+    with (
+        httpx.Client(base_url=url, timeout=30) as writer,
+        httpx.Client(base_url=url, timeout=30) as mtos_writer,
     ):
-        answer = writer.post(target, json=body, headers=headers)
+        token = signed_in(writer, WRITER, "slide_bearing")
+        # no form token, a made-up one, another site's page: refused, nothing stored
+        for headers, message in (
+            (host, stale),
+            ({**host, "x-rig-form": "x" * 32}, stale),
+            ({"origin": "http://evil.example", "x-rig-form": token}, None),
+        ):
+            answer = writer.post(target, json=body, headers=headers)
+            assert answer.status_code == 403
+            if message is not None:
+                assert answer.json()["message"] == message
+        # a key that writes MTOS runs only, with its own session's token
+        mtos_token = signed_in(mtos_writer, MTOS_READER, "mtos")
+        answer = mtos_writer.post(target, json=body, headers={**host, "x-rig-form": mtos_token})
         assert answer.status_code == 403
-        if message is not None:
-            assert answer.json()["message"] == message
-    # a key that writes MTOS runs only, with its own session's token
-    mtos_writer, mtos_token = session(MTOS_READER, "mtos")
-    answer = mtos_writer.post(target, json=body, headers={**host, "x-rig-form": mtos_token})
-    assert answer.status_code == 403
-    assert answer.json()["message"] == (
-        "This key lacks the scope write:slide_bearing: it may not write runs of this stand."
-    )
-    assert run_of(url, run_id)["corrections"] == 0
-    # this session's token: stored, the row as it now reads
-    answer = writer.post(target, json=body, headers={**host, "x-rig-form": token})
-    assert answer.status_code == 200 and answer.json()["values"]["p3"] == 1.0
-    assert run_of(url, run_id)["corrections"] == 1
-    writer.close()
-    mtos_writer.close()
+        assert answer.json()["message"] == (
+            "This key lacks the scope write:slide_bearing: it may not write runs of this stand."
+        )
+        assert run_of(url, run_id)["corrections"] == 0
+        # the server's own checks, in the page's words, naming the cell
+        mine = {**host, "x-rig-form": token}
+        beyond = writer.post(target, json={"values": {"p3": 150.0}, "reason": "x"}, headers=mine)
+        assert beyond.status_code == 422
+        assert beyond.json() == {
+            "status": 422,
+            "message": "Refused: p₃ = 150 at is above the limit 100 at",
+            "channel": "p3",
+        }
+        empty = writer.post(target, json={"values": {"p3": 1.0}, "reason": " "}, headers=mine)
+        assert empty.status_code == 422
+        assert empty.json()["message"] == (
+            "Say why the reading is corrected: the reason is required."
+        )
+        assert run_of(url, run_id)["corrections"] == 0
+        # this session's token: stored, the row as it now reads
+        answer = writer.post(target, json=body, headers=mine)
+        assert answer.status_code == 200 and answer.json()["values"]["p3"] == 1.0
+        assert run_of(url, run_id)["corrections"] == 1

@@ -432,7 +432,11 @@
     editor.appendChild(last);
     tr.after(editor);
 
-    const close = () => { editor.remove(); button.focus(); };
+    // back to the button; a struck row has none left: to the group's first cell
+    const close = () => {
+      editor.remove();
+      (button.isConnected ? button : form.querySelector("tfoot input")).focus();
+    };
     const save = () => saveEdit(tr, kind, editor, inputs, reason, close);
     saveButton.addEventListener("click", save);
     cancelButton.addEventListener("click", close);

@@ -498,6 +498,16 @@ def test_the_page_corrections_take_this_sessions_form_only(stand_server: Server)
         assert empty.json()["message"] == (
             "Say why the reading is corrected: the reason is required."
         )
+        # not JSON, a number that is none, a NUL in the reason, not said to be JSON
+        json_type = {**mine, "content-type": "application/json"}
+        for bad, status in (
+            (b'{"values": {"p3": 1.0}, "reason": "x"', 422),
+            (b'{"values": {"p3": NaN}, "reason": "x"}', 422),
+            (b'{"values": {"p3": 1.0}, "reason": "a\\u0000b"}', 422),
+        ):
+            assert writer.post(target, content=bad, headers=json_type).status_code == status
+        text_type = {**mine, "content-type": "text/plain"}
+        assert writer.post(target, content=b"{}", headers=text_type).status_code == 415
         assert run_of(url, run_id)["corrections"] == 0
         # this session's token: stored, the row as it now reads
         answer = writer.post(target, json=body, headers=mine)

@@ -207,6 +207,12 @@ def test_a_cell_beyond_its_gauge_is_refused_as_typed_and_nothing_is_sent(
     wait_sent(page)
     stored = read_columns(url, run_id, "rows")
     assert stored["p3"] == [7.25] and stored["limb_angle"] == [142.0]
+    # the row just sent carries its index from the receipt: corrected without a reload
+    sent_row = page.locator("#rows-rows tbody tr[data-index='0']")
+    edit_row(page, sent_row, "correct", {"p3": "7,5"}, "7,25 typed for 7,5")
+    until(lambda: page.locator("tr.correcting").count() == 0)
+    assert sent_row.locator("td[data-channel=p3] s.typed").text_content() == "7.25"
+    assert read_columns(url, run_id, "rows")["p3"] == [7.5]
     page.close()
 
 

@@ -219,7 +219,8 @@ def run_page(
     ``/results`` answers), the downloads, the student's ``notes`` on it, and the form that
     writes them for the caller who ``may_write`` them (its stand's write scope). A session
     (its ``form_token``) that may write an open run also gets the forms that take its
-    readings (:mod:`rigserver.web.entry`), with the rows ``received`` so far."""
+    readings (:mod:`rigserver.web.entry`), with the rows ``received`` so far; of a finished
+    run, the rows received, to be corrected."""
     t = Messages(lang)
     record = next(g for g in stand.groups if g.aligned)
     x, y = LIVE_AXES.get(stand.kind, (record.channels[0].name, record.channels[-1].name))
@@ -246,7 +247,8 @@ def run_page(
         specimen = particulars_text(t, run.specimen)
         test_plan = particulars_text(t, run.test_plan)
         configuration = configuration_rows(t, run)
-    entry = may_write and bool(form_token) and run.state is RunState.OPEN
+    # an open run takes rows; a finished one takes corrections of them
+    entry = may_write and bool(form_token) and run.state in (RunState.OPEN, RunState.FINISHED)
     return render_page(
         "run.html",
         lang,
@@ -267,6 +269,7 @@ def run_page(
         form_token=form_token,
         conclusions_limit=CONCLUSIONS_LIMIT,
         groups=entry_groups(t, stand, received or {}) if entry else [],
+        taking=run.state is RunState.OPEN,
         entry_config=(
             entry_config(t, lang, run.id, form_token, config["decimal"]) if entry else None
         ),

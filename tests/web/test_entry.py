@@ -361,7 +361,7 @@ def edit_row(page: Any, row: Any, kind: str, cells: dict[str, str], reason: str)
     page.keyboard.press("Enter")
 
 
-def test_two_corrections_of_a_cell_and_a_row_struck_out_on_the_page(
+def test_two_corrections_of_a_cell_and_a_row_struck_out_after_the_finish_on_the_page(
     stand_server: Server, browser: Any
 ) -> None:
     url = stand_server.url
@@ -402,15 +402,22 @@ def test_two_corrections_of_a_cell_and_a_row_struck_out_on_the_page(
     assert was.get_attribute("title") == (
         "Corrected: a digit misread; the instructor read it again"
     )
-    # a row struck out on the page
+    # finished, the run is corrected still: a row struck out on its page
+    page.on("dialog", lambda dialog: dialog.accept())
+    page.click("#finish button")
+    until(lambda: run_of(url, run_id)["state"] == "finished")
+    page.wait_for_selector("#rows-rows tbody tr[data-index='5'] button.strike")
+    assert page.locator("#entry-rows tfoot").is_hidden()  # it takes no more rows
+    table = page.locator("#results table.rows").first.locator("tbody tr")
+    assert table.count() == len(rows)
     struck = page.locator("#rows-rows tbody tr[data-index='5']")
     edit_row(page, struck, "strike", {}, "typed twice")
     until(lambda: "struck" in (struck.get_attribute("class") or ""))
     assert struck.get_attribute("title") == "Struck out: typed twice"
     # the results refresh: the struck row is left out of table 3.1's computed columns
-    table = page.locator("#results table.rows").first.locator("tbody tr")
     until(lambda: table.count() == len(rows) - 1)
     assert len(sent) == 3
+    assert run_of(url, run_id)["corrected_after_finish"] is True
 
     fixes = httpx.get(f"{url}{API}/runs/{run_id}/corrections", headers=auth(READER)).json()
     cells = [
@@ -433,10 +440,6 @@ def test_two_corrections_of_a_cell_and_a_row_struck_out_on_the_page(
     assert cell.locator("span.value").text_content() == repr(second)
     assert cell.locator("s.typed").text_content() == repr(typed_p3)
     assert "struck" in (page.get_attribute("#rows-rows tbody tr[data-index='5']", "class") or "")
-
-    page.on("dialog", lambda dialog: dialog.accept())
-    page.click("#finish button")
-    until(lambda: run_of(url, run_id)["state"] == "finished")
     page.close()
     # the same run posted with the corrected value and without the struck row
     fixed = replace(rows[2], columns={**rows[2].columns, "p3": np.array([second])})

@@ -15,13 +15,17 @@ from __future__ import annotations
 import math
 import re
 from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
 from typing import Any
 
+import numpy as np
 from markupsafe import Markup
+from numpy.typing import NDArray
 
 from rigserver.reports.formatting import decimal_sign, html_symbol, number_locale, plain_text
 from rigserver.reports.i18n import Lang, Messages
 from schemas.channels import ChannelGroup, Violation
+from schemas.corrections import Correction
 from schemas.labels import channel_symbol, plain_symbol
 from schemas.messages import N_, NP_
 from schemas.problems import Problem
@@ -47,8 +51,18 @@ TEXTS: dict[str, str] = {
     "sent": N_("sent"),
     "waits": N_("waits"),
     "dismiss": N_("Drop"),
+    "correct": N_("Correct"),
+    "strike": N_("Strike out"),
+    "save": N_("Save"),
+    "cancel": N_("Cancel"),
+    "reason": N_("Reason"),
+    "reason_needed": N_("say why the reading is corrected"),
+    "no_change": N_("change a value, or cancel"),
+    "corrected_title": N_("Corrected: {reason}"),
+    "struck_title": N_("Struck out: {reason}"),
+    "struck": N_("struck out"),
 }
-"""What the page says as it checks and sends (``{…}`` filled in by the script)."""
+"""What the page says as it checks, sends and corrects (``{…}`` filled in by the script)."""
 
 #: The count of the rows still in the browser, in the plural forms of the page's language
 #: (Russian has three: 1 строка, 2 строки, 5 строк), picked by the script.
@@ -58,6 +72,8 @@ WAITING = NP_("{n} row waits to be sent", "{n} rows wait to be sent")
 FORM_HEADER = "x-rig-form"
 """The header that carries the session's form token on the page's own requests."""
 
+#: The title of a correction refused for its reason.
+REASON_MISSING = "Reason missing"
 _REFUSALS: dict[tuple[int, str], str] = {
     (401, ""): N_("The session has ended: log in again (the rows stay in this browser)."),
     (403, "Scope missing"): N_(
@@ -67,6 +83,7 @@ _REFUSALS: dict[tuple[int, str], str] = {
     (404, ""): N_("There is no such run."),
     (409, "Run is not open"): N_("The run is not open any more: it takes no more rows."),
     (413, ""): N_("The row is too large for the server."),
+    (422, REASON_MISSING): N_("Say why the reading is corrected: the reason is required."),
     (422, ""): N_("Refused: {detail}"),
     (503, ""): N_("The server is busy: the row is sent again shortly."),
     (0, ""): N_("The server refused ({status}): {detail}"),
@@ -93,7 +110,7 @@ def refusal_line(t: Messages, problem: Problem, stand: Stand | None = None) -> s
     )
 
 
-_CELL = re.compile(r"columns\.(\w+)\[\d+\]")
+_CELL = re.compile(r"columns\.(\w+)\[\d+\]|values\.(\w+)")
 
 
 def limit_refusal(t: Messages, stand: Stand, violation: Violation) -> str | None:
@@ -104,7 +121,8 @@ def limit_refusal(t: Messages, stand: Stand, violation: Violation) -> str | None
     value = violation.value
     if cell is None or not isinstance(value, float):
         return None
-    channel = next((c for g in stand.groups if (c := g.channel(cell[1])) is not None), None)
+    name = cell[1] or cell[2]
+    channel = next((c for g in stand.groups if (c := g.channel(name)) is not None), None)
     if channel is None:
         return None
     limit = channel.limit
@@ -165,25 +183,81 @@ def _channels(t: Messages, group: ChannelGroup) -> list[dict[str, Any]]:
     return channels
 
 
+@dataclass(frozen=True, slots=True)
+class Cell:
+    """A reading the server holds, as the page shows it: ``value`` as corrected, ``typed``
+    as typed (both None: none posted), ``index`` the row as stored that holds it, the
+    ``reasons`` of its corrections in the order made."""
+
+    value: float | None
+    typed: float | None
+    index: int
+    reasons: tuple[str, ...] = ()
+
+
+@dataclass(frozen=True, slots=True)
+class ReceivedRow:
+    """A row of the table of rows received: its cells in the channels' order, its index as
+    stored (None: the one-row groups' latest values, each cell from its own row), and the
+    reason it was struck out ("" if it stands)."""
+
+    cells: tuple[Cell, ...]
+    index: int | None
+    struck: str = ""
+
+
+def received(
+    group: ChannelGroup,
+    typed_rows: Mapping[str, NDArray[np.float64]],
+    start: int,
+    corrections: Sequence[Correction],
+) -> list[ReceivedRow]:
+    """Rows ``start:`` of ``group`` as stored (``typed_rows``) as the page shows them:
+    corrected, the value as typed kept, the struck rows marked; of a group of single
+    values, one row of the latest value of each channel in a row not struck out (the value
+    the results take)."""
+    names = [c.name for c in group.channels]
+    n = max((len(v) for v in typed_rows.values()), default=0)
+    mine = [c for c in corrections if c.group == group.name]
+    struck = {c.row: c.reason for c in mine if c.strikes}
+
+    def cell(name: str, index: int) -> Cell:
+        typed = float(typed_rows[name][index - start])
+        if math.isnan(typed):
+            return Cell(None, None, index)
+        fixes = [c for c in mine if c.row == index and c.channel == name]
+        value = fixes[-1].now if fixes else typed
+        return Cell(value, typed, index, tuple(c.reason for c in fixes))
+
+    if group.aligned:
+        return [
+            ReceivedRow(tuple(cell(name, i) for name in names), i, struck.get(i, ""))
+            for i in range(start, start + n)
+        ]
+    latest: list[Cell] = []
+    for name in names:
+        held = [
+            i
+            for i in range(start, start + n)
+            if i not in struck and not math.isnan(typed_rows[name][i - start])
+        ]
+        latest.append(cell(name, held[-1]) if held else Cell(None, None, -1))
+    return [ReceivedRow(tuple(latest), None)] if any(c.index >= 0 for c in latest) else []
+
+
 def entry_groups(
-    t: Messages,
-    stand: Stand,
-    received: Mapping[str, Sequence[Sequence[float | None]]],
-    totals: Mapping[str, int],
+    t: Messages, stand: Stand, rows: Mapping[str, Sequence[ReceivedRow]]
 ) -> list[dict[str, Any]]:
-    """The forms of the run's channel groups: the channels with their limits, and the rows
-    ``received`` of each (the last ones the server holds, of the ``totals`` it holds, so
-    that each knows its index as stored; of a group of single values, one row of the
-    latest, no index)."""
+    """The forms of the run's channel groups: the channels with their limits, and the
+    ``rows`` the server holds of each (the last ones, :func:`received`)."""
     return [
         {
             "name": g.name,
-            "first": totals.get(g.name, 0) - len(received.get(g.name, ())) if g.aligned else None,
             "title": t.gettext(g.long_name),
             "aligned": g.aligned,
             "required": [list(r) for r in g.required],
             "channels": _channels(t, g),
-            "received": [list(row) for row in received.get(g.name, ())],
+            "received": list(rows.get(g.name, ())),
         }
         for g in stand.groups
     ]
@@ -197,6 +271,7 @@ def entry_config(
         "run": run_id,
         "lang": lang,
         "rows_url": f"/runs/{run_id}/rows?lang={lang}",
+        "readings_url": f"/runs/{run_id}/readings",
         "form_token": form_token,
         "decimal": decimal,
         "text": {key: t.gettext(text) for key, text in TEXTS.items()},

@@ -33,7 +33,7 @@ from rigserver.reports.i18n import LANGS, Lang, Messages
 from rigserver.reports.labs.tribometer import stribeck_svg
 from rigserver.reports.run_report import RESULT_MODELS, configuration_rows, particulars_text
 from rigserver.reports.x3p import PROFILE_GROUP, NoProfile, profile_group
-from rigserver.web.entry import entry_config, entry_groups, typed
+from rigserver.web.entry import ReceivedRow, entry_config, entry_groups, typed
 from schemas import labelled
 from schemas.labels import RESULTS, THEORY_VERDICT, Part, theory_outside
 from schemas.messages import NP_
@@ -237,13 +237,14 @@ def run_page(
     notes: StudentNotes | None = None,
     may_write: bool = False,
     form_token: str = "",
-    received: Mapping[str, Sequence[Sequence[float | None]]] | None = None,
+    received: Mapping[str, Sequence[ReceivedRow]] | None = None,
 ) -> str:
     """A run: its particulars, the live chart of its record, its results (``payload``, as
     ``/results`` answers), the downloads, the student's ``notes`` on it, and the form that
     writes them for the caller who ``may_write`` them (its stand's write scope). A session
     (its ``form_token``) that may write an open run also gets the forms that take its
-    readings (:mod:`rigserver.web.entry`), with the rows ``received`` so far."""
+    readings (:mod:`rigserver.web.entry`), with the rows ``received`` so far; of a finished
+    run, the rows received, to be corrected."""
     t = Messages(lang)
     record = next(g for g in stand.groups if g.aligned)
     x, y = LIVE_AXES.get(stand.kind, (record.channels[0].name, record.channels[-1].name))
@@ -272,7 +273,8 @@ def run_page(
         specimen = particulars_text(t, run.specimen)
         test_plan = particulars_text(t, run.test_plan)
         configuration = configuration_rows(t, run)
-    entry = may_write and bool(form_token) and run.state is RunState.OPEN
+    # an open run takes rows; a finished one takes corrections of them
+    entry = may_write and bool(form_token) and run.state in (RunState.OPEN, RunState.FINISHED)
     return render_page(
         "run.html",
         lang,
@@ -292,7 +294,8 @@ def run_page(
         may_write=may_write,
         form_token=form_token,
         conclusions_limit=CONCLUSIONS_LIMIT,
-        groups=entry_groups(t, stand, received or {}, run.rows) if entry else [],
+        groups=entry_groups(t, stand, received or {}) if entry else [],
+        taking=run.state is RunState.OPEN,
         entry_config=(
             entry_config(t, lang, run.id, form_token, config["decimal"]) if entry else None
         ),

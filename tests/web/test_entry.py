@@ -13,10 +13,13 @@ from __future__ import annotations
 import json
 import math
 import os
+import re
 from collections.abc import Iterator
+from dataclasses import replace
 from typing import Any
 
 import httpx
+import numpy as np
 import pytest
 
 from rigsim.batches import SimulatedRun
@@ -204,6 +207,12 @@ def test_a_cell_beyond_its_gauge_is_refused_as_typed_and_nothing_is_sent(
     wait_sent(page)
     stored = read_columns(url, run_id, "rows")
     assert stored["p3"] == [7.25] and stored["limb_angle"] == [142.0]
+    # the row just sent carries its index from the receipt: corrected without a reload
+    sent_row = page.locator("#rows-rows tbody tr[data-index='0']")
+    edit_row(page, sent_row, "correct", {"p3": "7,5"}, "7,25 typed for 7,5")
+    until(lambda: page.locator("tr.correcting").count() == 0)
+    assert sent_row.locator("td[data-channel=p3] s.typed").text_content() == "7.25"
+    assert read_columns(url, run_id, "rows")["p3"] == [7.5]
     page.close()
 
 
@@ -297,6 +306,26 @@ def test_the_smts2_masses_in_russian_and_a_key_of_another_stand(
     wait_sent(page)
     values = read_columns(url, run_id, "measurements")
     assert values == {"pin_mass_before": [12.3456], "pin_mass_after": [12.3401]}
+    # the masses corrected in Russian: one row of the latest values, each from its own row
+    page.reload()
+    masses = page.locator("#rows-measurements tbody tr").first
+    assert masses.locator("button.correct").text_content() == "Исправить"
+    assert masses.locator("button.strike").text_content() == "Вычеркнуть"
+    edit_row(page, masses, "correct", {"pin_mass_after": "12,3402"}, "")
+    assert page.text_content("#fix-err-measurements-reason") == (
+        "укажите, почему показание исправлено"
+    )
+    page.focus("tr.correcting input[name=reason]")
+    page.keyboard.type("перепутана цифра")
+    page.keyboard.press("Enter")
+    until(lambda: page.locator("tr.correcting").count() == 0)
+    after = masses.locator("td[data-channel=pin_mass_after]")
+    assert after.get_attribute("data-index") == "1"  # the second row posted holds it
+    assert after.locator("s.typed").text_content() == "12,3401"
+    assert after.locator("s.typed").get_attribute("title") == "Исправлено: перепутана цифра"
+    assert after.locator("span.value").text_content() == "12,3402"
+    values = read_columns(url, run_id, "measurements")
+    assert values == {"pin_mass_before": [12.3456], "pin_mass_after": [12.3402]}
     page.close()
 
     # a key that writes MTOS only: no form on an SMTs-2 run, and no way in by the page
@@ -309,3 +338,187 @@ def test_the_smts2_masses_in_russian_and_a_key_of_another_stand(
         "У этого ключа нет права write:smts2: он не может записывать прогоны этого стенда."
     )
     mtos_page.close()
+
+
+def posted_open(url: str, sim: SimulatedRun[Any]) -> str:
+    """The simulated run opened and its batches posted through the API, left open."""
+    with LabClient(url, WRITER) as client:
+        run = client.create_run(sim.run_create)
+        for seq, batch in enumerate(sim.batches):
+            client.post_batch(run.id, seq, batch)
+    return run.id
+
+
+def edit_row(page: Any, row: Any, kind: str, cells: dict[str, str], reason: str) -> None:
+    """Correct (or strike out) a row of the rows received by keyboard: its button, the
+    cells typed over, the reason, Enter."""
+    row.locator(f"button.{kind}").focus()
+    page.keyboard.press("Enter")
+    for name, text in cells.items():
+        page.fill(f"tr.correcting input[name={name}]", text)
+    page.focus("tr.correcting input[name=reason]")
+    page.keyboard.type(reason)
+    page.keyboard.press("Enter")
+
+
+def test_two_corrections_of_a_cell_and_a_row_struck_out_after_the_finish_on_the_page(
+    stand_server: Server, browser: Any
+) -> None:
+    url = stand_server.url
+    sim = slide_bearing.simulate(seed=5)
+    run_id = posted_open(url, sim)
+    rows = [b for b in sim.batches if b.group == "rows"]
+    typed_p3 = float(rows[2].columns["p3"][0])
+    first, second = typed_p3 + 0.25, typed_p3 + 0.5  # within the manometer's -1 .. 100 at
+    page = sign_in(browser, url)
+    page.goto(f"{url}/runs/{run_id}?lang=en")
+    row = page.locator("#rows-rows tbody tr[data-index='2']")
+    sent: list[str] = []
+    page.on("request", lambda r: sent.append(r.url) if "/readings/" in r.url else None)
+
+    # beyond the gauge's range: refused beside the cell, nothing sent, nothing stored
+    edit_row(page, row, "correct", {"p3": "150"}, "misread")
+    assert page.text_content("#fix-err-rows-p3") == "p₃ = 150 at is above the limit 100 at"
+    assert page.get_attribute("#fix-rows-p3", "aria-invalid") == "true"
+    page.keyboard.press("Escape")
+    assert page.locator("tr.correcting").count() == 0
+    assert sent == [] and run_of(url, run_id)["corrections"] == 0
+
+    # an empty reason is refused too
+    edit_row(page, row, "correct", {"p3": typed(first)}, "")
+    assert page.text_content("#fix-err-rows-reason") == "say why the reading is corrected"
+    page.keyboard.press("Escape")
+    assert sent == []
+
+    edit_row(page, row, "correct", {"p3": typed(first)}, "a digit misread")
+    until(lambda: page.locator("tr.correcting").count() == 0)
+    edit_row(page, row, "correct", {"p3": typed(second)}, "the instructor read it again")
+    until(lambda: page.locator("tr.correcting").count() == 0)
+    # the corrected value shown, the typed one struck through with the reasons
+    cell = row.locator("td[data-channel=p3]")
+    assert cell.locator("span.value").text_content() == repr(second)
+    was = cell.locator("s.typed")
+    assert was.text_content() == repr(typed_p3)
+    assert was.get_attribute("title") == (
+        "Corrected: a digit misread; the instructor read it again"
+    )
+    # finished, the run is corrected still: a row struck out on its page
+    page.on("dialog", lambda dialog: dialog.accept())
+    page.click("#finish button")
+    until(lambda: run_of(url, run_id)["state"] == "finished")
+    page.wait_for_selector("#rows-rows tbody tr[data-index='5'] button.strike")
+    assert page.locator("#entry-rows tfoot").is_hidden()  # it takes no more rows
+    table = page.locator("#results table.rows").first.locator("tbody tr")
+    assert table.count() == len(rows)
+    struck = page.locator("#rows-rows tbody tr[data-index='5']")
+    edit_row(page, struck, "strike", {}, "typed twice")
+    until(lambda: "struck" in (struck.get_attribute("class") or ""))
+    assert struck.get_attribute("title") == "Struck out: typed twice"
+    # the results refresh: the struck row is left out of table 3.1's computed columns
+    until(lambda: table.count() == len(rows) - 1)
+    assert len(sent) == 3
+    assert run_of(url, run_id)["corrected_after_finish"] is True
+
+    fixes = httpx.get(f"{url}{API}/runs/{run_id}/corrections", headers=auth(READER)).json()
+    cells = [
+        (c["row"], c["channel"], c["was"], c["now"], c["reason"]) for c in fixes["corrections"]
+    ]
+    assert cells == [
+        (2, "p3", typed_p3, first, "a digit misread"),
+        (2, "p3", first, second, "the instructor read it again"),
+        (5, None, None, None, "typed twice"),
+    ]
+    original = httpx.get(
+        f"{url}{API}/runs/{run_id}/readings",
+        params={"group": "rows", "original": "true"},
+        headers=auth(READER),
+    ).json()["rows"]["columns"]
+    assert original["p3"][2] == typed_p3 and len(original["p3"]) == len(rows)
+    # the page after a reload reads the same from the server
+    page.reload()
+    cell = page.locator("#rows-rows tbody tr[data-index='2'] td[data-channel=p3]")
+    assert cell.locator("span.value").text_content() == repr(second)
+    assert cell.locator("s.typed").text_content() == repr(typed_p3)
+    assert "struck" in (page.get_attribute("#rows-rows tbody tr[data-index='5']", "class") or "")
+    page.close()
+    # the same run posted with the corrected value and without the struck row
+    fixed = replace(rows[2], columns={**rows[2].columns, "p3": np.array([second])})
+    batches = tuple(fixed if b is rows[2] else b for b in sim.batches if b is not rows[5])
+    expected = reference(url, replace(sim, batches=batches))
+    assert same(results_of(url, run_id), results_of(url, expected))
+    report = httpx.get(
+        f"{url}{API}/runs/{run_id}/report.html", headers=auth(READER), timeout=120
+    ).text
+    for words in ("Corrections", "a digit misread", "the instructor read it again"):
+        assert words in report, words
+
+
+def test_the_page_corrections_take_this_sessions_form_only(stand_server: Server) -> None:
+    url = stand_server.url
+    run_id = posted_open(url, slide_bearing.simulate(seed=5))
+    target = f"{url}/runs/{run_id}/readings/rows/2?lang=en"
+    body = {"values": {"p3": 1.0}, "reason": "misread"}
+    host = {"origin": url}
+    stale = "This form is not of this page's session: reload the page."
+
+    def signed_in(client: httpx.Client, key: str, stand: str) -> str:
+        """The form token of the client's new session (on the new-run form of ``stand``)."""
+        client.post("/login", data={"key": key, "next": "/"}, headers=host)
+        found = re.search(
+            r'name="form_token" value="([^"]+)"', client.get(f"/runs/new?stand={stand}").text
+        )
+        assert found is not None
+        return found[1]
+
+    with (
+        httpx.Client(base_url=url, timeout=30) as writer,
+        httpx.Client(base_url=url, timeout=30) as mtos_writer,
+    ):
+        token = signed_in(writer, WRITER, "slide_bearing")
+        # no form token, a made-up one, another site's page: refused, nothing stored
+        for headers, message in (
+            (host, stale),
+            ({**host, "x-rig-form": "x" * 32}, stale),
+            ({"origin": "http://evil.example", "x-rig-form": token}, None),
+        ):
+            answer = writer.post(target, json=body, headers=headers)
+            assert answer.status_code == 403
+            if message is not None:
+                assert answer.json()["message"] == message
+        # a key that writes MTOS runs only, with its own session's token
+        mtos_token = signed_in(mtos_writer, MTOS_READER, "mtos")
+        answer = mtos_writer.post(target, json=body, headers={**host, "x-rig-form": mtos_token})
+        assert answer.status_code == 403
+        assert answer.json()["message"] == (
+            "This key lacks the scope write:slide_bearing: it may not write runs of this stand."
+        )
+        assert run_of(url, run_id)["corrections"] == 0
+        # the server's own checks, in the page's words, naming the cell
+        mine = {**host, "x-rig-form": token}
+        beyond = writer.post(target, json={"values": {"p3": 150.0}, "reason": "x"}, headers=mine)
+        assert beyond.status_code == 422
+        assert beyond.json() == {
+            "status": 422,
+            "message": "Refused: p₃ = 150 at is above the limit 100 at",
+            "channel": "p3",
+        }
+        empty = writer.post(target, json={"values": {"p3": 1.0}, "reason": " "}, headers=mine)
+        assert empty.status_code == 422
+        assert empty.json()["message"] == (
+            "Say why the reading is corrected: the reason is required."
+        )
+        # not JSON, a number that is none, a NUL in the reason, not said to be JSON
+        json_type = {**mine, "content-type": "application/json"}
+        for bad, status in (
+            (b'{"values": {"p3": 1.0}, "reason": "x"', 422),
+            (b'{"values": {"p3": NaN}, "reason": "x"}', 422),
+            (b'{"values": {"p3": 1.0}, "reason": "a\\u0000b"}', 422),
+        ):
+            assert writer.post(target, content=bad, headers=json_type).status_code == status
+        text_type = {**mine, "content-type": "text/plain"}
+        assert writer.post(target, content=b"{}", headers=text_type).status_code == 415
+        assert run_of(url, run_id)["corrections"] == 0
+        # this session's token: stored, the row as it now reads
+        answer = writer.post(target, json=body, headers=mine)
+        assert answer.status_code == 200 and answer.json()["values"]["p3"] == 1.0
+        assert run_of(url, run_id)["corrections"] == 1

@@ -198,7 +198,10 @@ def test_a_typed_row_needs_the_sessions_token_and_scope(client: TestClient) -> N
     done = client.post(finish, data={"form_token": token}, follow_redirects=False)
     assert done.status_code == 303 and done.headers["location"] == f"/runs/{run_id}?lang=ru"
     assert client.get(f"{API}/runs/{run_id}", headers=auth(READER)).json()["state"] == "finished"
-    assert "entry-measurements" not in client.get(f"/runs/{run_id}").text
+    # its page keeps the rows received, to be corrected, but takes no new row
+    finished = client.get(f"/runs/{run_id}").text
+    assert '<form id="entry-measurements"' in finished and "<tfoot hidden>" in finished
+    assert 'id="finish"' not in finished and "The run is finished" in finished
     late = client.post(rows, json={**MASSES, "seq": 9}, headers={"X-Rig-Form": token})
     assert late.status_code == 409
     assert late.json()["message"] == "Прогон уже закрыт: новых строк он не принимает."

@@ -1,5 +1,6 @@
 """The pages that write at the stand: ``/runs/new`` (open a run), the rows typed on a run's
-page (``/runs/{id}/rows``), and its finish and abort buttons.
+page (``/runs/{id}/rows``), their corrections (``/runs/{id}/readings/{group}/{index}``,
+``.../strike``), and its finish and abort buttons.
 
 They are the pages' own posts, never the API (whose routes never take the session
 cookie): each comes from this site's page (``Origin``) and carries the session's form
@@ -7,13 +8,15 @@ token (:func:`rigserver.api.routes.pages.form_writer`), and the session's key ne
 stand's write scope as in the API. Each goes the API's way once the key is known: a run is
 opened by :func:`rigserver.api.routes.runs.open_run`, a row is stored by
 :func:`rigserver.api.routes.readings.store_posted` (the same checks, the same ``seq``),
-a run ended by :func:`rigserver.api.routes.runs.end_run`. A refusal is one line in the
+a row corrected by :func:`rigserver.api.routes.corrections.correct`, a run ended by
+:func:`rigserver.api.routes.runs.end_run`. A refusal is one line in the
 page's language (:func:`rigserver.web.entry.refusal_line`).
 """
 
 from __future__ import annotations
 
 import secrets
+from collections.abc import Awaitable, Callable
 from typing import Annotated
 from urllib.parse import urlencode
 
@@ -22,8 +25,10 @@ from fastapi.concurrency import run_in_threadpool
 from fastapi.responses import HTMLResponse, JSONResponse, RedirectResponse
 from pydantic import ValidationError
 
+from rigserver.api.auth import ApiKey
 from rigserver.api.deps import ServicesDep, require_write
 from rigserver.api.problems import ApiProblem, storage_problem
+from rigserver.api.routes.corrections import Group, Index, correct
 from rigserver.api.routes.notes import write_notes
 from rigserver.api.routes.pages import (
     FORM_TOKEN,
@@ -38,9 +43,10 @@ from rigserver.api.routes.pages import (
 from rigserver.api.routes.readings import stand_of_run, store_posted
 from rigserver.api.routes.runs import end_run, load_run
 from rigserver.api.routes.runs import open_run as open_api_run
+from rigserver.api.strict_json import strict_loads
 from rigserver.reports.i18n import Lang, Messages, language_headers, negotiate
 from rigserver.storage.errors import StorageError
-from rigserver.web.entry import FORM_HEADER, refusal_line
+from rigserver.web.entry import FORM_HEADER, REASON_MISSING, refusal_line
 from rigserver.web.new_run import (
     INVALID,
     NO_STAND,
@@ -51,6 +57,7 @@ from rigserver.web.new_run import (
     read_posted,
     with_posted,
 )
+from schemas.corrections import CorrectionWrite, StrikeWrite
 from schemas.problems import Problem
 from schemas.runs import RunCreate, RunState
 from schemas.stands import Stand, StandKind
@@ -189,6 +196,96 @@ async def typed_row(
     it, one batch with its ``seq``), sent by ``entry.js`` with the session's form token in
     the ``X-Rig-Form`` header: the receipt (201; 200 for a ``seq`` stored before), or the
     refusal in one line of the page's language (``{"message": ...}``)."""
+
+    async def store(writer: ApiKey, stand: Stand) -> Response:
+        receipt = await store_posted(request, services, run_id, stand, writer)
+        status = 200 if receipt.duplicate else 201
+        return JSONResponse(receipt.model_dump(mode="json"), status_code=status)
+
+    return await _page_write(run_id, request, services, lang, store)
+
+
+@router.post("/runs/{run_id}/readings/{group}/{index}")
+async def corrected_row(
+    run_id: str,
+    group: Group,
+    index: Index,
+    request: Request,
+    services: ServicesDep,
+    lang: Lang | None = None,
+) -> Response:
+    """A row's cells corrected on the run's page (JSON as ``PATCH
+    /api/v1/runs/{id}/readings/{group}/{index}`` takes it: ``values``, ``reason``), sent by
+    ``entry.js`` as a typed row is: the row as it now reads, or the refusal in one line of
+    the page's language (``{"message", "channel"}``: the cell it names, if one)."""
+    return await _page_write(
+        run_id,
+        request,
+        services,
+        lang,
+        _edit(run_id, group, index, request, services, CorrectionWrite),
+    )
+
+
+@router.post("/runs/{run_id}/readings/{group}/{index}/strike")
+async def struck_row(
+    run_id: str,
+    group: Group,
+    index: Index,
+    request: Request,
+    services: ServicesDep,
+    lang: Lang | None = None,
+) -> Response:
+    """A row struck out on the run's page (``{"reason"}``, as ``DELETE
+    /api/v1/runs/{id}/readings/{group}/{index}`` takes it): as :func:`corrected_row`."""
+    return await _page_write(
+        run_id, request, services, lang, _edit(run_id, group, index, request, services, StrikeWrite)
+    )
+
+
+def _edit(
+    run_id: str,
+    group: str,
+    index: int,
+    request: Request,
+    services: ServicesDep,
+    kind: type[CorrectionWrite | StrikeWrite],
+) -> Callable[[ApiKey, Stand], Awaitable[Response]]:
+    """The correction of the request's body, made as the API makes it."""
+
+    async def act(writer: ApiKey, stand: Stand) -> Response:
+        body = await request.body()  # at most ANONYMOUS_BODY_BYTES (rigserver.api.app.body_limit)
+        try:
+            edit = kind.model_validate(strict_loads(body))
+        except ValidationError as exc:
+            raise _invalid(exc) from None
+        except ValueError as exc:  # not JSON
+            raise ApiProblem(422, "Invalid correction", f"the body is not JSON: {exc}") from None
+        row = await run_in_threadpool(correct, services, run_id, group, index, edit, writer)
+        return JSONResponse(row.model_dump(mode="json"))
+
+    return act
+
+
+def _invalid(exc: ValidationError) -> ApiProblem:
+    """The first thing a correction's body lacks, as the API would name it."""
+    err = exc.errors()[0]
+    field = ".".join(str(p) for p in err["loc"])
+    if field == "reason":
+        return ApiProblem(422, REASON_MISSING, f"reason: {err['msg']}")
+    return ApiProblem(422, "Invalid correction", f"{field}: {err['msg']}")
+
+
+async def _page_write(
+    run_id: str,
+    request: Request,
+    services: ServicesDep,
+    lang: Lang | None,
+    act: Callable[[ApiKey, Stand], Awaitable[Response]],
+) -> Response:
+    """A write of the run's page by ``entry.js`` (JSON, the session's form token in the
+    ``X-Rig-Form`` header), ``act`` for a key that may write the run's stand; a refusal
+    as one line of the page's language (``{"status", "message", "channel"}``)."""
     chosen = negotiate(lang, request.headers.get("accept-language"))
     t = Messages(chosen)
     stand: Stand | None = None
@@ -201,7 +298,7 @@ async def typed_row(
         media = request.headers.get("content-type", "").split(";")[0].strip()
         if media != "application/json":
             raise ApiProblem(415, "Unsupported media type", "send application/json")
-        receipt = await store_posted(request, services, run_id, stand, writer)
+        return await act(writer, stand)
     except LoginFirst:
         problem = Problem(title="Key needed", status=401, detail="no session")
         return _refused(t, problem)
@@ -209,15 +306,17 @@ async def typed_row(
         return _refused(t, exc.problem, stand)
     except StorageError as exc:
         return _refused(t, storage_problem(exc))
-    return JSONResponse(
-        receipt.model_dump(mode="json"), status_code=200 if receipt.duplicate else 201
-    )
 
 
 def _refused(t: Messages, problem: Problem, stand: Stand | None = None) -> JSONResponse:
     headers = {"Retry-After": "5"} if problem.status in (429, 503) else None
+    field = problem.errors[0].field if problem.errors else ""
     return JSONResponse(
-        {"status": problem.status, "message": refusal_line(t, problem, stand)},
+        {
+            "status": problem.status,
+            "message": refusal_line(t, problem, stand),
+            "channel": field.removeprefix("values.") if field.startswith("values.") else "",
+        },
         status_code=problem.status,
         headers=headers,
     )

@@ -28,6 +28,7 @@ from rigserver.api.run_results import results_payload
 from rigserver.api.sessions import COOKIE, SESSION_SECONDS
 from rigserver.reports.i18n import Lang, language_headers, negotiate
 from rigserver.reports.series_report import render_series_body
+from rigserver.web.entry import ReceivedRow, received
 from rigserver.web.pages import login_page, results_html, run_page, runs_page
 from rigserver.web.series_pages import series_list_page, series_page
 from schemas.channels import Violation
@@ -396,24 +397,19 @@ def form_token(request: Request, services: Services) -> str:
 RECEIVED_ROWS = 100
 
 
-def received_rows(
-    services: Services, run: Run, stand: Stand
-) -> dict[str, list[list[float | None]]]:
-    """The last rows the server holds of each group of the run, in the channels' order;
-    of a group of single values, one row of the latest of each (None: not yet given)."""
-    found: dict[str, list[list[float | None]]] = {}
+def received_rows(services: Services, run: Run, stand: Stand) -> dict[str, list[ReceivedRow]]:
+    """The last rows the server holds of each group of the run as corrected, the values as
+    typed kept and the struck rows marked (:func:`rigserver.web.entry.received`); of a
+    group of single values, one row of the latest of each."""
+    corrections = services.store.corrections(run.id) if run.corrections else []
+    found: dict[str, list[ReceivedRow]] = {}
     for group in stand.groups:
         total = run.rows.get(group.name, 0)
         if not total:
             continue
-        names = [c.name for c in group.channels]
-        if not group.aligned:
-            values = services.store.last_values(run.id, group.name)
-            found[group.name] = [[values.get(n) for n in names]]
-            continue
-        start = max(0, total - RECEIVED_ROWS)
+        start = max(0, total - RECEIVED_ROWS) if group.aligned else 0
         data = services.store.read(run.id, group.name, None, start, total)
-        found[group.name] = [[float(data[n][i]) for n in names] for i in range(total - start)]
+        found[group.name] = received(group, data, start, corrections)
     return found
 
 

@@ -8,7 +8,11 @@
 // is sent, in the order typed, to the page's own /runs/{id}/rows. A row the server has not
 // answered for stays in IndexedDB and is sent once it answers, also after the page was
 // closed and opened again. A row the server holds carries its index in its group as stored
-// (data-index), the address of a correction.
+// (data-index, each cell too: a one-row group's values come from several rows), the address
+// of a correction: "Correct" and "Strike out" open an inline form with the row's cells and
+// a reason (Enter saves, Escape cancels), checked as a typed row is and sent to the page's
+// /runs/{id}/readings/{group}/{index}(/strike). The value as typed stays shown, struck
+// through, beside the corrected one.
 (function () {
   "use strict";
 
@@ -105,6 +109,7 @@
     for (const input of form.querySelectorAll("tfoot input")) {
       const td = document.createElement("td");
       td.className = "num";
+      td.dataset.channel = input.name;
       td.textContent = record.cells[input.name] || "";
       tr.appendChild(td);
     }
@@ -113,12 +118,21 @@
     return tr;
   }
 
-  function showRow(record, state, reason) {
+  function showRow(record, state, reason, index) {
     const tr = tableRow(record);
     if (!tr) return;
     tr.className = state;
     const last = tr.lastElementChild;
     last.textContent = state === "sent" ? text.sent : state === "waiting" ? text.waits : fill(text.refused, { reason: reason });
+    if (state === "sent" && index !== undefined) {
+      tr.dataset.index = String(index);
+      for (const td of tr.querySelectorAll("td.num")) {
+        if (td.textContent === "") continue;
+        td.dataset.index = String(index);
+        td.dataset.value = td.textContent;
+      }
+      offer(tr);
+    }
     if (state === "refused") {
       const drop = document.createElement("button");
       drop.type = "button";
@@ -195,8 +209,11 @@
       }
       if (answer.status === 200 || answer.status === 201) {
         offline = false;
+        let receipt = {};
+        try { receipt = await answer.json(); } catch (error) { receipt = {}; }
         await change("rows", (store) => store.delete(row.n));
-        showRow(row, "sent");
+        // a retry's receipt counts the rows stored since: its index is the page's on reload
+        showRow(row, "sent", "", receipt.duplicate ? undefined : receipt.group_rows - 1);
         document.dispatchEvent(new CustomEvent("rig:row-stored", { detail: row.group }));
         continue;
       }
@@ -343,6 +360,190 @@
     });
   }
 
+  // --- corrections of the rows the server holds ----------------------------------------------
+  function offer(tr) {
+    const last = tr.lastElementChild;
+    if (tr.classList.contains("struck") || !tr.querySelector("td[data-index]")) return;
+    if (last.querySelector("button.correct")) return;
+    for (const kind of ["correct", "strike"]) {
+      const button = document.createElement("button");
+      button.type = "button";
+      button.className = kind;
+      button.textContent = text[kind];
+      button.addEventListener("click", () => edit(tr, kind, button));
+      last.appendChild(document.createTextNode(" "));
+      last.appendChild(button);
+    }
+  }
+
+  function refusalSpan(id) {
+    const span = document.createElement("span");
+    span.className = "refusal";
+    span.id = id;
+    return span;
+  }
+
+  // The inline form of a row: its cells (to correct) or none (to strike out), and a reason.
+  function edit(tr, kind, button) {
+    const form = tr.closest("form");
+    const group = form.dataset.group;
+    for (const open of form.querySelectorAll("tr.correcting")) open.remove();
+    const editor = document.createElement("tr");
+    editor.className = "correcting " + kind;
+    const inputs = [];
+    for (const td of tr.querySelectorAll("td.num")) {
+      const cell = document.createElement("td");
+      if (kind === "correct" && td.dataset.index !== undefined) {
+        const typedInput = form.querySelector("tfoot input[name='" + td.dataset.channel + "']");
+        const input = document.createElement("input");
+        input.name = td.dataset.channel;
+        input.id = "fix-" + group + "-" + input.name;
+        input.value = td.dataset.value;
+        input.size = 7;
+        input.inputMode = "decimal";
+        input.autocomplete = "off";
+        for (const key of ["limit", "symbol", "unit"]) input.dataset[key] = typedInput.dataset[key];
+        input.setAttribute("aria-label", typedInput.labels[0].querySelector(".visually-hidden").textContent);
+        input.setAttribute("aria-describedby", "fix-err-" + group + "-" + input.name);
+        input.addEventListener("input", () => check(input));
+        cell.appendChild(input);
+        cell.appendChild(refusalSpan("fix-err-" + group + "-" + input.name));
+        inputs.push({ input: input, td: td });
+      }
+      editor.appendChild(cell);
+    }
+    const last = document.createElement("td");
+    const reason = document.createElement("input");
+    reason.name = "reason";
+    reason.id = "fix-" + group + "-reason";
+    reason.required = true;
+    reason.maxLength = 500;
+    reason.placeholder = text.reason;
+    reason.setAttribute("aria-label", text.reason);
+    reason.setAttribute("aria-describedby", "fix-err-" + group + "-reason");
+    last.appendChild(reason);
+    const saveButton = document.createElement("button");
+    saveButton.type = "button";
+    saveButton.textContent = text.save;
+    const cancelButton = document.createElement("button");
+    cancelButton.type = "button";
+    cancelButton.textContent = text.cancel;
+    last.append(" ", saveButton, " ", cancelButton, refusalSpan("fix-err-" + group + "-reason"));
+    editor.appendChild(last);
+    tr.after(editor);
+
+    // back to the button; a struck row has none left: to the group's first cell
+    const close = () => {
+      editor.remove();
+      (button.isConnected ? button : form.querySelector("tfoot input")).focus();
+    };
+    const save = () => saveEdit(tr, kind, editor, inputs, reason, close);
+    saveButton.addEventListener("click", save);
+    cancelButton.addEventListener("click", close);
+    editor.addEventListener("keydown", (event) => {
+      if (event.key === "Escape") {
+        event.preventDefault();
+        close();
+      } else if (event.key === "Enter" && event.target.tagName === "INPUT") {
+        event.preventDefault();
+        save();
+      }
+    });
+    (inputs.length ? inputs[0].input : reason).focus();
+  }
+
+  async function saveEdit(tr, kind, editor, inputs, reason, close) {
+    const group = tr.closest("form").dataset.group;
+    let bad = null;
+    const changes = new Map(); // the row as stored -> its cells' new values
+    for (const { input, td } of inputs) {
+      const message = input.value.trim() === "" ? text.empty : refusal(input, input.value);
+      mark(input, message);
+      if (message) {
+        bad = bad || input;
+        continue;
+      }
+      const value = parse(input.value);
+      if (value === parse(td.dataset.value)) continue;
+      const values = changes.get(td.dataset.index) || {};
+      values[input.name] = value;
+      changes.set(td.dataset.index, values);
+    }
+    const why = reason.value.trim();
+    mark(reason, why ? "" : text.reason_needed);
+    if (!why) bad = bad || reason;
+    if (!bad && kind === "correct" && changes.size === 0) {
+      mark(reason, text.no_change);
+      bad = inputs.length ? inputs[0].input : reason;
+    }
+    if (bad) {
+      bad.focus();
+      return;
+    }
+    const indices = kind === "strike"
+      ? Array.from(new Set(Array.from(tr.querySelectorAll("td[data-index]"), (td) => td.dataset.index)))
+      : Array.from(changes.keys());
+    for (const index of indices) {
+      const body = kind === "strike" ? { reason: why } : { values: changes.get(index), reason: why };
+      const url = config.readings_url + "/" + encodeURIComponent(group) + "/" + index +
+        (kind === "strike" ? "/strike" : "") + "?lang=" + config.lang;
+      let answer;
+      try {
+        answer = await fetch(url, {
+          method: "POST",
+          credentials: "same-origin",
+          cache: "no-store",
+          headers: { "Content-Type": "application/json", "X-Rig-Form": config.form_token },
+          body: JSON.stringify(body),
+        });
+      } catch (error) {
+        mark(reason, text.offline);
+        return;
+      }
+      let found = {};
+      try { found = await answer.json(); } catch (error) { found = {}; }
+      if (!answer.ok) {
+        const cell = inputs.find((i) => i.input.name === found.channel);
+        const target = cell ? cell.input : reason;
+        mark(target, found.message || fill(text.refused, { reason: answer.status }));
+        target.focus();
+        return;
+      }
+      corrected(tr, found);
+    }
+    close();
+    document.dispatchEvent(new CustomEvent("rig:row-stored", { detail: group }));
+  }
+
+  // Show a row as the server now reads it: each corrected cell its value after the one
+  // typed, struck through, whose title gives the reasons; a struck row struck out.
+  function corrected(tr, row) {
+    for (const td of tr.querySelectorAll("td.num[data-index='" + row.index + "']")) {
+      const name = td.dataset.channel;
+      const now = row.values[name];
+      const reasons = row.corrections.filter((c) => c.channel === name).map((c) => c.reason);
+      td.textContent = "";
+      if (reasons.length) {
+        const was = document.createElement("s");
+        was.className = "typed";
+        was.title = fill(text.corrected_title, { reason: reasons.join("; ") });
+        was.textContent = shown(row.original[name]);
+        td.append(was, " ");
+      }
+      const value = document.createElement("span");
+      value.className = "value";
+      value.textContent = shown(now);
+      td.appendChild(value);
+      td.dataset.value = shown(now);
+    }
+    const strike = row.corrections.filter((c) => c.channel === null).pop();
+    if (row.struck && strike) {
+      tr.classList.add("struck");
+      tr.title = fill(text.struck_title, { reason: strike.reason });
+      tr.lastElementChild.textContent = text.struck;
+    }
+  }
+
   // --- finish and abort: asked once, and not while rows wait -------------------------------
   for (const end of document.querySelectorAll("form.end")) {
     end.addEventListener("submit", (event) => {
@@ -355,6 +556,7 @@
     });
   }
 
+  for (const tr of document.querySelectorAll("form.entry-row tbody tr.sent")) offer(tr);
   window.addEventListener("online", () => send());
   openDb().then(async (opened) => {
     db = opened;

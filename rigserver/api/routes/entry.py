@@ -43,7 +43,6 @@ from rigserver.api.routes.pages import (
 from rigserver.api.routes.readings import stand_of_run, store_posted
 from rigserver.api.routes.runs import end_run, load_run
 from rigserver.api.routes.runs import open_run as open_api_run
-from rigserver.api.strict_json import strict_loads
 from rigserver.reports.i18n import Lang, Messages, language_headers, negotiate
 from rigserver.storage.errors import StorageError
 from rigserver.web.entry import FORM_HEADER, REASON_MISSING, refusal_line
@@ -61,6 +60,7 @@ from schemas.corrections import CorrectionWrite, StrikeWrite
 from schemas.problems import Problem
 from schemas.runs import RunCreate, RunState
 from schemas.stands import Stand, StandKind
+from schemas.strict_json import strict_loads
 from schemas.student_notes import StudentNotesWrite
 from schemas.wire import Text
 

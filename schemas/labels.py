@@ -148,7 +148,7 @@ def _iso(prefix: str) -> dict[str, Label]:
             N_("sections in the evaluation length"), "n_{sc}", "ISO 21920-3", digits=9
         ),
         "evaluation_length": Label(N_("evaluation length"), "l_e", "ISO 21920-3", "mm"),
-        "parts": Label(N_("parts of the trace between its gaps analysed"), "n_{parts}", digits=9),
+        "parts": Label(N_("parts of the trace between its gaps analysed"), "N_p", digits=9),
         "ra": Label(
             N_("arithmetic mean height of the roughness profile"), "R_a^{ISO}", iso, "um", 3
         ),

@@ -11,25 +11,35 @@
 
 Readings travel as an Apache Arrow IPC stream (``format=arrow``), never as JSON: the
 columnar form pandas takes without parsing a number (:mod:`rigserver.reports.arrow` on the
-server says why). Needs the ``frames`` extra (pandas and pyarrow); the rest of rigclient
-does not. Every failure is a :class:`~rigclient.errors.RigclientError` that says what failed
-and where: the API's problem document (:class:`~rigclient.errors.ServerRefused`: a key
-without ``read`` is a 401/403 saying so) or the transport's error with the method and URL
+server says why). The stream is read on a connection of its own with the standard
+library's ``http.client``, straight into one buffer of the answer's stated length that the
+frame's columns then use as they are: httpx takes a body 64 KiB at a time, and a run of ten
+million readings would spend most of its time there (docs/speed.md, "The reader").
+
+Needs the ``frames`` extra (pandas and pyarrow); the rest of rigclient does not. Every
+failure is a :class:`~rigclient.errors.RigclientError` that says what failed and where: the
+API's problem document (:class:`~rigclient.errors.ServerRefused`: a key without ``read`` is
+a 401/403 saying so) or the transport's error with the method and URL
 (:class:`~rigclient.errors.ServerUnavailable`).
 """
 
 from __future__ import annotations
 
 import contextlib
+import http.client
 import json
+import ssl
 import time
 from collections.abc import Iterator, Mapping
 from datetime import datetime
 from pathlib import Path
 from types import TracebackType
 from typing import TYPE_CHECKING, Any
+from urllib.parse import urlencode, urlsplit
 
+import certifi
 import httpx
+import numpy as np
 
 from rigclient.errors import RigclientError, ServerRefused, ServerUnavailable
 from rigclient.http import API, USER_AGENT, problem_of
@@ -99,6 +109,8 @@ class Lab:
         if key is not None:
             headers["Authorization"] = f"Bearer {key}"
         self.url = url.rstrip("/")
+        self._headers = headers
+        self._timeout = timeout
         self._http = httpx.Client(
             base_url=self.url + API,
             headers=headers,
@@ -197,6 +209,50 @@ class Lab:
         finally:
             response.close()
 
+    def body(self, path: str, params: Mapping[str, str]) -> tuple[np.ndarray, str]:
+        """A ``GET``'s whole body, read into one buffer of its stated length (bytes as
+        ``uint8``), and its media type; a refusal or a failure raised as :meth:`get`."""
+        url = f"{self.url}{API}{path}?{urlencode(params)}"
+        where = urlsplit(url)
+        connection: http.client.HTTPConnection
+        if where.scheme == "https":
+            tls = ssl.create_default_context(cafile=certifi.where())
+            connection = http.client.HTTPSConnection(
+                where.netloc, timeout=self._timeout, context=tls
+            )
+        else:
+            connection = http.client.HTTPConnection(where.netloc, timeout=self._timeout)
+        try:
+            connection.request("GET", f"{where.path}?{where.query}", headers=self._headers)
+            answer = connection.getresponse()
+            if answer.status >= 300 or answer.getheader("Content-Length") is None:
+                _raise_for(_as_httpx(answer, url), url)
+                raise ServerUnavailable(f"GET {url}: the answer did not state its length")
+            buffer = np.empty(int(answer.getheader("Content-Length", "0")), dtype=np.uint8)
+            view, got = buffer.data, 0
+            while got < len(buffer):
+                n = answer.readinto(view[got:])
+                if not n:
+                    raise ServerUnavailable(
+                        f"GET {url}: the answer broke off after {got} of {len(buffer)} bytes"
+                    )
+                got += n
+            return buffer, answer.getheader("Content-Type", "")
+        except (OSError, http.client.HTTPException) as e:
+            raise ServerUnavailable(f"GET {url}: {e}") from e
+        finally:
+            connection.close()
+
+
+def _as_httpx(answer: http.client.HTTPResponse, url: str) -> httpx.Response:
+    """An ``http.client`` answer as httpx's, to be read as every other answer is."""
+    return httpx.Response(
+        answer.status,
+        headers=answer.getheaders(),
+        content=answer.read(),
+        request=httpx.Request("GET", url),
+    )
+
 
 def _raise_for(response: httpx.Response, url: str) -> None:
     if response.is_success:
@@ -248,14 +304,14 @@ class LabRun:
         params = {"group": chosen, "format": "arrow"}
         if original:
             params["original"] = "true"
-        with self._lab.stream(f"/runs/{self.id}/readings", params) as response:
-            body = response.read()
-        if ARROW_MEDIA_TYPE not in response.headers.get("content-type", ""):
+        path = f"/runs/{self.id}/readings"
+        body, media_type = self._lab.body(path, params)
+        if ARROW_MEDIA_TYPE not in media_type:
             raise RigclientError(
-                f"GET {response.url}: the server did not answer with an Arrow stream "
-                f"({response.headers.get('content-type')!r}): is it an older rig?"
+                f"GET {self._lab.url}{API}{path}: the server did not answer with an Arrow "
+                f"stream ({media_type!r}): is it an older rig?"
             )
-        table = pyarrow.ipc.open_stream(body).read_all()
+        table = pyarrow.ipc.open_stream(pyarrow.py_buffer(body)).read_all()
         frame = table.to_pandas(split_blocks=True)  # a block a column: no copy into one
         frame.attrs["units"] = {
             f.name: (f.metadata or {}).get(b"unit", b"").decode() for f in table.schema

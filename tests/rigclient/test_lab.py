@@ -294,6 +294,19 @@ def test_a_key_without_read_is_refused_saying_so(lab_server: Server) -> None:
     assert unknown.value.problem.status == 401
 
 
+def test_readings_refused_say_why(lab: Lab, posted: dict[str, Any], lab_server: Server) -> None:
+    """The readings' own connection says a refusal as every other request does: the
+    problem document, the method and the URL."""
+    _, run_id = posted["tribo"]
+    with pytest.raises(ServerRefused) as refused:
+        lab.run(run_id).readings("no_such_group")
+    assert refused.value.problem.status == 422 and "no_such_group" in str(refused.value)
+    assert f"/runs/{run_id}/readings" in str(refused.value)
+    with Lab(lab_server.url, MTOS_ONLY) as other, pytest.raises(ServerRefused) as forbidden:
+        LabRun(other, lab.run(run_id).info).readings("friction")
+    assert forbidden.value.problem.status == 403
+
+
 def test_an_unknown_run_says_which(lab: Lab) -> None:
     with pytest.raises(ServerRefused, match="404") as refused:
         lab.run("0" * 26)

@@ -363,11 +363,13 @@ def get_readings(
         return {g.name: _json_group(services, run, g, start, stop, fixes) for g in stand.groups}
     chosen = _group_of(stand, group)
     if format == "arrow":
+        stream = group_arrow(StoredReadings(services, run, original=original), chosen)
         return StreamingResponse(
-            group_arrow(StoredReadings(services, run, original=original), chosen),
+            stream.pieces,
             media_type=ARROW_MEDIA_TYPE,
             headers={
-                "Content-Disposition": f'attachment; filename="{run.id}-{chosen.name}.arrows"'
+                "Content-Length": str(stream.size),
+                "Content-Disposition": f'attachment; filename="{run.id}-{chosen.name}.arrows"',
             },
         )
     if format == "csv":

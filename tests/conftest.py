@@ -1,15 +1,15 @@
 """Test-wide settings and fixtures: hypothesis runs derandomized in CI, so a failure
 reproduces; ``server`` is a ``rigserver serve`` process on a fresh data directory."""
 
-import json
 import os
 from collections.abc import Iterator
 from pathlib import Path
+from typing import Any
 
 import pytest
 from hypothesis import settings
 
-from tests.api.conftest import KEYS, Server
+from tests.api.conftest import Server, served
 from tests.processes import kill_leftovers, leftovers
 
 # A finished run's reports are rendered at its first download, not at once in the background:
@@ -23,17 +23,30 @@ if os.environ.get("CI"):
     settings.load_profile("ci")
 
 
+#: Packages whose package-scoped fixture costs most of their time (tests/eln: every stand's
+#: run rendered and exported): the whole package goes to one worker, so it is built once.
+ONE_WORKER = ("tests/eln/",)
+
+
+def pytest_xdist_make_scheduler(config: pytest.Config, log: Any) -> Any:
+    """``--dist loadfile`` that keeps each of :data:`ONE_WORKER` on one worker."""
+    if config.getoption("dist") != "loadfile":
+        return None
+    from xdist.scheduler import LoadFileScheduling
+
+    class Scheduling(LoadFileScheduling):
+        def _split_scope(self, nodeid: str) -> str:
+            package = next((p for p in ONE_WORKER if nodeid.startswith(p)), None)
+            return package or super()._split_scope(nodeid)
+
+    return Scheduling(config, log)
+
+
 @pytest.fixture
 def server(tmp_path: Path) -> Iterator[Server]:
     """The service over HTTP, with the test keys (tests.api.conftest.KEYS)."""
-    keys_file = tmp_path / "keys.json"
-    keys_file.write_text(json.dumps(KEYS))
-    srv = Server(tmp_path / "data", keys_file)
-    srv.start()
-    try:
+    with served(tmp_path) as srv:
         yield srv
-    finally:
-        srv.stop()
 
 
 @pytest.fixture(scope="session", autouse=True)

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import contextlib
+import json
 import os
 import signal
 import socket
@@ -123,3 +125,17 @@ class Server:
         """SIGTERM to the server's process group, SIGKILL if it has not stopped in time."""
         if self.proc:
             stop(self.proc)
+
+
+@contextlib.contextmanager
+def served(root: Path, *, public_reads: bool = False, args: Sequence[str] = ()) -> Iterator[Server]:
+    """A :class:`Server` on a fresh data directory below ``root`` with the test keys
+    (:data:`KEYS`), stopped when the block ends."""
+    keys_file = root / "keys.json"
+    keys_file.write_text(json.dumps(KEYS))
+    srv = Server(root / "data", keys_file, public_reads=public_reads, args=args)
+    srv.start()
+    try:
+        yield srv
+    finally:
+        srv.stop()

@@ -8,7 +8,6 @@ API's own JSON answers, an independent path from the Arrow stream and the result
 from __future__ import annotations
 
 import io
-import json
 import threading
 import time
 import zipfile
@@ -30,21 +29,14 @@ from rigsim.stands.mtos import MtosSettings
 from rigsim.stands.tribometer import TribometerSettings
 from schemas.runs import RunCreate
 from schemas.stands import default_stands
-from tests.api.conftest import KEYS, MTOS_ONLY, READER, WRITER, Server, auth
+from tests.api.conftest import MTOS_ONLY, READER, WRITER, Server, auth, served
 from tests.api.test_readme import block, section
 
 
 @pytest.fixture(scope="module")
 def lab_server(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Server]:
-    root = tmp_path_factory.mktemp("lab")
-    keys_file = root / "keys.json"
-    keys_file.write_text(json.dumps(KEYS))
-    srv = Server(root / "data", keys_file)
-    srv.start()
-    try:
+    with served(tmp_path_factory.mktemp("lab")) as srv:
         yield srv
-    finally:
-        srv.stop()
 
 
 @pytest.fixture(scope="module")

@@ -4,7 +4,6 @@ item 4)."""
 
 from __future__ import annotations
 
-import json
 from collections.abc import Iterator
 from pathlib import Path
 
@@ -18,7 +17,7 @@ from rigsim.client import LabClient
 from rigsim.stands import simulate
 from rigsim.stands.mtos import MtosSettings
 from schemas.runs import RunCreate
-from tests.api.conftest import KEYS, READER, WRITER, Server, auth
+from tests.api.conftest import READER, WRITER, Server, auth, served
 
 NOTEBOOK = Path(__file__).resolve().parents[2] / "docs" / "notebooks" / "lab.ipynb"
 RADII = (6e-3, 9e-3, 12e-3, 15e-3)  # m: the sweep's track radii
@@ -47,12 +46,7 @@ def speed_sweep() -> dict[str, np.ndarray]:
 
 @pytest.fixture(scope="module")
 def filled_lab(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Server]:
-    root = tmp_path_factory.mktemp("notebook")
-    keys_file = root / "keys.json"
-    keys_file.write_text(json.dumps(KEYS))
-    srv = Server(root / "data", keys_file)
-    srv.start()
-    try:
+    with served(tmp_path_factory.mktemp("notebook")) as srv:
         with LabClient(srv.url, WRITER) as client:
             sweep = client.create_run(
                 RunCreate(stand="pin_on_disc", operator="Petrova", title="speed sweep")
@@ -73,8 +67,6 @@ def filled_lab(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Server]:
                 headers=auth(WRITER),
             ).raise_for_status()
         yield srv
-    finally:
-        srv.stop()
 
 
 def test_the_notebook_runs_and_draws_its_three_plots(

@@ -3,7 +3,6 @@ Russian, refreshed while a member run is open, and still once it has finished.""
 
 from __future__ import annotations
 
-import json
 from collections.abc import Iterator
 from pathlib import Path
 
@@ -13,7 +12,7 @@ import pytest
 from rigsim.stands import simulate
 from rigsim.stands.smts2 import Smts2Settings
 from schemas.stands import StandKind
-from tests.api.conftest import KEYS, WRITER, Server, auth
+from tests.api.conftest import WRITER, Server, auth, served
 from tests.reports.simulated import post
 from tests.web.test_browser import ARGS, CHROMIUM, until
 
@@ -25,12 +24,8 @@ pytestmark = [
 
 @pytest.fixture
 def public_server(tmp_path: Path) -> Iterator[Server]:
-    keys_file = tmp_path / "keys.json"
-    keys_file.write_text(json.dumps(KEYS))
-    srv = Server(tmp_path / "data", keys_file, public_reads=True)
-    srv.start()
-    yield srv
-    srv.stop()
+    with served(tmp_path, public_reads=True) as srv:
+        yield srv
 
 
 def test_series_page_refreshes_while_a_run_is_open(public_server: Server, tmp_path: Path) -> None:

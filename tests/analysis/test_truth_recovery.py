@@ -19,7 +19,7 @@ from typing import Any
 
 import numpy as np
 import pytest
-from hypothesis import HealthCheck, Phase, given, settings
+from hypothesis import HealthCheck, Phase, example, given, settings
 from hypothesis import strategies as st
 from scipy.signal import find_peaks
 
@@ -247,6 +247,7 @@ def test_profilometer_without_noise(seed: int, ra: float) -> None:
 
 @FEW
 @given(seed=st.integers(0, 10_000))
+@example(seed=198)  # noise splits an element: Rz of the truth's elements is 109σ off
 def test_profilometer_with_noise(seed: int) -> None:
     v, t = _run(StandKind.PROFILOMETER, seed, True)
     ins = settings_for(StandKind.PROFILOMETER).instruments

@@ -2,13 +2,16 @@
 
 from __future__ import annotations
 
+from dataclasses import dataclass, field
 from typing import Literal
 
 import numpy as np
+from numpy.typing import NDArray
+from uncertainties import UFloat
 
 from rigserver.analysis import uncertainty
 from rigserver.analysis.finite_steps import FiniteBearingSteps
-from rigserver.analysis.readings import Readings
+from rigserver.analysis.readings import Columns, Readings
 from rigserver.analysis.references import Profiles
 from rigserver.core import bearing, film, stands
 from rigserver.core.errors import ModelInputError
@@ -39,179 +42,286 @@ MAX_FINITE_STEPS = 500
 
 
 def analyse(run: Run, readings: Readings, profiles: Profiles | None = None) -> MtosResults:
-    c = MtosConfig.model_validate(run.configuration)
-    profiles = profiles or Profiles()
+    """Tables 4.4-4.6 of lab work 4: each load step's eccentricity (4.6)-(4.9), measured
+    friction (4.10)-(4.11), oil viscosity (4.14), S1 (4.13), the theory beside it (4.1)-(4.5)
+    and the film (4.15)-(4.18), with their uncertainties (GUM); pending until the steps and
+    the zero readings are there."""
+    config = MtosConfig.model_validate(run.configuration)
+    result = _heading(run, readings, config, profiles or Profiles())
+    rows = readings.read(GROUP)
+    zeros = readings.measurements()
+    if not rows:
+        result.pending.append(N_("no load steps yet"))
+    if "x_zero" not in zeros or "y_zero" not in zeros:
+        result.pending.append(N_("needs the measurements x_zero, y_zero"))
+    if result.pending:
+        return result
+    steps = _LoadSteps.of(config, rows, zeros, result)
+    spread = _Spread.of(config, zeros)
+    solved = steps.eccentricity.chi[:MAX_FINITE_STEPS]
+    FINITE.solve_all(solved[(solved >= 0.0) & (solved < 1.0)], config.width / config.diameter)
+    if steps.load.size > MAX_FINITE_STEPS:
+        result.notes.append(
+            f"the finite bearing (3.1) is solved for the first {MAX_FINITE_STEPS} steps only"
+        )
+    for i in range(steps.load.size):
+        result.steps.append(_step(i, config, rows, steps, spread, result.notes))
+        result.regime_disagreements += _disagreements(i, result.steps[-1])
+    fluid = [s.friction_measured for s in result.steps if s.regime == "fluid"]
+    result.friction_fluid = float(np.mean(fluid)) if fluid else None
+    result.h_min_smallest = float(np.min(steps.h_min))
+    return result
+
+
+def _heading(run: Run, readings: Readings, config: MtosConfig, profiles: Profiles) -> MtosResults:
+    """What the results hold before any step: the critical film (4.16)-(4.17) and the
+    surfaces' roughness, from the profilometer runs the specimen names or the stand's."""
     journal_rq, bush_rq = profiles.rq("journal"), profiles.rq("bush")
     source = ", ".join(
         f"{role}: profilometer run {run.specimen[f'{role}_profile_run']}"
         for role in ("journal", "bush")
         if role in profiles.found
     )
-    radius = c.diameter / 2.0
-    crit = film.critical_film_thickness(
-        journal_roughness=c.journal_roughness,
-        bush_roughness=c.bush_roughness,
-        misalignment=c.misalignment,
-        deflection=c.deflection,
-        shape_error=c.shape_error,
+    critical = film.critical_film_thickness(
+        journal_roughness=config.journal_roughness,
+        bush_roughness=config.bush_roughness,
+        misalignment=config.misalignment,
+        deflection=config.deflection,
+        shape_error=config.shape_error,
     )
-    result = MtosResults(
+    return MtosResults(
         rows=readings.rows(GROUP),
-        h_crit=crit.total,
-        half_width=c.width / c.diameter,
-        journal_rq=c.journal_rq if journal_rq is None else journal_rq,
-        bush_rq=c.bush_rq if bush_rq is None else bush_rq,
+        h_crit=critical.total,
+        half_width=config.width / config.diameter,
+        journal_rq=config.journal_rq if journal_rq is None else journal_rq,
+        bush_rq=config.bush_rq if bush_rq is None else bush_rq,
         roughness_source=source or N_("the stand's configuration"),
         notes=list(profiles.problems),
     )
-    rows = readings.read(GROUP)
-    m = readings.measurements()
-    if not rows:
-        result.pending.append(N_("no load steps yet"))
-    if "x_zero" not in m or "y_zero" not in m:
-        result.pending.append(N_("needs the measurements x_zero, y_zero"))
-    if result.pending:
-        return result
-    load = rows["load"]
-    ecc = stands.mtos_eccentricity(
-        x=rows["x"] * _M_PER_UM,
-        y=rows["y"] * _M_PER_UM,
-        x_set=m["x_zero"] * _M_PER_UM,
-        y_set=m["y_zero"] * _M_PER_UM,
-        clearance=c.clearance,
-        signed=c.signed_sensors,
+
+
+@dataclass(frozen=True, slots=True)
+class _LoadSteps:
+    """Every step's measured figures at once (arrays, one value a step)."""
+
+    load: NDArray[np.float64]
+    eccentricity: stands.Eccentricity
+    friction: stands.MeasuredFriction
+    oil: stands.FilmViscosity
+    s1: NDArray[np.float64]
+    rises: dict[str, NDArray[np.float64]]
+    viscosity_at: dict[str, NDArray[np.float64]]
+    mu_50: float
+    h_min: NDArray[np.float64]
+    h_crit: float
+    film_parameter: NDArray[np.float64]
+
+    @classmethod
+    def of(
+        cls, config: MtosConfig, rows: Columns, zeros: dict[str, float], result: MtosResults
+    ) -> _LoadSteps:
+        load = rows["load"]
+        viscosity = config.viscosity
+        eccentricity = stands.mtos_eccentricity(
+            x=rows["x"] * _M_PER_UM,
+            y=rows["y"] * _M_PER_UM,
+            x_set=zeros["x_zero"] * _M_PER_UM,
+            y_set=zeros["y_zero"] * _M_PER_UM,
+            clearance=config.clearance,
+            signed=config.signed_sensors,
+        )
+        oil = stands.mtos_film_viscosity(
+            t3=rows["t3"], t4=rows["t4"], t5=rows["t5"], A=viscosity.A, alpha=viscosity.alpha
+        )
+        h_min = film.minimum_film_thickness(
+            clearance=config.clearance, chi=np.minimum(eccentricity.chi, 1.0)
+        )
+        return cls(
+            load=load,
+            eccentricity=eccentricity,
+            friction=stands.mtos_friction(
+                indicator_travel=rows["indicator"] * _M_PER_MM,
+                spring_rate=config.spring_rate * _N_PER_M,
+                spring_arm=config.lever_moment_arm,
+                friction_arm=config.friction_arm,
+                load=load,
+            ),
+            oil=oil,
+            s1=stands.bearing_characteristic(
+                viscosity=oil.mean,
+                omega=config.omega,
+                load=load,
+                width=config.width,
+                diameter=config.diameter,
+            ),
+            rises={
+                f"t{k}": stands.temperature_rise(t=rows[f"t{k}"], t_in=rows["t1"])
+                for k in (2, 3, 4, 5)
+            },
+            viscosity_at={
+                f"t{k}": stands.viscosity(t=rows[f"t{k}"], A=viscosity.A, alpha=viscosity.alpha)
+                for k in (1, 2, 3, 4, 5)
+            },
+            mu_50=float(stands.viscosity(t=REFERENCE_T, A=viscosity.A, alpha=viscosity.alpha)),
+            h_min=h_min,
+            h_crit=result.h_crit,
+            film_parameter=film.film_parameter(
+                h_min=h_min, journal_rq=result.journal_rq, bush_rq=result.bush_rq
+            ),
+        )
+
+
+@dataclass(frozen=True, slots=True)
+class _Spread:
+    """The inputs' uncertainties shared by every step (the stand's accuracy, GUM)."""
+
+    x_zero: UFloat
+    y_zero: UFloat
+    clearance: UFloat
+    arms: UFloat
+
+    @classmethod
+    def of(cls, config: MtosConfig, zeros: dict[str, float]) -> _Spread:
+        accuracy = config.accuracy
+        rate = config.spring_rate * _N_PER_M
+        return cls(
+            x_zero=uncertainty.from_limit(
+                zeros["x_zero"] * _M_PER_UM, accuracy.displacement * _M_PER_UM
+            ),
+            y_zero=uncertainty.from_limit(
+                zeros["y_zero"] * _M_PER_UM, accuracy.displacement * _M_PER_UM
+            ),
+            clearance=uncertainty.from_limit(config.clearance, accuracy.clearance),
+            arms=uncertainty.from_limit(config.lever_moment_arm, accuracy.arms)
+            / uncertainty.from_limit(config.friction_arm, accuracy.arms)
+            * uncertainty.from_limit(rate, rate * accuracy.spring_rate),
+        )
+
+
+def _step(
+    i: int, config: MtosConfig, rows: Columns, steps: _LoadSteps, spread: _Spread, notes: list[str]
+) -> MtosStep:
+    """Step ``i``'s row of tables 4.4-4.6."""
+    regime = REGIMES[int(rows["regime"][i])]
+    ecc, friction = steps.eccentricity, steps.friction
+    load, chi, viscosity = float(steps.load[i]), float(ecc.chi[i]), float(steps.oil.mean[i])
+    try:
+        angles = stands.mtos_attitude_angles(e_x=ecc.e_x[i], e_y=ecc.e_y[i])
+        angle = float(np.degrees(angles.delta if regime == "fluid" else angles.gamma))
+    except ModelInputError:
+        angle = 0.0
+        notes.append(f"step {i}: journal centred, the angle (4.12) is undefined")
+    f_finite, load_finite = (
+        _finite(config, chi, viscosity, load) if i < MAX_FINITE_STEPS else (None, None)
     )
-    measured = stands.mtos_friction(
-        indicator_travel=rows["indicator"] * _M_PER_MM,
-        spring_rate=c.spring_rate * _N_PER_M,
-        spring_arm=c.lever_moment_arm,
-        friction_arm=c.friction_arm,
+    theory = _Theory()
+    if regime == "fluid":
+        theory = _fluid_theory(i, config, chi, viscosity, load, steps, notes)
+    u_chi, u_f = _uncertainties(i, config, rows, spread, load)
+    s1 = float(steps.s1[i])
+    h_min, lam = float(steps.h_min[i]), float(steps.film_parameter[i])
+    return MtosStep(
+        chi_uncertainty=u_chi.standard,
+        chi_expanded=u_chi.expanded,
+        friction_measured_uncertainty=u_f.standard,
+        friction_measured_expanded=u_f.expanded,
         load=load,
+        regime=regime,
+        e_x=float(ecc.e_x[i]),
+        e_y=float(ecc.e_y[i]),
+        e=float(ecc.e[i]),
+        chi=chi,
+        angle=angle,
+        spring_force=float(friction.spring_force[i]),
+        friction_moment=float(friction.moment[i]),
+        friction_force=float(friction.friction_force[i]),
+        friction_measured=float(friction.coefficient[i]),
+        viscosity=viscosity,
+        bearing_characteristic=s1,
+        temperature_rise={k: float(v[i]) for k, v in steps.rises.items()},
+        viscosity_at={k: float(v[i]) for k, v in steps.viscosity_at.items()},
+        bearing_characteristic_inverse=1.0 / s1 if s1 > 0 else None,
+        **theory.table_4_4,
+        friction_theory=theory.friction,
+        friction_error=theory.error,
+        friction_finite=f_finite,
+        load_finite=load_finite,
+        h_min=h_min,
+        film=film.film_regime(h_min=h_min, h_crit=steps.h_crit),
+        film_parameter=lam,
+        film_lambda=film.lambda_regime(film_parameter=lam),
     )
-    oil = stands.mtos_film_viscosity(
-        t3=rows["t3"], t4=rows["t4"], t5=rows["t5"], A=c.viscosity.A, alpha=c.viscosity.alpha
+
+
+@dataclass(frozen=True, slots=True)
+class _Theory:
+    """A fluid-film step's theory: f_T (4.1), its error against the measured f, and the
+    rest of table 4.4; nothing for a step in another regime."""
+
+    friction: float | None = None
+    error: float | None = None
+    table_4_4: dict[str, float] = field(default_factory=dict)
+
+
+def _fluid_theory(
+    i: int,
+    config: MtosConfig,
+    chi: float,
+    viscosity: float,
+    load: float,
+    steps: _LoadSteps,
+    notes: list[str],
+) -> _Theory:
+    try:
+        f_t = bearing.friction_coefficient_theoretical(
+            chi=chi,
+            omega=config.omega,
+            viscosity=viscosity,
+            bearing_radius=config.diameter / 2.0,
+            width=config.width,
+            clearance=config.clearance,
+            load=load,
+        )
+        error = float(
+            stands.relative_error_percent(
+                reference=steps.friction.coefficient[i], other=f_t
+            ).percent
+        )
+        return _Theory(
+            friction=float(f_t),
+            error=None if np.isnan(error) else error,
+            table_4_4=_table_4_4(config, chi, viscosity, steps.mu_50),
+        )
+    except ModelInputError as exc:
+        notes.append(f"step {i}: f_T not computed: {exc}")
+        return _Theory()
+
+
+def _uncertainties(
+    i: int, config: MtosConfig, rows: Columns, spread: _Spread, load: float
+) -> tuple[uncertainty.Estimate, uncertainty.Estimate]:
+    """The standard and expanded uncertainties of step ``i``'s χ (4.9) and measured f
+    (4.11), from the gauges' limits (GUM)."""
+    accuracy = config.accuracy
+    u_chi = uncertainty.estimate(
+        uncertainty.mtos_chi(
+            x=float(rows["x"][i]) * _M_PER_UM,
+            y=float(rows["y"][i]) * _M_PER_UM,
+            x_zero=spread.x_zero,
+            y_zero=spread.y_zero,
+            limit=accuracy.displacement * _M_PER_UM,
+            clearance=spread.clearance,
+            signed=config.signed_sensors,
+        )
     )
-    s1 = stands.bearing_characteristic(
-        viscosity=oil.mean, omega=c.omega, load=load, width=c.width, diameter=c.diameter
-    )
-    rises = {
-        f"t{k}": stands.temperature_rise(t=rows[f"t{k}"], t_in=rows["t1"]) for k in (2, 3, 4, 5)
-    }
-    mu_at = {
-        f"t{k}": stands.viscosity(t=rows[f"t{k}"], A=c.viscosity.A, alpha=c.viscosity.alpha)
-        for k in (1, 2, 3, 4, 5)
-    }
-    mu_50 = float(stands.viscosity(t=REFERENCE_T, A=c.viscosity.A, alpha=c.viscosity.alpha))
-    acc = c.accuracy
-    x_zero = uncertainty.from_limit(m["x_zero"] * _M_PER_UM, acc.displacement * _M_PER_UM)
-    y_zero = uncertainty.from_limit(m["y_zero"] * _M_PER_UM, acc.displacement * _M_PER_UM)
-    h0 = uncertainty.from_limit(c.clearance, acc.clearance)
-    arms = (
-        uncertainty.from_limit(c.lever_moment_arm, acc.arms)
-        / uncertainty.from_limit(c.friction_arm, acc.arms)
+    u_f = uncertainty.estimate(
+        spread.arms
         * uncertainty.from_limit(
-            c.spring_rate * _N_PER_M, c.spring_rate * _N_PER_M * acc.spring_rate
+            float(rows["indicator"][i]) * _M_PER_MM, accuracy.indicator * _M_PER_MM
         )
+        / uncertainty.from_limit(load, load * accuracy.dynamometer)
     )
-    h_min = film.minimum_film_thickness(clearance=c.clearance, chi=np.minimum(ecc.chi, 1.0))
-    solved = ecc.chi[:MAX_FINITE_STEPS]
-    FINITE.solve_all(solved[(solved >= 0.0) & (solved < 1.0)], c.width / c.diameter)
-    if load.size > MAX_FINITE_STEPS:
-        result.notes.append(
-            f"the finite bearing (3.1) is solved for the first {MAX_FINITE_STEPS} steps only"
-        )
-    lam = film.film_parameter(h_min=h_min, journal_rq=result.journal_rq, bush_rq=result.bush_rq)
-    for i in range(load.size):
-        regime = REGIMES[int(rows["regime"][i])]
-        try:
-            angles = stands.mtos_attitude_angles(e_x=ecc.e_x[i], e_y=ecc.e_y[i])
-            angle = float(np.degrees(angles.delta if regime == "fluid" else angles.gamma))
-        except ModelInputError:
-            angle = 0.0
-            result.notes.append(f"step {i}: journal centred, the angle (4.12) is undefined")
-        f_theory = f_error = None
-        table44: dict[str, float] = {}
-        f_finite, load_finite = (
-            _finite(c, float(ecc.chi[i]), float(oil.mean[i]), float(load[i]))
-            if i < MAX_FINITE_STEPS
-            else (None, None)
-        )
-        if regime == "fluid":
-            try:
-                f_t = bearing.friction_coefficient_theoretical(
-                    chi=ecc.chi[i],
-                    omega=c.omega,
-                    viscosity=oil.mean[i],
-                    bearing_radius=radius,
-                    width=c.width,
-                    clearance=c.clearance,
-                    load=load[i],
-                )
-                f_theory = float(f_t)
-                table44 = _table_4_4(c, float(ecc.chi[i]), float(oil.mean[i]), mu_50)
-                f_error = float(
-                    stands.relative_error_percent(
-                        reference=measured.coefficient[i], other=f_t
-                    ).percent
-                )
-            except ModelInputError as exc:
-                result.notes.append(f"step {i}: f_T not computed: {exc}")
-        u_chi = uncertainty.estimate(
-            uncertainty.mtos_chi(
-                x=float(rows["x"][i]) * _M_PER_UM,
-                y=float(rows["y"][i]) * _M_PER_UM,
-                x_zero=x_zero,
-                y_zero=y_zero,
-                limit=acc.displacement * _M_PER_UM,
-                clearance=h0,
-                signed=c.signed_sensors,
-            )
-        )
-        u_f = uncertainty.estimate(
-            arms
-            * uncertainty.from_limit(
-                float(rows["indicator"][i]) * _M_PER_MM, acc.indicator * _M_PER_MM
-            )
-            / uncertainty.from_limit(float(load[i]), float(load[i]) * acc.dynamometer)
-        )
-        result.steps.append(
-            MtosStep(
-                chi_uncertainty=u_chi.standard,
-                chi_expanded=u_chi.expanded,
-                friction_measured_uncertainty=u_f.standard,
-                friction_measured_expanded=u_f.expanded,
-                load=float(load[i]),
-                regime=regime,
-                e_x=float(ecc.e_x[i]),
-                e_y=float(ecc.e_y[i]),
-                e=float(ecc.e[i]),
-                chi=float(ecc.chi[i]),
-                angle=angle,
-                spring_force=float(measured.spring_force[i]),
-                friction_moment=float(measured.moment[i]),
-                friction_force=float(measured.friction_force[i]),
-                friction_measured=float(measured.coefficient[i]),
-                viscosity=float(oil.mean[i]),
-                bearing_characteristic=float(s1[i]),
-                temperature_rise={k: float(v[i]) for k, v in rises.items()},
-                viscosity_at={k: float(v[i]) for k, v in mu_at.items()},
-                bearing_characteristic_inverse=float(1.0 / s1[i]) if s1[i] > 0 else None,
-                **table44,
-                friction_theory=f_theory,
-                friction_error=None if f_error is None or np.isnan(f_error) else f_error,
-                friction_finite=f_finite,
-                load_finite=load_finite,
-                h_min=float(h_min[i]),
-                film=film.film_regime(h_min=float(h_min[i]), h_crit=crit.total),
-                film_parameter=float(lam[i]),
-                film_lambda=film.lambda_regime(film_parameter=float(lam[i])),
-            )
-        )
-        result.regime_disagreements += _disagreements(i, result.steps[-1])
-    fluid = [s.friction_measured for s in result.steps if s.regime == "fluid"]
-    result.friction_fluid = float(np.mean(fluid)) if fluid else None
-    result.h_min_smallest = float(np.min(h_min))
-    return result
+    return u_chi, u_f
 
 
 def _table_4_4(c: MtosConfig, chi: float, viscosity: float, mu_50: float) -> dict[str, float]:

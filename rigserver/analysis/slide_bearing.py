@@ -2,11 +2,13 @@
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 from numpy.typing import NDArray
 
 from rigserver.analysis import uncertainty
-from rigserver.analysis.readings import Readings
+from rigserver.analysis.readings import Columns, Readings
 from rigserver.analysis.uncertainty import estimate
 from rigserver.core import bearing, reynolds, stands
 from rigserver.core.errors import ModelInputError
@@ -20,87 +22,150 @@ GROUP = "rows"
 MANOMETERS = ("p1", "p2", "p3", "p4", "p5")
 
 
-def _opt(value: float) -> float | None:
-    return None if not np.isfinite(value) else float(value)
-
-
 def analyse(run: Run, readings: Readings) -> SlideBearingResults:
-    c = SlideBearingConfig.model_validate(run.configuration)
-    a = c.width / (2.0 * c.bearing_radius)
+    """Tables 3.1-3.3 of lab work 3: the eccentricity (3.22)-(3.24) of each limb row, the
+    measured pressure (3.25) beside the short (3.10), long (3.15) and finite (3.1) bearing's,
+    along the circumference at the middle plane and along the axis where the pressure is
+    highest; pending until the rows and the zero readings are there."""
+    config = SlideBearingConfig.model_validate(run.configuration)
+    a = config.width / (2.0 * config.bearing_radius)
     result = SlideBearingResults(rows=readings.rows(GROUP), half_width=a)
-    m = readings.measurements()
-    if "loader_scale" in m:
-        result.load = m["loader_scale"] * c.loader_rate
+    zeros = readings.measurements()
+    if "loader_scale" in zeros:
+        result.load = zeros["loader_scale"] * config.loader_rate
     rows = readings.read(GROUP)
-    missing = [k for k in ("x_zero", "y_zero", "load_zone_end") if k not in m]
+    missing = [k for k in ("x_zero", "y_zero", "load_zone_end") if k not in zeros]
     if not rows:
         result.pending.append(N_("no limb rows yet"))
     if missing:
         result.pending.append("needs the measurements " + ", ".join(missing))
     if not rows or missing:
         return result
-    scale = c.displacement_per_division
-    gauge = UNITS[c.gauge_unit].factor
-    ecc = stands.slide_bearing_eccentricity(
-        x=rows["x"] * scale,
-        y=rows["y"] * scale,
-        x_set=m["x_zero"] * scale,
-        y_set=m["y_zero"] * scale,
-        clearance=c.clearance,
+    limbs = _Limbs.of(config, rows, zeros)
+    result.attitude_angle = float(np.degrees(np.angle(np.mean(np.exp(1j * limbs.attitude)))))
+    result.temperature, result.viscosity, result.mu_bar = (
+        limbs.oil.temperature,
+        limbs.oil.viscosity,
+        limbs.oil.mu_bar,
     )
-    centre = int(np.argmin(np.abs(np.asarray(c.manometer_z))))
-    pressure = rows[MANOMETERS[centre]] * gauge
+    result.chi_mean = limbs.chi_mean
+    u_chi = _chi_mean_uncertainty(config, rows, zeros)
+    result.chi_mean_uncertainty, result.chi_mean_expanded = u_chi.standard, u_chi.expanded
+    top = int(np.argmax(limbs.pressure))
+    result.phi_max, result.pressure_max = float(limbs.phi_deg[top]), float(limbs.pressure[top])
+    theory = _circumference(config, limbs, result.notes)
+    result.rupture_angle = theory.rupture if theory.finite is not None else None
+    result.table = _table_3_1(rows, limbs, theory)
+    result.axial = _axial(config, rows, limbs, theory, top)
+    return result
 
-    def measured(p: NDArray[np.float64]) -> NDArray[np.float64]:
-        return stands.measured_dimensionless_pressure(
-            gauge_pressure=p,
-            clearance=c.clearance,
-            bearing_radius=c.bearing_radius,
-            mu0=c.mu0,
-            omega0=c.omega0,
+
+def _opt(value: float) -> float | None:
+    return None if not np.isfinite(value) else float(value)
+
+
+@dataclass(frozen=True, slots=True)
+class _Limbs:
+    """Every limb row's measured figures at once (arrays, one value a row)."""
+
+    eccentricity: stands.Eccentricity
+    pressure: NDArray[np.float64]
+    pi_measured: NDArray[np.float64]
+    phi_deg: NDArray[np.float64]
+    oil: stands.MeanViscosity
+    chi_mean: float
+    attitude: NDArray[np.float64]
+
+    @classmethod
+    def of(cls, config: SlideBearingConfig, rows: Columns, zeros: dict[str, float]) -> _Limbs:
+        scale = config.displacement_per_division
+        centre = int(np.argmin(np.abs(np.asarray(config.manometer_z))))
+        pressure = rows[MANOMETERS[centre]] * UNITS[config.gauge_unit].factor
+        eccentricity = stands.slide_bearing_eccentricity(
+            x=rows["x"] * scale,
+            y=rows["y"] * scale,
+            x_set=zeros["x_zero"] * scale,
+            y_set=zeros["y_zero"] * scale,
+            clearance=config.clearance,
+        )
+        viscosity = config.viscosity
+        return cls(
+            eccentricity=eccentricity,
+            pressure=pressure,
+            pi_measured=_dimensionless(config, pressure),
+            phi_deg=stands.model_angle_deg(
+                limb_deg=rows["limb_angle"], load_zone_end_deg=zeros["load_zone_end"]
+            ),
+            oil=stands.mean_oil_viscosity(
+                t_in=rows["t1"],
+                t_out=rows["t2"],
+                A=viscosity.A,
+                alpha=viscosity.alpha,
+                mu0=config.mu0,
+            ),
+            chi_mean=stands.mean_eccentricity_ratio(chi=eccentricity.chi),
+            attitude=stands.slide_bearing_attitude_angle(
+                e_x=eccentricity.e_x, e_y=eccentricity.e_y, limb_deg=rows["limb_angle"]
+            ),
         )
 
-    pi_measured = measured(pressure)
-    phi_deg = stands.model_angle_deg(
-        limb_deg=rows["limb_angle"], load_zone_end_deg=m["load_zone_end"]
+
+def _dimensionless(
+    config: SlideBearingConfig, pressure: NDArray[np.float64]
+) -> NDArray[np.float64]:
+    """Π of a gauge pressure (3.25)."""
+    return stands.measured_dimensionless_pressure(
+        gauge_pressure=pressure,
+        clearance=config.clearance,
+        bearing_radius=config.bearing_radius,
+        mu0=config.mu0,
+        omega0=config.omega0,
     )
-    oil = stands.mean_oil_viscosity(
-        t_in=rows["t1"], t_out=rows["t2"], A=c.viscosity.A, alpha=c.viscosity.alpha, mu0=c.mu0
-    )
-    chi_mean = stands.mean_eccentricity_ratio(chi=ecc.chi)
-    psi = stands.slide_bearing_attitude_angle(e_x=ecc.e_x, e_y=ecc.e_y, limb_deg=rows["limb_angle"])
-    result.attitude_angle = float(np.degrees(np.angle(np.mean(np.exp(1j * psi)))))
-    result.temperature, result.viscosity, result.mu_bar = (
-        oil.temperature,
-        oil.viscosity,
-        oil.mu_bar,
-    )
-    result.chi_mean = chi_mean
-    u_chi = estimate(
+
+
+def _chi_mean_uncertainty(
+    config: SlideBearingConfig, rows: Columns, zeros: dict[str, float]
+) -> uncertainty.Estimate:
+    return estimate(
         uncertainty.slide_bearing_chi_mean(
             x=rows["x"].tolist(),
             y=rows["y"].tolist(),
-            x_zero=m["x_zero"],
-            y_zero=m["y_zero"],
-            per_division=scale,
-            limit_divisions=c.accuracy.displacement,
-            clearance=c.clearance,
-            clearance_limit=c.accuracy.clearance,
+            x_zero=zeros["x_zero"],
+            y_zero=zeros["y_zero"],
+            per_division=config.displacement_per_division,
+            limit_divisions=config.accuracy.displacement,
+            clearance=config.clearance,
+            clearance_limit=config.accuracy.clearance,
         )
     )
-    result.chi_mean_uncertainty, result.chi_mean_expanded = u_chi.standard, u_chi.expanded
-    top = int(np.argmax(pressure))
-    result.phi_max, result.pressure_max = float(phi_deg[top]), float(pressure[top])
-    phi = np.radians(phi_deg)
+
+
+@dataclass(frozen=True, slots=True)
+class _Circumference:
+    """The theory at the limb rows' angles: Π of the short (3.10), long (3.15) and finite
+    (3.1) bearing at the middle plane, the errors of the measured Π against the first two,
+    the finite solution and its film's rupture angle φ_r, degrees (NaN where not computed)."""
+
+    pi_short: NDArray[np.float64]
+    pi_long: NDArray[np.float64]
+    pi_finite: NDArray[np.float64]
+    error_short: NDArray[np.float64]
+    error_long: NDArray[np.float64]
+    finite: reynolds.ReynoldsSolution | None = None
+    rupture: float = 0.0
+
+
+def _circumference(config: SlideBearingConfig, limbs: _Limbs, notes: list[str]) -> _Circumference:
+    phi = np.radians(limbs.phi_deg)
+    a = config.width / (2.0 * config.bearing_radius)
+    chi, mu_bar = limbs.chi_mean, limbs.oil.mu_bar
     try:
         # G = ω1/ω0 = 1: the journal turns at ω0, the bearing stands still (3.12)
         pi_short = bearing.short_bearing_pressure(
-            phi=phi, z=0.0, chi=chi_mean, a=a, mu_bar=oil.mu_bar, G=1.0
+            phi=phi, z=0.0, chi=chi, a=a, mu_bar=mu_bar, G=1.0
         )
-        pi_long = bearing.long_bearing_pressure(phi=phi, chi=chi_mean, mu_bar=oil.mu_bar, G=1.0)
-        err_short = stands.relative_error_percent(reference=pi_short, other=pi_measured).percent
-        err_long = stands.relative_error_percent(reference=pi_long, other=pi_measured).percent
-        finite = reynolds.solve_reynolds(chi=chi_mean, half_width=a, mu_bar=oil.mu_bar)
+        pi_long = bearing.long_bearing_pressure(phi=phi, chi=chi, mu_bar=mu_bar, G=1.0)
+        finite = reynolds.solve_reynolds(chi=chi, half_width=a, mu_bar=mu_bar)
 
         def mid_plane(angle: NDArray[np.float64]) -> NDArray[np.float64]:
             return finite.pressure_at(phi=angle, z=np.zeros_like(angle))
@@ -109,48 +174,71 @@ def analyse(run: Run, readings: Readings) -> SlideBearingResults:
         # true of (3.10) and (3.15); the finite film ruptures φ_r later, so the hole at
         # φ_мод sees the finite film's φ_мод + φ_r (docs/validity.md, slide bearing).
         rupture = bearing.rupture_angle_deg(pressure=mid_plane)
-        result.rupture_angle = rupture
-        pi_finite = mid_plane(phi + np.radians(rupture))
-    except ModelInputError as exc:
-        result.notes.append(f"theory not computed: {exc}")
-        finite = None
-        rupture = 0.0
-        pi_short = pi_long = err_short = err_long = pi_finite = np.full(phi.shape, np.nan)
-    for i in range(phi.size):
-        result.table.append(
-            SlideBearingRow(
-                limb_angle=float(rows["limb_angle"][i]),
-                phi_model=float(phi_deg[i]),
-                pressure=float(pressure[i]),
-                e_x=float(ecc.e_x[i]),
-                e_y=float(ecc.e_y[i]),
-                e=float(ecc.e[i]),
-                chi=float(ecc.chi[i]),
-                attitude=float(np.degrees(psi[i])),
-                pi_measured=float(pi_measured[i]),
-                pi_short=_opt(pi_short[i]),
-                pi_long=_opt(pi_long[i]),
-                pi_finite=_opt(pi_finite[i]),
-                error_short=_opt(err_short[i]),
-                error_long=_opt(err_long[i]),
-            )
+        return _Circumference(
+            pi_short=pi_short,
+            pi_long=pi_long,
+            pi_finite=mid_plane(phi + np.radians(rupture)),
+            error_short=_error(pi_short, limbs.pi_measured),
+            error_long=_error(pi_long, limbs.pi_measured),
+            finite=finite,
+            rupture=rupture,
         )
-    z = np.asarray(c.manometer_z)
-    p_axial = np.array([rows[name][top] for name in MANOMETERS]) * gauge
-    pi_z = measured(p_axial)
+    except ModelInputError as exc:
+        notes.append(f"theory not computed: {exc}")
+        nan = np.full(phi.shape, np.nan)
+        return _Circumference(nan, nan, nan, nan, nan)
+
+
+def _error(theory: NDArray[np.float64], measured: NDArray[np.float64]) -> NDArray[np.float64]:
+    return np.asarray(stands.relative_error_percent(reference=theory, other=measured).percent)
+
+
+def _table_3_1(rows: Columns, limbs: _Limbs, theory: _Circumference) -> list[SlideBearingRow]:
+    ecc = limbs.eccentricity
+    return [
+        SlideBearingRow(
+            limb_angle=float(rows["limb_angle"][i]),
+            phi_model=float(limbs.phi_deg[i]),
+            pressure=float(limbs.pressure[i]),
+            e_x=float(ecc.e_x[i]),
+            e_y=float(ecc.e_y[i]),
+            e=float(ecc.e[i]),
+            chi=float(ecc.chi[i]),
+            attitude=float(np.degrees(limbs.attitude[i])),
+            pi_measured=float(limbs.pi_measured[i]),
+            pi_short=_opt(theory.pi_short[i]),
+            pi_long=_opt(theory.pi_long[i]),
+            pi_finite=_opt(theory.pi_finite[i]),
+            error_short=_opt(theory.error_short[i]),
+            error_long=_opt(theory.error_long[i]),
+        )
+        for i in range(limbs.phi_deg.size)
+    ]
+
+
+def _axial(
+    config: SlideBearingConfig, rows: Columns, limbs: _Limbs, theory: _Circumference, top: int
+) -> list[AxialPoint]:
+    """Table 3.3: the pressure along the axis at the row of the highest pressure, measured
+    beside the short (3.10) and the finite (3.1) bearing's."""
+    z = np.asarray(config.manometer_z)
+    phi_top = float(np.radians(limbs.phi_deg[top]))
+    p_axial = np.array([rows[name][top] for name in MANOMETERS]) * UNITS[config.gauge_unit].factor
+    pi_z = _dimensionless(config, p_axial)
+    a = config.width / (2.0 * config.bearing_radius)
     try:
         pi_m = bearing.short_bearing_pressure(
-            phi=phi[top], z=z, chi=chi_mean, a=a, mu_bar=oil.mu_bar, G=1.0
+            phi=phi_top, z=z, chi=limbs.chi_mean, a=a, mu_bar=limbs.oil.mu_bar, G=1.0
         )
-        err_z = stands.relative_error_percent(reference=pi_m, other=pi_z).percent
+        err_z = _error(pi_m, pi_z)
     except ModelInputError:
         pi_m = err_z = np.full(z.shape, np.nan)
     pi_fz = (
-        finite.pressure_at(phi=np.full(z.shape, phi[top] + np.radians(rupture)), z=z)
-        if finite is not None
+        theory.finite.pressure_at(phi=np.full(z.shape, phi_top + np.radians(theory.rupture)), z=z)
+        if theory.finite is not None
         else np.full(z.shape, np.nan)
     )
-    result.axial = [
+    return [
         AxialPoint(
             z=float(z[k]),
             pressure=float(p_axial[k]),
@@ -161,4 +249,3 @@ def analyse(run: Run, readings: Readings) -> SlideBearingResults:
         )
         for k in range(z.size)
     ]
-    return result

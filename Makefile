@@ -38,7 +38,7 @@ test: $(BIN)/.installed $(CRATE_VENV)/bin/.installed system-deps
 	$(BIN)/ruff format --check .
 	$(BIN)/mypy
 	$(BIN)/lint-imports
-	$(BIN)/pytest -n auto --dist loadfile
+	$(BIN)/pytest -n auto --dist loadfile --durations=25
 
 bench: $(BIN)/.installed system-deps
 	$(BIN)/python benchmarks/bearing.py

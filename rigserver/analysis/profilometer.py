@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import numpy as np
+from numpy.typing import NDArray
 
 from rigserver.analysis.iso import iso_result
 from rigserver.analysis.readings import Readings
@@ -21,7 +22,10 @@ _M_PER_UM = UNITS["um"].factor
 
 
 def analyse(run: Run, readings: Readings) -> ProfilometerResults:
-    c = ProfilometerConfig.model_validate(run.configuration)
+    """Lab work 1 on a trace: the ISO parameters, Ra, Rq, Rz, Rmax, Sm and R (1.1)-(1.5)
+    with the instrument's error, the profilogram against the instrument's reading (1.20),
+    the bearing curve of table 1.6 and its fits (1.8), and the complex parameter Δ."""
+    config = ProfilometerConfig.model_validate(run.configuration)
     result = ProfilometerResults(rows=readings.rows(GROUP))
     trace = readings.read(GROUP)
     if not trace:
@@ -32,17 +36,28 @@ def analyse(run: Run, readings: Readings) -> ProfilometerResults:
     result.iso = iso_result(
         x,
         y,
-        lambda_c=c.lambda_c or None,
-        lambda_s=c.lambda_s or None,
+        lambda_c=config.lambda_c or None,
+        lambda_s=config.lambda_s or None,
         notes=result.notes,
-        roughness=c.profile_kind == "roughness",
-        sections=c.sections,
+        roughness=config.profile_kind == "roughness",
+        sections=config.sections,
     )
     try:
         params = roughness.profile_parameters(x=x, y=y)
     except ModelInputError as exc:
         result.pending.append(f"the profile cannot be analysed yet: {exc}")
         return result
+    _heights(result, params)
+    _instrument_error(result, params)
+    _against_instrument(result, params, readings.measurements())
+    _bearing_curve(result, params, x, y, config.levels)
+    if result.fit_manual is not None:
+        _complex_parameters(result, result.fit_manual, params, config)
+    return result
+
+
+def _heights(result: ProfilometerResults, params: roughness.ProfileParameters) -> None:
+    """Ra, Rq, Rz with its five peaks and valleys, Rmax, Sm and R (1.1)-(1.5)."""
     result.base_length = params.base_length
     result.ra, result.rq, result.rz = params.ra, params.rq, params.rz
     result.rmax, result.sm, result.asperity_radius = params.rmax, params.sm, params.asperity_radius
@@ -52,49 +67,66 @@ def analyse(run: Run, readings: Readings) -> ProfilometerResults:
             f"R (1.1) not computed: ρ2 = {params.rms_curvature:.3g} 1/m, R = √(π/2)/ρ2 "
             "exceeds the largest number a double holds"
         )
-    try:
-        err = roughness.instrument_error(parameters=params)
-        result.ra_error, result.rz_error = err.ra, err.rz
-        result.rmax_error, result.sm_error = err.rmax, err.sm
-        ra = estimate(from_limit(params.ra, err.ra))
-        rz = estimate(from_limit(params.rz, err.rz))
-        result.ra_uncertainty, result.ra_expanded, result.rz_uncertainty, result.rz_expanded = (
-            ra.standard,
-            ra.expanded,
-            rz.standard,
-            rz.expanded,
-        )
-    except ModelInputError as exc:
-        result.notes.append(f"instrument error not given: {exc}")
     sub = roughness.subrange_of_base_length(params.base_length)
     if sub is not None:
         result.outside_subrange = list(roughness.outside_subrange(parameters=params, subrange=sub))
-    m = readings.measurements()
-    if "rz_instrument" in m and "rmax_instrument" in m:
-        try:
-            found = roughness.profilogram_discrepancy(
-                rmax_instrument=m["rmax_instrument"] * _M_PER_UM,
-                rmax_profilogram=params.rmax,
-                rz_instrument=m["rz_instrument"] * _M_PER_UM,
-                rz_profilogram=params.rz,
-                ra_instrument=m["ra_instrument"] * _M_PER_UM if "ra_instrument" in m else None,
-                ra_profilogram=params.ra,
-            )
-            result.rmax_difference, result.rz_difference = found.rmax, found.rz
-            result.ra_difference = found.ra
-        except ModelInputError as exc:
-            result.notes.append(f"(1.20) not computed: {exc}")
-    # Table 1.6: strips of equal depth from the peak line down to the mean line.
+
+
+def _instrument_error(result: ProfilometerResults, params: roughness.ProfileParameters) -> None:
+    """The profilometer's limits of error and the uncertainties of Ra and Rz they make."""
+    try:
+        err = roughness.instrument_error(parameters=params)
+    except ModelInputError as exc:
+        result.notes.append(f"instrument error not given: {exc}")
+        return
+    result.ra_error, result.rz_error = err.ra, err.rz
+    result.rmax_error, result.sm_error = err.rmax, err.sm
+    ra = estimate(from_limit(params.ra, err.ra))
+    rz = estimate(from_limit(params.rz, err.rz))
+    result.ra_uncertainty, result.ra_expanded = ra.standard, ra.expanded
+    result.rz_uncertainty, result.rz_expanded = rz.standard, rz.expanded
+
+
+def _against_instrument(
+    result: ProfilometerResults, params: roughness.ProfileParameters, read: dict[str, float]
+) -> None:
+    """(1.20): the profilogram's Rmax, Rz and Ra against the instrument's readings."""
+    if "rz_instrument" not in read or "rmax_instrument" not in read:
+        return
+    try:
+        found = roughness.profilogram_discrepancy(
+            rmax_instrument=read["rmax_instrument"] * _M_PER_UM,
+            rmax_profilogram=params.rmax,
+            rz_instrument=read["rz_instrument"] * _M_PER_UM,
+            rz_profilogram=params.rz,
+            ra_instrument=read["ra_instrument"] * _M_PER_UM if "ra_instrument" in read else None,
+            ra_profilogram=params.ra,
+        )
+    except ModelInputError as exc:
+        result.notes.append(f"(1.20) not computed: {exc}")
+        return
+    result.rmax_difference, result.rz_difference = found.rmax, found.rz
+    result.ra_difference = found.ra
+
+
+def _bearing_curve(
+    result: ProfilometerResults,
+    params: roughness.ProfileParameters,
+    x: NDArray[np.float64],
+    y: NDArray[np.float64],
+    levels: int,
+) -> None:
+    """Table 1.6: strips of equal depth from the peak line down to the mean line, the
+    bearing lengths η_p = t_p·l (1.6), and the curve (1.8) fitted by both methods."""
     line = roughness.mean_line(x=x, y=y)
     peak = float(np.max(y - (line.slope * x + line.intercept)))
-    levels = peak * np.arange(1, c.levels + 1) / c.levels
-    curve = roughness.bearing_curve(x=x, y=y, levels=levels)
+    curve = roughness.bearing_curve(x=x, y=y, levels=peak * np.arange(1, levels + 1) / levels)
     result.levels, result.eps, result.tp = (
         curve.levels.tolist(),
         curve.eps.tolist(),
         curve.tp.tolist(),
     )
-    result.bearing_lengths = (curve.tp * params.base_length).tolist()  # η_p = t_p·l (1.6)
+    result.bearing_lengths = (curve.tp * params.base_length).tolist()
     for method in ("manual", "lsq"):
         try:
             fit = roughness.fit_bearing_curve(eps=curve.eps, tp=curve.tp, method=method)
@@ -113,9 +145,6 @@ def analyse(run: Run, readings: Readings) -> ProfilometerResults:
             result.fit_manual = model
         else:
             result.fit_lsq = model
-    if result.fit_manual is not None:
-        _complex_parameters(result, result.fit_manual, params, c)
-    return result
 
 
 def _complex_parameters(

@@ -257,126 +257,218 @@ def simulate(
     the scar and the weighings after."""
     s = settings or TribometerSettings()
     rng = np.random.default_rng(seed)
-    c = s.configuration
-    ins = s.instruments
-    recip = isinstance(c, ReciprocatingConfig)
-    stroke = c.stroke_length if isinstance(c, ReciprocatingConfig) else 0.0
-    n = s.laps * s.samples_per_lap + (0 if recip else 1)
-    k = np.arange(n, dtype=np.float64)
-    offset = 0.5 if recip else 0.0  # never at a reversal, where the friction turns over
-    laps = (k + offset) / s.samples_per_lap
-    distance = laps * s.lap_length
-    time = distance / s.speed
-    first = distance[0]
-    g = running_in_shape(distance - first, s.running_in_laps * s.lap_length)
-    base = s.friction_steady + (s.friction_static - s.friction_steady) * g
-    phase = 2.0 * math.pi * laps
-    wave = np.sin(phase) if not recip else np.cos(2.0 * phase)
-    true_mu = base + s.friction_steady * s.periodic * wave
-    direction = np.sign(np.sin(phase)) if recip else np.ones(n)
-    mu = true_mu * (1.0 + _fluctuation(n, s.friction_fluctuation, rng))
-    load = ins.load.read(np.full(n, s.load), rng)
-    force = ins.force.read(direction * mu * s.load, rng)
-    record: dict[str, FloatArray] = {
-        "time": np.round(time, 9),
-        "normal_load": load,
-        "friction_force": force,
-        "friction_coefficient": force / load,
-        "distance": distance,
-        "laps": laps,
-    }
-    if recip:
-        record["position"] = -stroke / 2.0 * np.cos(phase) / 1e-3
-        record["stroke"] = np.floor(2.0 * laps) + 1.0
-    sliding = float(distance[-1] - first)
-    heat = 1.0 - np.exp(-(distance - first) / (0.2 * sliding))
-    record["temperature"] = ins.thermometer.read(
-        c.plan.temperature + s.temperature_rise * heat, rng
-    )
-    ball_volume = s.ball_wear * s.load * sliding
-    disc_volume = s.disc_wear * s.load * sliding
-    radius = c.tip_diameter / 2.0
-    scar = scar_of(ball_volume, radius)
-    track_length = stroke if isinstance(c, ReciprocatingConfig) else 2.0 * math.pi * c.track_radius
-    area = disc_volume / track_length
-    # the groove's edges on the profiles' samples: the trapezoid rule then errs by the
-    # parabola's curvature alone, a relative -(step/width)²
-    width = max(round(scar / (2.0 * TRACE_STEP)), 20) * 2.0 * TRACE_STEP
-    depth = 1.5 * area / width  # a parabola's area is (2/3)·width·depth
-    record["wear_depth"] = ins.depth.read(depth * (distance - first) / sliding / _M_PER_UM, rng)
-    groups = PIN_ON_DISC_GROUPS if not recip else RECIPROCATING_GROUPS
-    friction, at = apply_faults(groups[0], record, time, s.faults)
-    half = round(TRACE_HALF / TRACE_STEP)
-    x = np.arange(-half, half + 1, dtype=np.float64) * TRACE_STEP
-    profiles: dict[str, list[FloatArray]] = {"x": [], "z": [], "trace": []}
-    for trace in range(TRACES):
-        profiles["x"].append(x / 1e-3)
-        profiles["z"].append(ins.profilometer.read(track_profile(x, width, depth) / 1e-6, rng))
-        profiles["trace"].append(np.full(x.size, float(trace)))
-    track = {name: np.concatenate(parts) for name, parts in profiles.items()}
-    ball_mass, disc_mass = 0.44e-3 * c.pin.density / 3950.0, 20e-3
-    ball_loss, disc_loss = c.pin.density * ball_volume, c.disc.density * disc_volume
-    weighings = {
-        "pin_mass_before": ins.balance.read([ball_mass / _KG_PER_G], rng),
-        "disc_mass_before": ins.balance.read([disc_mass / _KG_PER_G], rng),
-        "pin_mass_after": ins.balance.read([(ball_mass - ball_loss) / _KG_PER_G], rng),
-        "disc_mass_after": ins.balance.read([(disc_mass - disc_loss) / _KG_PER_G], rng),
-        "scar_diameter": ins.microscope.read([scar / _M_PER_UM], rng),
-    }
+    motion = _Motion.of(s)
+    wear = _Wear.of(s, motion.sliding)
+    record = _friction_record(s, motion, wear, rng)
+    track = _track_profiles(s, wear, rng)
+    weighings = _weighings(s, wear, rng)
+    groups = RECIPROCATING_GROUPS if motion.reciprocating else PIN_ON_DISC_GROUPS
+    friction, at = apply_faults(groups[0], record, motion.time, s.faults)
     track, _ = apply_faults(groups[1], track, np.zeros(track["x"].size), s.faults)
     weighings, _ = apply_faults(groups[2], weighings, np.zeros(1), s.faults)
     before = {k: v for k, v in weighings.items() if k.endswith("_before")}
     after = {k: v for k, v in weighings.items() if not k.endswith("_before")}
-    end = float(time[-1])
+    end = float(motion.time[-1])
     batches: list[Batch] = [Batch(group=MEASUREMENTS, columns=before, at=0.0)] if before else []
     batches += split("friction", friction, at, rows=s.batch_rows)
     if track:
         batches.append(Batch(group="wear_track", columns=track, at=end + 300.0))
     if after:
         batches.append(Batch(group=MEASUREMENTS, columns=after, at=end + 600.0))
-    kind = StandKind.RECIPROCATING if recip else StandKind.PIN_ON_DISC
+    return SimulatedRun(
+        run_create=_opening(s, motion.reciprocating),
+        batches=tuple(batches),
+        truth=_truth(s, motion, wear),
+    )
+
+
+@dataclass(frozen=True, slots=True)
+class _Motion:
+    """Where the ball is at each reading: laps (cycles), sliding distance, m, and time, s,
+    and the friction it truly meets there (running-in and the once-per-lap part)."""
+
+    reciprocating: bool
+    laps: FloatArray
+    distance: FloatArray
+    time: FloatArray
+    phase: FloatArray
+    true_mu: FloatArray
+
+    @property
+    def start(self) -> float:
+        return float(self.distance[0])
+
+    @property
+    def sliding(self) -> float:
+        return float(self.distance[-1] - self.distance[0])
+
+    @classmethod
+    def of(cls, s: TribometerSettings) -> _Motion:
+        recip = isinstance(s.configuration, ReciprocatingConfig)
+        n = s.laps * s.samples_per_lap + (0 if recip else 1)
+        offset = 0.5 if recip else 0.0  # never at a reversal, where the friction turns over
+        laps = (np.arange(n, dtype=np.float64) + offset) / s.samples_per_lap
+        distance = laps * s.lap_length
+        g = running_in_shape(distance - distance[0], s.running_in_laps * s.lap_length)
+        base = s.friction_steady + (s.friction_static - s.friction_steady) * g
+        phase = 2.0 * math.pi * laps
+        wave = np.sin(phase) if not recip else np.cos(2.0 * phase)
+        return cls(
+            reciprocating=recip,
+            laps=laps,
+            distance=distance,
+            time=distance / s.speed,
+            phase=phase,
+            true_mu=base + s.friction_steady * s.periodic * wave,
+        )
+
+
+@dataclass(frozen=True, slots=True)
+class _Wear:
+    """Archard's wear over the sliding distance: the volumes, m³, the ball's scar, m, and
+    the track's groove (its area across, m², width and depth, m)."""
+
+    ball_volume: float
+    disc_volume: float
+    scar: float
+    area: float
+    width: float
+    depth: float
+
+    @classmethod
+    def of(cls, s: TribometerSettings, sliding: float) -> _Wear:
+        c = s.configuration
+        ball_volume = s.ball_wear * s.load * sliding
+        disc_volume = s.disc_wear * s.load * sliding
+        scar = scar_of(ball_volume, c.tip_diameter / 2.0)
+        track_length = (
+            c.stroke_length
+            if isinstance(c, ReciprocatingConfig)
+            else 2.0 * math.pi * c.track_radius
+        )
+        area = disc_volume / track_length
+        # the groove's edges on the profiles' samples: the trapezoid rule then errs by the
+        # parabola's curvature alone, a relative -(step/width)²
+        width = max(round(scar / (2.0 * TRACE_STEP)), 20) * 2.0 * TRACE_STEP
+        depth = 1.5 * area / width  # a parabola's area is (2/3)·width·depth
+        return cls(ball_volume, disc_volume, scar, area, width, depth)
+
+
+def _friction_record(
+    s: TribometerSettings, motion: _Motion, wear: _Wear, rng: np.random.Generator
+) -> dict[str, FloatArray]:
+    """The friction group as the instrument writes it: μ = F_t/F_N of its own readings, the
+    distance and laps, the temperature and the wear depth (and on the flat the position and
+    the stroke's number)."""
+    ins, n = s.instruments, motion.laps.size
+    direction = np.sign(np.sin(motion.phase)) if motion.reciprocating else np.ones(n)
+    mu = motion.true_mu * (1.0 + _fluctuation(n, s.friction_fluctuation, rng))
+    load = ins.load.read(np.full(n, s.load), rng)
+    force = ins.force.read(direction * mu * s.load, rng)
+    record: dict[str, FloatArray] = {
+        "time": np.round(motion.time, 9),
+        "normal_load": load,
+        "friction_force": force,
+        "friction_coefficient": force / load,
+        "distance": motion.distance,
+        "laps": motion.laps,
+    }
+    c = s.configuration
+    if isinstance(c, ReciprocatingConfig):
+        record["position"] = -c.stroke_length / 2.0 * np.cos(motion.phase) / 1e-3
+        record["stroke"] = np.floor(2.0 * motion.laps) + 1.0
+    slid = motion.distance - motion.start
+    heat = 1.0 - np.exp(-slid / (0.2 * motion.sliding))
+    record["temperature"] = ins.thermometer.read(
+        c.plan.temperature + s.temperature_rise * heat, rng
+    )
+    record["wear_depth"] = ins.depth.read(wear.depth * slid / motion.sliding / _M_PER_UM, rng)
+    return record
+
+
+def _track_profiles(
+    s: TribometerSettings, wear: _Wear, rng: np.random.Generator
+) -> dict[str, FloatArray]:
+    """The groove traced across in :data:`TRACES` places (x in mm, z in µm)."""
+    half = round(TRACE_HALF / TRACE_STEP)
+    x = np.arange(-half, half + 1, dtype=np.float64) * TRACE_STEP
+    profiles: dict[str, list[FloatArray]] = {"x": [], "z": [], "trace": []}
+    for trace in range(TRACES):
+        profiles["x"].append(x / 1e-3)
+        z = track_profile(x, wear.width, wear.depth) / 1e-6
+        profiles["z"].append(s.instruments.profilometer.read(z, rng))
+        profiles["trace"].append(np.full(x.size, float(trace)))
+    return {name: np.concatenate(parts) for name, parts in profiles.items()}
+
+
+def _weighings(
+    s: TribometerSettings, wear: _Wear, rng: np.random.Generator
+) -> dict[str, FloatArray]:
+    """The specimens on the balance before and after (g), and the scar under the
+    microscope (µm)."""
+    c, ins = s.configuration, s.instruments
+    ball_mass, disc_mass = 0.44e-3 * c.pin.density / 3950.0, 20e-3
+    ball_loss, disc_loss = c.pin.density * wear.ball_volume, c.disc.density * wear.disc_volume
+    return {
+        "pin_mass_before": ins.balance.read([ball_mass / _KG_PER_G], rng),
+        "disc_mass_before": ins.balance.read([disc_mass / _KG_PER_G], rng),
+        "pin_mass_after": ins.balance.read([(ball_mass - ball_loss) / _KG_PER_G], rng),
+        "disc_mass_after": ins.balance.read([(disc_mass - disc_loss) / _KG_PER_G], rng),
+        "scar_diameter": ins.microscope.read([wear.scar / _M_PER_UM], rng),
+    }
+
+
+def _opening(s: TribometerSettings, reciprocating: bool) -> RunCreate:
+    c = s.configuration
+    return RunCreate(
+        stand=StandKind.RECIPROCATING if reciprocating else StandKind.PIN_ON_DISC,
+        operator=s.operator,
+        title=f"Simulated {'reciprocating' if reciprocating else 'ball-on-disc'} test, "
+        f"{s.load:g} N",
+        specimen={"ball": c.pin.name, "disc": c.disc.name},
+        test_plan={"load_N": s.load, "laps": s.laps, "simulated": True},
+        configuration=c.model_dump(mode="json"),
+    )
+
+
+def _truth(s: TribometerSettings, motion: _Motion, wear: _Wear) -> TribometerTruth:
+    c = s.configuration
     modulus = tribometer.effective_modulus(
         youngs_1=c.pin.youngs_modulus,
         poisson_1=c.pin.poisson,
         youngs_2=c.disc.youngs_modulus,
         poisson_2=c.disc.poisson,
     )
-    hertz = tribometer.hertz_ball_on_flat(load=s.load, ball_radius=radius, modulus=modulus)
+    hertz = tribometer.hertz_ball_on_flat(
+        load=s.load, ball_radius=c.tip_diameter / 2.0, modulus=modulus
+    )
     transient = s.running_in_laps * s.lap_length
     settled = settled_distance(transient, s.friction_static, s.friction_steady)
-    steady = max(1, int(np.searchsorted(distance - first, settled - 1e-12)))
-    body = RunCreate(
-        stand=kind,
-        operator=s.operator,
-        title=f"Simulated {'reciprocating' if recip else 'ball-on-disc'} test, {s.load:g} N",
-        specimen={"ball": c.pin.name, "disc": c.disc.name},
-        test_plan={"load_N": s.load, "laps": s.laps, "simulated": True},
-        configuration=c.model_dump(mode="json"),
-    )
-    truth = TribometerTruth(
+    slid = motion.distance - motion.start
+    steady = max(1, int(np.searchsorted(slid, settled - 1e-12)))
+    return TribometerTruth(
         kind=s.kind,
         load=s.load,
-        laps=float(laps[-1] - laps[0]),
-        sliding_distance=sliding,
-        friction_static=float(np.abs(true_mu[:steady]).max()),
+        laps=float(motion.laps[-1] - motion.laps[0]),
+        sliding_distance=motion.sliding,
+        friction_static=float(np.abs(motion.true_mu[:steady]).max()),
         friction_steady=s.friction_steady,
-        friction_mean=float(np.abs(true_mu).mean()),
+        friction_mean=float(np.abs(motion.true_mu).mean()),
         running_in_distance=settled,
         running_in_laps=settled / s.lap_length,
         transient_distance=transient,
         lap_amplitude=s.friction_steady * s.periodic,
-        ball_volume=ball_volume,
-        disc_volume=disc_volume,
-        scar_diameter=scar,
-        track_area=area,
-        track_width=width,
-        ball_mass_loss=ball_loss,
-        disc_mass_loss=disc_loss,
+        ball_volume=wear.ball_volume,
+        disc_volume=wear.disc_volume,
+        scar_diameter=wear.scar,
+        track_area=wear.area,
+        track_width=wear.width,
+        ball_mass_loss=c.pin.density * wear.ball_volume,
+        disc_mass_loss=c.disc.density * wear.disc_volume,
         ball_rate=s.ball_wear,
         disc_rate=s.disc_wear,
         hertz_pressure=hertz.max_pressure,
     )
-    return SimulatedRun(run_create=body, batches=tuple(batches), truth=truth)
 
 
 def simulate_reciprocating(

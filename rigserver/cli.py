@@ -76,10 +76,8 @@ def keep_freed_memory() -> bool:
     """Let the C library's malloc reuse freed memory for the next large request bodies.
 
     A batch body of megabytes is otherwise mapped afresh and unmapped once answered, so
-    every page of every body is a page fault, and a slow one on a virtual machine that
-    hands freed pages back to its host. Here a sink endpoint receiving 8 MB bodies went from
-    16 to 38 million readings/s with this, the ingest of npz batches up 6-8 %
-    (``benchmarks/ingest.py``). Returns False where the C library is not glibc.
+    every page of every body is a page fault (what it gained: docs/speed.md, "Findings the
+    code rests on"). Returns False where the C library is not glibc.
     """
     try:
         mallopt = ctypes.CDLL("libc.so.6").mallopt
@@ -94,7 +92,7 @@ def keep_freed_memory() -> bool:
 #: The collector's thresholds while serving (CPython's: 700, 10, 10). A request's objects
 #: die young by reference counting, so a young collection finds about the same few live
 #: ones however rarely it runs: run every 20 000 allocations instead of 700, the
-#: collections (2.6 % of a single reading's post in a profile, docs/speed.md) mostly go.
+#: collections (their cost: docs/speed.md, "Findings the code rests on") mostly go.
 GC_THRESHOLDS = (20_000, 10, 10)
 
 #: Seconds the requests under way (a live stream, a report) get to end once SIGTERM or

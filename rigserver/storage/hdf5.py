@@ -25,18 +25,9 @@ unfinished files are taken back into the journal. A failure to write the HDF5 fi
 the commit marks the view stale (it is rebuilt at its next use) and is raised: the batch
 is durable, and a retry with the same seq is answered as a duplicate.
 
-What we found about SWMR (HDF5 2.0.0, h5py 3.16, tested with writers killed by SIGKILL):
-a file written in SWMR mode (``libver="latest"``, ``swmr_mode=True``, flushed after every
-batch) stays readable by a SWMR reader (``h5py.File(path, "r", swmr=True)``: all flushed
-batches are there), but plain ``h5py.File(path, "r")`` refuses it, with or without
-``locking=False``: "file is already open for write (may use <h5clear file> to clear file
-consistency flags)"; h5py has no h5clear. A copy of a live SWMR file is refused the same
-way, which rules out snapshots by copy. Files in the default format (superblock 0, no
-consistency flags) of a killed writer opened with plain h5py in every trial, up to the last
-flush, but nothing guarantees that a kill during a metadata flush leaves them whole. So
-the store does not use SWMR: run files are in the default format (readable by any HDF5
-1.8+ tool), a flushed copy of an open file is a valid snapshot, and after an unclean
-shutdown the open runs' files are rebuilt rather than trusted.
+Run files are in HDF5's default format, not SWMR: a live SWMR file is refused by a plain
+reader and cannot be copied into a snapshot (the trials: docs/speed.md, "Findings the code
+rests on"); so the open runs' files are rebuilt after an unclean shutdown, not trusted.
 
 Thread safety: one lock serialises the journal and the open HDF5 files (h5py serialises
 its calls anyway); reading a finished run's file happens outside it.

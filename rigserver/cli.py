@@ -27,14 +27,14 @@ from pydantic import ValidationError
 from rigserver.api.app import create_app
 from rigserver.api.auth import ApiKey, load_keys
 from rigserver.api.settings import Settings
+from rigserver.commands.check import check_data_dir
+from rigserver.commands.migrate import MigrationMismatch, migrate
 from rigserver.storage import HDF5Store, PostgresStore, RunStore, StorageError
-from rigserver.storage.check import check_data_dir
-from rigserver.storage.hsds_settings import HsdsSettings
-from rigserver.storage.migrate import MigrationMismatch, migrate
+from rigserver.storage.cluster.hsds_settings import HsdsSettings
+from rigserver.storage.cluster.notes_postgres import PostgresNotes
+from rigserver.storage.cluster.series_postgres import PostgresSeries
 from rigserver.storage.notes import NotesStore, SqliteNotes
-from rigserver.storage.notes_postgres import PostgresNotes
 from rigserver.storage.series import SeriesStore, SqliteSeries
-from rigserver.storage.series_postgres import PostgresSeries
 from schemas.stands import configure_stands
 from schemas.strict_json import JsonRefused, strict_loads
 

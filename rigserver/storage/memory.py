@@ -129,6 +129,9 @@ class MemoryStore(RowEdits):
             self.appends.woken(run_id, count)
         return outcomes
 
+    #: Told in process: no notification is lost
+    appends_lossy = False
+
     def wake_waiters(self) -> None:
         """Wake every live stream waiting (the server is stopping)."""
         self.appends.wake_all()

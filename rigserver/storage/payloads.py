@@ -14,7 +14,7 @@ machine whose free memory goes back to the host (virtio-balloon's free page repo
 on the machines these figures come from) a page not touched for a few seconds is faulted in
 by the host again, and ``dd`` writes 0.4 GB/s into such pages (all of it CPU), 5 GB/s into
 pages just freed, 2-3 GB/s past the cache with 0.05 s of CPU for 800 MB. The payload is
-written once and read once (into the run file, :mod:`~rigserver.storage.backlog`), so
+written once and read once (into the run file, :mod:`~rigserver.storage.embedded.backlog`), so
 the page cache gains nothing by holding it. A file system that refuses ``O_DIRECT`` (at
 the opening or at the first write) gets buffered writes.
 

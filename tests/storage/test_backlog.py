@@ -1,5 +1,5 @@
 """HDF5Store's backlog: large batches reach the run file after their acknowledgement
-(rigserver.storage.backlog), and every use of the file sees them all."""
+(rigserver.storage.embedded.backlog), and every use of the file sees them all."""
 
 from __future__ import annotations
 
@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 from rigserver.storage import HDF5Store, StorageFull
-from rigserver.storage import hdf5 as hdf5_module
+from rigserver.storage.embedded import hdf5 as hdf5_module
 from rigserver.storage.payloads import encode
 from rigserver.storage.runfile import RunFile
 from schemas.runs import RunState

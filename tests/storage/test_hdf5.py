@@ -13,8 +13,8 @@ import numpy as np
 import pytest
 
 from rigserver.storage import HDF5Store, StorageFull, StorageUnavailable
-from rigserver.storage import hdf5 as hdf5_module
-from rigserver.storage.journal import Journal
+from rigserver.storage.embedded import hdf5 as hdf5_module
+from rigserver.storage.embedded.journal import Journal
 from rigserver.storage.runfile import STREAM_CHUNK_ROWS, TABLE_CHUNK_ROWS, RunFile
 from schemas.runs import RunQuery, RunState
 from schemas.stands import StandKind

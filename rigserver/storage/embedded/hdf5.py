@@ -2,7 +2,7 @@
 
 Data directory::
 
-    journal.sqlite (+ -wal, -shm)   catalogue and batches (rigserver.storage.journal)
+    journal.sqlite (+ -wal, -shm)   catalogue and batches (rigserver.storage.embedded.journal)
     payloads/<run_id>.bin           readings of the batches until the run file is final
                                     (rigserver.storage.payloads)
     runs/<run_id>.h5                the run files (layout: rigserver.storage.runfile)
@@ -12,8 +12,8 @@ Data directory::
 Crash safety. A batch is acknowledged once its journal transaction has committed; only
 then is it handed to the run's HDF5 file (which buffers small batches, see
 :mod:`~rigserver.storage.runfile`; it is never fsynced per batch), or, for a large batch,
-to the file's backlog, written later (:mod:`~rigserver.storage.backlog`). For an open run that
-file is a view that can always be rebuilt from the journal. ``journal.sqlite`` holds a
+to the file's backlog, written later (:mod:`~rigserver.storage.embedded.backlog`). For an
+open run that file is a view that can always be rebuilt from the journal. ``journal.sqlite`` holds a
 clean-shutdown marker, "0" while a store is open and "1" after :meth:`HDF5Store.close`.
 Opening after an unclean shutdown rebuilds the file of every open run from the journal
 into a temp file, fsyncs it and renames it over the old one; a run whose end did not
@@ -71,7 +71,9 @@ from rigserver.storage._checks import (
 from rigserver.storage._failures import LOW_LEVEL, UNREADABLE, failures_as, translated
 from rigserver.storage._results import CheckedResults, check_results
 from rigserver.storage._time import now
-from rigserver.storage.backlog import (
+from rigserver.storage.base import Columns, NewBatch
+from rigserver.storage.corrections import RowEdit, RowEdits, corrected_row, new_corrections
+from rigserver.storage.embedded.backlog import (
     BACKLOG_ROWS,
     MAX_BACKLOG_BYTES,
     PIECE_ROWS,
@@ -80,8 +82,7 @@ from rigserver.storage.backlog import (
     Owed,
     WhenQuiet,
 )
-from rigserver.storage.base import Columns, NewBatch
-from rigserver.storage.corrections import RowEdit, RowEdits, corrected_row, new_corrections
+from rigserver.storage.embedded.journal import CatalogueEntry, Journal, Synchronous, payload_of
 from rigserver.storage.errors import (
     RunDamaged,
     RunNotFound,
@@ -90,7 +91,6 @@ from rigserver.storage.errors import (
     StorageError,
     StorageUnavailable,
 )
-from rigserver.storage.journal import CatalogueEntry, Journal, Synchronous, payload_of
 from rigserver.storage.payloads import Payload
 from rigserver.storage.runfile import RunFile, fsync_path, read_summary, write_file
 from rigserver.storage.waiters import AppendWaiters
@@ -142,7 +142,7 @@ class HDF5Store(RowEdits):
         batch).
     backlog_rows : int
         Batches of at least this many rows are written to the run file after their
-        acknowledgement (:mod:`~rigserver.storage.backlog`).
+        acknowledgement (:mod:`~rigserver.storage.embedded.backlog`).
     """
 
     def __init__(
@@ -378,6 +378,9 @@ class HDF5Store(RowEdits):
         for run_id, count in grown.items():
             self.appends.woken(run_id, count)
         return [o for o in outcomes if o is not None]
+
+    #: Told in process: no notification is lost
+    appends_lossy = False
 
     def wake_waiters(self) -> None:
         """Wake every live stream waiting (the server is stopping)."""

@@ -46,8 +46,9 @@ import numpy as np
 from numpy.typing import NDArray
 from pydantic import ValidationError
 
+from rigserver.storage._catalogue import run_filters
 from rigserver.storage._checks import Batch, StoredBatch
-from rigserver.storage._time import as_utc, iso
+from rigserver.storage._time import iso
 from rigserver.storage.errors import RunDamaged, RunExists, RunNotFound, StorageUnavailable
 from rigserver.storage.payloads import Payload, PayloadFiles, aligned, decode, encode
 from schemas.corrections import Correction
@@ -111,24 +112,6 @@ class CatalogueEntry:
 
     run: Run
     file_final: bool
-
-
-def run_filters(query: RunQuery) -> list[tuple[str, str, object]]:
-    """The catalogue columns ``query`` filters on: (column, operator, value), values as
-    text but the times (``since <= created < until``), which are aware UTC."""
-    found: list[tuple[str, str, object]] = [
-        (column, "=", getattr(value, "value", value))
-        for column, value in (
-            ("stand", query.stand),
-            ("operator", query.operator),
-            ("state", query.state),
-        )
-        if value is not None
-    ]
-    for bound, op in ((query.since, ">="), (query.until, "<")):
-        if bound is not None:
-            found.append(("created", op, as_utc(bound)))
-    return found
 
 
 #: The columns of a catalogue row that :func:`catalogue_entry` and :func:`listed` read.

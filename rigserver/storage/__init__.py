@@ -4,7 +4,8 @@ store of a cluster, the in-memory store for tests, and the storage error tree.
 ::
 
     base, errors          the protocols (RunStore, LiveStore) and the errors below
-    runfile, payloads     the run file's layout and a batch's bytes, the same in every store
+    waiters               live streams told in process (the embedded and memory stores)
+    runfile, payloads     the run file's layout; a batch's bytes, as every store keeps them
     corrections, _checks  what every store checks and shares (_catalogue: a query's filters)
     memory                the tests' store, in memory
     archived              a run file from elsewhere (an .eln archive's) as batches

@@ -81,7 +81,7 @@ from rigserver.storage.errors import (
     StorageUnavailable,
 )
 from rigserver.storage.runfile import RunFile, fsync_path, write_file
-from rigserver.storage.waiters import AppendWaiters
+from rigserver.storage.waiters import AppendWaiters, TellsInProcess
 from schemas.corrections import CorrectedRow, Correction
 from schemas.readings import BatchReceipt
 from schemas.runs import Run, RunPage, RunQuery, RunState
@@ -89,7 +89,7 @@ from schemas.runs import Run, RunPage, RunQuery, RunState
 log = logging.getLogger(__name__)
 
 
-class HDF5Store(RowEdits):
+class HDF5Store(RowEdits, TellsInProcess):
     """The embedded run store: a data directory on local disk (see the module docstring).
 
     Parameters
@@ -307,18 +307,6 @@ class HDF5Store(RowEdits):
         for run_id, count in grown.items():
             self.appends.woken(run_id, count)
         return outcomes
-
-    #: Told in process: no notification is lost
-    appends_lossy = False
-
-    def wake_waiters(self) -> None:
-        """Wake every live stream waiting (the server is stopping)."""
-        self.appends.wake_all()
-
-    async def wait_for_appends(self, run_id: str, batches: int, timeout: float) -> bool:
-        """Until a batch of the run beyond ``batches`` is committed or the run ends (told
-        in this process, :mod:`rigserver.storage.waiters`); False after ``timeout`` s."""
-        return await self.appends.wait(run_id, batches, timeout)
 
     def receipt(self, run_id: str, seq: int) -> BatchReceipt | None:
         with self._lock:

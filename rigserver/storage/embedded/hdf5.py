@@ -4,7 +4,7 @@ Data directory::
 
     journal.sqlite (+ -wal, -shm)   catalogue and batches (rigserver.storage.embedded.journal)
     payloads/<run_id>.bin           readings of the batches until the run file is final
-                                    (rigserver.storage.payloads)
+                                    (rigserver.storage.embedded.payload_files)
     runs/<run_id>.h5                the run files (layout: rigserver.storage.runfile)
     snapshots/<run_id>.h5           consistent copies of open runs' files (run_file)
     .lock                           flock'ed while a store has the directory open

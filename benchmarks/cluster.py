@@ -45,7 +45,7 @@ sys.path.insert(0, str(Path(__file__).parent))
 from ingest import body
 
 from rigserver import cluster
-from rigserver.storage.hsdsserver import hsds_missing
+from rigserver.storage.servers.hsdsserver import hsds_missing
 
 API = "/api/v1"
 CLIENTS = 4

@@ -28,9 +28,9 @@ from typing import Any
 import numpy as np
 
 from rigserver.cluster import free_port
-from rigserver.storage.hsdsserver import start_hsds
-from rigserver.storage.pgserver import start_local
-from rigserver.storage.postgres import PostgresStore
+from rigserver.storage.cluster.postgres import PostgresStore
+from rigserver.storage.servers.hsdsserver import start_hsds
+from rigserver.storage.servers.pgserver import start_local
 from schemas.runs import Run, new_run_id
 from schemas.stands import StandKind
 

@@ -171,7 +171,7 @@ def rows_stored(url: str, run_ids: list[str]) -> int:
 def catch_up_seconds(url: str, run_ids: list[str]) -> float:
     """Seconds to read one row of each run: a read brings the run file up to date first, so
     this is the run files' writes that large batches leave until after their
-    acknowledgement (rigserver.storage.backlog)."""
+    acknowledgement (rigserver.storage.embedded.backlog)."""
     auth = {"Authorization": f"Bearer {KEY}"}
     with httpx.Client(base_url=url + API, headers=auth, timeout=120) as http:
         t0 = time.perf_counter()

@@ -27,14 +27,14 @@ from pydantic import ValidationError
 from rigserver.api.app import create_app
 from rigserver.api.auth import ApiKey, load_keys
 from rigserver.api.settings import Settings
+from rigserver.commands.check import check_data_dir
+from rigserver.commands.migrate import MigrationMismatch, migrate
 from rigserver.storage import HDF5Store, PostgresStore, RunStore, StorageError
-from rigserver.storage.check import check_data_dir
-from rigserver.storage.hsds_settings import HsdsSettings
-from rigserver.storage.migrate import MigrationMismatch, migrate
+from rigserver.storage.cluster.hsds_settings import HsdsSettings
+from rigserver.storage.cluster.notes_postgres import PostgresNotes
+from rigserver.storage.cluster.series_postgres import PostgresSeries
 from rigserver.storage.notes import NotesStore, SqliteNotes
-from rigserver.storage.notes_postgres import PostgresNotes
 from rigserver.storage.series import SeriesStore, SqliteSeries
-from rigserver.storage.series_postgres import PostgresSeries
 from schemas.stands import configure_stands
 from schemas.strict_json import JsonRefused, strict_loads
 
@@ -76,10 +76,8 @@ def keep_freed_memory() -> bool:
     """Let the C library's malloc reuse freed memory for the next large request bodies.
 
     A batch body of megabytes is otherwise mapped afresh and unmapped once answered, so
-    every page of every body is a page fault, and a slow one on a virtual machine that
-    hands freed pages back to its host. Here a sink endpoint receiving 8 MB bodies went from
-    16 to 38 million readings/s with this, the ingest of npz batches up 6-8 %
-    (``benchmarks/ingest.py``). Returns False where the C library is not glibc.
+    every page of every body is a page fault (what it gained: docs/speed.md, "Findings the
+    code rests on"). Returns False where the C library is not glibc.
     """
     try:
         mallopt = ctypes.CDLL("libc.so.6").mallopt
@@ -94,7 +92,7 @@ def keep_freed_memory() -> bool:
 #: The collector's thresholds while serving (CPython's: 700, 10, 10). A request's objects
 #: die young by reference counting, so a young collection finds about the same few live
 #: ones however rarely it runs: run every 20 000 allocations instead of 700, the
-#: collections (2.6 % of a single reading's post in a profile, docs/speed.md) mostly go.
+#: collections (their cost: docs/speed.md, "Findings the code rests on") mostly go.
 GC_THRESHOLDS = (20_000, 10, 10)
 
 #: Seconds the requests under way (a live stream, a report) get to end once SIGTERM or

@@ -9,7 +9,7 @@ serve`` workers on free loopback ports sharing the database and the run files di
 exactly those workers (their process groups) and that server (``pg_ctl stop``).
 
 When hsds and h5pyd are installed (the ``cluster`` extra), ``up`` also starts HSDS in
-``DIR/hsds`` (unix sockets only, POSIX storage; :mod:`rigserver.storage.hsdsserver`) and
+``DIR/hsds`` (unix sockets only, POSIX storage; :mod:`rigserver.storage.servers.hsdsserver`) and
 the workers materialise the run arrays there (``--hsds-endpoint``); otherwise it says so
 in one line and the arrays stay in the journal. ``down`` stops it too.
 """
@@ -31,10 +31,10 @@ from pathlib import Path
 
 import httpx
 
-from rigserver.storage._processes import STARTED, start_logged
-from rigserver.storage.hsds_settings import HsdsSettings
-from rigserver.storage.hsdsserver import LocalHsds, hsds_missing, start_hsds
-from rigserver.storage.pgserver import LocalPostgres, NoPostgres, start_local
+from rigserver.storage.cluster.hsds_settings import HsdsSettings
+from rigserver.storage.servers._processes import STARTED, start_logged
+from rigserver.storage.servers.hsdsserver import LocalHsds, hsds_missing, start_hsds
+from rigserver.storage.servers.pgserver import LocalPostgres, NoPostgres, start_local
 
 #: Seconds a worker has to answer after it was started, and to stop after SIGTERM
 START_SECONDS = 60.0

@@ -17,7 +17,7 @@ import numpy as np
 from numpy.typing import NDArray
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
-from schemas.units import UNITS, UnitSymbol
+from schemas.units import UnitSymbol
 
 
 class Order(StrEnum):
@@ -118,9 +118,6 @@ class Channel(BaseModel):
         default=None,
         description="the configuration field that sets the unit (``unit`` is its default)",
     )
-
-    def unit_long_name(self) -> str:
-        return UNITS[self.unit].long_name
 
 
 class ChannelGroup(BaseModel):

@@ -1,8 +1,10 @@
 """The closed list of units that channels and results may carry, each with its factor to SI.
 
 Raw values are stored as measured (divisions, technical atmospheres, mm of the loader
-scale); the analysis turns them into SI with :func:`to_si`. A unit not in this list cannot
-be declared, so a typo in a stand declaration fails when the module is imported in tests.
+scale); each analysis converts what it reads by the manual's own formulas, and the factor
+serves where a value changes unit (the new-run form's display units, the X3P export). A unit
+not in this list cannot be declared, so a typo in a stand declaration fails when the module
+is imported in tests.
 """
 
 from __future__ import annotations
@@ -11,7 +13,6 @@ from dataclasses import dataclass
 from typing import Literal
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
 
 UnitSymbol = Literal[
     "1",
@@ -126,8 +127,3 @@ UNITS: dict[str, Unit] = {
         Unit("GPa", "Pa", 1e9, "gigapascal"),
     )
 }
-
-
-def to_si(value: ArrayLike, unit: str) -> NDArray[np.float64]:
-    """Convert ``value`` given in ``unit`` to the unit's SI counterpart."""
-    return np.asarray(value, dtype=np.float64) * UNITS[unit].factor

@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 
-from rigserver.storage.hsdsserver import LocalHsds, NoHsds, start_hsds
+from rigserver.storage.servers.hsdsserver import LocalHsds, NoHsds, start_hsds
 
 NO_HSDS = "the HSDS tests are skipped: {}"
 

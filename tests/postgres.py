@@ -1,7 +1,7 @@
 """A throwaway PostgreSQL server for the tests of the cluster deployment.
 
 ``postgres_server`` (session scope) starts one in a temp directory with
-:mod:`rigserver.storage.pgserver`, or skips with one reason when the server binaries are
+:mod:`rigserver.storage.servers.pgserver`, or skips with one reason when the server binaries are
 not installed; ``postgres_url`` gives each test empty tables.
 """
 
@@ -16,7 +16,7 @@ from pathlib import Path
 import psycopg
 import pytest
 
-from rigserver.storage.pgserver import LocalPostgres, NoPostgres, start_local
+from rigserver.storage.servers.pgserver import LocalPostgres, NoPostgres, start_local
 
 NO_POSTGRES = "the PostgreSQL tests are skipped: {}"
 

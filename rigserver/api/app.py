@@ -153,7 +153,7 @@ def create_app(
         docs_url=None,  # served by api_docs, without a CDN
         redoc_url=None,
         # rig sets up no OpenTelemetry; FastAPI's own would ask for its providers on every
-        # request (2.4 % of a single reading's post, docs/speed.md)
+        # request (its cost: docs/speed.md, "Findings the code rests on")
         telemetry=NO_TELEMETRY,
     )
     app.state.services = Services(

@@ -98,9 +98,7 @@ class Services:
     def stop(self) -> None:
         """The server is asked to stop: long requests end (live streams are woken)."""
         self.stopping.set()
-        wake = getattr(self.store, "wake_waiters", None)
-        if wake is not None:
-            wake()
+        self.store.wake_waiters()
 
     def stand_of(self, run: Run) -> Stand:
         """The run's stand as its configuration snapshot sets it (the gauges' unit)."""

@@ -8,8 +8,8 @@ there (ISA-L's ``crc32`` from :mod:`isal`, over the member: 0.4 ms for 8 MB here
 threads run meanwhile: the event loop goes on receiving the next body). ``numpy.savez``
 puts the values off 8-byte boundaries; they stay there (NumPy reads them a little slower),
 and the store copies a large batch once, into the aligned memory its payload file is
-written from (:mod:`rigserver.storage.payloads`). A deflated member is inflated by
-:mod:`zipfile` (which checks its CRC), at most its declared size. A member whose bytes
+written from (:mod:`rigserver.storage.embedded.payload_files`). A deflated member is
+inflated by :mod:`zipfile` (which checks its CRC), at most its declared size. A member whose bytes
 do not match its CRC-32 was damaged on its way: it is refused, never stored.
 
 Nothing a header says is believed until it is checked against the bytes there are: the

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-from functools import lru_cache
 from pathlib import Path
 
 from platformdirs import user_data_dir
@@ -146,8 +145,3 @@ class Settings(BaseSettings):
         description="read the rows materialised in HSDS from there; off: every read from "
         "the PostgreSQL journal (faster on one machine, docs/scale-out.md)",
     )
-
-
-@lru_cache
-def get_settings() -> Settings:
-    return Settings()

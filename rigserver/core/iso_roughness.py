@@ -195,13 +195,11 @@ def total_height(z: ArrayLike) -> float:
     return float(za.max() - za.min())
 
 
-def root_mean_square_slope(z: ArrayLike, *, step: float) -> float:
-    """RΔq, root-mean-square slope (ISO 21920-2; ISO 4287:1997, 4.4.1).
+def local_slope(z: ArrayLike, *, step: float) -> NDArray[np.float64]:
+    """dZ/dx at every sample, dimensionless: the local slope of which RΔq is the
+    root mean square (ISO 21920-2; ISO 4287:1997, 4.4.1).
 
-    .. math:: R_{\\Delta q} = \\Big(\\frac{1}{l_e}\\int_0^{l_e}
-        \\Big(\\frac{dZ}{dx}\\Big)^2 dx\\Big)^{1/2}
-
-    The local slope by the seven-point central difference
+    The seven-point central difference
 
     .. math:: \\frac{dZ_i}{dx} = \\frac{Z_{i+3} - 9Z_{i+2} + 45Z_{i+1} - 45Z_{i-1}
         + 9Z_{i-2} - Z_{i-3}}{60\\,\\Delta x}
@@ -209,11 +207,6 @@ def root_mean_square_slope(z: ArrayLike, *, step: float) -> float:
     (the formula ISO 4287 gives for the local slope, its error O(Δx⁶)); the three samples at
     each end, which it cannot reach, take the second-order difference of ``numpy.gradient``.
     """
-    return float(np.sqrt(np.mean(local_slope(z, step=step) ** 2)))
-
-
-def local_slope(z: ArrayLike, *, step: float) -> NDArray[np.float64]:
-    """dZ/dx at every sample (see :func:`root_mean_square_slope`), dimensionless."""
     za = _ordinates(z)
     dx = float(positive("step", step))
     slope = np.asarray(np.gradient(za, dx), dtype=np.float64)

@@ -20,7 +20,6 @@ from typing import Literal, get_args
 from babel.core import negotiate_locale
 from babel.messages.mofile import write_mo
 from babel.messages.pofile import read_po
-from markupsafe import Markup
 
 from schemas.messages import C_, N_
 
@@ -102,10 +101,6 @@ class Messages:
     def gettext(self, text: str) -> str:
         """``text`` (a message id: an English text of the code or the schemas) translated."""
         return self.translations.gettext(text) if text else text
-
-    def markup(self, key: str, **values: object) -> Markup:
-        """A message that holds markup (``<sub>``), with the values escaped."""
-        return Markup(self.gettext(MESSAGES[key])).format(**values)
 
     def plural(self, singular: str, plural: str, n: int) -> str:
         """``singular`` or ``plural`` (message ids) for a count of ``n``, in this language's

@@ -1,4 +1,6 @@
-"""The narrow interface every run store implements (HDF5 on local disk, in memory, HSDS).
+"""The narrow interface every run store implements: the embedded store (SQLite and HDF5 on
+local disk, :mod:`rigserver.storage.embedded`), a cluster's (PostgreSQL, with HSDS for the
+run arrays, :mod:`rigserver.storage.cluster`) and the in-memory store of the tests.
 
 A store keeps runs (metadata as :class:`schemas.runs.Run`) and their readings, as columns
 per channel group. :meth:`RunStore.append` returns only once the batch is durable, and is
@@ -44,7 +46,27 @@ class NewBatch:
     check: BatchCheck | None = None
 
 
-class RunStore(Protocol):
+class LiveStore(Protocol):
+    """What a live stream (``/runs/{id}/live``) waits on: the store tells when a batch of a
+    run is stored or the run ends. Every run store is one: the embedded and in-memory stores
+    tell in process (:mod:`rigserver.storage.waiters`), a cluster's by PostgreSQL's
+    LISTEN/NOTIFY (:mod:`rigserver.storage.cluster.notify`)."""
+
+    #: A notification may be lost (a cluster's listener reconnecting): a stream then reads
+    #: the catalogue again now and then instead of trusting the silence.
+    appends_lossy: bool
+
+    async def wait_for_appends(self, run_id: str, batches: int, timeout: float) -> bool:
+        """Until the run has more than ``batches`` batches stored or has ended: True when
+        told, False after ``timeout`` seconds."""
+        ...
+
+    def wake_waiters(self) -> None:
+        """Wake every stream waiting (the server is stopping)."""
+        ...
+
+
+class RunStore(LiveStore, Protocol):
     def create_run(self, run: Run, key: str | None = None) -> Run:
         """Store a new open run; raises ``RunExists`` if the id is taken.
 

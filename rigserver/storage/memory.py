@@ -40,7 +40,7 @@ from rigserver.storage.base import Columns, NewBatch
 from rigserver.storage.corrections import RowEdit, RowEdits, corrected_row, new_corrections
 from rigserver.storage.errors import RunExists, RunNotFound, RunNotOpen
 from rigserver.storage.runfile import write_file
-from rigserver.storage.waiters import AppendWaiters
+from rigserver.storage.waiters import AppendWaiters, TellsInProcess
 from schemas.corrections import CorrectedRow, Correction
 from schemas.readings import BatchReceipt
 from schemas.runs import Run, RunPage, RunQuery, RunState
@@ -64,7 +64,7 @@ class _Run:
         return parts[0]
 
 
-class MemoryStore(RowEdits):
+class MemoryStore(RowEdits, TellsInProcess):
     """The :class:`~rigserver.storage.base.RunStore` protocol in memory; thread-safe."""
 
     def __init__(self) -> None:
@@ -128,15 +128,6 @@ class MemoryStore(RowEdits):
         for run_id, count in grown.items():
             self.appends.woken(run_id, count)
         return outcomes
-
-    def wake_waiters(self) -> None:
-        """Wake every live stream waiting (the server is stopping)."""
-        self.appends.wake_all()
-
-    async def wait_for_appends(self, run_id: str, batches: int, timeout: float) -> bool:
-        """Until a batch of the run beyond ``batches`` is stored or the run ends (in this
-        process: :mod:`rigserver.storage.waiters`); False after ``timeout`` seconds."""
-        return await self.appends.wait(run_id, batches, timeout)
 
     def _append(self, nb: NewBatch) -> BatchReceipt:
         run_id, seq, group = nb.run_id, nb.seq, nb.group

@@ -2,8 +2,9 @@
 
 A store tells :meth:`AppendWaiters.woken` each run whose batch count grew (or that ended):
 the embedded stores in the process that stored the batch, the cluster's listener when
-PostgreSQL notifies it (:mod:`.notify`). The live streams wait here instead of polling the
-catalogue, so a viewer whose run is idle costs a parked coroutine and nothing else.
+PostgreSQL notifies it (:mod:`~rigserver.storage.cluster.notify`). The live streams wait
+here instead of polling the catalogue, so a viewer whose run is idle costs a parked
+coroutine and nothing else.
 """
 
 from __future__ import annotations
@@ -84,3 +85,21 @@ def _resolve_all(waiting: list[tuple[asyncio.AbstractEventLoop, asyncio.Future[N
 def _resolve(future: asyncio.Future[None]) -> None:
     if not future.done():
         future.set_result(None)
+
+
+class TellsInProcess:
+    """The :class:`~rigserver.storage.base.LiveStore` side of a store whose batches are all
+    stored in this process (the embedded store, the in-memory one): ``appends`` tells."""
+
+    appends: AppendWaiters
+    #: Told in process: no notification is lost
+    appends_lossy = False
+
+    def wake_waiters(self) -> None:
+        """Wake every live stream waiting (the server is stopping)."""
+        self.appends.wake_all()
+
+    async def wait_for_appends(self, run_id: str, batches: int, timeout: float) -> bool:
+        """Until a batch of the run beyond ``batches`` is committed or the run ends (told in
+        this process); False after ``timeout`` seconds."""
+        return await self.appends.wait(run_id, batches, timeout)

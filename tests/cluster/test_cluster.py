@@ -20,7 +20,7 @@ import httpx
 import pytest
 
 from rigserver import cluster
-from rigserver.storage.pgserver import LocalPostgres, NoPostgres
+from rigserver.storage.servers.pgserver import LocalPostgres, NoPostgres
 from tests.postgres import NO_POSTGRES
 
 API = "/api/v1"

@@ -15,8 +15,8 @@ import psycopg
 import pytest
 
 from rigserver import cluster
-from rigserver.storage.hsds import HsdsArrays
-from rigserver.storage.hsdsserver import LocalHsds, hsds_missing
+from rigserver.storage.cluster.hsds import HsdsArrays
+from rigserver.storage.servers.hsdsserver import LocalHsds, hsds_missing
 from tests.cluster.test_cluster import API, Cluster, batch, open_run, post, running, stored_times
 from tests.hsds import NO_HSDS
 

@@ -15,8 +15,8 @@ import httpx
 import pytest
 
 from rigserver.cluster import alive
-from rigserver.storage.hsdsserver import hsds_missing
-from rigserver.storage.pgserver import NoPostgres, server_bin
+from rigserver.storage.servers.hsdsserver import hsds_missing
+from rigserver.storage.servers.pgserver import NoPostgres, server_bin
 from tests.postgres import NO_POSTGRES
 
 SCRIPT = Path(__file__).parents[2] / "scripts" / "cluster"

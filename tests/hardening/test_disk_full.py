@@ -19,8 +19,8 @@ import numpy as np
 import pytest
 from fastapi.testclient import TestClient
 
-from rigserver.storage import payloads
-from rigserver.storage.journal import Journal
+from rigserver.storage.embedded import payload_files as payloads
+from rigserver.storage.embedded.journal import Journal
 from rigserver.storage.runfile import RunFile
 from tests.api.conftest import READER, WRITER, auth
 from tests.hardening.conftest import (

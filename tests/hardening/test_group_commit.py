@@ -18,7 +18,7 @@ from rigserver.storage import (
     StorageUnavailable,
 )
 from rigserver.storage.base import Columns
-from rigserver.storage.journal import Journal
+from rigserver.storage.embedded.journal import Journal
 from schemas.readings import BatchReceipt
 from schemas.runs import RunState
 from tests.storage.conftest import friction, make_run

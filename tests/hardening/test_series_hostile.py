@@ -32,9 +32,9 @@ from rigserver.api.settings import Settings
 from rigserver.reports.formatting import spreadsheet_text
 from rigserver.reports.series_plots import Curve, overlay
 from rigserver.storage import MemoryStore
+from rigserver.storage.cluster.series_postgres import PostgresSeries
 from rigserver.storage.errors import MemberExists, OtherStand, SeriesFull
 from rigserver.storage.series import SeriesStore, SqliteSeries
-from rigserver.storage.series_postgres import PostgresSeries
 from rigsim.stands import simulate
 from rigsim.stands.smts2 import Smts2Settings
 from schemas.series import SERIES_RUNS_LIMIT, SeriesCreate, SeriesPurpose

@@ -11,7 +11,7 @@ import pytest
 from numpy.typing import NDArray
 
 from rigserver.storage import HDF5Store, MemoryStore, RunStore
-from rigserver.storage.postgres import PostgresStore
+from rigserver.storage.cluster.postgres import PostgresStore
 from schemas.runs import Run, new_run_id
 from schemas.stands import StandKind
 from tests.hsds import hsds_service  # noqa: F401 (fixture)

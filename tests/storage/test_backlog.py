@@ -1,5 +1,5 @@
 """HDF5Store's backlog: large batches reach the run file after their acknowledgement
-(rigserver.storage.backlog), and every use of the file sees them all."""
+(rigserver.storage.embedded.backlog), and every use of the file sees them all."""
 
 from __future__ import annotations
 
@@ -13,7 +13,8 @@ import numpy as np
 import pytest
 
 from rigserver.storage import HDF5Store, StorageFull
-from rigserver.storage import hdf5 as hdf5_module
+from rigserver.storage.embedded import hdf5 as hdf5_module
+from rigserver.storage.embedded import ingest, views
 from rigserver.storage.payloads import encode
 from rigserver.storage.runfile import RunFile
 from schemas.runs import RunState
@@ -97,7 +98,7 @@ def test_past_the_bound_the_backlog_is_written_and_then_each_batch_at_once(
     store: HDF5Store, writes: _Writes, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     one = encode(friction(0, LARGE)).size  # a batch's payload
-    monkeypatch.setattr(hdf5_module, "MAX_BACKLOG_BYTES", 2 * one + one // 2)  # two fit
+    monkeypatch.setattr(ingest, "MAX_BACKLOG_BYTES", 2 * one + one // 2)  # two fit
     run = store.create_run(make_run())
     for seq in range(2):
         store.append(run.id, seq, "friction", friction(seq * LARGE, LARGE))
@@ -113,11 +114,11 @@ def test_after_a_quiet_a_large_batch_joins_the_backlog_again(
     store: HDF5Store, writes: _Writes, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     one = encode(friction(0, LARGE)).size
-    monkeypatch.setattr(hdf5_module, "MAX_BACKLOG_BYTES", one // 2)  # none fits
+    monkeypatch.setattr(ingest, "MAX_BACKLOG_BYTES", one // 2)  # none fits
     run = store.create_run(make_run())
     store.append(run.id, 0, "friction", friction(0, LARGE))  # past the bound: written
     assert len(writes.firsts) == 1
-    monkeypatch.setattr(hdf5_module, "MAX_BACKLOG_BYTES", 2 * one)
+    monkeypatch.setattr(ingest, "MAX_BACKLOG_BYTES", 2 * one)
     store.append(run.id, 1, "friction", friction(LARGE, LARGE))  # the stream goes on
     assert len(writes.firsts) == 2
     store._write_backlog()  # what the store's thread does once it is quiet: the stream is over
@@ -187,7 +188,7 @@ def test_a_failed_backlog_write_is_rebuilt_from_the_journal(
 def test_a_file_closed_for_others_writes_its_backlog_first(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    monkeypatch.setattr(hdf5_module, "MAX_OPEN_FILES", 1)
+    monkeypatch.setattr(views, "MAX_OPEN_FILES", 1)
     with HDF5Store(tmp_path, backlog_rows=LARGE) as store:
         first = store.create_run(make_run())
         store.append(first.id, 0, "friction", friction(0, LARGE))

@@ -13,8 +13,9 @@ import numpy as np
 import pytest
 
 from rigserver.storage import HDF5Store, StorageFull, StorageUnavailable
-from rigserver.storage import hdf5 as hdf5_module
-from rigserver.storage.journal import Journal
+from rigserver.storage.embedded import hdf5 as hdf5_module
+from rigserver.storage.embedded import views
+from rigserver.storage.embedded.journal import Journal
 from rigserver.storage.runfile import STREAM_CHUNK_ROWS, TABLE_CHUNK_ROWS, RunFile
 from schemas.runs import RunQuery, RunState
 from schemas.stands import StandKind
@@ -222,7 +223,7 @@ def test_payloads_are_dropped_once_the_file_is_final(tmp_path: Path) -> None:
 def test_files_beyond_the_open_limit_are_closed_and_reopened(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    monkeypatch.setattr(hdf5_module, "MAX_OPEN_FILES", 2)
+    monkeypatch.setattr(views, "MAX_OPEN_FILES", 2)
     with HDF5Store(tmp_path) as store:
         runs = [store.create_run(make_run()).id for _ in range(4)]
         for seq in range(3):

@@ -11,11 +11,11 @@ import numpy as np
 import psycopg
 import pytest
 
+from rigserver.storage.cluster.hsds import HsdsArrays
+from rigserver.storage.cluster.hsds_settings import HsdsSettings
+from rigserver.storage.cluster.postgres import PostgresStore
 from rigserver.storage.errors import StorageUnavailable
-from rigserver.storage.hsds import HsdsArrays
-from rigserver.storage.hsds_settings import HsdsSettings
-from rigserver.storage.hsdsserver import LocalHsds
-from rigserver.storage.postgres import PostgresStore
+from rigserver.storage.servers.hsdsserver import LocalHsds
 from tests.storage.conftest import friction, make_run
 
 pytestmark = pytest.mark.slow

@@ -9,8 +9,8 @@ import psycopg
 import pytest
 
 from rigserver.cli import main
+from rigserver.commands.migrate import MigrationMismatch, migrate
 from rigserver.storage import HDF5Store, PostgresStore
-from rigserver.storage.migrate import MigrationMismatch, migrate
 from schemas.runs import RunQuery, RunState
 from tests.storage.conftest import T0, friction, make_run
 

@@ -10,8 +10,8 @@ from pathlib import Path
 import psycopg
 import pytest
 
+from rigserver.storage.cluster.notes_postgres import PostgresNotes
 from rigserver.storage.notes import NotesStore, SqliteNotes
-from rigserver.storage.notes_postgres import PostgresNotes
 from schemas.student_notes import StudentNotesWrite
 from tests.postgres import postgres_server, postgres_url  # noqa: F401 (fixtures)
 

@@ -6,7 +6,7 @@ from __future__ import annotations
 import asyncio
 from pathlib import Path
 
-from rigserver.storage.postgres import PostgresStore
+from rigserver.storage.cluster.postgres import PostgresStore
 from schemas.runs import RunState
 from tests.storage.conftest import friction, make_run
 

@@ -15,16 +15,14 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from rigserver.storage import payloads
-from rigserver.storage.payloads import (
+from rigserver.storage.embedded import payload_files as payloads
+from rigserver.storage.embedded.payload_files import (
     DIRECT_ALIGN,
     DIRECT_BYTES,
-    Payload,
     PayloadFiles,
     aligned,
-    decode,
-    encode,
 )
+from rigserver.storage.payloads import Payload, decode, encode
 
 MiB = 1 << 20
 

@@ -8,9 +8,9 @@ from pathlib import Path
 import psycopg
 import pytest
 
+from rigserver.storage.cluster.series_postgres import PostgresSeries
 from rigserver.storage.errors import MemberExists, MemberNotFound, SeriesNotFound
 from rigserver.storage.series import SeriesStore, SqliteSeries
-from rigserver.storage.series_postgres import PostgresSeries
 from schemas.series import SeriesCreate, SeriesPurpose
 from tests.postgres import postgres_server, postgres_url  # noqa: F401 (fixtures)
 

@@ -97,7 +97,6 @@ def test_an_open_run_streams_as_batches_arrive(
     client: TestClient, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     monkeypatch.setattr(live, "MAX_SECONDS", 0.2)  # each connection closes soon, unended
-    monkeypatch.setattr(live, "POLL_SECONDS", 0.05)
     sim = simulated(StandKind.SLIDE_BEARING).sim
     created = client.post(
         f"{API}/runs", json=sim.run_create.model_dump(mode="json"), headers=auth(WRITER)

@@ -9,20 +9,18 @@ its state and the stream closes. A correction of a row of the group made while t
 open (a cell corrected, a row struck out: ``/runs/{id}/readings/{group}/{index}``) is told
 by a ``corrected`` event carrying the correction (``row``, ``channel``, ``was``, ``now``,
 ``reason``; ``channel`` null for a row struck out); the ``rows`` events carry the values as
-typed. A store that tells when a run's batch is stored or the
-run ends (``wait_for_appends``: the embedded stores in process, a cluster by PostgreSQL's
-LISTEN/NOTIFY) wakes the stream at once, and an idle stream costs nothing until its
-keep-alive is due; a cluster's stream also reads the catalogue every
-``NOTIFIED_POLL_SECONDS`` in case a notification was lost, and a store that does not tell
-is polled every ``POLL_SECONDS``. A connection is closed after ``MAX_SECONDS`` (the client
-reconnects and resumes), and at once when the server is asked to stop (its waiters are
-woken), so no stream holds up a server's shutdown; a client that goes away is noticed at
-the next write (a keep-alive comment at the latest).
+typed. The store tells when a run's batch is stored or the run ends
+(:class:`~rigserver.storage.base.LiveStore`: the embedded stores in process, a cluster by
+PostgreSQL's LISTEN/NOTIFY), which wakes the stream at once, and an idle stream costs
+nothing until its keep-alive is due; a cluster's stream also reads the catalogue every
+``NOTIFIED_POLL_SECONDS`` in case a notification was lost. A connection is closed after
+``MAX_SECONDS`` (the client reconnects and resumes), and at once when the server is asked
+to stop (its waiters are woken), so no stream holds up a server's shutdown; a client that
+goes away is noticed at the next write (a keep-alive comment at the latest).
 """
 
 from __future__ import annotations
 
-import asyncio
 import json
 import math
 import time
@@ -43,10 +41,9 @@ from schemas.wire import Text, ascii_count
 
 router = APIRouter(prefix="/runs/{run_id}", tags=["live"], dependencies=[ReadAccess])
 
-POLL_SECONDS = 0.5
-"""How often a store that does not notify appends is asked for the run's row counts."""
 NOTIFIED_POLL_SECONDS = 5.0
-"""The same for a store that notifies appends but may lose a notification (a cluster)."""
+"""How often a stream whose store may lose a notification (a cluster) reads the run's row
+counts again."""
 MAX_ROWS = 5_000
 """Most rows in one event; a longer backlog goes out in several."""
 KEEPALIVE_SECONDS = 15.0
@@ -109,11 +106,11 @@ def _rows_event(services: Services, run_id: str, group: str, start: int, stop: i
 async def _stream(services: Services, run_id: str, group: str, seen: int) -> AsyncIterator[str]:
     yield f"retry: {RETRY_MS}\n\n"
     opened = last_sent = time.monotonic()
-    wait = getattr(services.store, "wait_for_appends", None)
-    lossy = getattr(services.store, "appends_lossy", False)
+    store = services.store
+    lossy = store.appends_lossy
     told = -1  # corrections told so far (-1: none read yet; those made before are not told)
     while True:
-        run = await run_in_threadpool(services.store.get_run, run_id)
+        run = await run_in_threadpool(store.get_run, run_id)
         total = run.rows.get(group, 0)
         while seen < total:
             stop = min(total, seen + MAX_ROWS)
@@ -122,7 +119,7 @@ async def _stream(services: Services, run_id: str, group: str, seen: int) -> Asy
         if told < 0:
             told = run.corrections
         elif run.corrections > told:
-            found = await run_in_threadpool(services.store.corrections, run_id)
+            found = await run_in_threadpool(store.corrections, run_id)
             for c in found[told:]:
                 if c.group == group:
                     yield _event("corrected", c.model_dump(mode="json"), seen)
@@ -131,14 +128,6 @@ async def _stream(services: Services, run_id: str, group: str, seen: int) -> Asy
         if run.state is not RunState.OPEN:
             yield _event("end", {"state": run.state.value, "rows": seen})
             return
-        if wait is None:  # a store that does not tell: poll its catalogue
-            await asyncio.sleep(POLL_SECONDS)
-            if _expired(services, opened):
-                return
-            if time.monotonic() - last_sent > KEEPALIVE_SECONDS:
-                yield ": keep-alive\n\n"
-                last_sent = time.monotonic()
-            continue
         # Woken when a batch of the run is stored or it ends; an idle stream sleeps until
         # its keep-alive is due (and reads the catalogue again only if the store may lose
         # a notification).
@@ -150,7 +139,7 @@ async def _stream(services: Services, run_id: str, group: str, seen: int) -> Asy
             timeout = min(due, opened + MAX_SECONDS - now)
             if lossy:
                 timeout = min(timeout, NOTIFIED_POLL_SECONDS)
-            if await wait(run_id, run.batches, max(timeout, 0.0)) or lossy:
+            if await store.wait_for_appends(run_id, run.batches, max(timeout, 0.0)) or lossy:
                 break
             if time.monotonic() - last_sent >= KEEPALIVE_SECONDS:
                 yield ": keep-alive\n\n"

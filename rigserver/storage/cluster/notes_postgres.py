@@ -8,8 +8,8 @@ import psycopg_pool
 
 from rigserver.storage._failures import failures_as
 from rigserver.storage._time import iso, now
+from rigserver.storage.cluster.postgres import PG_FAILURES
 from rigserver.storage.notes import notes_of
-from rigserver.storage.postgres import PG_FAILURES
 from schemas.student_notes import StudentNotes, StudentNotesWrite
 
 _SCHEMA = """

@@ -25,8 +25,8 @@ from numpy.typing import NDArray
 
 from rigserver.storage._checks import StoredBatch, stand_groups
 from rigserver.storage.base import RunStore
-from rigserver.storage.hdf5 import HDF5Store
-from rigserver.storage.postgres import PostgresStore
+from rigserver.storage.cluster.postgres import PostgresStore
+from rigserver.storage.embedded.hdf5 import HDF5Store
 from schemas.runs import Run, RunQuery
 
 #: Rows read from a run file at a time

@@ -8,8 +8,8 @@ import psycopg_pool
 
 from rigserver.storage._failures import failures_as
 from rigserver.storage._time import iso, now
+from rigserver.storage.cluster.postgres import PG_FAILURES
 from rigserver.storage.errors import MemberExists, MemberNotFound, SeriesNotFound
-from rigserver.storage.postgres import PG_FAILURES
 from rigserver.storage.series import check_room, new_series, series_of
 from schemas.series import SERIES_RUNS_LIMIT, Series, SeriesCreate
 

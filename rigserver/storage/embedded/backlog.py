@@ -1,6 +1,6 @@
 """What an open run's file still owes: batches the journal has and the file has not yet.
 
-A batch is durable once the journal has it (:mod:`~rigserver.storage.journal`); the run
+A batch is durable once the journal has it (:mod:`~rigserver.storage.embedded.journal`); the run
 file is a view of the journal. A large batch (:data:`BACKLOG_ROWS` rows or more, which the
 file would write at once) is acknowledged as soon as the journal has it, and its place in
 the journal's payload file joins the run's backlog; so do the run's later batches while

@@ -30,8 +30,8 @@ from numpy.typing import NDArray
 
 from rigserver.storage._checks import stand_groups
 from rigserver.storage._failures import failures_as
+from rigserver.storage.cluster.hsds_settings import HsdsSettings
 from rigserver.storage.errors import StorageUnavailable
-from rigserver.storage.hsds_settings import HsdsSettings
 from rigserver.storage.runfile import chunk_rows
 from schemas.channels import configured_groups
 from schemas.runs import Run

@@ -18,7 +18,7 @@ Tables::
                                 run file's /entry/corrections
 
 The readings of a batch are appended to ``payloads/<run id>.bin`` beside the database
-(:mod:`~rigserver.storage.payloads`) before its transaction commits, and the file is
+(:mod:`~rigserver.storage.embedded.payload_files`) before its transaction commits, and the file is
 deleted once the run file is final. Appending to a file costs one write; a blob in SQLite
 is written to the WAL, copied into the database at the checkpoint and freed page by page
 when dropped, and the database never shrinks.
@@ -46,10 +46,12 @@ import numpy as np
 from numpy.typing import NDArray
 from pydantic import ValidationError
 
+from rigserver.storage._catalogue import run_filters
 from rigserver.storage._checks import Batch, StoredBatch
-from rigserver.storage._time import as_utc, iso
+from rigserver.storage._time import iso
+from rigserver.storage.embedded.payload_files import PayloadFiles, aligned
 from rigserver.storage.errors import RunDamaged, RunExists, RunNotFound, StorageUnavailable
-from rigserver.storage.payloads import Payload, PayloadFiles, aligned, decode, encode
+from rigserver.storage.payloads import Payload, decode, encode
 from schemas.corrections import Correction
 from schemas.runs import Run, RunPage, RunQuery
 from schemas.wire import unstorable
@@ -111,24 +113,6 @@ class CatalogueEntry:
 
     run: Run
     file_final: bool
-
-
-def run_filters(query: RunQuery) -> list[tuple[str, str, object]]:
-    """The catalogue columns ``query`` filters on: (column, operator, value), values as
-    text but the times (``since <= created < until``), which are aware UTC."""
-    found: list[tuple[str, str, object]] = [
-        (column, "=", getattr(value, "value", value))
-        for column, value in (
-            ("stand", query.stand),
-            ("operator", query.operator),
-            ("state", query.state),
-        )
-        if value is not None
-    ]
-    for bound, op in ((query.since, ">="), (query.until, "<")):
-        if bound is not None:
-            found.append(("created", op, as_utc(bound)))
-    return found
 
 
 #: The columns of a catalogue row that :func:`catalogue_entry` and :func:`listed` read.

@@ -24,7 +24,7 @@ in id order: no deadlock), so the row counts, the retry lookups and the last val
 batch is checked against are those of the batches committed before it, whichever worker
 took them; ending a run takes the same lock and happens once. Every read goes to the
 database, so a worker sees what the others stored as soon as it is committed. Every such
-commit (and the end of a run) notifies ``rig_runs`` (:mod:`~rigserver.storage.notify`):
+commit (and the end of a run) notifies ``rig_runs`` (:mod:`~rigserver.storage.cluster.notify`):
 the live streams of every worker wait on :meth:`wait_for_appends` and read the run's row
 counts (:meth:`get_run`) when woken. :meth:`readings_version` (the run's batches and
 corrections) grows with every stored batch and correction: a results cache in any process
@@ -32,7 +32,7 @@ compares it to see that it is stale.
 
 The arrays are read from the journal (the batches overlapping the rows asked for). With
 HSDS (``hsds``, the ``cluster`` extra) a background thread materialises every run's arrays
-in a domain of its own (:mod:`~rigserver.storage.materialiser`); with ``hsds_reads`` the
+in a domain of its own (:mod:`~rigserver.storage.cluster.materialiser`); with ``hsds_reads`` the
 rows materialised there are read from HSDS and the rest from the journal, and while HSDS is
 down such reads raise ``StorageUnavailable`` (posts are unaffected: PostgreSQL acknowledges
 them). Reads from the journal are the default: they are faster here
@@ -64,6 +64,7 @@ import psycopg
 import psycopg_pool
 from numpy.typing import NDArray
 
+from rigserver.storage._catalogue import run_filters
 from rigserver.storage._checks import (
     Batch,
     StoredBatch,
@@ -83,6 +84,8 @@ from rigserver.storage._failures import failures_as, translated
 from rigserver.storage._results import check_results
 from rigserver.storage._time import as_utc, now
 from rigserver.storage.base import Columns, NewBatch
+from rigserver.storage.cluster.materialiser import MARKS_SCHEMA, materialised_rows
+from rigserver.storage.cluster.notify import Appends, notify
 from rigserver.storage.corrections import RowEdit, RowEdits, corrected_row, new_corrections
 from rigserver.storage.errors import (
     RunExists,
@@ -90,9 +93,6 @@ from rigserver.storage.errors import (
     RunNotOpen,
     SequenceConflict,
 )
-from rigserver.storage.journal import run_filters
-from rigserver.storage.materialiser import MARKS_SCHEMA, materialised_rows
-from rigserver.storage.notify import Appends, notify
 from rigserver.storage.payloads import decode, encode
 from rigserver.storage.runfile import RunFile, write_file
 from schemas.channels import ChannelGroup
@@ -101,9 +101,9 @@ from schemas.readings import BatchReceipt
 from schemas.runs import Run, RunPage, RunQuery, RunState
 
 if TYPE_CHECKING:
-    from rigserver.storage.hsds import HsdsArrays
-    from rigserver.storage.hsds_settings import HsdsSettings
-    from rigserver.storage.materialiser import Materialiser
+    from rigserver.storage.cluster.hsds import HsdsArrays
+    from rigserver.storage.cluster.hsds_settings import HsdsSettings
+    from rigserver.storage.cluster.materialiser import Materialiser
 
 log = logging.getLogger(__name__)
 
@@ -240,8 +240,8 @@ class PostgresStore(RowEdits):
         self._materialiser: Materialiser | None = None
         if hsds is not None:
             # the cluster extra: imported only when used
-            from rigserver.storage.hsds import HsdsArrays
-            from rigserver.storage.materialiser import Materialiser
+            from rigserver.storage.cluster.hsds import HsdsArrays
+            from rigserver.storage.cluster.materialiser import Materialiser
 
             arrays = HsdsArrays(hsds)
             self._arrays = arrays if hsds_reads else None

@@ -20,9 +20,9 @@ from dataclasses import dataclass
 from pathlib import Path
 from urllib.parse import quote
 
-from rigserver.storage._processes import STARTED, start_logged
+from rigserver.storage.cluster.hsds_settings import HsdsSettings
 from rigserver.storage.errors import StorageError
-from rigserver.storage.hsds_settings import HsdsSettings
+from rigserver.storage.servers._processes import STARTED, start_logged
 
 #: Seconds the service has to answer after it was started
 START_SECONDS = 60.0
@@ -154,7 +154,7 @@ def _launch(directory: Path, settings: HsdsSettings) -> None:
     proc = start_logged(
         command, log=directory / "hsds.out", pid_file=directory / "hsds.pid", cwd=directory
     )
-    from rigserver.storage.hsds import HsdsArrays  # the cluster extra, checked above
+    from rigserver.storage.cluster.hsds import HsdsArrays  # the cluster extra, checked above
 
     arrays = HsdsArrays(settings)
     deadline = time.monotonic() + START_SECONDS

@@ -15,8 +15,8 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from rigserver.storage._failures import UNREADABLE
+from rigserver.storage.embedded.journal import CATALOGUE_COLUMNS, CatalogueEntry, catalogue_entry
 from rigserver.storage.errors import RunDamaged
-from rigserver.storage.journal import CATALOGUE_COLUMNS, CatalogueEntry, catalogue_entry
 from rigserver.storage.runfile import read_summary
 
 

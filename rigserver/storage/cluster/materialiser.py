@@ -29,7 +29,7 @@ from rigserver.storage.payloads import decode
 from schemas.runs import Run
 
 if TYPE_CHECKING:
-    from rigserver.storage.hsds import HsdsArrays
+    from rigserver.storage.cluster.hsds import HsdsArrays
 
 log = logging.getLogger(__name__)
 

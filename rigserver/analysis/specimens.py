@@ -14,7 +14,7 @@ from pydantic import BaseModel
 from schemas.materials import properties
 from schemas.messages import N_
 from schemas.runs import Run
-from schemas.stands import PinMaterial, SpecimenMaterial
+from schemas.stands import CONFIG_MODELS, PinMaterial, SpecimenMaterial, StandKind
 
 Config = TypeVar("Config", bound=BaseModel)
 
@@ -65,12 +65,21 @@ SMTS2 = Roles(
 )
 
 
+#: The stands whose theory takes its specimens' materials from the table.
+ROLES = {
+    StandKind.PIN_ON_DISC: TRIBOMETER,
+    StandKind.RECIPROCATING: TRIBOMETER,
+    StandKind.SMTS2: SMTS2,
+}
+
+
 @dataclass(frozen=True, slots=True)
 class Specimens(Generic[Config]):
-    """The configuration with the named materials' properties, and the roles (``pin``,
-    ``disc``) whose named material is unknown."""
+    """The configuration with the named materials' properties, the roles (``pin``,
+    ``disc``) whose properties the table gave, and those whose named material is unknown."""
 
     config: Config
+    found: frozenset[str] = frozenset()
     unknown: frozenset[str] = frozenset()
     notes: list[str] = field(default_factory=list)
     pending: list[str] = field(default_factory=list)
@@ -100,7 +109,16 @@ def specimen_materials(run: Run, config: Config, roles: Roles = TRIBOMETER) -> S
             update[role] = found
     return Specimens(
         config.model_copy(update=update),
+        frozenset(update),
         frozenset(unknown),
         [roles.note] if update else [],
         [roles.pending] if unknown else [],
     )
+
+
+def run_materials(run: Run) -> Specimens[BaseModel]:
+    """The run's configuration as its stand's analysis reads it: with the table's properties
+    of the materials its specimen names (as given, for a stand without such roles)."""
+    config = CONFIG_MODELS[run.stand].model_validate(run.configuration)
+    roles = ROLES.get(run.stand)
+    return Specimens(config) if roles is None else specimen_materials(run, config, roles)

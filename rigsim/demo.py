@@ -3,8 +3,9 @@
 Starts ``rigserver serve`` as a subprocess (its own process: rigsim reaches the server only
 over HTTP) on a data directory, with public reads and a demo key generated into
 ``<data dir>/demo-keys.json`` (reused on the next start), waits until it answers, runs the
-simulated stands (the lab's four, the two tribometers) against it in threads at an
-accelerated pace, prints where to look, and keeps the server running until Ctrl-C or
+simulated stands (the lab's four, the two tribometers, and the pin-on-disc once more as a
+recipe's stepped speed sweep, whose page shows the Stribeck curve) against it in threads at
+an accelerated pace, prints where to look, and keeps the server running until Ctrl-C or
 SIGTERM (either stops the server too). On a port where something already listens it says so
 and exits with status 1.
 """
@@ -21,6 +22,7 @@ import subprocess
 import sys
 import threading
 import time
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -28,9 +30,11 @@ import httpx
 from rich.console import Console
 
 from rigclient.summary import quantity
+from rigsim.batches import SimulatedRun
 from rigsim.client import LabClient, RunOutcome
 from rigsim.errors import PortInUse, RigsimError, ServerError, ServerUnavailable
 from rigsim.stands import simulate
+from rigsim.stands.tribometer import simulate_sweep
 from schemas.labels import RESULTS, THEORY_VERDICT, Part, theory_outside
 from schemas.stands import StandKind
 
@@ -43,6 +47,10 @@ STOP_TIMEOUT = 15.0
 #: kernel hands the signal to a posting thread, and the demo went on until the stands'
 #: retries gave up (up to 2 min).
 JOIN_INTERVAL = 0.2
+#: Seconds a stand's failed try waits for the server to be seen stopping before it is told.
+REPORT_GRACE = 1.0
+#: The label of the demo's stepped speed sweep in its printout.
+SWEEP_LABEL = "speed sweep"
 
 
 def demo_key(data_dir: Path) -> tuple[Path, str]:
@@ -147,21 +155,28 @@ def run_demo(
 
         def report(label: str, text: str) -> None:
             """A stand's failed tries, told while the demo runs; once it stops (Ctrl-C, the
-            server gone), what the stands meet is the stop itself, said once by the demo."""
-            if not stopping.is_set() and proc.poll() is None:
-                console.print(f"  {label}: {text}", markup=False, soft_wrap=True)
-
-        def post(label: str, kind: StandKind, stand_seed: int) -> None:
+            server gone), what the stands meet is the stop itself, said once by the demo. A
+            try is told only if the server still runs a moment later: Ctrl-C reaches the
+            server and the demo together, and a stand may find the server closed before the
+            demo's main thread hears the signal."""
             try:
-                sim = simulate(kind, seed=stand_seed)
+                proc.wait(timeout=REPORT_GRACE)
+            except subprocess.TimeoutExpired:
+                if not stopping.is_set():
+                    console.print(f"  {label}: {text}", markup=False, soft_wrap=True)
+
+        def post(label: str, make: Callable[[int], SimulatedRun[Any]], stand_seed: int) -> None:
+            try:
+                sim = make(stand_seed)
                 with LabClient(url, key, seed=stand_seed) as client:
                     client.report = lambda text: report(label, text)
                     outcomes[label] = client.run(sim, speed=speed)
             except (RigsimError, ServerError) as exc:
                 outcomes[label] = f"failed: {exc}"
 
-        jobs = [(kind.value, kind, seed + i) for i, kind in enumerate(StandKind)]
-        jobs += [(f"smts2 #{n}", StandKind.SMTS2, seed + 100 + n) for n in (2, 3)]
+        jobs = [(kind.value, _stand(kind), seed + i) for i, kind in enumerate(StandKind)]
+        jobs += [(f"smts2 #{n}", _stand(StandKind.SMTS2), seed + 100 + n) for n in (2, 3)]
+        jobs.append((SWEEP_LABEL, _sweep, seed + 200))
         threads = [
             threading.Thread(target=post, args=job, name=job[0], daemon=True) for job in jobs
         ]
@@ -169,7 +184,7 @@ def run_demo(
             thread.start()
         console.print(
             "posting the four simulated stands (the SMTs-2 three times) and the two "
-            f"tribometers at {_pace(speed)} ..."
+            f"tribometers (the pin-on-disc once more, a speed sweep) at {_pace(speed)} ..."
         )
         for thread in threads:
             while thread.is_alive():  # woken each interval: Ctrl-C is heard while stands post
@@ -222,6 +237,16 @@ def demo_series(url: str, key: str, run_ids: list[str]) -> str:
         for run_id in run_ids:
             http.post(f"/series/{series_id}/runs", json={"run_id": run_id}).raise_for_status()
     return series_id
+
+
+def _stand(kind: StandKind) -> Callable[[int], SimulatedRun[Any]]:
+    """The stand's simulated run of a seed."""
+    return lambda stand_seed: simulate(kind, seed=stand_seed)
+
+
+def _sweep(stand_seed: int) -> SimulatedRun[Any]:
+    """The pin-on-disc's stepped speed sweep (four steps of 3 min, 75-300 mm/s)."""
+    return simulate_sweep(stand_seed)
 
 
 def _exit_on_signal(signum: int, frame: object) -> None:

@@ -10,6 +10,7 @@ import numpy as np
 
 from rigserver.analysis.readings import Readings
 from rigserver.analysis.references import Profiles
+from rigserver.analysis.specimens import SMTS2, specimen_materials
 from rigserver.analysis.streaming import BlockSeries, TailMoments
 from rigserver.analysis.uncertainty import batch_mean, estimate, from_limit, from_resolution
 from rigserver.core import wear
@@ -61,7 +62,11 @@ TheoryAt = Callable[[float, float], wear.TheoreticalWear]
 
 
 def analyse(run: Run, readings: Readings, profiles: Profiles | None = None) -> Smts2Results:
-    config = Smts2Config.model_validate(run.configuration)
+    """Lab 2's results; the pin's properties are its named material's (the materials table)
+    where the configuration does not give them, and wait for them when the table lacks it."""
+    specimens = specimen_materials(run, Smts2Config.model_validate(run.configuration), SMTS2)
+    config = specimens.config
+    pin_known = "pin" not in specimens.unknown
     total = readings.rows(GROUP)
     series = BlockSeries(total)
     start = wear.steady_window_start(samples=total, fraction=config.steady_fraction) if total else 0
@@ -97,6 +102,8 @@ def analyse(run: Run, readings: Readings, profiles: Profiles | None = None) -> S
         steady_from_time=steady_time,
         friction=series.series("time", "friction coefficient"),
     )
+    result.notes.extend(specimens.notes)
+    result.pending.extend(specimens.pending)
     if total == 0:
         result.pending.append(N_("no friction record yet"))
         return result
@@ -118,7 +125,12 @@ def analyse(run: Run, readings: Readings, profiles: Profiles | None = None) -> S
         )
     m = readings.measurements()
     pin_radius = config.pin_diameter / 2.0
-    if "pin_mass_before" in m and "pin_mass_after" in m and revolutions > 0:
+    weighed = "pin_mass_before" in m and "pin_mass_after" in m and revolutions > 0
+    if not weighed:
+        result.pending.append(
+            N_("experimental wear needs pin_mass_before, pin_mass_after and revolutions")
+        )
+    elif pin_known:  # else the pending item asks for the pin's properties
         exp = wear.wear_intensity_experimental(
             mass_before=m["pin_mass_before"] * _KG_PER_G,
             mass_after=m["pin_mass_after"] * _KG_PER_G,
@@ -136,21 +148,17 @@ def analyse(run: Run, readings: Readings, profiles: Profiles | None = None) -> S
             specific_wear_rate=exp.volume / (result.mean_load * exp.sliding_distance),
         )
         _wear_uncertainty(config, result, m["pin_mass_before"], m["pin_mass_after"], revolutions)
-    else:
-        result.pending.append(
-            N_("experimental wear needs pin_mass_before, pin_mass_after and revolutions")
-        )
     track = (profiles or Profiles()).traces.get("disc")
     if track is not None and revolutions > 0:
         traced = (profiles or Profiles()).found.get("disc")
         iso = None if traced is None else traced.iso
         result.disc_wear = _disc_wear(run, config, result, track, iso)
-    if "disc_ra" in m:
-        _theoretical(config, result, m["disc_ra"] * _M_PER_UM)
-    else:
+    if "disc_ra" not in m:
         result.pending.append(
             N_("theoretical wear needs disc_ra (the disc's Ra from the profilometer)")
         )
+    elif pin_known:
+        _theoretical(config, result, m["disc_ra"] * _M_PER_UM)
     if result.validity is not None and not result.validity.within_range:
         result.verdict = VERDICT_OUTSIDE
     elif result.experimental and result.theoretical and result.experimental.intensity > 0:

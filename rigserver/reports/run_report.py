@@ -7,12 +7,13 @@ import re
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import replace
 from datetime import datetime
-from typing import Any
+from typing import Any, NamedTuple
 
 from markupsafe import escape
 from pydantic import BaseModel
 
 from rigserver.analysis import Readings
+from rigserver.analysis.specimens import run_materials
 from rigserver.reports import equations, layout
 from rigserver.reports.contents.common import TASKS
 from rigserver.reports.contents.registry import CONTENTS
@@ -260,16 +261,37 @@ def _rows_text(t: Messages, run: Run, stand: Stand) -> str:
 def _configuration(t: Messages, run: Run) -> Table:
     """The configuration snapshot of the run, each field with its description and unit."""
     head = [t("col.description"), t("col.value"), t("col.unit")]
-    rows: list[list[Text]] = [list(row) for row in configuration_rows(t, run)]
+    rows: list[list[Text]] = [list(row[:3]) for row in configuration_rows(t, run)]
     return Table(caption=t("caption.configuration"), header=head, rows=rows, labels=1)
 
 
-def configuration_rows(t: Messages, run: Run) -> list[tuple[Text, str, str]]:
-    """The configuration snapshot of the run: each field's description (with the manual's
-    symbol) in ``t``'s language, its value and its unit, in the display unit of
-    :data:`schemas.labels.CONFIGURATION` (mm, µm, MPa, GPa, mg) as the results print them;
-    a value nobody gave for this run as "not given: the stand's default (value)"."""
-    rows: list[tuple[Text, str, str]] = []
+class ConfigRow(NamedTuple):
+    """A configuration value as the report and the run page print it, and who gave it:
+    ``file`` (the file and its map), ``operator``, ``table`` (the materials table, for the
+    material the specimen names), ``default`` (nobody), ``unrecorded`` (a run opened before
+    rig kept it)."""
+
+    words: Text
+    value: str
+    unit: str
+    given_by: str
+
+
+def configuration_rows(t: Messages, run: Run) -> list[ConfigRow]:
+    """The configuration of the run as its analysis reads it: each field's description (with
+    the manual's symbol) in ``t``'s language, its value and its unit, in the display unit of
+    :data:`schemas.labels.CONFIGURATION` (mm, µm, MPa, GPa, mg) as the results print them,
+    and who gave it; a value nobody gave for this run as "not given: the stand's default
+    (value)", the properties of a material the specimen names as the materials table's."""
+    rows: list[ConfigRow] = []
+    materials = run_materials(run)
+
+    def given_by(path: str) -> str:
+        if path.split(".")[0] in materials.found:
+            return "table"
+        if run.configuration_given is None:
+            return "unrecorded"
+        return run.configuration_given.get(path, "default")
 
     def walk(model: type[BaseModel], data: Mapping[str, Any], owner: str, path: str) -> None:
         for name, info in model.model_fields.items():
@@ -296,11 +318,14 @@ def configuration_rows(t: Messages, run: Run) -> list[tuple[Text, str, str]]:
             number = isinstance(value, int | float) and not isinstance(value, bool)
             # a number without a unit is dimensionless ("—", as the results print it)
             unit_text = t.unit(str(unit or "1")) if number or unit not in (None, "1") else ""
-            if run.from_default(path + name):  # never printed as the test's fact
+            source = given_by(path + name)
+            if source == "default":  # never printed as the test's fact
                 shown = t("config.default", value=shown)
-            rows.append((html_symbol(words), shown, unit_text))
+            elif source == "table":
+                shown = t("config.table", value=shown)
+            rows.append(ConfigRow(html_symbol(words), shown, unit_text, source))
 
-    walk(CONFIG_MODELS[run.stand], run.configuration, "", "")
+    walk(CONFIG_MODELS[run.stand], materials.config.model_dump(mode="json"), "", "")
     return rows
 
 

@@ -16,6 +16,8 @@ of 0.1 mg.
 Modes (the manual's three runs): ``wear`` (St3sp pin, 300 N, 1000 rpm, 15 000 rev),
 ``adhesive`` (brass pin, 200 N, 2000 rev, friction higher) and ``oxidative`` (rusted steel,
 300 N, 2000 rev, friction lower); :meth:`Smts2Settings.for_mode` gives each one's defaults.
+The run names its pin (:data:`PINS`) and leaves its properties to the server's materials
+table, whose density the simulated weighing uses too (a configuration's own pin is sent).
 """
 
 from __future__ import annotations
@@ -29,12 +31,15 @@ from scipy.signal import lfilter
 from rigsim.batches import Batch, SimulatedRun, split
 from rigsim.errors import SettingsError
 from rigsim.instruments import Fault, Instrument, apply_faults
+from schemas.materials import properties
 from schemas.runs import RunCreate
-from schemas.stands import MEASUREMENTS, SMTS2_GROUPS, Smts2Config, StandKind
+from schemas.stands import MEASUREMENTS, SMTS2_GROUPS, PinMaterial, Smts2Config, StandKind
 from schemas.units import UNITS
 
 Mode = Literal["wear", "adhesive", "oxidative"]
 MODES: tuple[Mode, ...] = ("wear", "adhesive", "oxidative")
+#: The pin each mode's run names (the manual: steel pins, a brass one for adhesion).
+PINS: dict[Mode, str] = {"wear": "St3sp", "adhesive": "brass", "oxidative": "St3sp"}
 #: The machine stops above this friction moment, N·m (manual, machine data).
 MOMENT_LIMIT = 15.0
 #: Belt speeds of the disc, rpm.
@@ -236,6 +241,17 @@ def _fluctuation(n: int, size: float, rng: np.random.Generator) -> np.ndarray:
     return np.asarray(out, dtype=np.float64)
 
 
+def _pin(s: Smts2Settings) -> tuple[PinMaterial, bool]:
+    """The pin's material and whether the run's configuration gives it: the settings' own
+    pin when they change the stand's default, else the materials table's for the pin the
+    mode's run names (the server looks it up by that name)."""
+    if s.configuration.pin != PinMaterial():
+        return s.configuration.pin, True
+    named = properties(PINS[s.mode], PinMaterial)
+    assert named is not None, f"the materials table holds {PINS[s.mode]}"
+    return named, False
+
+
 def simulate(settings: Smts2Settings | None = None, seed: int = 0) -> SimulatedRun[Smts2Truth]:
     """A simulated SMTs-2 run: the weighing, the friction record, the second weighing."""
     s = settings or Smts2Settings()
@@ -253,7 +269,8 @@ def simulate(settings: Smts2Settings | None = None, seed: int = 0) -> SimulatedR
     revolutions = float(turned[-1])
     distance = 2.0 * np.pi * r2 * revolutions
     volume = s.wear_coefficient * s.load * distance
-    mass_loss = c.pin.density * volume
+    pin, pin_given = _pin(s)
+    mass_loss = pin.density * volume
     m1 = s.pin_mass
     pin_area = np.pi * (c.pin_diameter / 2.0) ** 2
     friction = {
@@ -284,7 +301,7 @@ def simulate(settings: Smts2Settings | None = None, seed: int = 0) -> SimulatedR
         operator=s.operator,
         title=f"Simulated SMTs-2 run, {s.mode} mode, {s.load:g} N, {s.speed:g} rpm",
         specimen={
-            "pin": {"wear": "St3sp", "adhesive": "brass", "oxidative": "St3sp, rusted"}[s.mode],
+            "pin": PINS[s.mode],
             "disc": c.disc.name,
         },
         test_plan={
@@ -294,7 +311,7 @@ def simulate(settings: Smts2Settings | None = None, seed: int = 0) -> SimulatedR
             "revolutions": s.revolutions,
             "simulated": True,
         },
-        configuration=c.model_dump(mode="json"),
+        configuration=c.model_dump(mode="json", exclude=None if pin_given else {"pin"}),
     )
     truth = Smts2Truth(
         mode=s.mode,

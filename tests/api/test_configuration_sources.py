@@ -42,7 +42,7 @@ def test_a_default_is_printed_as_one(client: TestClient) -> None:
     run = _open(client, configuration={"plan": {"load": 3.0}})
     langs: list[tuple[Lang, str]] = [("en", "not given: the stand's default"), ("ru", "не задано")]
     for lang, said in langs:
-        rows = {str(words): shown for words, shown, _ in configuration_rows(Messages(lang), run)}
+        rows = {str(row.words): row.value for row in configuration_rows(Messages(lang), run)}
         load = next(shown for words, shown in rows.items() if "load" in words or "нагруз" in words)
         speed = next(
             shown

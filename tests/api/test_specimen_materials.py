@@ -11,9 +11,10 @@ from typing import Any
 import pytest
 from fastapi.testclient import TestClient
 
-from rigserver.analysis.specimens import PENDING_UNKNOWN
+from rigserver.analysis.specimens import TRIBOMETER
 from rigserver.core.tribometer import effective_modulus, hertz_ball_on_flat
-from schemas.materials import MATERIALS, material_named
+from schemas.materials import MATERIALS, material_named, properties
+from schemas.stands import SpecimenMaterial
 from tests.api.conftest import READER, WRITER, auth
 
 #: A short record: 3 N, μ = 0.4, no distance (the planned speed's).
@@ -57,27 +58,36 @@ def _p0(ball: str, disc: str) -> float:
 
 def test_the_named_materials_properties_are_used(client: TestClient) -> None:
     v = _results(client, specimen={"ball": "Si3N4", "disc": "brass"})
-    assert v["hertz"]["max_pressure"] == pytest.approx(_p0("Si3N4", "CuZn37"), rel=1e-12)
+    assert v["hertz"]["max_pressure"] == pytest.approx(_p0("Si3N4", "CuZn40Pb2"), rel=1e-12)
     # not the stand's default pair (Al2O3 on 100Cr6)
     assert not math.isclose(v["hertz"]["max_pressure"], _p0("Al2O3", "100Cr6"), rel_tol=1e-3)
-    assert PENDING_UNKNOWN not in v["pending"]
+    assert TRIBOMETER.pending not in v["pending"]
 
 
 def test_an_unknown_material_asks_for_its_properties(client: TestClient) -> None:
     v = _results(client, specimen={"ball": "Si3N4", "disc": "unobtainium 7"})
     assert v["hertz"] is None
-    assert PENDING_UNKNOWN in v["pending"]
+    assert TRIBOMETER.pending in v["pending"]
 
 
 def test_the_configuration_wins_over_the_table(client: TestClient) -> None:
-    steel = MATERIALS["100Cr6"].model_dump()
-    v = _results(client, specimen={"ball": "Si3N4", "disc": "brass"}, configuration={"disc": steel})
+    steel = properties("100Cr6", SpecimenMaterial)
+    assert steel is not None
+    given = {"disc": steel.model_dump()}
+    v = _results(client, specimen={"ball": "Si3N4", "disc": "brass"}, configuration=given)
     assert v["hertz"]["max_pressure"] == pytest.approx(_p0("Si3N4", "100Cr6"), rel=1e-12)
 
 
 @pytest.mark.parametrize(
     ("name", "found"),
-    [("ШХ15", "100Cr6"), ("  aisi   52100 ", "100Cr6"), ("Латунь", "CuZn37"), ("al2o3", "Al2O3")],
+    [
+        ("ШХ15", "100Cr6"),
+        ("  aisi   52100 ", "100Cr6"),
+        ("Латунь", "CuZn40Pb2"),
+        ("Л63", "CuZn37"),
+        ("al2o3", "Al2O3"),
+        ("ВСт3пс", "St3sp"),
+    ],
 )
 def test_the_table_knows_the_labs_spellings(name: str, found: str) -> None:
     material = material_named(name)

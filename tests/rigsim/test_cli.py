@@ -10,6 +10,7 @@ import subprocess
 import sys
 import time
 from pathlib import Path
+from typing import Any
 
 import httpx
 import pytest
@@ -20,6 +21,7 @@ from rigsim.demo import KEYS_FILE, demo_key
 from rigsim.instruments import Fault
 from rigsim.report import print_results
 from rigsim.stands import mtos, smts2
+from rigsim.stands.tribometer import SWEEP
 from schemas.stands import StandKind
 from tests.api.conftest import READER, Server, auth, free_port
 from tests.processes import spawn, stop
@@ -128,8 +130,10 @@ def test_demo_serves_four_finished_runs_until_terminated(tmp_path: Path) -> None
         page = httpx.get(f"http://127.0.0.1:{port}/runs/{runs[0]['id']}", timeout=10)
         assert page.status_code == 200
         stands = [r["stand"] for r in runs]  # the SMTs-2 three times: a repeatability series
-        assert sorted(stands) == sorted([k.value for k in StandKind] + ["smts2", "smts2"])
+        again = ["smts2", "smts2", "pin_on_disc"]  # and the pin-on-disc's speed sweep
+        assert sorted(stands) == sorted([k.value for k in StandKind] + again)
         assert {r["state"] for r in runs} == {"finished"}
+        _the_sweep_has_its_steps(port, runs)
         (series,) = httpx.get(f"http://127.0.0.1:{port}/api/v1/series", timeout=10).json()
         assert series["purpose"] == "repeatability" and len(series["members"]) == 3
         assert f"http://127.0.0.1:{port}/series/{series['id']}" in text
@@ -140,6 +144,18 @@ def test_demo_serves_four_finished_runs_until_terminated(tmp_path: Path) -> None
     finally:
         stop(proc)
     assert "Traceback" not in out.read_text(errors="replace")
+
+
+def _the_sweep_has_its_steps(port: int, runs: list[dict[str, Any]]) -> None:
+    """The demo's stepped pin-on-disc run: its steps at the recipe's speeds (v = 2πRn/60 of
+    the simulator's SWEEP) and, on its page, their table and the Stribeck curve."""
+    (sweep,) = [r for r in runs if r["title"].startswith("Simulated speed sweep")]
+    url = f"http://127.0.0.1:{port}"
+    values = httpx.get(f"{url}/api/v1/runs/{sweep['id']}/results", timeout=10).json()["values"]
+    speeds = [step["sliding_speed"] for step in values["steps"]]
+    assert speeds == pytest.approx([v for _, v in SWEEP], rel=1e-9)
+    page = httpx.get(f"{url}/runs/{sweep['id']}", timeout=10).text
+    assert 'data-table="steps"' in page and 'data-figure="stribeck"' in page
 
 
 def test_ctrl_c_while_the_demo_posts_stops_it_and_its_server(tmp_path: Path) -> None:

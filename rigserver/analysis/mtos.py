@@ -13,7 +13,7 @@ from rigserver.analysis import uncertainty
 from rigserver.analysis.finite_steps import FiniteBearingSteps
 from rigserver.analysis.readings import Columns, Readings
 from rigserver.analysis.references import Profiles
-from rigserver.core import bearing, film, stands
+from rigserver.core import bearing, bearing_readings, film
 from rigserver.core.errors import ModelInputError
 from schemas.messages import N_
 from schemas.results import MtosResults, MtosStep
@@ -105,9 +105,9 @@ class _LoadSteps:
     """Every step's measured figures at once (arrays, one value a step)."""
 
     load: NDArray[np.float64]
-    eccentricity: stands.Eccentricity
-    friction: stands.MeasuredFriction
-    oil: stands.FilmViscosity
+    eccentricity: bearing_readings.Eccentricity
+    friction: bearing_readings.MeasuredFriction
+    oil: bearing_readings.FilmViscosity
     s1: NDArray[np.float64]
     rises: dict[str, NDArray[np.float64]]
     viscosity_at: dict[str, NDArray[np.float64]]
@@ -122,7 +122,7 @@ class _LoadSteps:
     ) -> _LoadSteps:
         load = rows["load"]
         viscosity = config.viscosity
-        eccentricity = stands.mtos_eccentricity(
+        eccentricity = bearing_readings.mtos_eccentricity(
             x=rows["x"] * _M_PER_UM,
             y=rows["y"] * _M_PER_UM,
             x_set=zeros["x_zero"] * _M_PER_UM,
@@ -130,7 +130,7 @@ class _LoadSteps:
             clearance=config.clearance,
             signed=config.signed_sensors,
         )
-        oil = stands.mtos_film_viscosity(
+        oil = bearing_readings.mtos_film_viscosity(
             t3=rows["t3"], t4=rows["t4"], t5=rows["t5"], A=viscosity.A, alpha=viscosity.alpha
         )
         h_min = film.minimum_film_thickness(
@@ -139,7 +139,7 @@ class _LoadSteps:
         return cls(
             load=load,
             eccentricity=eccentricity,
-            friction=stands.mtos_friction(
+            friction=bearing_readings.mtos_friction(
                 indicator_travel=rows["indicator"] * _M_PER_MM,
                 spring_rate=config.spring_rate * _N_PER_M,
                 spring_arm=config.lever_moment_arm,
@@ -147,7 +147,7 @@ class _LoadSteps:
                 load=load,
             ),
             oil=oil,
-            s1=stands.bearing_characteristic(
+            s1=bearing_readings.bearing_characteristic(
                 viscosity=oil.mean,
                 omega=config.omega,
                 load=load,
@@ -155,14 +155,18 @@ class _LoadSteps:
                 diameter=config.diameter,
             ),
             rises={
-                f"t{k}": stands.temperature_rise(t=rows[f"t{k}"], t_in=rows["t1"])
+                f"t{k}": bearing_readings.temperature_rise(t=rows[f"t{k}"], t_in=rows["t1"])
                 for k in (2, 3, 4, 5)
             },
             viscosity_at={
-                f"t{k}": stands.viscosity(t=rows[f"t{k}"], A=viscosity.A, alpha=viscosity.alpha)
+                f"t{k}": bearing_readings.viscosity(
+                    t=rows[f"t{k}"], A=viscosity.A, alpha=viscosity.alpha
+                )
                 for k in (1, 2, 3, 4, 5)
             },
-            mu_50=float(stands.viscosity(t=REFERENCE_T, A=viscosity.A, alpha=viscosity.alpha)),
+            mu_50=float(
+                bearing_readings.viscosity(t=REFERENCE_T, A=viscosity.A, alpha=viscosity.alpha)
+            ),
             h_min=h_min,
             h_crit=result.h_crit,
             film_parameter=film.film_parameter(
@@ -206,7 +210,7 @@ def _step(
     ecc, friction = steps.eccentricity, steps.friction
     load, chi, viscosity = float(steps.load[i]), float(ecc.chi[i]), float(steps.oil.mean[i])
     try:
-        angles = stands.mtos_attitude_angles(e_x=ecc.e_x[i], e_y=ecc.e_y[i])
+        angles = bearing_readings.mtos_attitude_angles(e_x=ecc.e_x[i], e_y=ecc.e_y[i])
         angle = float(np.degrees(angles.delta if regime == "fluid" else angles.gamma))
     except ModelInputError:
         angle = 0.0
@@ -283,7 +287,7 @@ def _fluid_theory(
             load=load,
         )
         error = float(
-            stands.relative_error_percent(
+            bearing_readings.relative_error_percent(
                 reference=steps.friction.coefficient[i], other=f_t
             ).percent
         )

@@ -10,7 +10,7 @@ from numpy.typing import NDArray
 from rigserver.analysis import uncertainty
 from rigserver.analysis.readings import Columns, Readings
 from rigserver.analysis.uncertainty import estimate
-from rigserver.core import bearing, reynolds, stands
+from rigserver.core import bearing, bearing_readings, reynolds
 from rigserver.core.errors import ModelInputError
 from schemas.messages import N_
 from schemas.results import AxialPoint, SlideBearingResults, SlideBearingRow
@@ -68,11 +68,11 @@ def _opt(value: float) -> float | None:
 class _Limbs:
     """Every limb row's measured figures at once (arrays, one value a row)."""
 
-    eccentricity: stands.Eccentricity
+    eccentricity: bearing_readings.Eccentricity
     pressure: NDArray[np.float64]
     pi_measured: NDArray[np.float64]
     phi_deg: NDArray[np.float64]
-    oil: stands.MeanViscosity
+    oil: bearing_readings.MeanViscosity
     chi_mean: float
     attitude: NDArray[np.float64]
 
@@ -81,7 +81,7 @@ class _Limbs:
         scale = config.displacement_per_division
         centre = int(np.argmin(np.abs(np.asarray(config.manometer_z))))
         pressure = rows[MANOMETERS[centre]] * UNITS[config.gauge_unit].factor
-        eccentricity = stands.slide_bearing_eccentricity(
+        eccentricity = bearing_readings.slide_bearing_eccentricity(
             x=rows["x"] * scale,
             y=rows["y"] * scale,
             x_set=zeros["x_zero"] * scale,
@@ -93,18 +93,18 @@ class _Limbs:
             eccentricity=eccentricity,
             pressure=pressure,
             pi_measured=_dimensionless(config, pressure),
-            phi_deg=stands.model_angle_deg(
+            phi_deg=bearing_readings.model_angle_deg(
                 limb_deg=rows["limb_angle"], load_zone_end_deg=zeros["load_zone_end"]
             ),
-            oil=stands.mean_oil_viscosity(
+            oil=bearing_readings.mean_oil_viscosity(
                 t_in=rows["t1"],
                 t_out=rows["t2"],
                 A=viscosity.A,
                 alpha=viscosity.alpha,
                 mu0=config.mu0,
             ),
-            chi_mean=stands.mean_eccentricity_ratio(chi=eccentricity.chi),
-            attitude=stands.slide_bearing_attitude_angle(
+            chi_mean=bearing_readings.mean_eccentricity_ratio(chi=eccentricity.chi),
+            attitude=bearing_readings.slide_bearing_attitude_angle(
                 e_x=eccentricity.e_x, e_y=eccentricity.e_y, limb_deg=rows["limb_angle"]
             ),
         )
@@ -114,7 +114,7 @@ def _dimensionless(
     config: SlideBearingConfig, pressure: NDArray[np.float64]
 ) -> NDArray[np.float64]:
     """Π of a gauge pressure (3.25)."""
-    return stands.measured_dimensionless_pressure(
+    return bearing_readings.measured_dimensionless_pressure(
         gauge_pressure=pressure,
         clearance=config.clearance,
         bearing_radius=config.bearing_radius,
@@ -190,7 +190,9 @@ def _circumference(config: SlideBearingConfig, limbs: _Limbs, notes: list[str]) 
 
 
 def _error(theory: NDArray[np.float64], measured: NDArray[np.float64]) -> NDArray[np.float64]:
-    return np.asarray(stands.relative_error_percent(reference=theory, other=measured).percent)
+    return np.asarray(
+        bearing_readings.relative_error_percent(reference=theory, other=measured).percent
+    )
 
 
 def _table_3_1(rows: Columns, limbs: _Limbs, theory: _Circumference) -> list[SlideBearingRow]:

@@ -12,7 +12,7 @@ Modules, one per lab work or idea:
   family of a trace, beside the manual's method.
 - :mod:`rigserver.core.wear`: lab work 2, the SMTs-2 friction and wear machine.
 - :mod:`rigserver.core.bearing`: labs 3 and 4, asymptotic journal-bearing theory.
-- :mod:`rigserver.core.stands`: processing of the slide-bearing and MTOS readings.
+- :mod:`rigserver.core.bearing_readings`: processing of the slide-bearing and MTOS readings.
 - :mod:`rigserver.core.film`: the fluid-film criterion h_min >= h_min^crit (seed 001).
 - :mod:`rigserver.core.reynolds`: the finite bearing, Reynolds equation (3.1) with cavitation.
 - :mod:`rigserver.core.mechanism`: dynamic errors of programmed motion (seeds 000/002).

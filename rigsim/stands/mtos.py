@@ -39,8 +39,8 @@ from typing import Literal
 
 import numpy as np
 
+from rigserver.core import bearing_readings as processing
 from rigserver.core import film as film_criterion
-from rigserver.core import stands as processing
 from rigsim.batches import Batch, SimulatedRun, split
 from rigsim.bearing_model import DEFAULT_MODEL, BearingModel, Geometry
 from rigsim.bearing_model import film as bearing_film

@@ -32,7 +32,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from rigserver.core import bearing
-from rigserver.core import stands as processing
+from rigserver.core import bearing_readings as processing
 from rigsim.batches import Batch, FloatArray, SimulatedRun, split
 from rigsim.bearing_model import DEFAULT_MODEL, BearingModel, Film, Geometry, refined
 from rigsim.bearing_model import film as bearing_film

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from rigserver.analysis.uncertainty import batch_mean, slide_bearing_chi_mean
-from rigserver.core import stands
+from rigserver.core import bearing_readings
 from schemas.results import MtosResults, ProfilometerResults, SlideBearingResults, Smts2Results
 from schemas.stands import MtosConfig, SlideBearingConfig, Smts2Config, StandKind
 from tests.reports.simulated import simulated
@@ -113,7 +113,7 @@ def test_slide_bearing_chi_against_monte_carlo() -> None:
     x0 = m["x_zero"] + uniform((draws, 1))
     y0 = m["y_zero"] + uniform((draws, 1))
     h0 = c.clearance + rng.uniform(-a.clearance, a.clearance, (draws, 1))
-    chi = stands.slide_bearing_eccentricity(
+    chi = bearing_readings.slide_bearing_eccentricity(
         x=x * d, y=y * d, x_set=x0 * d, y_set=y0 * d, clearance=h0
     ).chi.mean(axis=1)
     # first order within 5 % of the Monte Carlo spread (χ_ср is near-linear at χ ≈ 0.75)

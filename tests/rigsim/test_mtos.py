@@ -8,7 +8,7 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from rigserver.core import bearing, stands
+from rigserver.core import bearing, bearing_readings
 from rigsim.batches import SimulatedRun
 from rigsim.errors import SettingsError
 from rigsim.stands import mtos
@@ -30,18 +30,20 @@ def finite_run() -> SimulatedRun[mtos.MtosTruth]:
     return mtos.simulate(mtos.MtosSettings(model="finite"), seed=4)
 
 
-def _processed(run: SimulatedRun[mtos.MtosTruth]) -> tuple[stands.Eccentricity, np.ndarray]:
+def _processed(
+    run: SimulatedRun[mtos.MtosTruth],
+) -> tuple[bearing_readings.Eccentricity, np.ndarray]:
     c = mtos.MtosSettings().configuration
     rows = run.columns("steps")
     zero = run.columns("measurements")
-    ecc = stands.mtos_eccentricity(
+    ecc = bearing_readings.mtos_eccentricity(
         x=rows["x"] * 1e-6,
         y=rows["y"] * 1e-6,
         x_set=zero["x_zero"][0] * 1e-6,
         y_set=zero["y_zero"][0] * 1e-6,
         clearance=c.clearance,
     )
-    f = stands.mtos_friction(
+    f = bearing_readings.mtos_friction(
         indicator_travel=rows["indicator"] * 1e-3,
         spring_rate=c.spring_rate * 1e3,
         spring_arm=c.lever_moment_arm,
@@ -85,7 +87,7 @@ def test_stand_formulas_give_back_chi_and_f(fixture: str, request: pytest.Fixtur
 def test_film_viscosity_from_the_thermocouples(short_run: SimulatedRun[mtos.MtosTruth]) -> None:
     rows = short_run.columns("steps")
     law = SHORT.configuration.viscosity
-    mu = stands.mtos_film_viscosity(
+    mu = bearing_readings.mtos_film_viscosity(
         t3=rows["t3"], t4=rows["t4"], t5=rows["t5"], A=law.A, alpha=law.alpha
     ).mean
     # thermocouples read to 0.1 °C: α·0.1 = 0.5 % of μ
@@ -111,7 +113,7 @@ def test_fluid_steps_sit_where_ocvirks_film_carries_the_load(
 
 def test_attitude_angle_is_delta_of_4_12(short_run: SimulatedRun[mtos.MtosTruth]) -> None:
     ecc, _ = _processed(short_run)
-    delta = stands.mtos_attitude_angles(e_x=ecc.e_x[:6], e_y=ecc.e_y[:6]).delta
+    delta = bearing_readings.mtos_attitude_angles(e_x=ecc.e_x[:6], e_y=ecc.e_y[:6]).delta
     truth = [s.angle for s in short_run.truth.steps[:6]]
     assert np.degrees(delta) == pytest.approx(np.degrees(truth), abs=2.0)
 

@@ -7,7 +7,7 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from rigserver.core import bearing, stands
+from rigserver.core import bearing, bearing_readings
 from rigsim.batches import SimulatedRun
 from rigsim.bearing_model import Geometry, film
 from rigsim.errors import SettingsError
@@ -25,11 +25,11 @@ def run(request: pytest.FixtureRequest) -> SimulatedRun[sb.SlideBearingTruth]:
     return sb.simulate(replace(SHORT, model=request.param), seed=11)
 
 
-def _eccentricity(run: SimulatedRun[sb.SlideBearingTruth]) -> stands.Eccentricity:
+def _eccentricity(run: SimulatedRun[sb.SlideBearingTruth]) -> bearing_readings.Eccentricity:
     c = SHORT.configuration
     rows, m = run.columns("rows"), run.columns("measurements")
     d = c.displacement_per_division
-    return stands.slide_bearing_eccentricity(
+    return bearing_readings.slide_bearing_eccentricity(
         x=rows["x"] * d,
         y=rows["y"] * d,
         x_set=m["x_zero"][0] * d,
@@ -54,12 +54,14 @@ def test_3_16_gives_back_chi_at_every_limb_position(
 ) -> None:
     ecc = _eccentricity(run)
     assert np.abs(ecc.chi - run.truth.chi).max() < 0.02
-    assert stands.mean_eccentricity_ratio(chi=ecc.chi) == pytest.approx(run.truth.chi, abs=0.01)
+    assert bearing_readings.mean_eccentricity_ratio(chi=ecc.chi) == pytest.approx(
+        run.truth.chi, abs=0.01
+    )
 
 
 def test_3_20_and_the_gauges(run: SimulatedRun[sb.SlideBearingTruth]) -> None:
     rows, m = run.columns("rows"), run.columns("measurements")
-    phi = stands.model_angle_deg(
+    phi = bearing_readings.model_angle_deg(
         limb_deg=rows["limb_angle"], load_zone_end_deg=m["load_zone_end"][0]
     )
     # φ_k is read to a degree (noise 0.5°)
@@ -74,7 +76,7 @@ def test_mean_temperature_gives_the_films_viscosity(
 ) -> None:
     rows = run.columns("rows")
     c = SHORT.configuration
-    oil = stands.mean_oil_viscosity(
+    oil = bearing_readings.mean_oil_viscosity(
         t_in=rows["t1"], t_out=rows["t2"], A=c.viscosity.A, alpha=c.viscosity.alpha, mu0=c.mu0
     )
     assert oil.temperature == pytest.approx(run.truth.temperature, abs=0.05)

@@ -8,7 +8,7 @@ import numpy as np
 from markupsafe import Markup
 from numpy.typing import NDArray
 
-from rigserver.core import roughness, stands
+from rigserver.core import bearing_readings, roughness
 from rigserver.reports import blocks
 from rigserver.reports.context import Context, LabReport
 from rigserver.reports.document import Block, Figure, Section, Table, Text
@@ -322,7 +322,9 @@ def _bearing_svg(t: Messages, v: ProfilometerResults, fits: list[BearingFitResul
 
 
 def _percent(reference: float, other: float) -> str:
-    return fmt(float(stands.relative_error_percent(reference=reference, other=other).percent))
+    return fmt(
+        float(bearing_readings.relative_error_percent(reference=reference, other=other).percent)
+    )
 
 
 def _conclusions(t: Messages, v: ProfilometerResults) -> list[Text]:

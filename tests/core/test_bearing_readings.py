@@ -8,8 +8,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from rigserver.core.bearing import short_bearing_pressure
-from rigserver.core.errors import ModelInputError, ModelUndefinedError
-from rigserver.core.stands import (
+from rigserver.core.bearing_readings import (
     bearing_characteristic,
     mean_eccentricity_ratio,
     mean_oil_viscosity,
@@ -24,6 +23,7 @@ from rigserver.core.stands import (
     temperature_rise,
     viscosity,
 )
+from rigserver.core.errors import ModelInputError, ModelUndefinedError
 
 # Slide-bearing stand constants (manual, lab 3): h0, R2, μ0 = μ20, ω0, A, α of (3.21).
 H0 = 175e-6

@@ -35,10 +35,10 @@ from rigserver.api.routes import (
     reports,
     results,
     runs,
+    stand_kinds,
 )
 from rigserver.api.routes import notes as notes_routes
 from rigserver.api.routes import series as series_routes
-from rigserver.api.routes import stands as stand_routes
 from rigserver.api.routes.pages import LOGIN_BODY_BYTES
 from rigserver.api.settings import Settings
 from rigserver.storage.base import RunStore
@@ -53,7 +53,7 @@ API_PREFIX = "/api/v1"
 API_ROUTERS = (
     readings.router,
     corrections.router,
-    stand_routes.router,
+    stand_kinds.router,
     runs.router,
     notes_routes.router,
     results.router,

@@ -38,12 +38,14 @@ from rigserver.api.routes import (
 )
 from rigserver.api.routes import notes as notes_routes
 from rigserver.api.routes import series as series_routes
+from rigserver.api.routes import sketches as sketches_routes
 from rigserver.api.routes import stands as stand_routes
 from rigserver.api.routes.pages import LOGIN_BODY_BYTES
 from rigserver.api.settings import Settings
 from rigserver.storage.base import RunStore
 from rigserver.storage.notes import NotesStore, SqliteNotes
 from rigserver.storage.series import SeriesStore, SqliteSeries
+from rigserver.storage.sketches import SketchStore, SqliteSketches
 from schemas.readings import ReadingBatch
 from schemas.stands import Stand, StandKind
 
@@ -56,6 +58,7 @@ API_ROUTERS = (
     stand_routes.router,
     runs.router,
     notes_routes.router,
+    sketches_routes.router,
     results.router,
     models.router,
     reports.router,
@@ -116,13 +119,15 @@ def create_app(
     stands: dict[StandKind, Stand],
     series: SeriesStore | None = None,
     notes: NotesStore | None = None,
+    sketches: SketchStore | None = None,
 ) -> FastAPI:
     """Build the service. Nothing is built at import time; the stores are closed on shutdown.
 
-    Without a series store (a notes store) the series (the student's words) live in memory
-    (tests, and stores without a disk)."""
+    Without a series store (a notes store, a sketch store) the series (the student's words,
+    their sketches) live in memory (tests, and stores without a disk)."""
     series_store = series if series is not None else SqliteSeries(":memory:")
     notes_store = notes if notes is not None else SqliteNotes(":memory:")
+    sketch_store = sketches if sketches is not None else SqliteSketches(":memory:")
 
     @asynccontextmanager
     async def lifespan(app: FastAPI) -> AsyncIterator[None]:
@@ -139,6 +144,7 @@ def create_app(
         store.close()
         series_store.close()
         notes_store.close()
+        sketch_store.close()
 
     app = FastAPI(
         title="rig",
@@ -163,6 +169,7 @@ def create_app(
         keyring=Keyring(keys),
         series=series_store,
         notes=notes_store,
+        sketches=sketch_store,
     )
     problems.install(app)
     for router in API_ROUTERS:

@@ -5,7 +5,9 @@ bomb), every version kept and readable."""
 
 from __future__ import annotations
 
+import base64
 import io
+import re
 import struct
 import zlib
 from collections.abc import Iterator
@@ -159,3 +161,19 @@ def test_only_the_labs_sketch_items_take_one(client: TestClient) -> None:
     assert refused.status_code == 422
     assert "sketch items are 4, 5" in refused.json()["detail"]
     assert put(client, run_id, image("PNG"), WRITER, item=5).status_code == 201
+
+
+def test_the_report_prints_the_latest_upload_and_renders_again_after_one(
+    client: TestClient,
+) -> None:
+    run_id = open_run(client)
+    url = f"{API}/runs/{run_id}/report.html?lang=en"
+    before = client.get(url, headers=auth(READER))
+    assert before.status_code == 200 and 'class="sketch"' not in before.text
+    first, second = image("PNG"), image("PNG", (50, 20), "green")
+    assert put(client, run_id, first, WRITER).status_code == 201
+    assert put(client, run_id, second, WRITER).status_code == 201
+    after = client.get(url, headers={**auth(READER), "If-None-Match": before.headers["etag"]})
+    assert after.status_code == 200  # a new version of the report, not 304
+    shown = re.findall(r'<img class="sketch" src="data:image/png;base64,([^"]+)"', after.text)
+    assert [base64.b64decode(s) for s in shown] == [second]  # the latest version only

@@ -14,15 +14,14 @@ The latest version of an item is its sketch; a replaced one stays, readable by i
 from __future__ import annotations
 
 import hashlib
-import sqlite3
 import threading
 from collections.abc import Sequence
 from datetime import datetime
 from pathlib import Path
 from typing import Any, Protocol
 
+from rigserver.storage._tables import sqlite_database
 from rigserver.storage._time import as_utc, iso, now
-from rigserver.storage.errors import StorageUnavailable
 from schemas.sketches import Sketch
 
 _SCHEMA = """
@@ -91,12 +90,7 @@ class SqliteSketches:
     """The sketches in one SQLite database (``path``), or in memory (``":memory:"``)."""
 
     def __init__(self, path: Path | str) -> None:
-        try:
-            self._db = sqlite3.connect(str(path), isolation_level=None, check_same_thread=False)
-            self._db.execute("PRAGMA journal_mode=WAL")
-            self._db.executescript(_SCHEMA)
-        except sqlite3.Error as exc:
-            raise StorageUnavailable(f"cannot open the sketches database: {exc}") from exc
+        self._db = sqlite_database(path, _SCHEMA, "sketches")
         self._lock = threading.Lock()
 
     def put(

@@ -6,9 +6,9 @@ from __future__ import annotations
 import hashlib
 
 import psycopg
-import psycopg_pool
 
 from rigserver.storage._failures import failures_as
+from rigserver.storage._tables import postgres_tables
 from rigserver.storage._time import iso, now
 from rigserver.storage.postgres import PG_FAILURES
 from rigserver.storage.sketches import COLUMNS, latest_query, sketch_of
@@ -37,12 +37,7 @@ class PostgresSketches:
     """The :class:`~rigserver.storage.sketches.SketchStore` on PostgreSQL (``url``)."""
 
     def __init__(self, url: str, *, pool_size: int = 2) -> None:
-        with failures_as("opening the sketches table", PG_FAILURES):
-            self._pool = psycopg_pool.ConnectionPool(
-                url, min_size=1, max_size=pool_size, open=True, kwargs={"autocommit": True}
-            )
-            with self._pool.connection() as conn:
-                conn.execute(_SCHEMA)
+        self._pool = postgres_tables(url, _SCHEMA, "sketches", pool_size)
 
     def put(
         self,

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import base64
 import io
+import json
 import re
 import struct
 import zlib
@@ -24,7 +25,7 @@ from rigserver.api.settings import Settings
 from rigserver.storage import MemoryStore
 from schemas.sketches import SKETCH_MAX_BYTES, SKETCH_MAX_PIXELS, SKETCH_MAX_SIDE
 from schemas.stands import configure_stands
-from tests.api.conftest import KEYS, MTOS_ONLY, READER, WRITER, auth
+from tests.api.conftest import KEYS, MTOS_ONLY, READER, WRITER, Server, auth
 from tests.api.test_service import open_run
 
 API = "/api/v1"
@@ -177,3 +178,25 @@ def test_the_report_prints_the_latest_upload_and_renders_again_after_one(
     assert after.status_code == 200  # a new version of the report, not 304
     shown = re.findall(r'<img class="sketch" src="data:image/png;base64,([^"]+)"', after.text)
     assert [base64.b64decode(s) for s in shown] == [second]  # the latest version only
+
+
+def test_the_sketches_outlive_a_restart_of_the_embedded_server(tmp_path: Path) -> None:
+    keys_file = tmp_path / "keys.json"
+    keys_file.write_text(json.dumps(KEYS))
+    server = Server(tmp_path / "data", keys_file)
+    server.start()
+    png = image("PNG")
+    try:
+        with httpx.Client(base_url=server.url, headers=auth(WRITER), timeout=30) as http:
+            made = http.post(f"{API}/runs", json={"stand": "smts2", "operator": "Ivanova"})
+            run_id = made.json()["id"]
+            url = f"{API}/runs/{run_id}/sketches/{ITEM}"
+            uploaded = http.put(url, content=png, headers={"Content-Type": "image/png"})
+            assert uploaded.status_code == 201, uploaded.text
+        server.stop()
+        server.start()
+        with httpx.Client(base_url=server.url, headers=auth(READER), timeout=30) as http:
+            assert http.get(url).content == png
+    finally:
+        server.stop()
+    assert (tmp_path / "data" / "sketches.sqlite").exists()

@@ -134,10 +134,12 @@ class ReportFiles:
         lang: Lang,
         fmt: str,
         notes: Iterable[StudentNotes] = (),
+        sketches: Iterable[Sketch] = (),
     ) -> ReportFile:
-        """A series report; a lab work's prints its runs' ``notes`` too (their versions
-        name it)."""
+        """A series report; a lab work's prints its runs' ``notes`` and ``sketches`` too
+        (their versions name it)."""
         version = series_version(series, runs) + "".join(map(notes_version, notes))
+        version += "".join(sketch.model_dump_json() for sketch in sketches)
         return self._file("series", series.id, version, lang, fmt)
 
     def _file(self, kind: str, ident: str, version: str, lang: Lang, fmt: str) -> ReportFile:

@@ -23,10 +23,14 @@ from rigserver.api.app import create_app
 from rigserver.api.auth import ApiKey
 from rigserver.api.settings import Settings
 from rigserver.storage import MemoryStore
+from rigsim.stands import simulate
+from rigsim.stands.smts2 import Smts2Settings
 from schemas.sketches import SKETCH_MAX_BYTES, SKETCH_MAX_PIXELS, SKETCH_MAX_SIDE
-from schemas.stands import configure_stands
+from schemas.stands import StandKind, configure_stands
 from tests.api.conftest import KEYS, MTOS_ONLY, READER, WRITER, Server, auth
 from tests.api.test_service import open_run
+from tests.reports.simulated import post
+from tests.reports.test_lab_work import MODES
 
 API = "/api/v1"
 #: The SMTs-2 lab's sketch items: 4 the specimens, 5 the loading scheme (its contents).
@@ -200,3 +204,30 @@ def test_the_sketches_outlive_a_restart_of_the_embedded_server(tmp_path: Path) -
     finally:
         server.stop()
     assert (tmp_path / "data" / "sketches.sqlite").exists()
+
+
+def test_a_lab_works_report_prints_the_sketch_of_its_part_one_run(client: TestClient) -> None:
+    ids = {
+        mode: post(client, simulate(StandKind.SMTS2, Smts2Settings.for_mode(mode), 5), WRITER)
+        for mode in MODES
+    }
+    made = client.post(
+        f"{API}/series", json={"name": "Lab 2, MT-31", "purpose": "lab"}, headers=auth(WRITER)
+    )
+    series = made.json()["id"]
+    for mode, run_id in ids.items():
+        added = client.post(
+            f"{API}/series/{series}/runs",
+            json={"run_id": run_id, "level": mode},
+            headers=auth(WRITER),
+        )
+        assert added.status_code == 201, added.text
+    url = f"{API}/series/{series}/report.html?lang=en"
+    before = client.get(url, headers=auth(READER))
+    assert before.status_code == 200 and 'class="sketch"' not in before.text
+    png = image("PNG")
+    assert put(client, ids["wear"], png, WRITER).status_code == 201
+    after = client.get(url, headers={**auth(READER), "If-None-Match": before.headers["etag"]})
+    assert after.status_code == 200  # a new version of the report, not 304
+    shown = re.findall(r'<img class="sketch" src="data:image/png;base64,([^"]+)"', after.text)
+    assert [base64.b64decode(s) for s in shown] == [png]

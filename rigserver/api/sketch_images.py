@@ -6,6 +6,7 @@ bomb), then decoded whole (a damaged image is refused, not stored)."""
 from __future__ import annotations
 
 import io
+import threading
 import warnings
 from dataclasses import dataclass
 
@@ -16,6 +17,9 @@ from schemas.sketches import SKETCH_MAX_BYTES, SKETCH_MAX_PIXELS, SKETCH_MAX_SID
 
 #: The first bytes of each image type taken, and Pillow's name of its format.
 MAGIC = {"image/png": (b"\x89PNG\r\n\x1a\n", "PNG"), "image/jpeg": (b"\xff\xd8\xff", "JPEG")}
+#: Sketches decoded at once (the others wait): a decode holds up to 4 bytes a pixel, 160 MB
+#: at the limit, so uploads at once cannot take the service's memory from the others.
+DECODING = threading.BoundedSemaphore(2)
 
 
 @dataclass(frozen=True, slots=True)
@@ -81,7 +85,8 @@ def _decoded_size(data: bytes, fmt: str) -> tuple[int, int]:
             with Image.open(io.BytesIO(data), formats=[fmt]) as image:
                 width, height = image.size
                 _within_limits(width, height)
-                image.load()
+                with DECODING:
+                    image.load()
     except (Image.DecompressionBombError, Image.DecompressionBombWarning) as exc:
         # Pillow's own guard, met in the header before ours: far over the limits
         raise too_many_pixels(str(exc).split(",")[0]) from None

@@ -10,18 +10,22 @@ import io
 import json
 import re
 import struct
+import threading
+import time
 import zlib
 from collections.abc import Iterator
+from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 import httpx
 import pytest
 from fastapi.testclient import TestClient
-from PIL import Image
+from PIL import Image, PngImagePlugin
 
 from rigserver.api.app import create_app
 from rigserver.api.auth import ApiKey
 from rigserver.api.settings import Settings
+from rigserver.api.sketch_images import checked
 from rigserver.storage import MemoryStore
 from rigsim.stands import simulate
 from rigsim.stands.smts2 import Smts2Settings
@@ -231,3 +235,29 @@ def test_a_lab_works_report_prints_the_sketch_of_its_part_one_run(client: TestCl
     assert after.status_code == 200  # a new version of the report, not 304
     shown = re.findall(r'<img class="sketch" src="data:image/png;base64,([^"]+)"', after.text)
     assert [base64.b64decode(s) for s in shown] == [png]
+
+
+def test_no_more_than_two_sketches_are_decoded_at_once(monkeypatch: pytest.MonkeyPatch) -> None:
+    """A decode holds the image's pixels: uploads at once wait their turn rather than take
+    the service's memory (rigserver.api.sketch_images.DECODING)."""
+    decoding, most, lock = 0, 0, threading.Lock()
+    load = PngImagePlugin.PngImageFile.load
+
+    def counted(self: PngImagePlugin.PngImageFile) -> object:
+        nonlocal decoding, most
+        with lock:
+            decoding += 1
+            most = max(most, decoding)
+        time.sleep(0.05)
+        try:
+            return load(self)
+        finally:
+            with lock:
+                decoding -= 1
+
+    monkeypatch.setattr(PngImagePlugin.PngImageFile, "load", counted)
+    png = image("PNG")
+    with ThreadPoolExecutor(6) as pool:
+        done = list(pool.map(lambda _: checked(png, "image/png"), range(6)))
+    assert [d.size for d in done] == [(40, 30)] * 6
+    assert most == 2

@@ -43,7 +43,7 @@ def targets(target: ReportFile) -> dict[str, ReportFile]:
 
 
 @dataclass(frozen=True, slots=True)
-class Theirs:
+class StudentsPart:
     """What the students put on a run, as its report prints it: their words, and the
     versions of their sketches (the latest of each item)."""
 
@@ -51,10 +51,12 @@ class Theirs:
     sketches: tuple[Sketch, ...] = ()
 
 
-def run_target(services: Services, run: Run, lang: Lang, fmt: str) -> tuple[ReportFile, Theirs]:
+def run_target(
+    services: Services, run: Run, lang: Lang, fmt: str
+) -> tuple[ReportFile, StudentsPart]:
     """Where the run's report in ``lang`` and ``fmt`` is kept, named by the run and the
     students' words and sketches on it as they are now, and those (for its job)."""
-    theirs = Theirs(services.notes.get(run.id), tuple(services.sketches.latest(run.id)))
+    theirs = StudentsPart(services.notes.get(run.id), tuple(services.sketches.latest(run.id)))
     target = services.report_files.run_report(run, lang, fmt, theirs.notes, theirs.sketches)
     return target, theirs
 
@@ -75,7 +77,7 @@ def run_job(
     run: Run,
     values: Mapping[str, object],
     target: ReportFile,
-    theirs: Theirs,
+    theirs: StudentsPart,
 ) -> tuple[RunReportJob, bool]:
     """The job of ``target``, the report of ``run`` with what the students put on it, and
     whether it renders in this process (an open run, whose readings only the store has)."""

@@ -15,7 +15,7 @@ from starlette.background import BackgroundTask
 from rigserver.api.deps import ReadAccess, Services, ServicesDep
 from rigserver.api.problems import ApiProblem
 from rigserver.api.report_answers import (
-    Theirs,
+    StudentsPart,
     caller_key,
     file_answer,
     kept,
@@ -46,13 +46,13 @@ def _language(request: Request, lang: Lang | None) -> Lang:
 
 def _prepare(
     services: Services, run_id: str, lang: Lang, fmt: str
-) -> tuple[Run, ReportFile, Theirs]:
+) -> tuple[Run, ReportFile, StudentsPart]:
     run = load_run(services, run_id)
     return run, *run_target(services, run, lang, fmt)
 
 
 def _job(
-    services: Services, run: Run, target: ReportFile, theirs: Theirs
+    services: Services, run: Run, target: ReportFile, theirs: StudentsPart
 ) -> tuple[RunReportJob, bool]:
     return run_job(services, run, results_payload(services, run)["values"], target, theirs)
 

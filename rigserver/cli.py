@@ -33,8 +33,10 @@ from rigserver.storage import HDF5Store, PostgresStore, RunStore, StorageError
 from rigserver.storage.cluster.hsds_settings import HsdsSettings
 from rigserver.storage.cluster.notes_postgres import PostgresNotes
 from rigserver.storage.cluster.series_postgres import PostgresSeries
+from rigserver.storage.cluster.sketches_postgres import PostgresSketches
 from rigserver.storage.notes import NotesStore, SqliteNotes
 from rigserver.storage.series import SeriesStore, SqliteSeries
+from rigserver.storage.sketches import SketchStore, SqliteSketches
 from schemas.stands import configure_stands
 from schemas.strict_json import JsonRefused, strict_loads
 
@@ -121,6 +123,7 @@ def build_app(settings: Settings) -> FastAPI:
     store: RunStore
     series: SeriesStore
     notes: NotesStore
+    sketches: SketchStore
     if settings.hsds_endpoint and not settings.database_url:
         raise ValueError("hsds_endpoint needs database_url: HSDS holds a cluster's arrays")
     if settings.database_url:
@@ -132,11 +135,13 @@ def build_app(settings: Settings) -> FastAPI:
         )
         series = PostgresSeries(settings.database_url)
         notes = PostgresNotes(settings.database_url)
+        sketches = PostgresSketches(settings.database_url)
     else:
         store = HDF5Store(settings.data_dir, synchronous=settings.synchronous)  # type: ignore[arg-type]
         series = SqliteSeries(settings.data_dir / "series.sqlite")
         notes = SqliteNotes(settings.data_dir / "notes.sqlite")
-    return create_app(settings, store, keys, configure_stands(overrides), series, notes)
+        sketches = SqliteSketches(settings.data_dir / "sketches.sqlite")
+    return create_app(settings, store, keys, configure_stands(overrides), series, notes, sketches)
 
 
 def _hsds(settings: Settings) -> HsdsSettings | None:

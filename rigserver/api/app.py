@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import asyncio
 import contextlib
+import re
 from collections.abc import AsyncIterator
 from contextlib import asynccontextmanager
 from functools import partial
@@ -11,6 +12,7 @@ from functools import partial
 from fastapi import FastAPI
 from fastapi.telemetry import TelemetryConfig
 from starlette.middleware.cors import CORSMiddleware
+from starlette.requests import cookie_parser
 from starlette.types import Scope
 
 from rigserver.api import problems
@@ -39,12 +41,16 @@ from rigserver.api.routes import (
 )
 from rigserver.api.routes import notes as notes_routes
 from rigserver.api.routes import series as series_routes
+from rigserver.api.routes import sketches as sketches_routes
 from rigserver.api.routes.pages import LOGIN_BODY_BYTES
+from rigserver.api.sessions import COOKIE
 from rigserver.api.settings import Settings
 from rigserver.storage.base import RunStore
 from rigserver.storage.notes import NotesStore, SqliteNotes
 from rigserver.storage.series import SeriesStore, SqliteSeries
+from rigserver.storage.sketches import SketchStore, SqliteSketches
 from schemas.readings import ReadingBatch
+from schemas.sketches import SKETCH_MAX_BYTES
 from schemas.stands import Stand, StandKind
 
 API_PREFIX = "/api/v1"
@@ -56,6 +62,7 @@ API_ROUTERS = (
     stand_kinds.router,
     runs.router,
     notes_routes.router,
+    sketches_routes.router,
     results.router,
     models.router,
     reports.router,
@@ -79,13 +86,17 @@ FORM_BODY_BYTES = {"/login": LOGIN_BODY_BYTES, "/logout": LOGIN_BODY_BYTES}
 #: The largest body of any other request without a key (a calculator's input, when reads
 #: are public), bytes.
 ANONYMOUS_BODY_BYTES = 64 << 10
+#: The run page's form of a sketch (rigserver.api.routes.pages.run_sketch), and the most it
+#: sends from a live session: the largest sketch and its form's parts, bytes.
+SKETCH_FORM = re.compile(r"/runs/[^/]+/sketches/\d+")
+SKETCH_FORM_BYTES = SKETCH_MAX_BYTES + (64 << 10)
 
 
 def body_limit(services: Services, scope: Scope) -> int:
-    """The largest body the request may send: its route's own (the login form), else
-    without a key :data:`ANONYMOUS_BODY_BYTES` (a key this server does not know is none:
-    :mod:`rigserver.api.gate` answers it 401), with one ``max_body_bytes`` (an archive's
-    import: ``import_max_bytes``)."""
+    """The largest body the request may send: its route's own (the login form, a live
+    session's sketch form), else without a key :data:`ANONYMOUS_BODY_BYTES` (a key this
+    server does not know is none: :mod:`rigserver.api.gate` answers it 401), with one
+    ``max_body_bytes`` (an archive's import: ``import_max_bytes``)."""
     path = scope["path"]
     own = FORM_BODY_BYTES.get(path)
     if own is not None:
@@ -95,10 +106,19 @@ def body_limit(services: Services, scope: Scope) -> int:
     except ApiProblem:
         caller = None
     if caller is None:
-        return ANONYMOUS_BODY_BYTES
+        return _session_form(services, scope) or ANONYMOUS_BODY_BYTES
     if path == IMPORT_PATH:
         return services.settings.import_max_bytes
     return services.settings.max_body_bytes
+
+
+def _session_form(services: Services, scope: Scope) -> int | None:
+    """The body of a sketch's form posted by a live session (None for any other request)."""
+    if scope["method"] != "POST" or not SKETCH_FORM.fullmatch(scope["path"]):
+        return None
+    cookie = next((v for k, v in scope["headers"] if k == b"cookie"), b"")
+    token = cookie_parser(cookie.decode("latin-1")).get(COOKIE)
+    return SKETCH_FORM_BYTES if token and services.sessions.key(token) else None
 
 
 async def _warm_up_when_quiet(services: Services) -> None:
@@ -116,13 +136,15 @@ def create_app(
     stands: dict[StandKind, Stand],
     series: SeriesStore | None = None,
     notes: NotesStore | None = None,
+    sketches: SketchStore | None = None,
 ) -> FastAPI:
     """Build the service. Nothing is built at import time; the stores are closed on shutdown.
 
-    Without a series store (a notes store) the series (the student's words) live in memory
-    (tests, and stores without a disk)."""
+    Without a series store (a notes store, a sketch store) the series (the student's words,
+    their sketches) live in memory (tests, and stores without a disk)."""
     series_store = series if series is not None else SqliteSeries(":memory:")
     notes_store = notes if notes is not None else SqliteNotes(":memory:")
+    sketch_store = sketches if sketches is not None else SqliteSketches(":memory:")
 
     @asynccontextmanager
     async def lifespan(app: FastAPI) -> AsyncIterator[None]:
@@ -139,6 +161,7 @@ def create_app(
         store.close()
         series_store.close()
         notes_store.close()
+        sketch_store.close()
 
     app = FastAPI(
         title="rig",
@@ -163,6 +186,7 @@ def create_app(
         keyring=Keyring(keys),
         series=series_store,
         notes=notes_store,
+        sketches=sketch_store,
     )
     problems.install(app)
     for router in API_ROUTERS:

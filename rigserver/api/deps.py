@@ -29,6 +29,7 @@ from rigserver.api.settings import Settings
 from rigserver.storage.base import RunStore
 from rigserver.storage.notes import NotesStore, SqliteNotes
 from rigserver.storage.series import SeriesStore
+from rigserver.storage.sketches import SketchStore, SqliteSketches
 from schemas.runs import Run
 from schemas.stands import Stand, StandKind
 
@@ -47,6 +48,8 @@ class Services:
     series: SeriesStore
     #: the student's own words on runs (rigserver.storage.notes)
     notes: NotesStore = field(default_factory=lambda: SqliteNotes(":memory:"))
+    #: the students' sketches on runs (rigserver.storage.sketches)
+    sketches: SketchStore = field(default_factory=lambda: SqliteSketches(":memory:"))
     sessions: Sessions = field(default_factory=Sessions)
     run_locks: defaultdict[str, threading.Lock] = field(
         default_factory=lambda: defaultdict(threading.Lock)

@@ -4,8 +4,10 @@ their ``ETag`` (``If-None-Match`` answered 304)."""
 from __future__ import annotations
 
 import asyncio
+import base64
 from collections.abc import Callable, Mapping
 from concurrent.futures import Future
+from dataclasses import dataclass
 from functools import partial
 
 from fastapi import Request, Response
@@ -19,6 +21,7 @@ from rigserver.api.run_results import StoredReadings
 from rigserver.reports.i18n import LANGS, Lang
 from rigserver.storage.errors import RunDamaged
 from schemas.runs import Run, RunState
+from schemas.sketches import Sketch
 from schemas.student_notes import StudentNotes
 
 
@@ -39,13 +42,34 @@ def targets(target: ReportFile) -> dict[str, ReportFile]:
     }
 
 
+@dataclass(frozen=True, slots=True)
+class StudentsPart:
+    """What the students put on a run, as its report prints it: their words, and the
+    versions of their sketches (the latest of each item)."""
+
+    notes: StudentNotes
+    sketches: tuple[Sketch, ...] = ()
+
+
 def run_target(
     services: Services, run: Run, lang: Lang, fmt: str
-) -> tuple[ReportFile, StudentNotes]:
+) -> tuple[ReportFile, StudentsPart]:
     """Where the run's report in ``lang`` and ``fmt`` is kept, named by the run and the
-    student's words on it as they are now, and the words (for its job)."""
-    notes = services.notes.get(run.id)
-    return services.report_files.run_report(run, lang, fmt, notes), notes
+    students' words and sketches on it as they are now, and those (for its job)."""
+    theirs = StudentsPart(services.notes.get(run.id), tuple(services.sketches.latest(run.id)))
+    target = services.report_files.run_report(run, lang, fmt, theirs.notes, theirs.sketches)
+    return target, theirs
+
+
+def sketch_images(services: Services, run: Run, sketches: tuple[Sketch, ...]) -> dict[int, str]:
+    """The images of these versions of the run's sketches, item -> a ``data:`` URI."""
+    images: dict[int, str] = {}
+    for sketch in sketches:
+        found = services.sketches.image(run.id, sketch.item, sketch.version)
+        if found is not None:
+            encoded = base64.b64encode(found[1]).decode("ascii")
+            images[sketch.item] = f"data:{sketch.media_type};base64,{encoded}"
+    return images
 
 
 def run_job(
@@ -53,13 +77,14 @@ def run_job(
     run: Run,
     values: Mapping[str, object],
     target: ReportFile,
-    notes: StudentNotes,
+    theirs: StudentsPart,
 ) -> tuple[RunReportJob, bool]:
-    """The job of ``target``, the report of ``run`` with the student's ``notes``, and
+    """The job of ``target``, the report of ``run`` with what the students put on it, and
     whether it renders in this process (an open run, whose readings only the store has)."""
     lang = target.lang
     files = {fmt: t.path for fmt, t in targets(target).items()}
     stand = services.stand_of(run)
+    notes, sketches = theirs.notes, sketch_images(services, run, theirs.sketches)
     if run.state is RunState.OPEN:
         return (
             RunReportJob(
@@ -70,6 +95,7 @@ def run_job(
                 files,
                 readings=StoredReadings(services, run),
                 notes=notes,
+                sketches=sketches,
             ),
             True,
         )
@@ -81,6 +107,7 @@ def run_job(
         files,
         run_file=services.store.run_file(run.id),
         notes=notes,
+        sketches=sketches,
     ), False
 
 
@@ -125,10 +152,10 @@ def render_finished(services: Services, run_id: str, values: Mapping[str, object
     PDF), where the pool has room; the first download renders what was not."""
     run = services.store.get_run(run_id)
     for lang in LANGS:
-        target, notes = run_target(services, run, lang, "pdf")
+        target, theirs = run_target(services, run, lang, "pdf")
         if target.path.exists():
             continue
-        job, in_process = run_job(services, run, values, target, notes)
+        job, in_process = run_job(services, run, values, target, theirs)
         future = services.reports.render_later(target.render, job, in_process=in_process)
         if future is not None:
             future.add_done_callback(partial(_prune_after, target))

@@ -28,6 +28,7 @@ import schemas
 from rigserver.reports.i18n import Lang
 from schemas.runs import Run
 from schemas.series import Series
+from schemas.sketches import Sketch
 from schemas.student_notes import StudentNotes
 
 #: Formats and their media types.
@@ -113,10 +114,17 @@ class ReportFiles:
         self._salt = salt
 
     def run_report(
-        self, run: Run, lang: Lang, fmt: str, notes: StudentNotes | None = None
+        self,
+        run: Run,
+        lang: Lang,
+        fmt: str,
+        notes: StudentNotes | None = None,
+        sketches: Iterable[Sketch] = (),
     ) -> ReportFile:
-        """The run's report; with the student's ``notes`` on it (None: never written)."""
+        """The run's report; with the student's ``notes`` on it (None: never written) and
+        their ``sketches`` (the version of each item's it prints)."""
         version = run_version(run) + notes_version(notes or StudentNotes())
+        version += "".join(sketch.model_dump_json() for sketch in sketches)
         return self._file("run", run.id, version, lang, fmt)
 
     def series_report(
@@ -126,10 +134,12 @@ class ReportFiles:
         lang: Lang,
         fmt: str,
         notes: Iterable[StudentNotes] = (),
+        sketches: Iterable[Sketch] = (),
     ) -> ReportFile:
-        """A series report; a lab work's prints its runs' ``notes`` too (their versions
-        name it)."""
+        """A series report; a lab work's prints its runs' ``notes`` and ``sketches`` too
+        (their versions name it)."""
         version = series_version(series, runs) + "".join(map(notes_version, notes))
+        version += "".join(sketch.model_dump_json() for sketch in sketches)
         return self._file("series", series.id, version, lang, fmt)
 
     def _file(self, kind: str, ident: str, version: str, lang: Lang, fmt: str) -> ReportFile:

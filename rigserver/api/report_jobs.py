@@ -145,6 +145,8 @@ class RunReportJob:
     readings: Readings | None = field(default=None, compare=False)
     #: the student's own words on the run (rigserver.storage.notes)
     notes: StudentNotes | None = None
+    #: the students' sketches on the run: item -> the image as a data: URI
+    sketches: Mapping[int, str] = field(default_factory=dict)
 
     def render(self) -> None:
         with ExitStack() as stack:
@@ -160,6 +162,7 @@ class RunReportJob:
                 lang=self.lang,
                 made=datetime.now(UTC),
                 notes=self.notes,
+                sketches=self.sketches,
                 corrections=readings.corrections if isinstance(readings, CorrectedReadings) else (),
             )
             html = render_report(report)

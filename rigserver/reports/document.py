@@ -65,14 +65,16 @@ class Items:
 
 @dataclass(frozen=True, slots=True)
 class Space:
-    """The students' own part of a report: what they wrote (markup of paragraphs), else
-    room for it on paper: ruled lines to write on, or a frame to draw in (a sketch, a
-    scheme), ``lines`` lines high."""
+    """The students' own part of a report: what they wrote (markup of paragraphs) or the
+    sketch they uploaded (``image``, a ``data:`` URI, fitted within the page), else room for
+    it on paper: ruled lines to write on, or a frame to draw in (a sketch, a scheme),
+    ``lines`` lines high."""
 
     kind: ClassVar[str] = "space"
     text: Text = ""
     frame: bool = False
     lines: int = 6
+    image: str = ""
 
 
 Block = Table | Figure | Paragraph | Items | Space

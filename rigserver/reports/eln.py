@@ -11,6 +11,7 @@ The layout (``docs/eln.md`` maps rig's entities to the crate)::
           results.csv, results_<table>.csv, <group>.csv   the tidy CSVs (reports.export)
           report-en.pdf|html, report-ru.pdf|html          the report in both languages
           references/<run id>.h5     the profilometer runs the run's specimen names
+          sketches/item-<n>-v<k>.png|jpg   the students' sketches, every version
 
 A series' archive holds one such folder per run and the series' own folder (``series.json``
 with the statistics, ``runs.csv``, its report); each run's Dataset is ``isPartOf`` the
@@ -27,6 +28,7 @@ from __future__ import annotations
 
 import hashlib
 import json
+import re
 import zipfile
 from collections.abc import Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
@@ -60,6 +62,18 @@ SOFTWARE = "#rig"
 #: A result's standard and expanded uncertainty live beside it under these suffixes.
 UNCERTAINTY, EXPANDED = "_uncertainty", "_expanded"
 REFERENCES = "references"
+#: The students' sketches, every version: ``sketches/item-<n>-v<k>.png`` (or ``.jpg``).
+SKETCHES = "sketches"
+SKETCH_NAME = re.compile(r"item-([1-9][0-9]?)-v([1-9][0-9]{0,5})\.(png|jpg)")
+#: The media type of a sketch, by suffix.
+SKETCH_SUFFIXES = {"png": "image/png", "jpg": "image/jpeg"}
+
+
+def sketch_member(item: int, version: int, media_type: str) -> str:
+    """The name of a sketch's file in a run's folder."""
+    suffix = next(s for s, t in SKETCH_SUFFIXES.items() if t == media_type)
+    return f"{SKETCHES}/item-{item}-v{version}.{suffix}"
+
 
 JSON = "application/json"
 CSV = "text/csv"
@@ -233,6 +247,8 @@ class RunPart:
     run_file: Path
     reports: Mapping[str, bytes] = field(default_factory=dict)
     references: Mapping[str, tuple[Run, Path]] = field(default_factory=dict)
+    #: the students' sketches, every version: :func:`sketch_member` -> the image
+    sketches: Mapping[str, bytes] = field(default_factory=dict)
 
 
 @dataclass(frozen=True)
@@ -433,6 +449,18 @@ def add_run(crate: Crate, part: RunPart, *, series: str | None = None) -> str:
             crate.file(folder + name, pieces, encoding=encoding, description=_describe(name, stand))
         )
     files += _add_reports(crate, folder, part.reports, "The run's report")
+    for name, image in part.sketches.items():
+        found = SKETCH_NAME.fullmatch(name.removeprefix(f"{SKETCHES}/"))
+        assert found is not None, name
+        files.append(
+            crate.file(
+                folder + name,
+                [image],
+                encoding=SKETCH_SUFFIXES[found[3]],
+                description=f"The students' sketch of item {found[1]} of the lab's report "
+                f"list, version {found[2]}",
+            )
+        )
     based_on = []
     for other_id, (other, path) in part.references.items():
         based_on.append(

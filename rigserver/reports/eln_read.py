@@ -31,7 +31,15 @@ from dataclasses import dataclass, field
 from pathlib import Path, PurePosixPath
 from typing import IO, Any
 
-from rigserver.reports.eln import METADATA, REFERENCES, SOFTWARE, term
+from rigserver.reports.eln import (
+    METADATA,
+    REFERENCES,
+    SKETCH_NAME,
+    SKETCH_SUFFIXES,
+    SKETCHES,
+    SOFTWARE,
+    term,
+)
 from schemas.strict_json import JsonRefused, strict_loads
 
 #: The metadata of an archive is at most this large (bytes, unpacked).
@@ -63,8 +71,9 @@ class ArchivedRun:
     """A run's archive, checked, its needed members written under ``directory``.
 
     ``run_json`` is the text of ``run.json``; ``run_file`` the run's HDF5 file;
-    ``references`` the files of the profilometer runs it names, by run id; ``server`` the
-    address of the server that exported it.
+    ``references`` the files of the profilometer runs it names, by run id; ``sketches`` the
+    students' sketches, by their member's name (item, version and media type); ``server``
+    the address of the server that exported it.
     """
 
     directory: Path
@@ -74,6 +83,17 @@ class ArchivedRun:
     server: str
     exported: str
     references: dict[str, Path] = field(default_factory=dict)
+    sketches: dict[str, ArchivedSketch] = field(default_factory=dict)
+
+
+@dataclass(frozen=True)
+class ArchivedSketch:
+    """A sketch's file of the archive: its item, version, media type, where it is written."""
+
+    item: int
+    version: int
+    media_type: str
+    path: Path
 
 
 def _checked_name(name: str) -> PurePosixPath:
@@ -190,6 +210,8 @@ class RunArchive:
                 other = part.removeprefix(f"{folder}{REFERENCES}/").removesuffix(".h5")
                 references[other] = directory / f"reference-{len(references)}.h5"
                 wanted[part] = references[other]
+        sketches = _sketches(folder, parts, directory)
+        wanted.update({name: s.path for name, s in sketches.items()})
         for needed in wanted:
             if needed not in parts:
                 raise ArchiveRefused(needed, "the run's Dataset does not name this file")
@@ -202,7 +224,8 @@ class RunArchive:
         # the members that are only checked first: a lie among them costs no writing
         for entity_id in sorted(files, key=lambda e: wanted.get(e) is not None):
             out = wanted.get(entity_id)
-            _verify(archive, members[f"{root}/{entity_id}"], checked[entity_id], out, self.limits)
+            info, hdf5 = members[f"{root}/{entity_id}"], entity_id not in sketches
+            _verify(archive, info, checked[entity_id], out, self.limits, hdf5=hdf5)
         return ArchivedRun(
             directory=directory,
             run_id=run_id,
@@ -211,7 +234,23 @@ class RunArchive:
             server=server,
             exported=exported,
             references=references,
+            sketches=sketches,
         )
+
+
+def _sketches(folder: str, parts: set[str], directory: Path) -> dict[str, ArchivedSketch]:
+    """The students' sketches among the run's ``parts`` (each written to ``directory``)."""
+    found = {}
+    for part in sorted(parts):
+        if not part.startswith(f"{folder}{SKETCHES}/"):
+            continue
+        named = SKETCH_NAME.fullmatch(part.removeprefix(f"{folder}{SKETCHES}/"))
+        if named is None:
+            raise ArchiveRefused(part, "not a sketch's name (sketches/item-<n>-v<k>.png or .jpg)")
+        item, version, suffix = int(named[1]), int(named[2]), named[3]
+        out = directory / f"sketch-{item}-{version}.{suffix}"
+        found[part] = ArchivedSketch(item, version, SKETCH_SUFFIXES[suffix], out)
+    return found
 
 
 def _members(archive: zipfile.ZipFile, unpacked_limit: int) -> dict[str, zipfile.ZipInfo]:
@@ -355,10 +394,12 @@ def _verify(
     sha256: str,
     out: Path | None,
     limits: ImportLimits,
+    *,
+    hdf5: bool = True,
 ) -> None:
-    """Read the member whole (writing it to ``out`` if given), counting: never more than
-    its declared size, the disk's free space looked at every :data:`ROOM_STEP` bytes
-    written; its SHA-256 the metadata's."""
+    """Read the member whole (writing it to ``out`` if given, an HDF5 file unless not
+    ``hdf5``), counting: never more than its declared size, the disk's free space looked at
+    every :data:`ROOM_STEP` bytes written; its SHA-256 the metadata's."""
     name = info.filename
     digest = hashlib.sha256()
     seen = 0
@@ -373,7 +414,7 @@ def _verify(
                 if out is None:
                     continue
                 if target is None:
-                    if not piece.startswith(HDF5_SIGNATURE):
+                    if hdf5 and not piece.startswith(HDF5_SIGNATURE):
                         raise ArchiveRefused(name, "the member is no HDF5 file")
                     target = out.open("wb")
                 if seen // ROOM_STEP != (seen - len(piece)) // ROOM_STEP:

@@ -6,7 +6,7 @@ mode under the manual's items 12 and 13."""
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from datetime import datetime
 from typing import Any
 
@@ -39,12 +39,13 @@ MODE = N_("Mode")
 @dataclass(frozen=True, slots=True)
 class WorkRun:
     """A run of the lab work at its part (its level in the series), with its results'
-    ``values`` and the students' notes on it."""
+    ``values`` and the students' notes and ``sketches`` on it (item -> a ``data:`` URI)."""
 
     run: Run
     part: str
     values: Mapping[str, Any] | None
     notes: StudentNotes
+    sketches: Mapping[int, str] = field(default_factory=dict)
 
 
 def build_lab_work(
@@ -67,6 +68,7 @@ def build_lab_work(
         lang=lang,
         made=made,
         notes=main.notes,
+        sketches=main.sketches,
         work=(t.gettext(PART_1).format(run=main.run.id), second),
     )
 

@@ -70,6 +70,7 @@ def build_report(
     notes: StudentNotes | None = None,
     corrections: Sequence[Correction] = (),
     work: tuple[str, Sequence[Section]] | None = None,
+    sketches: Mapping[int, str] = {},
 ) -> Report:
     """The report of ``run`` in ``lang``.
 
@@ -89,6 +90,9 @@ def build_report(
         The student's own words on the run: the group and the students are printed at the
         top, their sections of the lab's report list (:mod:`rigserver.reports.students`)
         after the computed results, as written.
+    sketches
+        The students' sketches uploaded on the run, printed in their items' sections in
+        place of the frame to draw in: item number -> the image as a ``data:`` URI.
     work
         In a lab work of several runs (:mod:`rigserver.reports.lab_work`), the heading of
         its part 1 (this run) and the sections of its part 2, printed before the students'
@@ -99,7 +103,8 @@ def build_report(
     """
     with number_locale(lang):
         t = Messages(lang)
-        report = _build(run, stand, values, readings, t, made, notes or StudentNotes(), work)
+        theirs = (notes or StudentNotes(), sketches)
+        report = _build(run, stand, values, readings, t, made, theirs, work)
         corrected = corrections_section(t, stand, corrections, run.corrected_after_finish)
     if corrected is None:
         return report
@@ -119,10 +124,11 @@ def _build(
     readings: Readings,
     t: Messages,
     made: datetime,
-    notes: StudentNotes,
+    theirs: tuple[StudentNotes, Mapping[int, str]],
     work: tuple[str, Sequence[Section]] | None = None,
 ) -> Report:
     kind = run.stand.value
+    notes, sketches = theirs
     model = RESULT_MODELS[run.stand].model_validate(values)
     lab = _LABS[run.stand](Context(run=run, stand=stand, readings=readings, t=t), model)
     first: list[Paragraph | Table] = []
@@ -136,7 +142,7 @@ def _build(
     if work:
         sections += work[1]
     contents = CONTENTS[run.stand]
-    sections += students_part(t, contents.students(), notes)
+    sections += students_part(t, contents.students(), notes, sketches)
     for key, items in (("sec.pending", model.pending), ("sec.notes", model.notes)):  # type: ignore[attr-defined]
         if items:  # the analysis' words, printed as they are (x_zero is not x subscript zero)
             sections.append(Section(t(key), [Items([escape(t.gettext(item)) for item in items])]))

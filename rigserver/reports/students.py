@@ -1,12 +1,12 @@
 """The students' part of a report: the sections of their lab's report list they fill in
 themselves (:mod:`rigserver.reports.contents`), each headed as the manual heads it, holding
-what they wrote on the run's page, else room for it on paper (a frame to draw in, ruled
-lines to write on): an empty section is printed, never left out."""
+what they wrote or the sketch they uploaded on the run's page, else room for it on paper (a
+frame to draw in, ruled lines to write on): an empty section is printed, never left out."""
 
 from __future__ import annotations
 
 import re
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 
 from markupsafe import Markup, escape
 
@@ -31,11 +31,12 @@ def written(words: str) -> Markup:
     )
 
 
-def section(t: Messages, item: Item, words: str = "") -> Section:
-    """The section of one students' item: what they wrote, else its room on paper."""
+def section(t: Messages, item: Item, words: str = "", sketch: str = "") -> Section:
+    """The section of one students' item: what they wrote or the ``sketch`` they uploaded
+    (a ``data:`` URI), else its room on paper."""
     assert item.students is not None
     if item.students is Students.SKETCH:
-        space = Space(frame=True, lines=FRAME_LINES)
+        space = Space(image=sketch) if sketch else Space(frame=True, lines=FRAME_LINES)
     elif words.strip():
         space = Space(text=written(words))
     else:
@@ -43,10 +44,12 @@ def section(t: Messages, item: Item, words: str = "") -> Section:
     return Section(t.gettext(item.heading), [space])
 
 
-def students_part(t: Messages, items: Sequence[Item], notes: StudentNotes) -> list[Section]:
+def students_part(
+    t: Messages, items: Sequence[Item], notes: StudentNotes, sketches: Mapping[int, str] = {}
+) -> list[Section]:
     """The sections of ``items`` (the students' items of a list), with the words of
-    ``notes``."""
-    return [section(t, item, _words(notes, item)) for item in items]
+    ``notes`` and the ``sketches`` uploaded (item number -> the image as a ``data:`` URI)."""
+    return [section(t, item, _words(notes, item), sketches.get(item.number, "")) for item in items]
 
 
 def _words(notes: StudentNotes, item: Item) -> str:

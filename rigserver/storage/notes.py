@@ -13,15 +13,14 @@ The latest version of a run is its words; the older ones are its history.
 
 from __future__ import annotations
 
-import sqlite3
 import threading
 from collections.abc import Sequence
 from datetime import datetime
 from pathlib import Path
 from typing import Any, Protocol
 
+from rigserver.storage._tables import sqlite_database
 from rigserver.storage._time import as_utc, iso, now
-from rigserver.storage.errors import StorageUnavailable
 from schemas.student_notes import StudentNotes, StudentNotesWrite
 
 _SCHEMA = """
@@ -56,12 +55,7 @@ class SqliteNotes:
     """The words in one SQLite database (``path``), or in memory (``":memory:"``)."""
 
     def __init__(self, path: Path | str) -> None:
-        try:
-            self._db = sqlite3.connect(str(path), isolation_level=None, check_same_thread=False)
-            self._db.execute("PRAGMA journal_mode=WAL")
-            self._db.executescript(_SCHEMA)
-        except sqlite3.Error as exc:
-            raise StorageUnavailable(f"cannot open the notes database: {exc}") from exc
+        self._db = sqlite_database(path, _SCHEMA, "notes")
         self._lock = threading.Lock()
 
     def get(self, run_id: str) -> StudentNotes:

@@ -34,12 +34,14 @@ from rigserver.reports.labs.tribometer import stribeck_svg
 from rigserver.reports.run_report import RESULT_MODELS, configuration_rows, particulars_text
 from rigserver.reports.x3p import PROFILE_GROUP, NoProfile, profile_group
 from rigserver.web.entry import ReceivedRow, entry_config, entry_groups, typed
+from rigserver.web.sketches import SKETCH_MAX_MIB, sketch_items
 from schemas import labelled
 from schemas.labels import RESULTS, THEORY_VERDICT, Part, theory_outside
 from schemas.messages import NP_
 from schemas.quantity import unit_paths
 from schemas.results import PinOnDiscResults, ReciprocatingResults
 from schemas.runs import Run, RunPage, RunState
+from schemas.sketches import Sketch
 from schemas.stands import Stand, StandKind
 from schemas.student_notes import CONCLUSIONS_LIMIT, StudentNotes
 
@@ -235,16 +237,17 @@ def run_page(
     lang: Lang,
     signed_in: bool = False,
     notes: StudentNotes | None = None,
+    sketches: Sequence[Sketch] = (),
     may_write: bool = False,
     form_token: str = "",
     received: Mapping[str, Sequence[ReceivedRow]] | None = None,
 ) -> str:
     """A run: its particulars, the live chart of its record, its results (``payload``, as
-    ``/results`` answers), the downloads, the student's ``notes`` on it, and the form that
-    writes them for the caller who ``may_write`` them (its stand's write scope). A session
-    (its ``form_token``) that may write an open run also gets the forms that take its
-    readings (:mod:`rigserver.web.entry`), with the rows ``received`` so far; of a finished
-    run, the rows received, to be corrected."""
+    ``/results`` answers), the downloads, the student's ``notes`` and ``sketches`` on it
+    (every version), and the forms that write them for the caller who ``may_write`` them
+    (its stand's write scope). A session (its ``form_token``) that may write an open run
+    also gets the forms that take its readings (:mod:`rigserver.web.entry`), with the rows
+    ``received`` so far; of a finished run, the rows received, to be corrected."""
     t = Messages(lang)
     record = next(g for g in stand.groups if g.aligned)
     x, y = LIVE_AXES.get(stand.kind, (record.channels[0].name, record.channels[-1].name))
@@ -291,6 +294,8 @@ def run_page(
         results=Markup(results_html(run=run, payload=payload, lang=lang)),
         profile_x3p=_has_profile(stand),
         notes=notes or StudentNotes(),
+        sketches=sketch_items(t, run.stand, sketches),
+        sketch_limit=SKETCH_MAX_MIB,
         may_write=may_write,
         form_token=form_token,
         conclusions_limit=CONCLUSIONS_LIMIT,

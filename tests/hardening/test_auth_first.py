@@ -71,6 +71,7 @@ def test_every_route_of_the_api_is_a_read_or_a_write() -> None:
         ("POST", f"{API}/runs/{{run_id}}/finish"),
         ("POST", f"{API}/runs/{{run_id}}/abort"),
         ("PUT", f"{API}/runs/{{run_id}}/notes"),
+        ("PUT", f"{API}/runs/{{run_id}}/sketches/{{item}}"),
         ("POST", f"{API}/series"),
         ("POST", f"{API}/series/{{series_id}}/runs"),
         ("DELETE", f"{API}/series/{{series_id}}/runs/{{run_id}}"),

@@ -25,6 +25,7 @@ from fastapi.responses import HTMLResponse
 from fastapi.staticfiles import StaticFiles
 
 from rigserver.api.routes.eln import ELN_EXAMPLE, example_archive
+from rigserver.api.routes.sketches import SKETCH_EXAMPLES, example_sketch
 from rigserver.reports.eln import ELN_MEDIA_TYPE
 from schemas.readings import NPZ_MEDIA_TYPE, ReadingBatch
 
@@ -102,6 +103,14 @@ def example_npz() -> bytes:
 @router.get(ELN_EXAMPLE)
 async def run_eln_example() -> Response:
     return Response(await run_in_threadpool(example_archive), media_type=ELN_MEDIA_TYPE)
+
+
+@router.get("/docs/examples/sketch.{suffix}")
+async def sketch_example(suffix: str) -> Response:
+    for media_type, url in SKETCH_EXAMPLES.items():
+        if url.endswith(f".{suffix}"):
+            return Response(example_sketch(media_type), media_type=media_type)
+    return Response(status_code=404)
 
 
 @router.get(NPZ_EXAMPLE)

@@ -25,6 +25,7 @@ from pydantic import ValidationError
 from starlette.background import BackgroundTask
 
 from rigserver.analysis import Readings, analyse
+from rigserver.api import sketch_images
 from rigserver.api.auth import ApiKey
 from rigserver.api.deps import (
     ReadAccess,
@@ -40,8 +41,10 @@ from rigserver.api.report_answers import caller_key
 from rigserver.api.report_jobs import FileReadings
 from rigserver.api.routes import reports as run_reports
 from rigserver.api.routes import series as series_routes
+from rigserver.api.routes.notes import author
 from rigserver.api.routes.runs import load_run, snapshot
 from rigserver.api.routes.series import _detail, load_series
+from rigserver.api.routes.sketches import sketch_item
 from rigserver.api.run_results import StoredReadings, results_payload
 from rigserver.api.series_export import Progress, Render
 from rigserver.reports.eln import (
@@ -50,6 +53,7 @@ from rigserver.reports.eln import (
     RunPart,
     SeriesPart,
     licence_of,
+    sketch_member,
     write_run_archive,
     write_series_archive,
 )
@@ -124,7 +128,32 @@ def _run_part(services: Services, run: Run) -> RunPart:
         run_file=services.store.run_file(run.id),
         reports=_reports(lambda lang: run_reports.report_bytes(services, run, lang, _EXPORT)),
         references=_references(services, run),
+        sketches=_sketches(services, run),
     )
+
+
+def _sketches(services: Services, run: Run) -> dict[str, bytes]:
+    """Every version of the students' sketches on the run, by their member's name."""
+    found = {}
+    for sketch in services.sketches.history(run.id):
+        kept = services.sketches.image(run.id, sketch.item, sketch.version)
+        if kept is not None:
+            found[sketch_member(sketch.item, sketch.version, sketch.media_type)] = kept[1]
+    return found
+
+
+def _archived_sketches(found: ArchivedRun, run: Run) -> list[tuple[int, sketch_images.SketchImage]]:
+    """The archive's sketches checked as an upload is (422 naming the member), in the order
+    of their versions."""
+    images = []
+    for name, sketch in sorted(found.sketches.items(), key=lambda s: (s[1].item, s[1].version)):
+        try:
+            sketch_item(run, sketch.item)
+            data = sketch.path.read_bytes()
+            images.append((sketch.item, sketch_images.checked(data, sketch.media_type)))
+        except ApiProblem as exc:
+            raise _refused(ArchiveRefused(name, exc.problem.detail or "")) from None
+    return images
 
 
 def _written(write: Callable[[IO[bytes]], None], prefix: str) -> str:
@@ -406,9 +435,10 @@ def _checked(
         yield seq, stored, columns
 
 
-def _import(services: Services, found: ArchivedRun, original: Run) -> Run:
+def _import(services: Services, found: ArchivedRun, original: Run, by: str) -> Run:
     """Recreate the archive's run here (a new id; readings, measurements and results
-    computed again), all or nothing."""
+    computed again), all or nothing; its students' sketches uploaded anew ``by`` the
+    importer, every version in its order."""
     if original.state is RunState.OPEN:
         raise ApiProblem(
             409,
@@ -430,6 +460,7 @@ def _import(services: Services, found: ArchivedRun, original: Run) -> Run:
         )
     stand = services.stands[original.stand].for_run(original.configuration)
     fixes = _corrections(found.run_file, original, stand)
+    sketches = _archived_sketches(found, original)
     batches = sum(math.ceil(rows / IMPORT_ROWS) for rows in original.rows.values())
     origin = ImportedFrom(run_id=original.id, server=found.server, exported=found.exported)
     with ExitStack() as stack:
@@ -458,6 +489,11 @@ def _import(services: Services, found: ArchivedRun, original: Run) -> Run:
                 run = run.model_copy(update={"key_results": computed.key_results})
             rows = _checked(file_batches(found.run_file, run), stand)
             if services.store.import_run(run, None, payload, rows, fixes):
+                for item, image in sketches:
+                    size, media_type = image.size, image.media_type
+                    services.sketches.put(
+                        run.id, item, image.data, media_type=media_type, size=size, by=by
+                    )
                 return services.store.get_run(run.id)
     raise ApiProblem(503, "No free run id", "try the import again", headers={"Retry-After": "1"})
 
@@ -567,7 +603,9 @@ async def import_run(request: Request) -> Response:
             archive = directory / "archive.eln"
             await _body_to(request, archive, services.settings.import_disk_reserve)
             found, original = await run_in_threadpool(_unpack, services, caller, archive, directory)
-            run = await run_in_threadpool(_import, services, found, original)
+            assert caller is not None  # _unpack found its write scope
+            by = author(caller)
+            run = await run_in_threadpool(_import, services, found, original, by)
         finally:
             await run_in_threadpool(shutil.rmtree, directory, True)
     return Response(run.model_dump_json(), status_code=201, media_type="application/json")

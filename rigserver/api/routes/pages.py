@@ -24,8 +24,11 @@ from rigserver.api.problems import ApiProblem
 from rigserver.api.routes.notes import write_notes
 from rigserver.api.routes.runs import load_run
 from rigserver.api.routes.series import series_view
+from rigserver.api.routes.sketches import upload_sketch
 from rigserver.api.run_results import results_payload
 from rigserver.api.sessions import COOKIE, SESSION_SECONDS
+from rigserver.api.sketch_form import read_sketch_form
+from rigserver.api.sketch_images import checked
 from rigserver.reports.i18n import Lang, language_headers, negotiate
 from rigserver.reports.series_report import render_series_body
 from rigserver.web.entry import ReceivedRow, received
@@ -209,6 +212,7 @@ def run(
         lang=chosen,
         signed_in=_signed_in(request, services),
         notes=services.notes.get(found.id),
+        sketches=services.sketches.history(found.id),
         may_write=may_write,
         form_token=token,
         received=received_rows(services, found, stand) if token else None,
@@ -266,6 +270,23 @@ async def run_notes(
     await run_in_threadpool(write_notes, services, run_id, words, writer)
     query = f"?{urlencode({'lang': lang})}" if lang else ""
     return RedirectResponse(f"/runs/{run_id}{query}#notes", status_code=303)
+
+
+@login_router.post("/runs/{run_id}/sketches/{item}", dependencies=[SameOrigin])
+async def run_sketch(
+    run_id: str, item: int, request: Request, services: ServicesDep, lang: Lang | None = None
+) -> Response:
+    """The run page's form of a sketch (``multipart/form-data``: ``form_token``, ``image``),
+    posted by a session whose key may write the run's stand: checked as the API checks an
+    upload (:mod:`rigserver.api.sketch_images`), stored as the item's next version, and back
+    to the page. Without a session: the login page."""
+    body = await request.body()  # at most SKETCH_FORM_BYTES (rigserver.api.app.body_limit)
+    form = read_sketch_form(body, request.headers.get("content-type"))
+    writer = form_writer(request, services, form.token, f"/runs/{run_id}")
+    image = await run_in_threadpool(checked, form.data, form.media_type)
+    await run_in_threadpool(upload_sketch, services, run_id, item, image, writer)
+    query = f"?{urlencode({'lang': lang})}" if lang else ""
+    return RedirectResponse(f"/runs/{run_id}{query}#sketches", status_code=303)
 
 
 def read_form(body: bytes, known: Sequence[str]) -> dict[str, str]:

@@ -15,6 +15,7 @@ from starlette.background import BackgroundTask
 from rigserver.api.deps import ReadAccess, Services, ServicesDep
 from rigserver.api.problems import ApiProblem
 from rigserver.api.report_answers import (
+    StudentsPart,
     caller_key,
     file_answer,
     kept,
@@ -30,7 +31,6 @@ from rigserver.reports.export import DIALECTS, Dialect, export_zip, results_csv
 from rigserver.reports.i18n import Lang, Messages, language_headers, negotiate
 from rigserver.reports.x3p import PROFILE_GROUP, NoProfile, profile_group, profile_x3p
 from schemas.runs import Run
-from schemas.student_notes import StudentNotes
 
 router = APIRouter(prefix="/runs/{run_id}", tags=["reports"], dependencies=[ReadAccess])
 
@@ -46,27 +46,27 @@ def _language(request: Request, lang: Lang | None) -> Lang:
 
 def _prepare(
     services: Services, run_id: str, lang: Lang, fmt: str
-) -> tuple[Run, ReportFile, StudentNotes]:
+) -> tuple[Run, ReportFile, StudentsPart]:
     run = load_run(services, run_id)
     return run, *run_target(services, run, lang, fmt)
 
 
 def _job(
-    services: Services, run: Run, target: ReportFile, notes: StudentNotes
+    services: Services, run: Run, target: ReportFile, theirs: StudentsPart
 ) -> tuple[RunReportJob, bool]:
-    return run_job(services, run, results_payload(services, run)["values"], target, notes)
+    return run_job(services, run, results_payload(services, run)["values"], target, theirs)
 
 
 async def _report(
     request: Request, services: Services, run_id: str, lang: Lang, fmt: str
 ) -> tuple[Run, Response]:
     """The run's report in ``fmt``: its file, rendered first if this version has none."""
-    run, target, notes = await run_in_threadpool(_prepare, services, run_id, lang, fmt)
+    run, target, theirs = await run_in_threadpool(_prepare, services, run_id, lang, fmt)
     headers = language_headers(lang)
     if fmt == "pdf":
         headers["Content-Disposition"] = f'attachment; filename="{run.id}-report-{lang}.pdf"'
     if not target.path.exists() and not target.matches(request.headers.get("if-none-match")):
-        job, in_process = await run_in_threadpool(_job, services, run, target, notes)
+        job, in_process = await run_in_threadpool(_job, services, run, target, theirs)
         future = services.reports.render(
             target.render, caller_key(request, services), job, in_process=in_process
         )
@@ -81,13 +81,13 @@ def report_kept(services: Services, run: Run, lang: Lang) -> bool:
 
 def report_bytes(services: Services, run: Run, lang: Lang, key: str) -> dict[str, bytes]:
     """The run's report in ``lang``, ``html`` and ``pdf``: kept, or rendered on the pool."""
-    target, notes = run_target(services, run, lang, "pdf")
-    return kept(services, target, lambda: _job(services, run, target, notes), key)
+    target, theirs = run_target(services, run, lang, "pdf")
+    return kept(services, target, lambda: _job(services, run, target, theirs), key)
 
 
 _RENDERED = (
-    "Rendered once per version of the run (its readings, state, results and the student's "
-    "words), language and "
+    "Rendered once per version of the run (its readings, state, results and the students' "
+    "words and sketches), language and "
     "deployment, then kept: the answer carries an ETag, and If-None-Match with it is "
     "answered 304. 503 with Retry-After while the server renders as many reports as it "
     "may, or this key's share of them."

@@ -20,7 +20,14 @@ from rigserver.api.deps import (
     require_scope,
 )
 from rigserver.api.problems import ApiProblem
-from rigserver.api.report_answers import caller_key, file_answer, kept, rendered, targets
+from rigserver.api.report_answers import (
+    caller_key,
+    file_answer,
+    kept,
+    rendered,
+    sketch_images,
+    targets,
+)
 from rigserver.api.report_files import ReportFile
 from rigserver.api.report_jobs import SeriesReportJob
 from rigserver.api.routes.runs import load_run
@@ -222,8 +229,11 @@ def _prepare(services: Services, series_id: str, lang: Lang, fmt: str) -> Report
             runs.append(services.store.get_run(member.run_id))
         except StorageError:
             continue
-    notes = [services.notes.get(r.id) for r in runs] if _lab_work(series) else []
-    return services.report_files.series_report(series, runs, lang, fmt, notes)
+    if not _lab_work(series):
+        return services.report_files.series_report(series, runs, lang, fmt)
+    notes = [services.notes.get(r.id) for r in runs]
+    sketches = [s for r in runs for s in services.sketches.latest(r.id)]
+    return services.report_files.series_report(series, runs, lang, fmt, notes, sketches)
 
 
 def _lab_work(series: Series) -> bool:
@@ -251,7 +261,14 @@ def _job(services: Services, series_id: str, target: ReportFile) -> tuple[Series
     )
     if _lab_work(detail) and members and members[0].run.stand in LAB_PARTS:
         work = tuple(
-            WorkRun(m.run, m.level or "", m.values, services.notes.get(m.run.id)) for m in members
+            WorkRun(
+                m.run,
+                m.level or "",
+                m.values,
+                services.notes.get(m.run.id),
+                sketch_images(services, m.run, tuple(services.sketches.latest(m.run.id))),
+            )
+            for m in members
         )
         job = replace(job, work=work, stand=services.stand_of(members[0].run))
     return job, bool(open_runs)

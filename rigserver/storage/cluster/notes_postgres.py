@@ -4,11 +4,11 @@ table of :mod:`rigserver.storage.notes` (``rig_notes``)."""
 from __future__ import annotations
 
 import psycopg
-import psycopg_pool
 
 from rigserver.storage._failures import failures_as
 from rigserver.storage._time import iso, now
 from rigserver.storage.cluster.postgres import PG_FAILURES
+from rigserver.storage.cluster.tables import postgres_tables
 from rigserver.storage.notes import notes_of
 from schemas.student_notes import StudentNotes, StudentNotesWrite
 
@@ -30,12 +30,7 @@ class PostgresNotes:
     """The :class:`~rigserver.storage.notes.NotesStore` on PostgreSQL (``url``)."""
 
     def __init__(self, url: str, *, pool_size: int = 2) -> None:
-        with failures_as("opening the notes table", PG_FAILURES):
-            self._pool = psycopg_pool.ConnectionPool(
-                url, min_size=1, max_size=pool_size, open=True, kwargs={"autocommit": True}
-            )
-            with self._pool.connection() as conn:
-                conn.execute(_SCHEMA)
+        self._pool = postgres_tables(url, _SCHEMA, "notes", pool_size)
 
     def get(self, run_id: str) -> StudentNotes:
         with (

@@ -489,8 +489,8 @@ MESSAGES: dict[str, str] = {
     "w.exp": N_("experiment"),
     "w.theor": N_("theory (2.1)"),
     "w.c_friction_u": N_(
-        "Steady friction coefficient f = {f} (from t = {t} s, load {load} N), as in the "
-        "uncertainty table."
+        "Steady friction coefficient f = {f} (the record from {t} s on, load {load} N), as in "
+        "the uncertainty table."
     ),
     "w.theory_note": N_(
         "The fatigue-wear theory (2.1) is outside its range for this test (see the validity "

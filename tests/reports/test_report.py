@@ -503,3 +503,13 @@ def test_the_rows_stored_are_printed_whole(kind: StandKind) -> None:
     assert max(s.run.rows.values()) >= 10_000  # more digits than fmt's four
     for rows in s.run.rows.values():
         assert f": {rows}" in html
+
+
+@pytest.mark.parametrize("lang", ["en", "ru"])
+def test_the_moment_sensor_error_is_the_manuals_five_percent(lang: Lang) -> None:
+    # the manual's SMTs-2 data: "допускаемая погрешность измерения момента трения ... ±5 %",
+    # printed in % as the description says it (it was 0.05 with the unit "—")
+    config = next(t for t in tables(report(StandKind.SMTS2, lang)) if len(t.header) == 3)
+    moment = ("friction", "момент")
+    (row,) = [r for r in config.rows if "±5 %" in r[0] and r[0].startswith(moment)]
+    assert row[1:] == ["5", "%"]

@@ -17,8 +17,8 @@ import pytest
 
 from rigserver.analysis import analyse
 from rigserver.reports.formatting import fmt, with_uncertainty
-from rigserver.reports.i18n import Lang
-from rigserver.reports.run_report import build_report, render_report
+from rigserver.reports.i18n import Lang, Messages
+from rigserver.reports.run_report import build_report, configuration_rows, render_report
 from schemas.labels import MTOS, PROFILOMETER, SLIDE_BEARING, Label
 from schemas.results import MtosResults, ProfilometerResults, SlideBearingResults, Smts2Results
 from schemas.runs import RunState
@@ -513,3 +513,23 @@ def test_the_moment_sensor_error_is_the_manuals_five_percent(lang: Lang) -> None
     moment = ("friction", "момент")
     (row,) = [r for r in config.rows if "±5 %" in r[0] and r[0].startswith(moment)]
     assert row[1:] == ["5", "%"]
+
+
+@pytest.mark.parametrize("kind", [StandKind.PIN_ON_DISC, StandKind.RECIPROCATING])
+@pytest.mark.parametrize("lang", ["en", "ru"])
+def test_a_ball_is_named_a_ball_not_a_pin(kind: StandKind, lang: Lang) -> None:
+    # the ball's properties were printed as the SMTs-2's "образец (стержень)" (its pin)
+    s = simulated(kind)
+    assert s.run.configuration["tip"] == "ball"
+    config = next(t for t in tables(report(kind, lang)) if len(t.header) == 3)
+    names = [row[0] for row in config.rows]
+    ball, pin = {"en": ("ball: ", "pin: "), "ru": ("шарик: ", "образец (стержень): ")}[lang]
+    assert sum(name.startswith(ball) for name in names) == len(s.run.configuration["pin"])
+    assert not [name for name in names if name.startswith(pin)]
+    flat_pin = s.run.model_copy(
+        update={"configuration": {**s.run.configuration, "tip": "flat_pin"}}
+    )
+    rows = configuration_rows(Messages(lang), flat_pin)
+    assert sum(str(words).startswith(pin) for words, _, _ in rows) == len(
+        s.run.configuration["pin"]
+    )

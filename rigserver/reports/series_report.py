@@ -28,7 +28,7 @@ from rigserver.reports.i18n import Lang, Messages
 from rigserver.reports.render import render
 from rigserver.reports.series_plots import Curve, overlay
 from schemas.labels import Label
-from schemas.messages import N_
+from schemas.messages import N_, NP_
 from schemas.series import ResultStatistics, SeriesDetail, SeriesPurpose
 from schemas.stands import StandKind
 from schemas.units import UNITS
@@ -44,7 +44,6 @@ TEXT: dict[str, str] = {
     "stand": N_("Stand"),
     "purpose": N_("Purpose"),
     "made": N_("Report made"),
-    "open_runs": N_("{n} of the runs are still open: their figures may change."),
     "sec.runs": N_("Runs"),
     "sec.statistics": N_("Statistics of the results"),
     "sec.spread": N_("Spread of the runs against their instruments"),
@@ -106,6 +105,12 @@ TEXT: dict[str, str] = {
     "state.finished": N_("finished"),
     "state.aborted": N_("aborted"),
 }
+
+#: The runs of a series still open, by their number (one run "is", two "are").
+OPEN_RUNS = NP_(
+    "{n} of the runs is still open: its figures may change.",
+    "{n} of the runs are still open: their figures may change.",
+)
 
 #: Per-step results (``steps[3].chi``) are in the statistics table only, not in the runs'.
 _PER_STEP = "["
@@ -190,6 +195,7 @@ def series_context(
         "run_columns": [r for r in rows if _PER_STEP not in r["stats"].key],
         "own_uncertainty": any(r["own_uncertainty"] is not None for r in rows),
         "plots": plots,
+        "open_runs": m.plural(*OPEN_RUNS, detail.open_runs).format(n=detail.open_runs),
     }
 
 

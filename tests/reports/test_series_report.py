@@ -103,3 +103,32 @@ def test_a_per_step_result_names_its_step_and_load(lang: Lang, step: str) -> Non
         load = fmt(one["load"]).replace(".", ",") if lang == "ru" else fmt(one["load"])
         unit = "N" if lang == "en" else "Н"
         assert any(name.endswith(f", {step} {i}, N = {load} {unit}") for name in named), i
+
+
+@pytest.mark.parametrize(
+    ("lang", "counts"),
+    [
+        ("en", {1: "1 of the runs is still open: its", 2: "2 of the runs are still open: their"}),
+        (
+            "ru",
+            {
+                1: "1 испытание серии ещё не завершено: его",
+                3: "3 испытания серии ещё не завершены: их",
+                5: "5 испытаний серии ещё не завершено: их",
+                21: "21 испытание серии ещё не завершено: его",
+            },
+        ),
+    ],
+)
+def test_the_open_runs_are_counted_in_the_plural_forms(lang: Lang, counts: dict[int, str]) -> None:
+    # "1 of the runs are still open" read wrongly (gettext's plural forms, schemas.messages.NP_)
+    detail = series_statistics(
+        Series(id="s-00000000000c", name="n", purpose=SeriesPurpose.REPEATABILITY, created=MADE),
+        [],
+        [],
+    )
+    for n, words in counts.items():
+        context = series_context(
+            detail.model_copy(update={"open_runs": n}), values={}, readings={}, lang=lang
+        )
+        assert words in render_series_report(context, made=MADE)

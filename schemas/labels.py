@@ -845,6 +845,8 @@ WORDS: tuple[str, ...] = (
     N_("yes"),
     N_("no"),
     N_("wear"),
+    N_("adhesive"),
+    N_("oxidative"),
     N_("ABRIS-PM7"),
     N_("finite"),
     N_("ball"),

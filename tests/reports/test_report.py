@@ -18,7 +18,13 @@ import pytest
 from rigserver.analysis import analyse
 from rigserver.reports.formatting import fmt, with_uncertainty
 from rigserver.reports.i18n import Lang, Messages
-from rigserver.reports.run_report import build_report, configuration_rows, render_report
+from rigserver.reports.run_report import (
+    build_report,
+    configuration_rows,
+    particulars_text,
+    render_report,
+)
+from rigsim.stands.smts2 import MODES
 from schemas.labels import MTOS, PROFILOMETER, SLIDE_BEARING, Label
 from schemas.results import MtosResults, ProfilometerResults, SlideBearingResults, Smts2Results
 from schemas.runs import RunState
@@ -533,3 +539,10 @@ def test_a_ball_is_named_a_ball_not_a_pin(kind: StandKind, lang: Lang) -> None:
     assert sum(str(words).startswith(pin) for words, _, _ in rows) == len(
         s.run.configuration["pin"]
     )
+
+
+@pytest.mark.parametrize("mode", MODES)
+def test_every_mode_of_the_smts2_is_translated(mode: str) -> None:
+    # "режим: adhesive" was printed while "wear" read "износ"
+    shown = particulars_text(Messages("ru"), {"mode": mode})
+    assert shown.startswith("режим: ") and re.fullmatch(r"[а-яё ]+", shown.partition(": ")[2])

@@ -11,7 +11,8 @@ from __future__ import annotations
 
 import csv
 import io
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import replace
 from datetime import datetime
 from typing import Any
 
@@ -29,7 +30,7 @@ from rigserver.reports.render import render
 from rigserver.reports.series_plots import Curve, overlay
 from schemas.labels import Label
 from schemas.messages import N_, NP_
-from schemas.series import ResultStatistics, SeriesDetail, SeriesPurpose
+from schemas.series import ResultStatistics, SeriesDetail, SeriesPurpose, SeriesRun
 from schemas.stands import StandKind
 from schemas.units import UNITS
 
@@ -263,9 +264,11 @@ def _plots(
     if not by_level:
         return []
 
+    names = run_names(detail.runs)
+
     def curves(extract: Callable[[str], Curve | None]) -> dict[str, list[Curve]]:
         found = {
-            level: [c for run in runs if (c := extract(run)) is not None]
+            level: [replace(c, label=names[run]) for run in runs if (c := extract(run)) is not None]
             for level, runs in by_level.items()
         }
         return {level: cs for level, cs in found.items() if cs}
@@ -330,6 +333,23 @@ def _plots(
             curves(lambda r: _profile(r, readings.get(r))),
         )
     return plots
+
+
+def run_names(runs: Sequence[SeriesRun]) -> dict[str, str]:
+    """Each run as a legend names it: its operator (the students' group) and the date it
+    started, ``Group 3, 2026-11-25``; runs of one operator on one day add the time they
+    started, and runs that share that too their place in the table of runs (``(2)``)."""
+    day = [f"{r.operator}, {r.created:%Y-%m-%d}" for r in runs]
+    clock = [f"{r.operator}, {r.created:%Y-%m-%d %H:%M}" for r in runs]
+    found: dict[str, str] = {}
+    for place, run in enumerate(runs):
+        if day.count(day[place]) == 1:
+            found[run.run_id] = day[place]
+        elif clock.count(clock[place]) == 1:
+            found[run.run_id] = clock[place]
+        else:
+            found[run.run_id] = f"{day[place]} ({place + 1})"
+    return found
 
 
 def _friction(run_id: str, values: Mapping[str, Any] | None) -> Curve | None:

@@ -176,3 +176,25 @@ def test_one_unit_per_symbol_across_tables_plots_and_text(
     assert found
     two = {symbol: sorted(units) for symbol, units in found.items() if len(units) > 1}
     assert not two, f"one symbol, two units: {two}"
+
+
+@pytest.mark.parametrize(("kind", "lang"), CASES)
+@pytest.mark.parametrize("which", ["run", "series"])
+def test_one_symbol_per_quantity_on_the_plots(kind: StandKind, lang: Lang, which: str) -> None:
+    """The axes of a report's plots: a quantity named in words carries one symbol, and a
+    symbol names one quantity (as the tables' rows, :func:`test_one_symbol_per_quantity`)."""
+    rendered = (run_report if which == "run" else series_report)(kind, lang)
+    units = _units(lang)
+    symbols: dict[str, set[str]] = defaultdict(set)
+    words: dict[str, set[str]] = defaultdict(set)
+    for fig in rendered.figures:
+        for ax in fig.axes:
+            for label in (ax.get_xlabel(), ax.get_ylabel()):
+                split = _split(label, units) if label else None
+                if split is not None and split[0]:
+                    symbols[split[0]].add(split[1])
+                    words[split[1]].add(split[0])
+    two = {w: sorted(s) for w, s in symbols.items() if len(s) > 1}
+    assert not two, f"one quantity, two symbols: {two}"
+    shared = {s: sorted(w) for s, w in words.items() if len(w) > 1}
+    assert not shared, f"one symbol, two quantities: {shared}"

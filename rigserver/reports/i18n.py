@@ -536,6 +536,8 @@ MESSAGES: dict[str, str] = {
     "b.short": N_("short bearing Π_0 (3.12)"),
     "b.long": N_("long bearing Π_∞ (3.15)"),
     "b.finite": N_("finite bearing (3.1)"),
+    "b.measured_z": N_("measured Π_z"),
+    "b.short_z": N_("short bearing Π_m (3.12)"),
     "b.c_chi": N_(
         "Mean eccentricity ratio χ_mean = {chi}; the largest pressure, {p} {unit}, is at "
         "φ = {phi}°."

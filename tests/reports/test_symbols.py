@@ -118,7 +118,7 @@ def _split(label: str, units: dict[str, str]) -> tuple[str, str, str] | None:
     if "$" in head:  # the first symbol in mathtext names the quantity ("S₁ = μ_t·ω/p̄")
         words, _, rest = head.partition("$")
         return words.strip(), _symbol(rest.partition("$")[0]), unit
-    words, _, symbol = head.strip().rpartition(" ")
+    words, _, symbol = head.partition(" = ")[0].strip().rpartition(" ")  # "z = Z/R" names z
     if not symbol or any(c.isdigit() for c in symbol[:1]) or len(symbol) > 6:
         return None
     return words.strip(), _symbol(symbol), unit
@@ -198,3 +198,32 @@ def test_one_symbol_per_quantity_on_the_plots(kind: StandKind, lang: Lang, which
     assert not two, f"one quantity, two symbols: {two}"
     shared = {s: sorted(w) for s, w in words.items() if len(w) > 1}
     assert not shared, f"one symbol, two quantities: {shared}"
+
+
+@pytest.mark.parametrize("lang", LANGS)
+def test_a_plot_names_its_curves_with_its_tables_symbols(lang: Lang) -> None:
+    # table 3.2 printed Π_z and Π_m, its plot (3.29) Π_0 and Π_e
+    rendered = run_report(StandKind.SLIDE_BEARING, lang)
+    table_word = {"en": "Table", "ru": "Таблица"}[lang]
+    heads = {
+        number: {_symbol(h.partition(",")[0]) for h in t.header}
+        for t in tables(rendered.html)
+        for number in ("3.2", "3.3")
+        if t.caption.startswith(f"{table_word} {number}.")
+    }
+    by_abscissa = {"φ": "3.3", "z": "3.2"}  # (3.28) against φ, (3.29) against z
+    drawn = 0
+    for fig in rendered.figures:
+        for ax in fig.axes:
+            legend = ax.get_legend()
+            split = _split(ax.get_xlabel(), _units(lang))
+            if legend is None or split is None or split[1] not in by_abscissa:
+                continue
+            named = {
+                _symbol(s)
+                for t in legend.get_texts()
+                for s in re.findall(r"\$[^$]+\$", t.get_text())
+            }
+            assert named and named <= heads[by_abscissa[split[1]]], (split[1], named)
+            drawn += 1
+    assert drawn == 2

@@ -11,6 +11,7 @@ from collections import defaultdict
 import pytest
 
 from rigserver.reports.i18n import LANGS, UNIT_LABELS, Lang, Messages
+from rigserver.reports.series_report import text as series_text
 from schemas.stands import StandKind
 from tests.reports.rendered import Rendered, run_report, series_report
 from tests.reports.simulated import HtmlTable, tables
@@ -141,6 +142,10 @@ def _printed_units(rendered: Rendered, lang: Lang) -> dict[str, set[str]]:
             for row in table.rows:
                 if len(row) > max(at, unit) and row[at].strip() and row[unit] in units:
                     found[_symbol(row[at])].add(units[row[unit]])
+        elif head[:2] == [series_text(lang)("result"), series_text(lang)("unit")]:
+            for row in table.rows:  # a series' "f: friction coefficient, steady part" and unit
+                if len(row) > 1 and row[1] in units:
+                    found[_symbol(row[0].partition(": ")[0])].add(units[row[1]])
         elif head[:3] == [m("col.description"), m("col.value"), m("col.unit")]:
             described += [(row[0].split("\n")[0], row[2]) for row in table.rows if len(row) > 2]
         for cell in head:

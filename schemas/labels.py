@@ -814,11 +814,25 @@ CONFIGURATION: dict[str, Label] = {
     "stroke_length": _MM,
     "accuracy.scar": _UM,
     "accuracy.height": _UM,
+    "lambda_c": _MM,
+    "lambda_s": _UM,
+    **{
+        f"accuracy.{name}": Label("", unit="%")
+        for name in (
+            "moment",
+            "load",
+            "dynamometer",
+            "spring_rate",
+            "friction_force",
+            "profile_height",
+        )
+    },
 }
 """The display unit of a stand's configuration fields, by field name (``accuracy.<name>``
 for the instruments' accuracies), as the results print them: mm for the geometry, µm for
 clearances and roughness, MPa for strengths and pressures, GPa for moduli, mg for the
-balance; a field not named here is printed in its declared unit."""
+balance, λc in mm and λs in µm (as the ISO results), relative limits of error in % (the
+manual's ±5 %); a field not named here is printed in its declared unit."""
 
 WORDS: tuple[str, ...] = (
     N_("fluid"),
@@ -831,6 +845,8 @@ WORDS: tuple[str, ...] = (
     N_("yes"),
     N_("no"),
     N_("wear"),
+    N_("adhesive"),
+    N_("oxidative"),
     N_("ABRIS-PM7"),
     N_("finite"),
     N_("ball"),

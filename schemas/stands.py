@@ -147,7 +147,9 @@ class MtosAccuracy(_Config):
 
     indicator: float = quantity(0.005, "mm", "indicator of the flat spring, limit of error", ge=0)
     dynamometer: float = quantity(0.01, "1", "dynamometer, relative limit of error", ge=0)
-    spring_rate: float = quantity(0.01, "1", "k of the flat spring, relative limit", ge=0)
+    spring_rate: float = quantity(
+        0.01, "1", "the flat spring's calibration k, relative limit of error", ge=0
+    )
     arms: float = quantity(5e-4, "m", "l1, l2 as measured, limit of error", ge=0)
     displacement: float = quantity(0.5, "um", "X, Y sensors, limit of error", ge=0)
     clearance: float = quantity(2e-6, "m", "h0 as machined, limit of error", ge=0)

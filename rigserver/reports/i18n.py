@@ -491,8 +491,8 @@ MESSAGES: dict[str, str] = {
     "w.exp": N_("experiment"),
     "w.theor": N_("theory (2.1)"),
     "w.c_friction_u": N_(
-        "Steady friction coefficient f = {f} (from t = {t} s, load {load} N), as in the "
-        "uncertainty table."
+        "Steady friction coefficient f = {f} (the record from {t} s on, load {load} N), as in "
+        "the uncertainty table."
     ),
     "w.theory_note": N_(
         "The fatigue-wear theory (2.1) is outside its range for this test (see the validity "
@@ -538,6 +538,8 @@ MESSAGES: dict[str, str] = {
     "b.short": N_("short bearing Π_0 (3.12)"),
     "b.long": N_("long bearing Π_∞ (3.15)"),
     "b.finite": N_("finite bearing (3.1)"),
+    "b.measured_z": N_("measured Π_z"),
+    "b.short_z": N_("short bearing Π_m (3.12)"),
     "b.c_chi": N_(
         "Mean eccentricity ratio χ_mean = {chi}; the largest pressure, {p} {unit}, is at "
         "φ = {phi}°."

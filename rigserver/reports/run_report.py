@@ -304,7 +304,7 @@ def configuration_rows(t: Messages, run: Run) -> list[ConfigRow]:
             value = data.get(name)
             inner = info.annotation
             if isinstance(inner, type) and issubclass(inner, BaseModel):
-                label = PARTICULARS.get(name)
+                label = PARTICULARS.get(_role(name, data))
                 words = t.gettext(label.text) + ": " if label else ""
                 walk(inner, value or {}, words, f"{name}.")
                 continue
@@ -333,6 +333,12 @@ def configuration_rows(t: Messages, run: Run) -> list[ConfigRow]:
 
     walk(CONFIG_MODELS[run.stand], materials.config.model_dump(mode="json"), "", "")
     return rows
+
+
+def _role(name: str, data: Mapping[str, Any]) -> str:
+    """The specimen a configuration's section describes: a tribometer's counter-body
+    (``pin``) is the ball when its tip is one (ISO 20808), not the pin of ASTM G99."""
+    return "ball" if name == "pin" and data.get("tip") == "ball" else name
 
 
 FIELD_WORDS = {

@@ -3,8 +3,11 @@ mean with a band of one standard deviation either side.
 
 A level's runs rarely share their abscissae (sliding distances, loads, angles), so the mean
 is taken on a common grid over the range all of them cover, each run interpolated linearly
-onto it; a level of one run draws no band. A level is a user's text: it is drawn as
-written, never read as mathtext (:func:`~rigserver.reports.formatting.plot_text`).
+onto it; a level of one run draws no band. The legend names the runs by their level, or,
+in a series without levels, each run by what its curve is labelled with (its operator and
+date, :func:`rigserver.reports.series_report.run_names`). A level and a run's name are a
+user's text: drawn as written, never read as mathtext
+(:func:`~rigserver.reports.formatting.plot_text`).
 """
 
 from __future__ import annotations
@@ -26,7 +29,7 @@ COLOURS = ("C0", "C1", "C2", "C3", "C4", "C5", "C6", "C7", "C8", "C9")
 
 @dataclass(frozen=True, slots=True)
 class Curve:
-    """One run's curve: its label and points (any order; drawn sorted by x)."""
+    """One run's curve: its name in the legend and points (any order; drawn sorted by x)."""
 
     label: str
     x: NDArray[np.float64]
@@ -75,11 +78,6 @@ STYLES = ("-", "--", ":", "-.")
 MARKS = ("o", "^", "v", "D", "x")
 
 
-def run_label(run_id: str) -> str:
-    """A run in a legend: the end of its id (``…-0000abcd``), its own line beside the band."""
-    return "…" + run_id[-8:] if len(run_id) > 10 else run_id
-
-
 def overlay(
     levels: Mapping[str, Sequence[Curve]],
     *,
@@ -89,9 +87,10 @@ def overlay(
     markers: bool = False,
     paired: bool = False,
 ) -> str:
-    """One axes: the runs of each level in the level's colour, its mean and ±s band (SVG);
-    a series of one level draws each run in its own colour and the mean in black (runs of
-    one colour and their mean would not tell apart on a noisy record).
+    """One axes: the runs of each level in the level's colour, named once by the level, its
+    mean and ±s band (SVG); a series of one level draws each run in its own colour, named by
+    its curve's label, and the mean in black (runs of one colour and their mean would not
+    tell apart on a noisy record).
 
     ``paired``: the runs' points pair up by position (load steps): each run is drawn as
     points, the level's mean as points with ±s bars (no interpolation across steps)."""
@@ -102,6 +101,7 @@ def overlay(
         runs = [COLOURS[n % len(COLOURS)] if alone else colour for n in range(len(curves))]
         shown = plot_text(level)
         name = f"{shown}: {tex(mean_label)}" if level else tex(mean_label)
+        names = [_legend(level, curve, number) for number, curve in enumerate(curves)]
         if paired:
             for number, curve in enumerate(curves):
                 ax.plot(
@@ -111,7 +111,7 @@ def overlay(
                     color=runs[number],
                     markersize=3,
                     alpha=0.7,
-                    label=run_label(curve.label),
+                    label=names[number],
                 )
             pairs = paired_band(curves)
             if pairs is not None:
@@ -126,8 +126,6 @@ def overlay(
                     capsize=2,
                     label=f"{name} ± s",
                 )
-            elif level:
-                ax.plot([], [], "o", color=colour, label=shown)
             continue
         for number, curve in enumerate(curves):
             x, y = _sorted(curve)
@@ -140,15 +138,13 @@ def overlay(
                 linestyle=STYLES[number % len(STYLES)],
                 marker="o" if markers else None,
                 markersize=3,
-                label=run_label(curve.label),
+                label=names[number],
             )
         band = level_band(curves)
         if band is not None:
             grid, mean, std = band
             ax.plot(grid, mean, color=colour, linewidth=2.0, label=f"{name} ± s")
             ax.fill_between(grid, mean - std, mean + std, color=colour, alpha=0.2, linewidth=0)
-        elif level:
-            ax.plot([], [], color=colour, linewidth=0.7, label=shown)
     decorate(
         ax,
         xlabel=xlabel,
@@ -157,6 +153,14 @@ def overlay(
         labels_drawn_as_given=True,
     )
     return to_svg(fig)
+
+
+def _legend(level: str, curve: Curve, number: int) -> str:
+    """A run's entry in the legend: its level, once per level (matplotlib leaves out the
+    labels that start with ``_``), or its curve's label in a series without levels."""
+    if level:
+        return plot_text(level) if number == 0 else "_nolegend_"
+    return plot_text(curve.label)
 
 
 def _sorted(curve: Curve) -> tuple[NDArray[np.float64], NDArray[np.float64]]:

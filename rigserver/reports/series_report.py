@@ -11,7 +11,8 @@ from __future__ import annotations
 
 import csv
 import io
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import replace
 from datetime import datetime
 from typing import Any
 
@@ -28,8 +29,8 @@ from rigserver.reports.i18n import Lang, Messages
 from rigserver.reports.render import render
 from rigserver.reports.series_plots import Curve, overlay
 from schemas.labels import Label
-from schemas.messages import N_
-from schemas.series import ResultStatistics, SeriesDetail, SeriesPurpose
+from schemas.messages import N_, NP_
+from schemas.series import ResultStatistics, SeriesDetail, SeriesPurpose, SeriesRun
 from schemas.stands import StandKind
 from schemas.units import UNITS
 
@@ -44,7 +45,6 @@ TEXT: dict[str, str] = {
     "stand": N_("Stand"),
     "purpose": N_("Purpose"),
     "made": N_("Report made"),
-    "open_runs": N_("{n} of the runs are still open: their figures may change."),
     "sec.runs": N_("Runs"),
     "sec.statistics": N_("Statistics of the results"),
     "sec.spread": N_("Spread of the runs against their instruments"),
@@ -106,6 +106,12 @@ TEXT: dict[str, str] = {
     "state.finished": N_("finished"),
     "state.aborted": N_("aborted"),
 }
+
+#: The runs of a series still open, by their number (one run "is", two "are").
+OPEN_RUNS = NP_(
+    "{n} of the runs is still open: its figures may change.",
+    "{n} of the runs are still open: their figures may change.",
+)
 
 #: Per-step results (``steps[3].chi``) are in the statistics table only, not in the runs'.
 _PER_STEP = "["
@@ -190,6 +196,7 @@ def series_context(
         "run_columns": [r for r in rows if _PER_STEP not in r["stats"].key],
         "own_uncertainty": any(r["own_uncertainty"] is not None for r in rows),
         "plots": plots,
+        "open_runs": m.plural(*OPEN_RUNS, detail.open_runs).format(n=detail.open_runs),
     }
 
 
@@ -257,9 +264,11 @@ def _plots(
     if not by_level:
         return []
 
+    names = run_names(detail.runs)
+
     def curves(extract: Callable[[str], Curve | None]) -> dict[str, list[Curve]]:
         found = {
-            level: [c for run in runs if (c := extract(run)) is not None]
+            level: [replace(c, label=names[run]) for run in runs if (c := extract(run)) is not None]
             for level, runs in by_level.items()
         }
         return {level: cs for level, cs in found.items() if cs}
@@ -324,6 +333,23 @@ def _plots(
             curves(lambda r: _profile(r, readings.get(r))),
         )
     return plots
+
+
+def run_names(runs: Sequence[SeriesRun]) -> dict[str, str]:
+    """Each run as a legend names it: its operator (the students' group) and the date it
+    started, ``Group 3, 2026-11-25``; runs of one operator on one day add the time they
+    started, and runs that share that too their place in the table of runs (``(2)``)."""
+    day = [f"{r.operator}, {r.created:%Y-%m-%d}" for r in runs]
+    clock = [f"{r.operator}, {r.created:%Y-%m-%d %H:%M}" for r in runs]
+    found: dict[str, str] = {}
+    for place, run in enumerate(runs):
+        if day.count(day[place]) == 1:
+            found[run.run_id] = day[place]
+        elif clock.count(clock[place]) == 1:
+            found[run.run_id] = clock[place]
+        else:
+            found[run.run_id] = f"{day[place]} ({place + 1})"
+    return found
 
 
 def _friction(run_id: str, values: Mapping[str, Any] | None) -> Curve | None:

@@ -7,7 +7,10 @@ import string
 import pytest
 
 from rigserver.reports.i18n import MESSAGES, UNIT_LABELS, Messages, negotiate
+from schemas.stands import StandKind
 from schemas.units import UNITS
+from tests.reports.rendered import run_html
+from tests.reports.simulated import tables
 
 
 @pytest.mark.parametrize(
@@ -50,3 +53,17 @@ def test_both_languages_take_the_same_values() -> None:
         fields = [{f for _, f, _, _ in string.Formatter().parse(text) if f} for text in texts]
         assert fields[0] == fields[1], key
     assert Messages("ru")("lab_work", n=3) == "Лабораторная работа № 3"
+
+
+def test_the_gauges_technical_atmosphere_prints_as_the_manuals_atm() -> None:
+    # lab 3's manometers read in "атм" (the manual's table 3.1, "p, атм"): the technical
+    # atmosphere, 1 kgf/cm² = 9.80665 N / 10⁻⁴ m² (docs/models.md, section 3)
+    assert UNITS["at"].factor == pytest.approx(9.80665 / 1e-4)
+    assert UNITS["atm"].factor == 101_325.0  # the standard atmosphere, the other reading
+    assert Messages("ru").unit("at") == "атм"
+    assert Messages("ru").unit("atm") != Messages("ru").unit("at")
+    assert (Messages("en").unit("at"), Messages("en").unit("atm")) == ("at", "atm")
+    html = run_html(StandKind.SLIDE_BEARING, "ru")
+    headers = {h for table in tables(html) for h in table.header}
+    assert "p, атм" in headers
+    assert not [h for h in headers if h.endswith(" ат")]

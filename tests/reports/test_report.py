@@ -17,8 +17,14 @@ import pytest
 
 from rigserver.analysis import analyse
 from rigserver.reports.formatting import fmt, with_uncertainty
-from rigserver.reports.i18n import Lang
-from rigserver.reports.run_report import build_report, render_report
+from rigserver.reports.i18n import Lang, Messages
+from rigserver.reports.run_report import (
+    build_report,
+    configuration_rows,
+    particulars_text,
+    render_report,
+)
+from rigsim.stands.smts2 import MODES
 from schemas.labels import MTOS, PROFILOMETER, SLIDE_BEARING, Label
 from schemas.results import MtosResults, ProfilometerResults, SlideBearingResults, Smts2Results
 from schemas.runs import RunState
@@ -503,3 +509,40 @@ def test_the_rows_stored_are_printed_whole(kind: StandKind) -> None:
     assert max(s.run.rows.values()) >= 10_000  # more digits than fmt's four
     for rows in s.run.rows.values():
         assert f": {rows}" in html
+
+
+@pytest.mark.parametrize("lang", ["en", "ru"])
+def test_the_moment_sensor_error_is_the_manuals_five_percent(lang: Lang) -> None:
+    # the manual's SMTs-2 data: "допускаемая погрешность измерения момента трения ... ±5 %",
+    # printed in % as the description says it (it was 0.05 with the unit "—")
+    config = next(t for t in tables(report(StandKind.SMTS2, lang)) if len(t.header) == 3)
+    moment = ("friction", "момент")
+    (row,) = [r for r in config.rows if "±5 %" in r[0] and r[0].startswith(moment)]
+    assert row[1:] == ["5", "%"]
+
+
+@pytest.mark.parametrize("kind", [StandKind.PIN_ON_DISC, StandKind.RECIPROCATING])
+@pytest.mark.parametrize("lang", ["en", "ru"])
+def test_a_ball_is_named_a_ball_not_a_pin(kind: StandKind, lang: Lang) -> None:
+    # the ball's properties were printed as the SMTs-2's "образец (стержень)" (its pin)
+    s = simulated(kind)
+    assert s.run.configuration["tip"] == "ball"
+    config = next(t for t in tables(report(kind, lang)) if len(t.header) == 3)
+    names = [row[0] for row in config.rows]
+    ball, pin = {"en": ("ball: ", "pin: "), "ru": ("шарик: ", "образец (стержень): ")}[lang]
+    assert sum(name.startswith(ball) for name in names) == len(s.run.configuration["pin"])
+    assert not [name for name in names if name.startswith(pin)]
+    flat_pin = s.run.model_copy(
+        update={"configuration": {**s.run.configuration, "tip": "flat_pin"}}
+    )
+    rows = configuration_rows(Messages(lang), flat_pin)
+    assert sum(str(words).startswith(pin) for words, _, _ in rows) == len(
+        s.run.configuration["pin"]
+    )
+
+
+@pytest.mark.parametrize("mode", MODES)
+def test_every_mode_of_the_smts2_is_translated(mode: str) -> None:
+    # "режим: adhesive" was printed while "wear" read "износ"
+    shown = particulars_text(Messages("ru"), {"mode": mode})
+    assert shown.startswith("режим: ") and re.fullmatch(r"[а-яё ]+", shown.partition(": ")[2])

@@ -7,6 +7,7 @@ from datetime import UTC, datetime
 import pytest
 
 from rigserver.analysis.series import Member, series_statistics
+from rigserver.reports import plots
 from rigserver.reports.formatting import fmt
 from rigserver.reports.i18n import Lang
 from rigserver.reports.series_report import render_series_report, series_context
@@ -103,3 +104,81 @@ def test_a_per_step_result_names_its_step_and_load(lang: Lang, step: str) -> Non
         load = fmt(one["load"]).replace(".", ",") if lang == "ru" else fmt(one["load"])
         unit = "N" if lang == "en" else "Н"
         assert any(name.endswith(f", {step} {i}, N = {load} {unit}") for name in named), i
+
+
+@pytest.mark.parametrize(
+    ("lang", "counts"),
+    [
+        ("en", {1: "1 of the runs is still open: its", 2: "2 of the runs are still open: their"}),
+        (
+            "ru",
+            {
+                1: "1 испытание серии ещё не завершено: его",
+                3: "3 испытания серии ещё не завершены: их",
+                5: "5 испытаний серии ещё не завершено: их",
+                21: "21 испытание серии ещё не завершено: его",
+            },
+        ),
+    ],
+)
+def test_the_open_runs_are_counted_in_the_plural_forms(lang: Lang, counts: dict[int, str]) -> None:
+    # "1 of the runs are still open" read wrongly (gettext's plural forms, schemas.messages.NP_)
+    detail = series_statistics(
+        Series(id="s-00000000000c", name="n", purpose=SeriesPurpose.REPEATABILITY, created=MADE),
+        [],
+        [],
+    )
+    for n, words in counts.items():
+        context = series_context(
+            detail.model_copy(update={"open_runs": n}), values={}, readings={}, lang=lang
+        )
+        assert words in render_series_report(context, made=MADE)
+
+
+def _legends(kind: StandKind, levels: tuple[str | None, ...], lang: Lang) -> list[list[str]]:
+    """The legend texts of each overlay of a series of three runs of ``kind`` at ``levels``,
+    by groups 1-3 on 25-27 November (the first two runs by one group on one day)."""
+    run = simulated(kind)
+    starts = [
+        datetime(2026, 11, day, hour, tzinfo=UTC) for day, hour in ((25, 9), (25, 11), (27, 9))
+    ]
+    members = [
+        Member(
+            run=run.run.model_copy(
+                update={"id": f"20261125T120000Z-0000002{i}", "operator": group, "created": start}
+            ),
+            level=level,
+            values=run.result.payload["values"],
+        )
+        for i, (level, group, start) in enumerate(
+            zip(levels, ("Group 1", "Group 1", "Group $3$"), starts, strict=True)
+        )
+    ]
+    factor = "oil" if any(levels) else None
+    purpose = SeriesPurpose.COMPARISON if factor else SeriesPurpose.REPEATABILITY
+    series = Series(id="s-00000000000d", name="n", purpose=purpose, factor=factor, created=MADE)
+    detail = series_statistics(series, members, [])
+    with plots.recording() as drawn:
+        series_context(
+            detail,
+            values={m.run.id: m.values for m in members},
+            readings={m.run.id: run.readings for m in members},
+            lang=lang,
+        )
+    return [[t.get_text() for t in ax.get_legend().get_texts()] for f in drawn for ax in f.axes]
+
+
+@pytest.mark.parametrize("kind", [StandKind.SMTS2, StandKind.MTOS])
+@pytest.mark.parametrize("lang", ["en", "ru"])
+def test_a_series_legend_names_the_runs_by_group_and_date(kind: StandKind, lang: Lang) -> None:
+    # the legends named the runs by the ends of their ids ("…0000abcd")
+    mean = {"en": "mean ± s", "ru": "среднее ± s"}[lang]
+    runs = ["Group 1, 2026-11-25 09:00", "Group 1, 2026-11-25 11:00", r"Group \$3\$, 2026-11-27"]
+    for legend in _legends(kind, (None, None, None), lang):
+        assert legend == [*runs, mean]
+
+
+@pytest.mark.parametrize("kind", [StandKind.SMTS2, StandKind.MTOS])
+def test_a_series_legend_names_the_runs_by_their_level(kind: StandKind) -> None:
+    for legend in _legends(kind, ("A", "A", "B"), "en"):
+        assert sorted(legend) == ["A", "A: mean ± s", "B"]  # B's one run draws no mean

@@ -228,7 +228,7 @@ def test_a_number_as_typed(typed: str, number: float | None) -> None:
 @pytest.mark.parametrize(
     ("stand", "group", "columns", "line"),
     [
-        ("slide_bearing", "rows", {"p3": [-1.5]}, "p₃ = -1,5 ат ниже предела -1 ат"),
+        ("slide_bearing", "rows", {"p3": [-1.5]}, "p₃ = -1,5 атм ниже предела -1 атм"),
         (
             "smts2",
             "friction",

@@ -187,12 +187,12 @@ def _axial_svg(t: Messages, v: SlideBearingResults) -> str:
     def closed(values: Sequence[float | None]) -> list[float]:
         return [0.0, *_curve(values), 0.0]
 
-    fig, (ax,) = axes(height=3.0)
-    ax.plot(z, closed([p.pi_short for p in points]), "-", linewidth=1.2, label=t("b.short"))
+    fig, (ax,) = axes(height=3.0)  # table 3.2's symbols: Π_z measured, Π_m the short bearing
+    ax.plot(z, closed([p.pi_short for p in points]), "-", linewidth=1.2, label=t("b.short_z"))
     if any(p.pi_finite is not None for p in points):
         ax.plot(z, closed([p.pi_finite for p in points]), "-.", linewidth=1.2, label=t("b.finite"))
     measured = closed([p.pi_measured for p in points])
-    ax.plot(z, measured, "o", color="k", markersize=4, label=t("b.measured"))
+    ax.plot(z, measured, "o", color="k", markersize=4, label=t("b.measured_z"))
     decorate(ax, xlabel=blocks.axis(t, "z = Z/R"), ylabel=blocks.axis(t, "Π"))
     return to_svg(fig)
 

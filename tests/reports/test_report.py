@@ -536,7 +536,7 @@ def test_a_ball_is_named_a_ball_not_a_pin(kind: StandKind, lang: Lang) -> None:
         update={"configuration": {**s.run.configuration, "tip": "flat_pin"}}
     )
     rows = configuration_rows(Messages(lang), flat_pin)
-    assert sum(str(words).startswith(pin) for words, _, _ in rows) == len(
+    assert sum(str(row.words).startswith(pin) for row in rows) == len(
         s.run.configuration["pin"]
     )
 

@@ -1,0 +1,53 @@
+"""The printed report as a reader checks its numbers (issue 37, item 6; GUM 7.2.6): a
+result to the place of its uncertainty, counts whole, percentages to 0.1, one number of
+decimals in each column of a table. Read from the PDF's text, in both languages."""
+
+from __future__ import annotations
+
+import re
+
+import pytest
+
+from rigserver.reports.i18n import Lang
+from schemas.stands import StandKind
+from tests.reports.rendered import run_report
+
+NUMBER = r"-?\d+(?:[.,]\d+)?"
+
+
+def _decimals(number: str) -> int:
+    return len(re.split(r"[.,]", number)[1]) if re.search(r"[.,]", number) else 0
+
+
+@pytest.mark.parametrize("lang", ["en", "ru"])
+def test_the_flat_report_prints_each_number_to_its_digits(lang: Lang) -> None:
+    text = run_report(StandKind.RECIPROCATING, lang).text
+    sign = "," if lang == "ru" else "."
+
+    # the table of the strokes by blocks of cycles: three numbers a row, each column with
+    # one number of decimals (0.549 and 0.55 were printed beside 0.5494)
+    rows = re.findall(rf"^({NUMBER}) ({NUMBER}) ({NUMBER})$", text, flags=re.MULTILINE)
+    assert len(rows) >= 20, text
+    for column in zip(*rows, strict=True):
+        assert len({_decimals(n) for n in column}) == 1, column
+    assert all(sign in n for row in rows for n in row)
+
+    # the cycles run are a count: a whole number (the record's 999.987)
+    cycles = "пройдено циклов" if lang == "ru" else "cycles run"
+    counted = re.findall(rf"{cycles} nc\s+(\S+)", text)
+    assert counted and all(re.fullmatch(r"\d+", n) for n in counted), counted
+
+    # a percentage to 0.1: the material ratios of ISO 13565-2
+    ratios = re.findall(rf"Mr[12]\s+({NUMBER}) %", text)
+    assert len(ratios) == 2 and all(_decimals(n) == 1 for n in ratios), ratios
+
+    # μ with its expanded uncertainty: U to two significant digits, μ to the same place,
+    # and μ in the results and in the conclusions to that place too
+    value, expanded = re.findall(rf"μ ({NUMBER}) ± ({NUMBER}) \(k = 2\)", text)[0]
+    assert len(expanded.lstrip("0,.").replace(sign, "")) == 2, expanded
+    assert _decimals(value) == _decimals(expanded)
+    assert f"μ = {value}" in text
+    # k of the disc by its mass loss: U = 1.0·10⁻⁵, so k carries one decimal of 10⁻⁵
+    k, u = re.findall(rf"\(({NUMBER}) ± ({NUMBER})\)·10⁻⁵ \(k = 2\)", text)[0]
+    assert _decimals(k) == _decimals(u) == 1
+    assert f"k = {k}·10⁻⁵" in text

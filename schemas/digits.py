@@ -16,8 +16,8 @@ tens and hundreds); the printing (decimal sign of the language, powers of ten) i
 from __future__ import annotations
 
 import math
-from decimal import Decimal
 from collections.abc import Iterable, Mapping
+from decimal import Decimal
 from typing import Any
 
 #: Significant digits of a stated uncertainty (GUM 7.2.6: "at most two").

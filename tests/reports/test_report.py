@@ -9,7 +9,6 @@ must print) or are computed here from the posted readings (raw tables, means, ra
 from __future__ import annotations
 
 import math
-
 import re
 from collections.abc import Sequence
 from functools import lru_cache

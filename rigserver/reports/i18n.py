@@ -693,6 +693,9 @@ MESSAGES: dict[str, str] = {
     "c.dev_stroke": N_("stroke {given} mm instead of {standard} mm"),
     "c.dev_frequency": N_("frequency {given} Hz instead of {standard} Hz"),
     "c.dev_distance": N_("distance {given} m instead of {standard} m"),
+    "c.dev_ball": N_("ball {given} mm instead of {standard} mm"),
+    "c.dev_temperature": N_("temperature {given} °C instead of {standard} °C"),
+    "c.dev_tip": N_("a flat-ended pin instead of a ball"),
     "c.g133_apart": N_(
         "The test on the flat departs from ASTM G133 procedure {procedure}: {what}."
     ),

@@ -43,14 +43,34 @@ def test_the_flat_report_cites_g133_and_says_flat_and_cycles() -> None:
 def test_a_flat_test_as_procedure_a_is_said_to_follow_it() -> None:
     v = simulated(StandKind.RECIPROCATING).result.values
     assert isinstance(v, ReciprocatingResults)
-    # G133 procedure A: 25 N, 10 mm stroke, 5 Hz, 100 m, dry; the record as planned
-    config = ReciprocatingConfig(plan=PlannedTest(load=25.0, distance=100.0))
+    # G133 procedure A (as the code takes it, see G133's comment): 25 N, 10 mm stroke, 5 Hz,
+    # 100 m, dry, a 9.525 mm ball; the record as planned
+    config = ReciprocatingConfig(plan=PlannedTest(load=25.0, distance=100.0), tip_diameter=9.525e-3)
     as_run = v.model_copy(update={"mean_load": 25.0, "sliding_distance": 100.0})
     said = deviations(Messages("en"), config, as_run)
     assert said == ["The test on the flat follows the parameters of ASTM G133 procedure A."]
-    # lubricated: procedure B's 200 N, 10 Hz, 400 m
-    oiled = config.model_copy(update={"plan": PlannedTest(load=25.0, lubricant="diesel")})
+    # lubricated: procedure B's 200 N, 10 Hz, 400 m, 150 °C
+    oiled = config.model_copy(update={"plan": PlannedTest(load=25.0, lubricant="PAO 4")})
     (apart,) = deviations(Messages("en"), oiled, as_run)
     assert apart.startswith("The test on the flat departs from ASTM G133 procedure B")
     assert "load 25 N instead of 200 N" in apart and "frequency 5 Hz instead of 10 Hz" in apart
+    assert "temperature 23 °C instead of 150 °C" in apart  # the plan's room temperature
+    assert "ball" not in apart  # B's ball is A's, 9.525 mm
     assert math.isclose(config.stroke_length, 0.01)
+
+
+def test_a_run_that_differs_from_procedure_a_is_told_each_difference() -> None:
+    v = simulated(StandKind.RECIPROCATING).result.values
+    assert isinstance(v, ReciprocatingResults)
+    # the stand's defaults: a 6 mm ball, 5 N, 5 Hz, a 10 mm stroke, 100 m, dry
+    (apart,) = deviations(Messages("en"), ReciprocatingConfig(), v)[-1:]
+    assert apart == (
+        "The test on the flat departs from ASTM G133 procedure A: load 5 N instead of 25 N; "
+        "ball 6 mm instead of 9.525 mm."
+    )
+    pin = ReciprocatingConfig(tip="flat_pin", plan=PlannedTest(load=25.0))
+    (apart,) = deviations(Messages("ru"), pin, v)[-1:]
+    assert apart == (
+        "Испытание пластины отличается от процедуры A ASTM G133: "
+        "палец с плоским торцом вместо шарика."
+    )

@@ -12,6 +12,7 @@ from dataclasses import dataclass
 from rigserver.reports.document import Table
 from rigserver.reports.formatting import fmt, html_symbol
 from rigserver.reports.i18n import Messages
+from schemas.digits import count
 from schemas.results import PinOnDiscResults, ReciprocatingResults
 from schemas.runs import Run
 from schemas.stands import PinOnDiscConfig, ReciprocatingConfig
@@ -19,7 +20,8 @@ from schemas.stands import PinOnDiscConfig, ReciprocatingConfig
 
 @dataclass(frozen=True, slots=True)
 class Procedure:
-    """The fixed parameters of a standard's procedure (SI; temperature in °C)."""
+    """The fixed parameters of a standard's procedure (SI; temperature in °C, ``None``:
+    room temperature)."""
 
     name: str
     load: float
@@ -28,10 +30,21 @@ class Procedure:
     distance: float
     temperature: float | None
     lubricated: bool
+    ball_diameter: float = 9.525e-3  # a 3/8 in ball
 
 
-#: ASTM G133-05 (2016), clause 9: procedure A unlubricated at room temperature, procedure B
-#: lubricated (diesel fuel) at 150 °C; both a 9.525 mm ball and a 10 mm stroke.
+#: ASTM G133 (-95, -05 (2016), -22), Procedures A and B. What stored public copies confirm
+#: (the standard's scope 1.1 and 5.1, on astm.org's page of G133-22 and on the iTeh and BSI
+#: catalogue pages of G133-95, -05 (2016) and -22): the test "encompasses both unlubricated
+#: and lubricated testing procedures", "either of two sets of testing conditions (designated
+#: Procedures A and B) may be used", and the parameters reported "should conform with either
+#: Procedure A or B". The numbers below could NOT be confirmed from a stored copy of the
+#: standard's text (only its first pages are stored): they are the values commonly quoted
+#: for it, A unlubricated at room temperature, 25 N, 10 mm stroke, 5 Hz, 100 m (1000 s);
+#: B lubricated at 150 °C, 200 N, 10 mm, 10 Hz, 400 m (2000 s), both with a 9.525 mm ball.
+#: They are at least consistent: L = 2·S·f·t (100 m = 2 · 10 mm · 5 Hz · 1000 s; 400 m =
+#: 2 · 10 mm · 10 Hz · 2000 s). Which lubricant B names is not stated here (an earlier note
+#: said diesel fuel; unconfirmed): any lubricant is taken as B's.
 G133 = (
     Procedure("A", 25.0, 10e-3, 5.0, 100.0, None, False),
     Procedure("B", 200.0, 10e-3, 10.0, 400.0, 150.0, True),
@@ -87,7 +100,8 @@ def conditions_table(t: Messages, run: Run, config: Config, v: Results) -> Table
     ]
     printed: list[list[str]] = []
     for key, symbol, path, planned, measured, unit in rows:
-        shown = fmt(planned)
+        number = _count if key in ("t.laps", "t.cycles") else fmt
+        shown = number(planned)
         if path is not None and run.from_default(path):
             shown = t("config.default", value=shown)
         printed.append(
@@ -95,13 +109,18 @@ def conditions_table(t: Messages, run: Run, config: Config, v: Results) -> Table
                 html_symbol(t(key)),
                 html_symbol(t.symbol(symbol)),
                 shown,
-                fmt(measured) if measured is not None else t("c.not_recorded"),
+                number(measured) if measured is not None else t("c.not_recorded"),
                 t.unit(unit) if unit else "",
             ]
         )
     head = [t("col.quantity"), t("col.symbol"), t("c.planned"), t("c.measured"), t("col.unit")]
     caption = t("c.caption_g99" if isinstance(config, PinOnDiscConfig) else "c.caption_g133")
     return Table(caption=caption, header=head, rows=printed, labels=2)
+
+
+def _count(value: float | None) -> str:
+    """Laps or cycles: a whole number (issue 37, item 6)."""
+    return fmt(None) if value is None else str(count(value))
 
 
 def _times(value: float | None, factor: float) -> float | None:
@@ -124,16 +143,31 @@ def deviations(t: Messages, config: Config, v: Results) -> list[str]:
         procedure = G133[1] if lubricated else G133[0]
         apart = [
             t(key, given=fmt(given), standard=fmt(standard))
-            for key, given, standard in (
-                ("c.dev_load", plan.load, procedure.load),
-                ("c.dev_stroke", config.stroke_length * 1e3, procedure.stroke_length * 1e3),
-                ("c.dev_frequency", config.frequency, procedure.frequency),
-                ("c.dev_distance", plan.distance, procedure.distance),
-            )
-            if abs(given - standard) > TOLERANCE * standard
+            for key, given, standard in _against(config, procedure)
+            if abs(given - standard) > TOLERANCE * abs(standard)
         ]
+        if config.tip != "ball":
+            apart.insert(0, t("c.dev_tip"))
         if apart:
             found.append(t("c.g133_apart", procedure=procedure.name, what="; ".join(apart)))
         else:
             found.append(t("c.g133_as", procedure=procedure.name))
     return found
+
+
+def _against(config: ReciprocatingConfig, procedure: Procedure) -> list[tuple[str, float, float]]:
+    """The run's parameters beside the procedure's: ``(message key, given, standard)``,
+    lengths in mm; the ball's diameter only for a ball, the temperature only where the
+    procedure fixes one (B's 150 °C)."""
+    plan = config.plan
+    pairs = [
+        ("c.dev_load", plan.load, procedure.load),
+        ("c.dev_stroke", config.stroke_length * 1e3, procedure.stroke_length * 1e3),
+        ("c.dev_frequency", config.frequency, procedure.frequency),
+        ("c.dev_distance", plan.distance, procedure.distance),
+    ]
+    if config.tip == "ball":
+        pairs.append(("c.dev_ball", config.tip_diameter * 1e3, procedure.ball_diameter * 1e3))
+    if procedure.temperature is not None:
+        pairs.append(("c.dev_temperature", plan.temperature, procedure.temperature))
+    return pairs

@@ -702,6 +702,11 @@ MESSAGES: dict[str, str] = {
     "c.g133_as": N_(
         "The test on the flat follows the parameters of ASTM G133 procedure {procedure}."
     ),
+    "c.g99_own": N_(
+        "The test parameters (load, speed, distance, materials, environment) are this test's "
+        "own, not those of the interlaboratory study of ASTM G99 (G99-17, 1.3 and 4.2): its "
+        "results are not to be compared with that study's."
+    ),
     "t.flat_track": N_("Wear of the flat from profiles across its track"),
     "t.flat_mass": N_("Wear of the flat from its mass loss"),
     "t.cycles": N_("cycles run"),

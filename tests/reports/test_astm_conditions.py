@@ -10,7 +10,7 @@ from html import unescape
 from rigserver.reports.i18n import Messages
 from rigserver.reports.labs.tribometer_conditions import deviations
 from schemas.results import PinOnDiscResults, ReciprocatingResults
-from schemas.stands import PlannedTest, ReciprocatingConfig, StandKind
+from schemas.stands import PinOnDiscConfig, PlannedTest, ReciprocatingConfig, StandKind
 from tests.reports.rendered import report_html
 from tests.reports.simulated import simulated
 
@@ -74,3 +74,19 @@ def test_a_run_that_differs_from_procedure_a_is_told_each_difference() -> None:
         "Испытание пластины отличается от процедуры A ASTM G133: "
         "палец с плоским торцом вместо шарика."
     )
+
+
+def test_the_disc_report_says_its_parameters_are_its_own() -> None:
+    # ASTM G99-17, 1.3 and 4.2: a test with parameters other than the interlaboratory
+    # study's says so, and its results are not compared with the study's
+    done = simulated(StandKind.PIN_ON_DISC)
+    v = done.result.values
+    assert isinstance(v, PinOnDiscResults)
+    config = PinOnDiscConfig(plan=PlannedTest(distance=v.sliding_distance, load=v.mean_load))
+    assert deviations(Messages("en"), config, v) == [
+        "The test parameters (load, speed, distance, materials, environment) are this test's "
+        "own, not those of the interlaboratory study of ASTM G99 (G99-17, 1.3 and 4.2): its "
+        "results are not to be compared with that study's."
+    ]
+    html = unescape(report_html(done, "ru"))
+    assert "не взяты из межлабораторного исследования ASTM G99" in html

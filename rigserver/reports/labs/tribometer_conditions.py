@@ -1,8 +1,10 @@
-"""A tribometer report's test conditions as ASTM G99-17 (clause 10) and G133-05 (clause 10)
-ask them to be reported: each planned value beside the one measured (load, sliding speed,
+"""A tribometer report's test conditions as ASTM G99-17 and G133-05 ask them to be reported
+(their "Report" clause): each planned value beside the one measured (load, sliding speed,
 rotational speed or frequency, distance, laps or cycles, temperature, humidity), and the
-deviations from the standard's procedure (G133's procedures A and B fix their parameters;
-G99 leaves them to the test)."""
+deviations from the standard's parameters: G133's procedures A and B fix theirs; G99-17
+(1.2, 1.3, 4.2) has the parameters of its interlaboratory study (its tables 1 and 2) and
+asks a test with other parameters to say so, its results then not comparable with that
+study's."""
 
 from __future__ import annotations
 
@@ -128,8 +130,9 @@ def _times(value: float | None, factor: float) -> float | None:
 
 
 def deviations(t: Messages, config: Config, v: Results) -> list[str]:
-    """The sentences of the report on what departs: from the plan (distance, load), and on
-    the flat from G133's procedure of the same lubrication (A dry, B lubricated)."""
+    """The sentences of the report on what departs: from the plan (distance, load); on the
+    flat from G133's procedure of the same lubrication (A dry, B lubricated); on the disc,
+    G99's statement that the parameters are the test's own."""
     found: list[str] = []
     plan = config.plan
     for key, planned, measured in (
@@ -152,6 +155,12 @@ def deviations(t: Messages, config: Config, v: Results) -> list[str]:
             found.append(t("c.g133_apart", procedure=procedure.name, what="; ".join(apart)))
         else:
             found.append(t("c.g133_as", procedure=procedure.name))
+    else:
+        # G99-17, 1.3 and 4.2 (stored copies of its scope on the AFNOR, KPT and iTeh
+        # catalogue pages): a test with parameters of its own says so. The study's own
+        # parameters (G99-17, table 1) could not be read from a stored copy, so rig does not
+        # compare them: it says what G99 asks of every test it cannot show to be the study's.
+        found.append(t("c.g99_own"))
     return found
 
 

@@ -54,6 +54,19 @@ def is_stated(uncertainty: float | None) -> bool:
     return uncertainty is not None and math.isfinite(uncertainty) and uncertainty > 0
 
 
+def result_places(*, count: bool, percent: bool, uncertainty: float | None) -> int | None:
+    """The decimals a result is printed with, in the rule's order: a count none (whole), a
+    value with a stated uncertainty those of the uncertainty (GUM 7.2.6), a percentage one;
+    ``None``: its label's significant digits."""
+    if count:
+        return 0
+    if uncertainty is not None and is_stated(uncertainty):
+        return uncertainty_places(uncertainty)
+    if percent:
+        return PERCENT_PLACES
+    return None
+
+
 def count(value: float) -> int:
     """A count as the whole number nearest to it (halves away from zero)."""
     return int(math.copysign(math.floor(abs(value) + 0.5), value))

@@ -29,6 +29,7 @@ from schemas.digits import (
     column_places,
     count,
     is_stated,
+    result_places,
     uncertainty_places,
 )
 from schemas.labels import Label, plain_symbol
@@ -111,6 +112,11 @@ def column_numbers(values: Sequence[float | None], places: int) -> list[str]:
     return out
 
 
+def percent(value: float | None) -> str:
+    """A percentage to 0.1 (``-0.1`` for the issue's −0.0662 %)."""
+    return fixed(value, PERCENT_PLACES)
+
+
 def column(values: Sequence[float | None], digits: int = 4) -> list[str]:
     """A table column's numbers with one number of decimals (:func:`schemas.digits.
     column_places` at ``digits`` significant digits)."""
@@ -151,14 +157,13 @@ def shown(label: Label, value: float | None, stored: str, uncertainty: float | N
     to the label's digits."""
     if value is None or isinstance(value, bool) or not math.isfinite(value):
         return fmt(value)
+    u = None if uncertainty is None else label.displayed(uncertainty, stored)
+    places = result_places(count=label.count, percent=label.unit == "%", uncertainty=u)
+    if places is None:
+        return fmt(label.shown(value, stored), label.digits)
     if label.count:
         return str(count(label.displayed(value, stored)))
-    if is_stated(uncertainty):
-        assert uncertainty is not None
-        return to_uncertainty(label.displayed(value, stored), label.displayed(uncertainty, stored))
-    if label.unit == "%":
-        return fixed(label.shown(value, stored), PERCENT_PLACES)
-    return fmt(label.shown(value, stored), label.digits)
+    return fixed(_noiseless(label, value, stored), places)
 
 
 def shown_column(label: Label, values: Sequence[float | None], stored: str) -> list[str]:

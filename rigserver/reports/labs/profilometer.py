@@ -18,6 +18,7 @@ from rigserver.reports.formatting import (
     decimal_sign,
     fmt,
     html_symbol,
+    percent,
     shown,
     with_uncertainty,
 )
@@ -322,7 +323,7 @@ def _bearing_svg(t: Messages, v: ProfilometerResults, fits: list[BearingFitResul
 
 
 def _percent(reference: float, other: float) -> str:
-    return fmt(float(stands.relative_error_percent(reference=reference, other=other).percent))
+    return percent(float(stands.relative_error_percent(reference=reference, other=other).percent))
 
 
 def _conclusions(t: Messages, v: ProfilometerResults) -> list[Text]:

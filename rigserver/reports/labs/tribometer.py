@@ -11,12 +11,11 @@ import numpy as np
 from rigserver.reports import blocks
 from rigserver.reports.context import Context, LabReport
 from rigserver.reports.document import Block, Figure, Section, Text
-from rigserver.reports.formatting import fixed, fmt, html_symbol, to_uncertainty
+from rigserver.reports.formatting import fmt, html_symbol, percent, to_uncertainty
 from rigserver.reports.i18n import Messages
 from rigserver.reports.labs import iso_profile
 from rigserver.reports.labs.tribometer_conditions import conditions_table, deviations
 from rigserver.reports.plots import axes, decorate, to_svg
-from schemas.digits import PERCENT_PLACES
 from schemas.labels import RESULTS, TABLES, WEAR_SUBSCRIPTS, RowTable, row_labels
 from schemas.results import PinOnDiscResults, ReciprocatingResults, TribometerStep, WearEstimate
 from schemas.stands import CONFIG_MODELS, MEASUREMENTS, PinOnDiscConfig, ReciprocatingConfig
@@ -334,7 +333,7 @@ def _disagreement(
         k_mass=_k(mass),
         k_shape=_k(shape),
         ratio=fmt(max(k_mass, k_shape) / min(k_mass, k_shape), 2),
-        relative=fixed(100.0 * min(u_mass / k_mass, u_shape / k_shape), PERCENT_PLACES),
+        relative=percent(100.0 * min(u_mass / k_mass, u_shape / k_shape)),
     )
 
 

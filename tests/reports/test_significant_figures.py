@@ -10,7 +10,7 @@ import pytest
 
 from rigserver.reports.i18n import Lang
 from schemas.stands import StandKind
-from tests.reports.rendered import run_report
+from tests.reports.rendered import run_report, series_report
 
 NUMBER = r"-?\d+(?:[.,]\d+)?"
 
@@ -51,3 +51,22 @@ def test_the_flat_report_prints_each_number_to_its_digits(lang: Lang) -> None:
     k, u = re.findall(rf"\(({NUMBER}) ± ({NUMBER})\)·10⁻⁵ \(k = 2\)", text)[0]
     assert _decimals(k) == _decimals(u) == 1
     assert f"k = {k}·10⁻⁵" in text
+
+
+def test_the_series_report_states_a_mean_to_its_standard_error() -> None:
+    text = series_report(StandKind.RECIPROCATING, "en").text
+    # μ_s of three runs: x̄, s, s/√n, the 95 % interval; s and s/√n to two significant
+    # digits, the mean and the interval to the place of s/√n (GUM 7.2.6)
+    found = re.search(
+        rf"at the start 3 ({NUMBER}) ({NUMBER}) ({NUMBER}) ({NUMBER}) … ({NUMBER})", text
+    )
+    assert found, text
+    mean, std, sem, low, high = found.groups()
+    for spread in (std, sem):
+        assert len(spread.replace(".", "").lstrip("0")) == 2, spread
+    assert _decimals(mean) == _decimals(sem) == _decimals(low) == _decimals(high)
+    # the runs' table: a column of one number of decimals (μ_s of the three runs)
+    runs = re.findall(rf"^\S+ finished rigsim ({NUMBER}) ({NUMBER}) ", text, flags=re.MULTILINE)
+    assert len(runs) == 3
+    for column in zip(*runs, strict=True):
+        assert len({_decimals(n) for n in column}) == 1, column

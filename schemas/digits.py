@@ -54,13 +54,31 @@ def is_stated(uncertainty: float | None) -> bool:
     return uncertainty is not None and math.isfinite(uncertainty) and uncertainty > 0
 
 
-def result_places(*, count: bool, percent: bool, uncertainty: float | None) -> int | None:
+#: An uncertainty below this share of its value is the arithmetic's noise (the spread of
+#: runs that hold the same readings, 1.7·10⁻¹⁷), not a measured one.
+RELATIVE_NOISE = 1e-9
+
+
+def result_places(
+    *,
+    count: bool,
+    percent: bool,
+    uncertainty: float | None,
+    value: float = 0.0,
+    resolution: float = 0.0,
+) -> int | None:
     """The decimals a result is printed with, in the rule's order: a count none (whole), a
-    value with a stated uncertainty those of the uncertainty (GUM 7.2.6), a percentage one;
-    ``None``: its label's significant digits."""
+    ``value`` with a stated uncertainty those of the uncertainty (GUM 7.2.6; one below the
+    label's ``resolution`` or the arithmetic's noise is none), a percentage one; ``None``:
+    its label's significant digits."""
     if count:
         return 0
-    if uncertainty is not None and is_stated(uncertainty):
+    if (
+        uncertainty is not None
+        and is_stated(uncertainty)
+        and uncertainty >= resolution
+        and uncertainty > RELATIVE_NOISE * abs(value)
+    ):
         return uncertainty_places(uncertainty)
     if percent:
         return PERCENT_PLACES

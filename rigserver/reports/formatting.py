@@ -158,7 +158,13 @@ def shown(label: Label, value: float | None, stored: str, uncertainty: float | N
     if value is None or isinstance(value, bool) or not math.isfinite(value):
         return fmt(value)
     u = None if uncertainty is None else label.displayed(uncertainty, stored)
-    places = result_places(count=label.count, percent=label.unit == "%", uncertainty=u)
+    places = result_places(
+        count=label.count,
+        percent=label.unit == "%",
+        uncertainty=u,
+        value=label.displayed(value, stored),
+        resolution=label.resolution,
+    )
     if places is None:
         return fmt(label.shown(value, stored), label.digits)
     if label.count:

@@ -109,3 +109,13 @@ def test_an_uncertainty_sets_the_digits_of_its_value() -> None:
     assert digits.stated_uncertainty("k_uncertainty", results) == 5.1e-6  # itself
     assert digits.stated_uncertainty("x", results) is None
     assert digits.stated_uncertainty("x", {"x": 1.0, "x_expanded": float("nan")}) is None
+
+
+def test_an_uncertainty_of_rounding_noise_sets_no_digits() -> None:
+    # three runs with the same readings: s = 1.7·10⁻¹⁷ of a mean 0.1097 (the series report
+    # printed 0,1097156587905486341); and a spread below the label's resolution
+    friction = Label("friction coefficient", "f")
+    assert shown(friction, 0.10971565879054863, "1", 1.7e-17) == "0.1097"
+    chi = Label("relative eccentricity", "χ", resolution=1e-4)
+    assert shown(chi, 0.638016, "1", 4e-7) == "0.638"  # digits=4 by its label
+    assert shown(chi, 0.638016, "1", 0.0002) == "0.63802"

@@ -10,7 +10,7 @@ import pytest
 
 from rigserver.reports.i18n import Lang
 from schemas.stands import StandKind
-from tests.reports.rendered import run_report, series_report
+from tests.reports.rendered import run_html, run_report, series_report
 
 NUMBER = r"-?\d+(?:[.,]\d+)?"
 
@@ -70,3 +70,14 @@ def test_the_series_report_states_a_mean_to_its_standard_error() -> None:
     assert len(runs) == 3
     for column in zip(*runs, strict=True):
         assert len({_decimals(n) for n in column}) == 1, column
+
+
+@pytest.mark.parametrize("lang", ["en", "ru"])
+def test_the_percentages_of_the_conclusions_have_one_decimal(lang: Lang) -> None:
+    # the slide bearing's mean |ΔΠ| against the short and long bearing (3.25)-(3.27), the
+    # MTOS's mean |Δf| against f_T (4.10): percentages, printed to 0.1
+    for kind in (StandKind.SLIDE_BEARING, StandKind.MTOS):
+        text = re.sub(r"<[^>]+>", "", run_html(kind, lang))
+        shares = re.findall(rf"\| = ({NUMBER}) %", text)
+        assert shares, kind
+        assert all(_decimals(n) == 1 for n in shares), (kind, shares)

@@ -42,7 +42,7 @@ def uncertainty_places(uncertainty: float) -> int:
     return places_for(uncertainty, UNCERTAINTY_DIGITS)
 
 
-def to_uncertainty(value: float, uncertainty: float) -> tuple[float, float, int]:
+def round_to_uncertainty(value: float, uncertainty: float) -> tuple[float, float, int]:
     """``value`` and ``uncertainty`` rounded as GUM 7.2.6 states them, with the places:
     ``(100.021 47, 0.000 35, 5)`` for the GUM's 100.021 47 g and 0.35 mg."""
     places = uncertainty_places(uncertainty)
@@ -75,7 +75,7 @@ def result_places(
         return 0
     if (
         uncertainty is not None
-        and is_stated(uncertainty)
+        and is_stated(uncertainty)  # finite, above zero
         and uncertainty >= resolution
         and uncertainty > RELATIVE_NOISE * abs(value)
     ):

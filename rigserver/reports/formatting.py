@@ -1,7 +1,9 @@
 """How numbers and symbols are printed in the reports and pages.
 
 Numbers carry four significant figures (``fmt``), or the digits a result is declared with
-(:class:`schemas.labels.Label`, :func:`shown`); a power of ten is printed as ``·10ⁿ``; the
+(:class:`schemas.labels.Label`, :func:`shown`), by the rule of :mod:`schemas.digits` (GUM
+7.2.6: a value to its uncertainty; counts whole, percentages to 0.1, one number of decimals
+a column: :func:`shown_column`, :func:`column`); a power of ten is printed as ``·10ⁿ``; the
 decimal sign is the language's (Babel: a comma in Russian), set for the work at hand by
 :func:`number_locale`.
 Symbols are written once in a small TeX-like syntax (``"Π_э"``, ``"t_{pэ}"``, ``"S_1^{-1}"``)
@@ -30,6 +32,7 @@ from schemas.digits import (
     count,
     is_stated,
     result_places,
+    round_to_uncertainty,
     uncertainty_places,
 )
 from schemas.labels import Label, plain_symbol
@@ -141,8 +144,8 @@ def with_uncertainty(value: float | None, expanded: float | None) -> str:
     if value is None or not is_stated(expanded):
         return fmt(value)
     assert expanded is not None
-    places = uncertainty_places(expanded)
-    both = column_numbers([value, expanded], places)
+    *rounded, places = round_to_uncertainty(value, expanded)
+    both = column_numbers(rounded, places)
     if "·10" not in both[0] and "·10" not in both[1]:
         return f"{both[0]} ± {both[1]} (k = 2)"
     mantissas = [b.split("·10")[0] for b in both]

@@ -27,7 +27,7 @@ values = st.floats(min_value=-1e12, max_value=1e12, allow_nan=False, allow_infin
 def test_the_uncertainty_has_two_significant_digits_and_the_value_its_place(
     value: float, u: float
 ) -> None:
-    got, got_u, places = digits.to_uncertainty(value, u)
+    got, got_u, places = digits.round_to_uncertainty(value, u)
     # U in units of its last place is a two-digit whole number (10..99)
     assert 10 <= round(got_u * 10.0**places) <= 99
     assert math.isclose(got_u * 10.0**places, round(got_u * 10.0**places), abs_tol=1e-6)
@@ -40,13 +40,13 @@ def test_the_uncertainty_has_two_significant_digits_and_the_value_its_place(
 
 def test_the_gum_example() -> None:
     # GUM (JCGM 100:2008) 7.2.6 and 7.2.2: m_s = 100,021 47 g with u_c = 0,35 mg
-    assert digits.to_uncertainty(100.02147, 0.00035) == (100.02147, 0.00035, 5)
+    assert digits.round_to_uncertainty(100.02147, 0.00035) == (100.02147, 0.00035, 5)
     assert with_uncertainty(100.02147, 0.00035) == "100.02147 ± 0.00035 (k = 2)"
     with number_locale("ru"):
         assert with_uncertainty(100.02147, 0.00035) == "100,02147 ± 0,00035 (k = 2)"
     # GUM 7.2.6: an uncertainty is stated to at most two significant digits, so 0.3481 mg
     # is 0.35 mg, and the value follows it
-    assert digits.to_uncertainty(100.0214734, 0.0003481) == (100.02147, 0.00035, 5)
+    assert digits.round_to_uncertainty(100.0214734, 0.0003481) == (100.02147, 0.00035, 5)
 
 
 def test_a_rounding_that_carries_keeps_two_digits() -> None:

@@ -174,17 +174,14 @@ def _printed_rows(t: Messages, found: labelled.RowsOf) -> list[list[str]]:
             v if isinstance(v, int | float) and not isinstance(v, bool) else None for v in cells
         ]
         printed = shown_column(c.label, numbers, c.stored)
-        columns.append(
-            [
-                ""
-                if v is None
-                else p
-                if n is not None
-                else results_view.value(t, c.label, v, c.stored)
-                for v, n, p in zip(cells, numbers, printed, strict=True)
-            ]
-        )
-    return [list(row) for row in zip(*columns, strict=True)] if columns else []
+
+        def cell(value: Any, number: float | None, text: str, c: labelled.Column = c) -> str:
+            if number is not None:
+                return text
+            return "" if value is None else results_view.value(t, c.label, value, c.stored)
+
+        columns.append([cell(*v) for v in zip(cells, numbers, printed, strict=True)])
+    return [list(row) for row in zip(*columns, strict=True)]
 
 
 def _figures(t: Messages, run: Run, payload: Mapping[str, Any]) -> list[dict[str, Any]]:

@@ -52,3 +52,17 @@ def test_the_console_summary_prints_them_alike() -> None:
     assert re.search(rf"n_L\s*│\s*{round(v.laps)}\s*│", text), text
     mu = f"{v.friction_steady:.{_place_of(v.friction_steady_expanded)}f}"
     assert re.search(rf"│ μ\s*│\s*{re.escape(mu)}\s*│", text), text
+
+
+def test_a_table_of_the_run_page_has_one_number_of_decimals_a_column() -> None:
+    done = simulated(StandKind.RECIPROCATING)
+    page = results_html(run=done.run, payload=done.result.payload, lang="ru")
+    rows = [
+        re.findall(r'<td class="num">([^<]*)</td>', row)
+        for row in re.findall(r"<tr>(.*?)</tr>", page, flags=re.S)
+    ]
+    strokes = [r for r in rows if len(r) == 3]  # the strokes by blocks of cycles: n, μ_f, μ_b
+    assert len(strokes) >= 20
+    for column in zip(*strokes, strict=True):
+        decimals = {len(cell.partition(",")[2]) for cell in column}
+        assert len(decimals) == 1, column  # 0,549 and 0,55 were printed beside 0,5494

@@ -24,14 +24,7 @@ def _shown(label: Label, value: Any, stored: str, uncertainty: float | None = No
         return ""
     if isinstance(value, bool) or not isinstance(value, int | float):
         return str(value)
-    u = label.displayed(uncertainty, stored) if uncertainty is not None else None
-    places = result_places(
-        count=label.count,
-        percent=label.unit == "%",
-        uncertainty=u,
-        value=label.displayed(value, stored),
-        resolution=label.resolution,
-    )
+    places = result_places(label, value, stored, uncertainty)
     if places is None:
         return f"{label.shown(value, stored):.{label.digits}g}"
     if label.count:

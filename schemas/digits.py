@@ -18,7 +18,10 @@ from __future__ import annotations
 import math
 from collections.abc import Iterable, Mapping
 from decimal import Decimal
-from typing import Any
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from schemas.labels import Label
 
 #: Significant digits of a stated uncertainty (GUM 7.2.6: "at most two").
 UNCERTAINTY_DIGITS = 2
@@ -60,27 +63,24 @@ RELATIVE_NOISE = 1e-9
 
 
 def result_places(
-    *,
-    count: bool,
-    percent: bool,
-    uncertainty: float | None,
-    value: float = 0.0,
-    resolution: float = 0.0,
+    label: Label, value: float, stored: str, uncertainty: float | None = None
 ) -> int | None:
-    """The decimals a result is printed with, in the rule's order: a count none (whole), a
-    ``value`` with a stated uncertainty those of the uncertainty (GUM 7.2.6; one below the
-    label's ``resolution`` or the arithmetic's noise is none), a percentage one; ``None``:
-    its label's significant digits."""
-    if count:
+    """The decimals a result (``value`` and its ``uncertainty`` stored in ``stored``) is
+    printed with in ``label``'s display unit, in the rule's order: a count none (whole), a
+    value with a stated uncertainty those of the uncertainty (GUM 7.2.6; one below the
+    label's resolution or the arithmetic's noise is none), a percentage one; ``None``: the
+    label's significant digits."""
+    if label.count:
         return 0
+    u = None if uncertainty is None else label.displayed(uncertainty, stored)
     if (
-        uncertainty is not None
-        and is_stated(uncertainty)  # finite, above zero
-        and uncertainty >= resolution
-        and uncertainty > RELATIVE_NOISE * abs(value)
+        u is not None
+        and is_stated(u)  # finite, above zero
+        and u >= label.resolution
+        and u > RELATIVE_NOISE * abs(label.displayed(value, stored))
     ):
-        return uncertainty_places(uncertainty)
-    if percent:
+        return uncertainty_places(u)
+    if label.unit == "%":
         return PERCENT_PLACES
     return None
 

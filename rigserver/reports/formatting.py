@@ -160,14 +160,7 @@ def shown(label: Label, value: float | None, stored: str, uncertainty: float | N
     to the label's digits."""
     if value is None or isinstance(value, bool) or not math.isfinite(value):
         return fmt(value)
-    u = None if uncertainty is None else label.displayed(uncertainty, stored)
-    places = result_places(
-        count=label.count,
-        percent=label.unit == "%",
-        uncertainty=u,
-        value=label.displayed(value, stored),
-        resolution=label.resolution,
-    )
+    places = result_places(label, value, stored, uncertainty)
     if places is None:
         return fmt(label.shown(value, stored), label.digits)
     if label.count:

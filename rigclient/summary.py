@@ -10,18 +10,27 @@ from typing import Any
 from rich.table import Table
 
 from schemas import labelled
+from schemas.digits import count, result_places, stated_uncertainty
 from schemas.labels import Label, Part, plain_symbol, theory_outside
 from schemas.stands import StandKind
 from schemas.units import UNITS
 
 
-def _shown(label: Label, value: Any, stored: str) -> str:
-    """A result as its label declares it: display unit, digits, 0 below its resolution."""
+def _shown(label: Label, value: Any, stored: str, uncertainty: float | None = None) -> str:
+    """A result as its label declares it (display unit, digits, 0 below its resolution),
+    a count whole, a percentage to 0.1, a value with an uncertainty to its place
+    (:func:`schemas.digits.result_places`, GUM 7.2.6)."""
     if value is None:
         return ""
     if isinstance(value, bool) or not isinstance(value, int | float):
         return str(value)
-    return f"{label.shown(value, stored):.{label.digits}g}"
+    places = result_places(label, value, stored, uncertainty)
+    if places is None:
+        return f"{label.shown(value, stored):.{label.digits}g}"
+    if label.count:
+        return str(count(label.displayed(value, stored)))
+    shown = label.displayed(value, stored)
+    return f"{round(shown, places):.{max(places, 0)}f}"
 
 
 def _unit(label: Label) -> str:
@@ -40,8 +49,10 @@ def results_tables(results: Mapping[str, Any], width: int = 100) -> list[Table]:
     main.add_column("value", justify="right")
     main.add_column("unit")
     outside = theory_outside(kind, results.get("values", {}))
-    for e in labelled.scalars(kind, results):
-        value = _shown(e.label, e.value, e.stored)
+    scalars = labelled.scalars(kind, results)
+    values = {e.path: e.value for e in scalars}
+    for e in scalars:
+        value = _shown(e.label, e.value, e.stored, stated_uncertainty(e.path, values))
         if outside and e.label.part is Part.THEORY and isinstance(e.value, int | float):
             value += " (theory outside its range)"
         main.add_row(_name(e.label), plain_symbol(e.label.symbol), value, _unit(e.label))

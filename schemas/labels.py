@@ -50,7 +50,8 @@ class Label:
     TeX-like syntax of the reports (``"I_{h,exp}"``), ``equation`` its number in the manual
     (``"2.13"``) or a correction (``"E3"``); ``unit`` the display unit; ``digits`` the
     significant digits shown; ``resolution`` (display unit) the smallest magnitude that is
-    not rounding noise.
+    not rounding noise; ``count`` a number of things (cycles, rows), printed whole
+    (:mod:`schemas.digits`).
     """
 
     text: str
@@ -60,6 +61,7 @@ class Label:
     digits: int = 4
     resolution: float = 0.0
     part: Part = Part.MEASURED
+    count: bool = False
 
     def displayed(self, value: float, stored: str) -> float:
         """``value`` (stored in ``stored``) in the display unit, to full precision."""
@@ -145,10 +147,12 @@ def _iso(prefix: str) -> dict[str, Label]:
         "lambda_c_source": Label(N_("how λc was chosen")),
         "ends": Label(N_("end effects of the filter")),
         "sections": Label(
-            N_("sections in the evaluation length"), "n_{sc}", "ISO 21920-3", digits=9
+            N_("sections in the evaluation length"), "n_{sc}", "ISO 21920-3", digits=9, count=True
         ),
         "evaluation_length": Label(N_("evaluation length"), "l_e", "ISO 21920-3", "mm"),
-        "parts": Label(N_("parts of the trace between its gaps analysed"), "N_p", digits=9),
+        "parts": Label(
+            N_("parts of the trace between its gaps analysed"), "N_p", digits=9, count=True
+        ),
         "ra": Label(
             N_("arithmetic mean height of the roughness profile"), "R_a^{ISO}", iso, "um", 3
         ),
@@ -175,7 +179,7 @@ def _iso(prefix: str) -> dict[str, Label]:
 
 
 SMTS2: dict[str, Label] = {
-    "rows": Label(N_("rows analysed"), digits=9),
+    "rows": Label(N_("rows analysed"), digits=9, count=True),
     "duration": Label(N_("duration of the record"), "τ", unit="s"),
     "revolutions": Label(N_("disc revolutions"), "M_rev", unit="rev"),
     "sliding_distance": Label(N_("sliding distance"), "L", "2.12", "m"),
@@ -277,7 +281,7 @@ SMTS2: dict[str, Label] = {
 }
 
 SLIDE_BEARING: dict[str, Label] = {
-    "rows": Label(N_("rows of table 3.1"), digits=9),
+    "rows": Label(N_("rows of table 3.1"), digits=9, count=True),
     "load": Label(N_("load from the loader scale"), "N", unit="N"),
     "temperature": Label(N_("mean oil temperature"), "t", "3.21", "degC", 3),
     "viscosity": Label(N_("oil viscosity"), "μ_t", "3.21", "Pa*s"),
@@ -342,7 +346,7 @@ SLIDE_BEARING: dict[str, Label] = {
 }
 
 MTOS: dict[str, Label] = {
-    "rows": Label(N_("load steps"), digits=9),
+    "rows": Label(N_("load steps"), digits=9, count=True),
     "h_crit": Label(N_("critical film thickness, sum of the five terms"), "h_{min,cr}", "", "um"),
     "h_min_smallest": Label(N_("smallest film thickness of the run"), "h_min", "", "um"),
     "friction_fluid": Label(N_("mean measured friction coefficient, fluid film"), "f̄_e", "4.16"),
@@ -444,7 +448,7 @@ def _fit(method: str) -> dict[str, Label]:
 
 
 PROFILOMETER: dict[str, Label] = {
-    "rows": Label(N_("points of the trace"), digits=9),
+    "rows": Label(N_("points of the trace"), digits=9, count=True),
     "base_length": Label(N_("base length"), "l", "", "mm"),
     "ra": Label(N_("arithmetic mean deviation"), "R_a", "1.3", "um", 3),
     "ra_uncertainty": Label(
@@ -560,16 +564,16 @@ def _wear_labels(path: str, what: str, rate: str) -> dict[str, Label]:
 
 
 TRIBOMETER: dict[str, Label] = {
-    "rows": Label(N_("rows analysed"), digits=9),
+    "rows": Label(N_("rows analysed"), digits=9, count=True),
     "duration": Label(N_("duration of the record"), "t", unit="s"),
     "sliding_distance": Label(N_("sliding distance"), "L", unit="m"),
-    "laps": Label(N_("laps (cycles) run"), "n_L", digits=6),
+    "laps": Label(N_("laps (cycles) run"), "n_L", digits=6, count=True),
     "mean_load": Label(N_("mean normal load"), "F", unit="N"),
     "friction_mean": Label(N_("friction coefficient, whole record"), "μ̄"),
     "friction_static": Label(N_("static (peak) friction coefficient at the start"), "μ_s"),
     "running_in_distance": Label(N_("running-in distance (settled within ±5 %)"), "L_r", unit="m"),
-    "running_in_laps": Label(N_("laps (cycles) of the running-in"), "n_r", digits=6),
-    "change_points": Label(N_("changes in the mean found"), "", digits=3),
+    "running_in_laps": Label(N_("laps (cycles) of the running-in"), "n_r", digits=6, count=True),
+    "change_points": Label(N_("changes in the mean found"), "", digits=3, count=True),
     "friction_steady": Label(N_("friction coefficient, steady part"), "μ"),
     "friction_steady_std": Label(N_("standard deviation of the friction coefficient"), "σ_μ"),
     "friction_steady_uncertainty": Label(
@@ -579,7 +583,7 @@ TRIBOMETER: dict[str, Label] = {
         N_("expanded uncertainty of the friction coefficient (k = 2)"), "U(μ)", "GUM"
     ),
     "temperature_mean": Label(N_("mean temperature"), "T", unit="degC", digits=3),
-    "steps[].step": Label(N_("step"), "i", digits=6),
+    "steps[].step": Label(N_("step"), "i", digits=6, count=True),
     "steps[].sliding_speed": Label(N_("sliding speed"), "v", unit="m/s"),
     "steps[].track_radius": Label(N_("track radius"), "R", unit="mm"),
     "steps[].normal_load": Label(N_("normal load"), "F", unit="N"),
@@ -599,7 +603,7 @@ TRIBOMETER: dict[str, Label] = {
     "nominal_pressure": Label(
         N_("nominal pressure of the flat pin"), "p", unit="MPa", part=_THEORY
     ),
-    "disc_track.traces": Label(N_("profiles across the track"), "n_p", digits=3),
+    "disc_track.traces": Label(N_("profiles across the track"), "n_p", digits=3, count=True),
     "disc_track.track_area": Label(N_("cross-section area of the wear track"), "A", "", "mm^2"),
     "disc_track.track_area_std": Label(
         N_("standard deviation of the track's area"), "s(A)", "", "mm^2"
@@ -648,7 +652,7 @@ RECIPROCATING: dict[str, Label] = {
     **TRIBOMETER,
     "friction_forward": Label(N_("friction coefficient, forward strokes"), "μ_f"),
     "friction_backward": Label(N_("friction coefficient, backward strokes"), "μ_b"),
-    "strokes[].cycle": Label(N_("cycle"), "n", digits=6),
+    "strokes[].cycle": Label(N_("cycle"), "n"),
     "strokes[].forward": Label(N_("forward strokes"), "μ_f"),
     "strokes[].backward": Label(N_("backward strokes"), "μ_b"),
 }

@@ -10,15 +10,18 @@ from pydantic import BaseModel
 
 from rigserver.reports.document import Table, Text
 from rigserver.reports.formatting import (
+    column,
     decimal_sign,
     fmt,
     html_symbol,
     shown,
+    shown_column,
     tex,
     with_uncertainty,
 )
 from rigserver.reports.i18n import Messages
 from schemas.channels import ChannelGroup
+from schemas.digits import stated_uncertainty
 from schemas.labels import Label
 from schemas.messages import N_
 from schemas.quantity import units_of
@@ -86,9 +89,11 @@ def quantities(
 
     ``fields`` holds ``(field name, symbol, message key of the quantity's name)``; the value
     is printed in the display unit and digits of its label (``labels[prefix + name]``);
+    a value with an uncertainty among the model's fields is printed to it (GUM 7.2.6);
     ``errors`` adds a column of the instrument error of some fields (labels ``<name>_error``).
     """
     units = units_of(type(model))
+    results = {n: getattr(model, n) for n in type(model).model_fields}
     rows: list[list[Text]] = []
     for name, symbol, key in fields:
         label = labels[prefix + name]
@@ -96,7 +101,7 @@ def quantities(
         row: list[Text] = [
             html_symbol(t(key)),
             html_symbol(t.symbol(symbol or label.symbol)),
-            shown(label, getattr(model, name), stored),
+            shown(label, getattr(model, name), stored, stated_uncertainty(name, results)),
             t.unit(label.unit),
         ]
         if errors is not None:
@@ -117,8 +122,9 @@ def field(
     values: Sequence[float | None],
 ) -> tuple[Markup, list[Text]]:
     """A table column of a result: its header (``symbol``, display unit) and its values in
-    the display unit and digits of ``label`` (stored in ``stored``)."""
-    return header(t, symbol, label.unit), [shown(label, v, stored) for v in values]
+    the display unit (stored in ``stored``): a count whole, other numbers with one number of
+    decimals, that of the largest to the label's digits (:mod:`schemas.digits`)."""
+    return header(t, symbol, label.unit), shown_column(label, values, stored)
 
 
 def result_table(
@@ -183,12 +189,17 @@ def columns(
     data: Sequence[Sequence[float | Text | None]],
     note: Text = "",
 ) -> Table:
-    """A table from columns of numbers (or printed cells), one list per column."""
-    rows = [
-        [cell if isinstance(cell, str) else fmt(cell) for cell in row]
-        for row in zip(*data, strict=True)
-    ]
+    """A table from columns of numbers (or printed cells), one list per column; the numbers
+    of a column with one number of decimals (:func:`formatting.column`)."""
+    printed = [_column(list(c)) for c in data]
+    rows = [list(row) for row in zip(*printed, strict=True)]
     return Table(caption=caption, header=head, rows=rows, note=note)
+
+
+def _column(cells: list[float | Text | None]) -> list[Text]:
+    numbers = [None if isinstance(c, str) else c for c in cells]
+    as_numbers = column(numbers)
+    return [c if isinstance(c, str) else n for c, n in zip(cells, as_numbers, strict=True)]
 
 
 def uncertainties(

@@ -1,7 +1,9 @@
 """How numbers and symbols are printed in the reports and pages.
 
 Numbers carry four significant figures (``fmt``), or the digits a result is declared with
-(:class:`schemas.labels.Label`, :func:`shown`); a power of ten is printed as ``·10ⁿ``; the
+(:class:`schemas.labels.Label`, :func:`shown`), by the rule of :mod:`schemas.digits` (GUM
+7.2.6: a value to its uncertainty; counts whole, percentages to 0.1, one number of decimals
+a column: :func:`shown_column`, :func:`column`); a power of ten is printed as ``·10ⁿ``; the
 decimal sign is the language's (Babel: a comma in Russian), set for the work at hand by
 :func:`number_locale`.
 Symbols are written once in a small TeX-like syntax (``"Π_э"``, ``"t_{pэ}"``, ``"S_1^{-1}"``)
@@ -24,6 +26,15 @@ from typing import Any
 from babel.numbers import get_decimal_symbol
 from markupsafe import Markup, escape
 
+from schemas.digits import (
+    PERCENT_PLACES,
+    column_places,
+    count,
+    is_stated,
+    result_places,
+    round_to_uncertainty,
+    uncertainty_places,
+)
 from schemas.labels import Label, plain_symbol
 
 DASH = "—"
@@ -71,28 +82,114 @@ def fmt(value: float | int | None, digits: int = 4) -> str:
     return f"{mantissa}·10{str(int(exponent)).translate(_SUPERSCRIPT)}"
 
 
-def with_uncertainty(value: float | None, expanded: float | None) -> str:
-    """``0.401 ± 0.012 (k = 2)``: a result and its expanded uncertainty (GUM), the value
-    rounded to the uncertainty's second significant figure; the value alone without one."""
-    if value is None or expanded is None or not math.isfinite(expanded) or expanded <= 0:
+def fixed(value: float | None, places: int) -> str:
+    """``value`` rounded to ``places`` decimals (:mod:`schemas.digits`; negative: tens,
+    hundreds) in the language's decimal sign, with a power of ten below 10⁻⁴ or from 10⁶
+    up (``7.7·10⁻⁵``); ``—`` for none."""
+    if value is None or isinstance(value, bool) or not math.isfinite(value):
+        return DASH
+    return column_numbers([value], places)[0]
+
+
+def column_numbers(values: Sequence[float | None], places: int) -> list[str]:
+    """Numbers printed to ``places`` decimals, with one power of ten for them all when the
+    largest is outside 10⁻⁴..10⁶; ``—`` for none."""
+    finite = [abs(v) for v in values if v is not None and math.isfinite(v) and v != 0]
+    power = 0
+    if finite and not 1e-4 <= max(finite) < 1e6:
+        power = math.floor(math.log10(max(finite)))
+    shift = places + power  # decimals of the mantissa v/10^power
+    out = []
+    for v in values:
+        if v is None or isinstance(v, bool) or not math.isfinite(v):
+            out.append(DASH)
+            continue
+        mantissa = round(v / 10.0**power, shift) if shift < 0 else v / 10.0**power
+        text = f"{mantissa:.{max(shift, 0)}f}"
+        if float(text) == 0:
+            text = text.lstrip("-")  # -0.00 is 0.00
+        text = text.replace(".", decimal_sign())
+        if power:
+            text += f"·10{str(power).translate(_SUPERSCRIPT)}"
+        out.append(text)
+    return out
+
+
+def percent(value: float | None) -> str:
+    """A percentage to 0.1 (``-0.1`` for the issue's −0.0662 %)."""
+    return fixed(value, PERCENT_PLACES)
+
+
+def column(values: Sequence[float | None], digits: int = 4) -> list[str]:
+    """A table column's numbers with one number of decimals (:func:`schemas.digits.
+    column_places` at ``digits`` significant digits)."""
+    places = column_places(values, digits)
+    if places is None:
+        return [fmt(v) for v in values]
+    return column_numbers(values, places)
+
+
+def to_uncertainty(value: float | None, uncertainty: float | None) -> str:
+    """``value`` alone, rounded to the place of its ``uncertainty`` (GUM 7.2.6, the value of
+    a table whose uncertainty is stated elsewhere); four significant digits without one."""
+    if value is None or not is_stated(uncertainty):
         return fmt(value)
-    places = 1 - math.floor(math.log10(expanded))
-    if -4 <= math.floor(math.log10(abs(value) or expanded)) <= 3 and places >= 0:
-        text = f"{value:.{places}f} ± {expanded:.{places}f} (k = 2)"
-    else:
-        scale = 10.0 ** math.floor(math.log10(abs(value) or expanded))
-        digits = max(0, places + math.floor(math.log10(scale)))
-        power = str(int(math.log10(scale))).translate(_SUPERSCRIPT)
-        text = f"({value / scale:.{digits}f} ± {expanded / scale:.{digits}f})·10{power} (k = 2)"
-    return text.replace(".", decimal_sign())
+    assert uncertainty is not None
+    return fixed(value, uncertainty_places(uncertainty))
 
 
-def shown(label: Label, value: float | None, stored: str) -> str:
-    """A result as its label declares it: in the display unit, to its digits, 0 below its
-    resolution (``e_x = 2.7·10⁻²⁰ m`` is printed ``0``)."""
+def with_uncertainty(value: float | None, expanded: float | None) -> str:
+    """``0.401 ± 0.012 (k = 2)``: a result and its expanded uncertainty (GUM 7.2.6: U to two
+    significant digits, the value to the same place); the value alone without one."""
+    if value is None or not is_stated(expanded):
+        return fmt(value)
+    assert expanded is not None
+    *rounded, places = round_to_uncertainty(value, expanded)
+    both = column_numbers(rounded, places)
+    if "·10" not in both[0] and "·10" not in both[1]:
+        return f"{both[0]} ± {both[1]} (k = 2)"
+    mantissas = [b.split("·10")[0] for b in both]
+    power = both[0].split("·10")[1] if "·10" in both[0] else both[1].split("·10")[1]
+    return f"({mantissas[0]} ± {mantissas[1]})·10{power} (k = 2)"
+
+
+def shown(label: Label, value: float | None, stored: str, uncertainty: float | None = None) -> str:
+    """A result as its label declares it: in the display unit, 0 below its resolution
+    (``e_x = 2.7·10⁻²⁰ m`` is printed ``0``); a count whole, a percentage to 0.1, a value
+    with an ``uncertainty`` (stored in ``stored`` too) to its place (GUM 7.2.6), any other
+    to the label's digits."""
     if value is None or isinstance(value, bool) or not math.isfinite(value):
         return fmt(value)
-    return fmt(label.shown(value, stored), label.digits)
+    places = result_places(label, value, stored, uncertainty)
+    if places is None:
+        return fmt(label.shown(value, stored), label.digits)
+    if label.count:
+        return str(count(label.displayed(value, stored)))
+    return fixed(_noiseless(label, value, stored), places)
+
+
+def shown_column(label: Label, values: Sequence[float | None], stored: str) -> list[str]:
+    """A table column of one result (stored in ``stored``) as :func:`shown` prints it, with
+    one number of decimals (:func:`schemas.digits.column_places` at the label's digits),
+    0.1 for a percentage; a count whole."""
+    if label.count:
+        return [shown(label, v, stored) for v in values]
+    numbers = [
+        None
+        if v is None or isinstance(v, bool) or not math.isfinite(v)
+        else _noiseless(label, v, stored)
+        for v in values
+    ]
+    places = PERCENT_PLACES if label.unit == "%" else column_places(numbers, label.digits)
+    if places is None:
+        return [fmt(v) for v in numbers]
+    return column_numbers(numbers, places)
+
+
+def _noiseless(label: Label, value: float, stored: str) -> float:
+    """``value`` in the label's display unit, 0 below its resolution (rounding noise)."""
+    shown_as = label.displayed(value, stored)
+    return 0.0 if abs(shown_as) < label.resolution else shown_as
 
 
 #: Units written against their number (an angle: ``320°``), not after a space (``23 °C``).

@@ -697,11 +697,19 @@ MESSAGES: dict[str, str] = {
     "c.dev_stroke": N_("stroke {given} mm instead of {standard} mm"),
     "c.dev_frequency": N_("frequency {given} Hz instead of {standard} Hz"),
     "c.dev_distance": N_("distance {given} m instead of {standard} m"),
+    "c.dev_ball": N_("ball {given} mm instead of {standard} mm"),
+    "c.dev_temperature": N_("temperature {given} °C instead of {standard} °C"),
+    "c.dev_tip": N_("a flat-ended pin instead of a ball"),
     "c.g133_apart": N_(
         "The test on the flat departs from ASTM G133 procedure {procedure}: {what}."
     ),
     "c.g133_as": N_(
         "The test on the flat follows the parameters of ASTM G133 procedure {procedure}."
+    ),
+    "c.g99_own": N_(
+        "The test parameters (load, speed, distance, materials, environment) are this test's "
+        "own, not those of the interlaboratory study of ASTM G99 (G99-17, 1.3 and 4.2): its "
+        "results are not to be compared with that study's."
     ),
     "t.flat_track": N_("Wear of the flat from profiles across its track"),
     "t.flat_mass": N_("Wear of the flat from its mass loss"),

@@ -23,14 +23,17 @@ def name(t: Messages, label: Label) -> str:
     return f"{words} ({label.equation})" if label.equation else words
 
 
-def value(t: Messages, label: Label, stored_value: Any, stored: str) -> str:
-    """A result's value as printed: a number in the display unit to its digits, a word or
-    a verdict in ``t``'s language."""
+def value(
+    t: Messages, label: Label, stored_value: Any, stored: str, uncertainty: float | None = None
+) -> str:
+    """A result's value as printed: a number in the display unit to its digits (to its
+    ``uncertainty``'s place when it has one, GUM 7.2.6), a word or a verdict in ``t``'s
+    language."""
     if isinstance(stored_value, bool):
         return t("yes") if stored_value else t("no")
     if isinstance(stored_value, str):
         return t.gettext(VALUE_WORDS.get(stored_value, stored_value))
-    return shown(label, stored_value, stored)
+    return shown(label, stored_value, stored, uncertainty)
 
 
 def unit(t: Messages, label: Label) -> str:

@@ -24,7 +24,13 @@ from rigserver.analysis.series import label_of
 from rigserver.reports import results_view
 from rigserver.reports.blocks import axis
 from rigserver.reports.downsample import min_max
-from rigserver.reports.formatting import fmt, number_locale, shown, spreadsheet_text
+from rigserver.reports.formatting import (
+    fmt,
+    number_locale,
+    shown,
+    shown_column,
+    spreadsheet_text,
+)
 from rigserver.reports.i18n import Lang, Messages
 from rigserver.reports.render import render
 from rigserver.reports.series_plots import Curve, overlay
@@ -179,6 +185,10 @@ def series_context(
         rows = [
             _statistics_row(detail.stand, s, m, _step(m, s.key, values)) for s in detail.statistics
         ]
+        for row in rows:  # the runs' table: each result's column with one number of decimals
+            cells = [r.values.get(row["stats"].key) for r in detail.runs]
+            printed = shown_column(row["label"], cells, row["stats"].unit)
+            row["cells"] = dict(zip((r.run_id for r in detail.runs), printed, strict=True))
         plots = _plots(detail, values, readings, t, m)
     purpose = {
         SeriesPurpose.COMPARISON: t("comparison", factor=detail.factor or ""),
@@ -237,11 +247,14 @@ def _statistics_row(
         label = Label(stats.description, stats.symbol, unit=stats.unit)  # type: ignore[arg-type]
     own = [v.uncertainty for v in stats.values if v.uncertainty is not None]
 
-    def show(value: float | None) -> str:
-        return "—" if value is None else shown(label, value, stats.unit)
+    def show(value: float | None, uncertainty: float | None = None) -> str:
+        """A value in the label's unit; to the place of ``uncertainty`` when given (GUM
+        7.2.6: a mean to its standard error, a spread to its own two digits)."""
+        return "—" if value is None else shown(label, value, stats.unit, uncertainty)
 
     return {
         "stats": stats,
+        "label": label,
         "symbol": m.symbol(stats.symbol),
         "name": results_view.name(m, label) + step,
         "unit": results_view.unit(m, label),

@@ -27,6 +27,7 @@ from rigserver.reports.formatting import (
     number_locale,
     plain_text,
     shown,
+    shown_column,
     with_unit,
 )
 from rigserver.reports.i18n import LANGS, Lang, Messages
@@ -36,6 +37,7 @@ from rigserver.reports.x3p import PROFILE_GROUP, NoProfile, profile_group
 from rigserver.web.entry import ReceivedRow, entry_config, entry_groups, typed
 from rigserver.web.sketches import SKETCH_MAX_MIB, sketch_items
 from schemas import labelled
+from schemas.digits import stated_uncertainty
 from schemas.labels import RESULTS, THEORY_VERDICT, Part, theory_outside
 from schemas.messages import NP_
 from schemas.quantity import unit_paths
@@ -108,7 +110,8 @@ def key_results(t: Messages, run: Run) -> Markup:
         if path == verdict:
             continue
         label = labels[path]
-        text = shown(label, value, units.get(path, label.unit))
+        u = stated_uncertainty(path, run.key_results)
+        text = shown(label, value, units.get(path, label.unit), u)
         unit = results_view.unit(t, label)
         name = html_symbol(t.symbol(label.symbol) or t.gettext(label.text))
         part = Markup("{} = {}").format(name, with_unit(text, unit))
@@ -123,19 +126,22 @@ def results_html(*, run: Run, payload: Mapping[str, Any], lang: Lang) -> str:
     the declared order, then its per-row tables: a part of the run page."""
     t = Messages(lang)
 
+    scalars = labelled.scalars(run.stand, payload)
+    values = {e.path: e.value for e in scalars}
+
     def entry(e: labelled.Entry) -> dict[str, Any]:
+        u = stated_uncertainty(e.path, values)
         return {
             "path": e.path,
             "name": html_symbol(results_view.name(t, e.label)),
             "symbol": html_symbol(t.symbol(e.label.symbol)),
-            "value": results_view.value(t, e.label, e.value, e.stored),
+            "value": results_view.value(t, e.label, e.value, e.stored, u),
             "unit": results_view.unit(t, e.label),
         }
 
     with number_locale(lang):
         parts = [
-            (title, [entry(e) for e in entries])
-            for title, entries in labelled.by_part(labelled.scalars(run.stand, payload))
+            (title, [entry(e) for e in entries]) for title, entries in labelled.by_part(scalars)
         ]
         tables = [
             {
@@ -149,13 +155,7 @@ def results_html(*, run: Run, payload: Mapping[str, Any], lang: Lang) -> str:
                     }
                     for c in found.columns
                 ],
-                "rows": [
-                    [
-                        results_view.value(t, c.label, cell, c.stored) if cell is not None else ""
-                        for c, cell in zip(found.columns, row, strict=True)
-                    ]
-                    for row in found.rows
-                ],
+                "rows": _printed_rows(t, found),
             }
             for found in labelled.row_tables(run.stand, payload)
         ]
@@ -164,6 +164,26 @@ def results_html(*, run: Run, payload: Mapping[str, Any], lang: Lang) -> str:
     return render_page(
         "results.html", lang, parts=parts, tables=tables, figures=figures, pending=pending
     )
+
+
+def _printed_rows(t: Messages, found: labelled.RowsOf) -> list[list[str]]:
+    """A per-row table's cells as printed: a column of numbers with one number of decimals
+    (:func:`shown_column`), words in the page's language, nothing for a value not given."""
+    columns = []
+    for index, c in enumerate(found.columns):
+        cells = [row[index] for row in found.rows]
+        numbers = [
+            v if isinstance(v, int | float) and not isinstance(v, bool) else None for v in cells
+        ]
+        printed = shown_column(c.label, numbers, c.stored)
+
+        def cell(value: Any, number: float | None, text: str, c: labelled.Column = c) -> str:
+            if number is not None:
+                return text
+            return "" if value is None else results_view.value(t, c.label, value, c.stored)
+
+        columns.append([cell(*v) for v in zip(cells, numbers, printed, strict=True)])
+    return [list(row) for row in zip(*columns, strict=True)]
 
 
 def _figures(t: Messages, run: Run, payload: Mapping[str, Any]) -> list[dict[str, Any]]:

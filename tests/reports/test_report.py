@@ -8,6 +8,7 @@ must print) or are computed here from the posted readings (raw tables, means, ra
 
 from __future__ import annotations
 
+import math
 import re
 from collections.abc import Sequence
 from functools import lru_cache
@@ -44,15 +45,56 @@ def printed(values: list[float] | list[float | None] | np.ndarray) -> list[str]:
 
 def declared(label: Label, values: Sequence[float | None], factor: float = 1.0) -> list[str]:
     """The values as their label declares them: times ``factor`` (SI to the display unit),
-    rounded to the label's digits, 0 below its resolution."""
+    0 below its resolution, a column with one number of decimals at the label's digits."""
+    shown = [None if v is None else v * factor for v in values]
+    if label.unit == "%":  # a percentage to 0.1
+        return [fmt(None) if x is None else f"{x:.1f}" for x in shown]
+    return as_column(
+        [None if x is None else 0.0 if abs(x) < label.resolution else x for x in shown],
+        label.digits,
+    )
+
+
+def as_column(values: Sequence[float | None], digits: int = 4) -> list[str]:
+    """A table's column as issue 37 (item 6) asks: the decimals of the value that shows the
+    most at ``digits`` significant digits, at most two beyond the largest's own; below
+    10⁻⁴ one power of ten for the column (written out here apart from schemas.digits)."""
+    numbers = [abs(v) for v in values if v]
+    if not numbers:
+        return [fmt(v) for v in values]
+
+    def decimals(x: float, n: int) -> int:
+        text = f"{x:.{n}g}"
+        if "e" in text:
+            mantissa, exponent = text.split("e")
+            return max(0, len(mantissa.partition(".")[2].rstrip("0")) - int(exponent))
+        return len(text.partition(".")[2].rstrip("0"))
+
+    largest = max(numbers)
+    own = digits - 1 - math.floor(math.log10(float(f"{largest:.{digits}g}")))
+    places = min(max(decimals(x, digits) for x in numbers), max(0, own) + 2)
+    power = math.floor(math.log10(largest)) if largest < 1e-4 else 0
     out = []
     for v in values:
         if v is None:
             out.append(fmt(None))
             continue
-        x = v * factor
-        out.append(fmt(0.0 if abs(x) < label.resolution else float(f"{x:.{label.digits}g}")))
+        text = (
+            f"{v / 10.0**power:.{places + power}f}".replace("-0.", "0.", 1)
+            if v == 0
+            else f"{v / 10.0**power:.{places + power}f}"
+        )
+        out.append(text + (f"·10{str(power).translate(SUPERSCRIPT)}" if power else ""))
     return out
+
+
+SUPERSCRIPT = str.maketrans("0123456789-", "⁰¹²³⁴⁵⁶⁷⁸⁹⁻")
+
+
+def to_place_of(value: float, expanded: float) -> str:
+    """``value`` rounded to the decimal place of the second significant digit of its
+    expanded uncertainty (GUM 7.2.6)."""
+    return f"{value:.{max(0, 1 - math.floor(math.log10(expanded)))}f}"
 
 
 def row_of(html: str, caption: str, name: str) -> list[str]:
@@ -148,9 +190,11 @@ def test_profilometer_parameters_with_instrument_errors() -> None:
     html = report(StandKind.PROFILOMETER)
     caption = "Roughness parameters"
     # micrometres, to the digits declared (Ra three, its instrument error two)
+    # Ra to the place of its expanded uncertainty (GUM 7.2.6)
+    assert v.ra_expanded is not None
     assert row_of(html, caption, "arithmetic mean deviation (1.3)") == [
         "Ra",
-        fmt(float(f"{v.ra * 1e6:.3g}")),
+        to_place_of(v.ra * 1e6, v.ra_expanded * 1e6),
         "µm",
         fmt(float(f"{v.ra_error * 1e6:.2g}")),
     ]
@@ -240,8 +284,9 @@ def test_smts2_wear_tables_and_validity() -> None:
     assert row_of(html, caption, "specific wear rate k = V/(F·L) (ASTM G99)")[1] == fmt(
         float(f"{k_shown:.4g}")
     )
-    assert row_of(html, "Friction record", "friction coefficient, steady part (2.8)")[1] == fmt(
-        v.friction_steady
+    assert v.friction_steady is not None and v.friction_steady_expanded is not None
+    assert row_of(html, "Friction record", "friction coefficient, steady part (2.8)")[1] == (
+        to_place_of(v.friction_steady, v.friction_steady_expanded)
     )
     assert f"f = {with_uncertainty(v.friction_steady, v.friction_steady_expanded)}" in html
 
@@ -292,10 +337,10 @@ def test_slide_bearing_tables_3_2_and_3_3() -> None:
     by_angle = sorted(v.table, key=lambda r: r.phi_model)
     names = ("phi_model", "pi_short", "pi_long", "pi_finite", "pi_measured")
     names += ("error_short", "error_long")
-    assert t33.rows == [
-        [declared(SLIDE_BEARING[f"table[].{n}"], [getattr(r, n)])[0] for n in names]
-        for r in by_angle
+    columns = [
+        declared(SLIDE_BEARING[f"table[].{n}"], [getattr(r, n) for r in by_angle]) for n in names
     ]
+    assert t33.rows == [list(row) for row in zip(*columns, strict=True)]
     assert len(svgs(html)) == 2  # Π(φ), Π(z)
 
 
@@ -320,18 +365,18 @@ def test_mtos_readings_and_processing_tables() -> None:
     processing = joined(t44)
     first = [x for x in v.steps if x.regime == "fluid"]
     assert processing.column(4) == declared(MTOS["steps[].chi"], [x.chi for x in first])
-    assert processing.column(9) == printed([x.friction_measured for x in first])
+    assert processing.column(9) == as_column([x.friction_measured for x in first])
     mu1 = MTOS["steps[].viscosity_at"]
     assert processing.column(10) == declared(mu1, [x.viscosity_at["t1"] for x in first])
-    assert processing.column(16) == printed([x.bearing_characteristic for x in first])
+    assert processing.column(16) == as_column([x.bearing_characteristic for x in first])
     parts = [t for t in tables(html) if t.caption.startswith("Table 4.4. Theory")]
     assert [t.caption[-13:] for t in parts] == ["(part 4 of 5)", "(part 5 of 5)"]
     theory = joined(parts)
     assert theory.header[1:10] == [
         "μt/μ0", "A100", "A200", "A300", "A302", "A320", "A311", "V", "Pτ, N"
     ]  # fmt: skip
-    assert theory.column(8) == printed([x.v_factor for x in first])
-    assert theory.column(11) == printed([x.friction_theory for x in first])
+    assert theory.column(8) == as_column([x.v_factor for x in first])
+    assert theory.column(11) == as_column([x.friction_theory for x in first])
     error = MTOS["steps[].friction_error"]
     assert theory.column(12) == declared(error, [x.friction_error for x in first])
 
@@ -377,7 +422,8 @@ def test_mtos_mixed_friction_against_fluid_friction() -> None:
     mixed = [x for x in v.steps if x.regime == "mixed"]
     continued = [t for t in tables(html) if t.caption.startswith("Table 4.5.")][-1]
     # f_э/f_э1 at the same load, divided here
-    assert continued.column(-1) == printed([x.friction_measured / fluid[x.load] for x in mixed])
+    ratios = [x.friction_measured / fluid[x.load] for x in mixed]
+    assert continued.column(-1) == as_column(ratios)  # one number of decimals in the column
     assert len(svgs(html)) == 4  # Hersey-Stribeck, trajectory, f(N), Δt(N)
 
 
@@ -536,9 +582,7 @@ def test_a_ball_is_named_a_ball_not_a_pin(kind: StandKind, lang: Lang) -> None:
         update={"configuration": {**s.run.configuration, "tip": "flat_pin"}}
     )
     rows = configuration_rows(Messages(lang), flat_pin)
-    assert sum(str(row.words).startswith(pin) for row in rows) == len(
-        s.run.configuration["pin"]
-    )
+    assert sum(str(row.words).startswith(pin) for row in rows) == len(s.run.configuration["pin"])
 
 
 @pytest.mark.parametrize("mode", MODES)

@@ -15,7 +15,7 @@ from scipy.interpolate import make_interp_spline
 from rigserver.reports import blocks
 from rigserver.reports.context import Context, LabReport
 from rigserver.reports.document import Block, Figure, Paragraph, Section, Table, Text
-from rigserver.reports.formatting import fmt, html_symbol, shown, tex
+from rigserver.reports.formatting import fmt, html_symbol, percent, shown, tex
 from rigserver.reports.i18n import Messages
 from rigserver.reports.plots import axes, decorate, to_svg
 from schemas.labels import MTOS, row_labels
@@ -434,7 +434,7 @@ def _conclusions(t: Messages, v: MtosResults) -> list[Text]:
                     "m.c_friction",
                     f_min=fmt(min(f)),
                     f_max=fmt(max(f)),
-                    error=fmt(float(np.mean(errors))),
+                    error=percent(float(np.mean(errors))),
                 )
             )
         )

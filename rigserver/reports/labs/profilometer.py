@@ -18,6 +18,7 @@ from rigserver.reports.formatting import (
     decimal_sign,
     fmt,
     html_symbol,
+    percent,
     shown,
     with_uncertainty,
 )
@@ -322,9 +323,8 @@ def _bearing_svg(t: Messages, v: ProfilometerResults, fits: list[BearingFitResul
 
 
 def _percent(reference: float, other: float) -> str:
-    return fmt(
-        float(bearing_readings.relative_error_percent(reference=reference, other=other).percent)
-    )
+    error = bearing_readings.relative_error_percent(reference=reference, other=other)
+    return percent(float(error.percent))
 
 
 def _conclusions(t: Messages, v: ProfilometerResults) -> list[Text]:

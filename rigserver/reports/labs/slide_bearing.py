@@ -10,7 +10,7 @@ from markupsafe import Markup
 from rigserver.reports import blocks
 from rigserver.reports.context import Context, LabReport
 from rigserver.reports.document import Block, Figure, Paragraph, Section, Table, Text
-from rigserver.reports.formatting import fmt, html_symbol, shown, with_uncertainty
+from rigserver.reports.formatting import fmt, html_symbol, percent, shown, with_uncertainty
 from rigserver.reports.i18n import Messages
 from rigserver.reports.plots import axes, decorate, to_svg
 from schemas.labels import SLIDE_BEARING, row_labels
@@ -221,8 +221,8 @@ def _conclusions(t: Messages, v: SlideBearingResults) -> list[Text]:
     short = _mean_abs([r.error_short for r in v.table])
     long = _mean_abs([r.error_long for r in v.table])
     if short is not None and long is not None:
-        found.append(html_symbol(t("b.c_errors", short=fmt(short), long=fmt(long))))
+        found.append(html_symbol(t("b.c_errors", short=percent(short), long=percent(long))))
     axial = _mean_abs([p.error for p in v.axial])
     if axial is not None:
-        found.append(html_symbol(t("b.c_axial", phi=fmt(v.phi_max), error=fmt(axial))))
+        found.append(html_symbol(t("b.c_axial", phi=fmt(v.phi_max), error=percent(axial))))
     return found

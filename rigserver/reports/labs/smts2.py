@@ -11,7 +11,14 @@ from rigserver.core import wear
 from rigserver.reports import blocks
 from rigserver.reports.context import Context, LabReport
 from rigserver.reports.document import Block, Figure, Section, Table, Text
-from rigserver.reports.formatting import fmt, html_symbol, tex, with_uncertainty
+from rigserver.reports.formatting import (
+    fmt,
+    html_symbol,
+    percent,
+    tex,
+    to_uncertainty,
+    with_uncertainty,
+)
 from rigserver.reports.i18n import Messages
 from rigserver.reports.labs import iso_profile
 from rigserver.reports.plots import axes, decorate, to_svg
@@ -214,7 +221,7 @@ def _adequacy(t: Messages, v: Smts2Results) -> Table:
         [
             t("w.intensity_exp"),
             html_symbol(t.symbol("I_{h,exp}")),
-            fmt(v.experimental.intensity),
+            to_uncertainty(v.experimental.intensity, v.experimental.intensity_expanded),
             one,
         ],
         [
@@ -223,7 +230,7 @@ def _adequacy(t: Messages, v: Smts2Results) -> Table:
             fmt(v.theoretical.intensity),
             one,
         ],
-        [t("w.error"), html_symbol("ΔI_h"), fmt(a.relative_error_percent), t.unit("%")],
+        [t("w.error"), html_symbol("ΔI_h"), percent(a.relative_error_percent), t.unit("%")],
         [t("w.lower"), "", fmt(a.lower), one],
         [t("w.upper"), "", fmt(a.upper), one],
         [t("w.adequate"), "", verdict, ""],
@@ -269,13 +276,14 @@ def _friction_svg(ctx: Context, v: Smts2Results, config: Smts2Config) -> str:
     ax.axvspan(0.0, steady_distance, color="0.88", label=t("w.running_in", share=share))
     ax.fill_between(drawn.x, drawn.y_min, drawn.y_max, color="C0", alpha=0.25, linewidth=0)
     ax.plot(drawn.x, drawn.y, color="C0", linewidth=0.8, label=t("w.block_mean"))
+    steady = to_uncertainty(v.friction_steady, v.friction_steady_expanded)
     ax.hlines(
         v.friction_steady,
         steady_distance,
         drawn.x[-1],
         colors="C3",
         linewidth=1.2,
-        label=f"{t('w.steady_mean')} f = {fmt(v.friction_steady)}",
+        label=f"{t('w.steady_mean')} f = {steady}",
     )
     decorate(ax, xlabel=blocks.axis(t, "L", "m"), ylabel=blocks.axis(t, "f"))
     return to_svg(fig)
@@ -328,11 +336,11 @@ def _conclusions(t: Messages, v: Smts2Results) -> list[Text]:
         key = "w.c_adequate" if v.adequacy.adequate else "w.c_inadequate"
         text = t(
             key,
-            exp=fmt(v.experimental.intensity),
+            exp=to_uncertainty(v.experimental.intensity, v.experimental.intensity_expanded),
             theor=fmt(v.theoretical.intensity),
             lower=fmt(v.adequacy.lower),
             upper=fmt(v.adequacy.upper),
-            error=fmt(v.adequacy.relative_error_percent),
+            error=percent(v.adequacy.relative_error_percent),
             contact=t("contact." + v.theoretical.contact),
         )
         found.append(html_symbol(text))

@@ -11,7 +11,7 @@ import numpy as np
 from rigserver.reports import blocks
 from rigserver.reports.context import Context, LabReport
 from rigserver.reports.document import Block, Figure, Section, Text
-from rigserver.reports.formatting import fmt, html_symbol
+from rigserver.reports.formatting import fmt, html_symbol, percent, to_uncertainty
 from rigserver.reports.i18n import Messages
 from rigserver.reports.labs import iso_profile
 from rigserver.reports.labs.tribometer_conditions import conditions_table, deviations
@@ -225,7 +225,7 @@ def _friction_svg(t: Messages, v: Results) -> str:
             s.x[-1],
             colors="C3",
             linewidth=1.2,
-            label=f"{t('w.steady_mean')} μ = {fmt(v.friction_steady)}",
+            label=f"{t('w.steady_mean')} μ = {_mu(v)}",
         )
     decorate(ax, xlabel=blocks.axis(t, "L", "m"), ylabel=blocks.axis(t, "μ"))
     return to_svg(fig)
@@ -285,7 +285,7 @@ def _conclusions(t: Messages, v: Results) -> list[Text]:
             html_symbol(
                 t(
                     "t.c_friction",
-                    mu=fmt(v.friction_steady),
+                    mu=_mu(v),
                     std=fmt(v.friction_steady_std),
                     distance=fmt(v.running_in_distance),
                     static=fmt(v.friction_static),
@@ -303,7 +303,7 @@ def _conclusions(t: Messages, v: Results) -> list[Text]:
             rate = estimate.specific_wear_rate / 1e-9  # mm³/(N·m)
             # below zero the specimen gained mass (or volume): said, never a bare negative wear
             said = "t.c_gain" if rate < 0 else "t.c_wear"
-            found.append(html_symbol(t(said, what=t(key), k=fmt(rate))))
+            found.append(html_symbol(t(said, what=t(key), k=_k(estimate))))
     for by_mass, by_shape in (("disc_mass", "disc_track"), ("pin_mass", "pin_scar")):
         verdict = _disagreement(t, getattr(v, by_mass), getattr(v, by_shape), by_shape)
         if verdict is not None:
@@ -330,8 +330,19 @@ def _disagreement(
         "t.c_trust_mass" if trust_mass else "t.c_trust_shape",
         specimen=t("t.specimen_disc" if name == "disc_track" else "t.specimen_pin"),
         shape=t(f"t.by.{name}"),
-        k_mass=fmt(k_mass / 1e-9),
-        k_shape=fmt(k_shape / 1e-9),
+        k_mass=_k(mass),
+        k_shape=_k(shape),
         ratio=fmt(max(k_mass, k_shape) / min(k_mass, k_shape), 2),
-        relative=fmt(100.0 * min(u_mass / k_mass, u_shape / k_shape), 2),
+        relative=percent(100.0 * min(u_mass / k_mass, u_shape / k_shape)),
     )
+
+
+def _mu(v: Results) -> str:
+    """The steady friction coefficient to the place of its uncertainty (GUM 7.2.6)."""
+    return to_uncertainty(v.friction_steady, v.friction_steady_expanded)
+
+
+def _k(estimate: WearEstimate) -> str:
+    """A specific wear rate in mm³/(N·m) to the place of its uncertainty (GUM 7.2.6)."""
+    u = estimate.specific_wear_rate_expanded or estimate.specific_wear_rate_uncertainty
+    return to_uncertainty(estimate.specific_wear_rate / 1e-9, None if u is None else u / 1e-9)

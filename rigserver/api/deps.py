@@ -12,7 +12,7 @@ from collections import OrderedDict, defaultdict
 from dataclasses import dataclass, field
 from typing import Annotated, cast
 
-from fastapi import Depends, Request
+from fastapi import Depends, Path, Request
 from starlette.requests import cookie_parser
 from starlette.types import Scope
 
@@ -226,3 +226,10 @@ WriteAccess = Depends(require_key)
 
 def require_write(caller: ApiKey | None, stand: StandKind) -> ApiKey:
     return require_scope(caller, write_scope(stand.value))
+
+
+#: A row of a run's readings named in a path: its channel group and its index as stored.
+Group = Annotated[str, Path(max_length=40, description="the channel group, e.g. 'rows'")]
+Index = Annotated[
+    int, Path(ge=0, le=2**62, description="the row's index in its group as stored, from 0")
+]

@@ -27,6 +27,8 @@ from starlette.background import BackgroundTask
 from rigserver.analysis import Readings, analyse
 from rigserver.api import sketch_images
 from rigserver.api.auth import ApiKey
+from rigserver.api.cases.notes import author
+from rigserver.api.cases.runs import load_run, snapshot
 from rigserver.api.deps import (
     ReadAccess,
     Services,
@@ -41,8 +43,6 @@ from rigserver.api.report_answers import caller_key
 from rigserver.api.report_jobs import FileReadings
 from rigserver.api.routes import reports as run_reports
 from rigserver.api.routes import series as series_routes
-from rigserver.api.routes.notes import author
-from rigserver.api.routes.runs import load_run, snapshot
 from rigserver.api.routes.series import _detail, load_series
 from rigserver.api.routes.sketches import sketch_item
 from rigserver.api.run_results import StoredReadings, results_payload

@@ -31,9 +31,9 @@ from fastapi import APIRouter, Query, Request
 from fastapi.concurrency import run_in_threadpool
 from fastapi.responses import StreamingResponse
 
+from rigserver.api.cases.runs import load_run
 from rigserver.api.deps import ReadAccess, Services, ServicesDep
 from rigserver.api.problems import ApiProblem
-from rigserver.api.routes.runs import load_run
 from schemas.channels import ChannelGroup
 from schemas.runs import RunState
 from schemas.stands import Stand

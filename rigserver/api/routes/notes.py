@@ -7,34 +7,18 @@ from __future__ import annotations
 from fastapi import APIRouter
 from fastapi.concurrency import run_in_threadpool
 
-from rigserver.api.auth import ApiKey
+from rigserver.api.cases.notes import write_notes
+from rigserver.api.cases.runs import load_run
 from rigserver.api.deps import (
     CallerDep,
     ReadAccess,
-    Services,
     ServicesDep,
     WriteAccess,
-    require_write,
 )
-from rigserver.api.routes.runs import load_run
 from rigserver.api.strict_json import StrictJsonRoute
 from schemas.student_notes import StudentNotes, StudentNotesWrite
 
 router = APIRouter(prefix="/runs/{run_id}", tags=["runs"], route_class=StrictJsonRoute)
-
-
-def author(key: ApiKey) -> str:
-    """Who wrote the words, as the store keeps it: the key's name, else its fingerprint."""
-    return key.name or f"key {key.fingerprint[:12]}"
-
-
-def write_notes(
-    services: Services, run_id: str, body: StudentNotesWrite, caller: ApiKey | None
-) -> StudentNotes:
-    """Store the words on the run for a key with the run's stand's write scope (403 else)."""
-    run = load_run(services, run_id)
-    key = require_write(caller, run.stand)
-    return services.notes.put(run.id, body, by=author(key))
 
 
 @router.get(

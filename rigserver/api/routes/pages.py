@@ -19,10 +19,10 @@ from fastapi.staticfiles import StaticFiles
 from pydantic import ValidationError
 
 from rigserver.api.auth import READ, ApiKey, write_scope
+from rigserver.api.cases.notes import write_notes
+from rigserver.api.cases.runs import load_run
 from rigserver.api.deps import Services, ServicesDep, caller_of, require_scope
 from rigserver.api.problems import ApiProblem
-from rigserver.api.routes.notes import write_notes
-from rigserver.api.routes.runs import load_run
 from rigserver.api.routes.series import series_view
 from rigserver.api.routes.sketches import upload_sketch
 from rigserver.api.run_results import results_payload

@@ -23,6 +23,7 @@ from pydantic import ValidationError
 from starlette.background import BackgroundTask
 
 from rigserver.api.auth import ApiKey
+from rigserver.api.cases.runs import load_run
 from rigserver.api.deps import (
     ReadAccess,
     Services,
@@ -36,7 +37,6 @@ from rigserver.api.ingest_queue import Place
 from rigserver.api.npz import parse_npz
 from rigserver.api.problems import ApiProblem, violations
 from rigserver.api.routes.api_docs import NPZ_EXAMPLE
-from rigserver.api.routes.runs import load_run
 from rigserver.api.run_results import StoredReadings
 from rigserver.reports.arrow import group_arrow
 from rigserver.reports.export import group_csv

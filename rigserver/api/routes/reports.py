@@ -12,6 +12,7 @@ from fastapi.concurrency import run_in_threadpool
 from fastapi.responses import FileResponse, HTMLResponse, Response
 from starlette.background import BackgroundTask
 
+from rigserver.api.cases.runs import load_run
 from rigserver.api.deps import ReadAccess, Services, ServicesDep
 from rigserver.api.problems import ApiProblem
 from rigserver.api.report_answers import (
@@ -25,7 +26,6 @@ from rigserver.api.report_answers import (
 )
 from rigserver.api.report_files import ReportFile
 from rigserver.api.report_jobs import RunReportJob
-from rigserver.api.routes.runs import load_run
 from rigserver.api.run_results import StoredReadings, results_payload
 from rigserver.reports.export import DIALECTS, Dialect, export_zip, results_csv
 from rigserver.reports.i18n import Lang, Messages, language_headers, negotiate

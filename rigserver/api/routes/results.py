@@ -7,8 +7,8 @@ from typing import Any
 from fastapi import APIRouter
 from fastapi.concurrency import run_in_threadpool
 
+from rigserver.api.cases.runs import load_run
 from rigserver.api.deps import ReadAccess, ServicesDep
-from rigserver.api.routes.runs import load_run
 from rigserver.api.run_results import results_payload_async
 from rigserver.reports import results_view
 from rigserver.reports.i18n import DEFAULT, Lang, Messages

@@ -11,6 +11,7 @@ from fastapi.concurrency import run_in_threadpool
 from fastapi.responses import HTMLResponse, Response
 
 from rigserver.analysis.series import Member, series_statistics
+from rigserver.api.cases.runs import load_run
 from rigserver.api.deps import (
     CallerDep,
     ReadAccess,
@@ -30,7 +31,6 @@ from rigserver.api.report_answers import (
 )
 from rigserver.api.report_files import ReportFile
 from rigserver.api.report_jobs import SeriesReportJob
-from rigserver.api.routes.runs import load_run
 from rigserver.api.run_results import StoredReadings, results_payload
 from rigserver.api.strict_json import StrictJsonRoute
 from rigserver.reports.i18n import Lang, language_headers, negotiate

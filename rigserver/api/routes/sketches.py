@@ -14,6 +14,8 @@ from fastapi.concurrency import run_in_threadpool
 from PIL import Image, ImageDraw
 
 from rigserver.api.auth import ApiKey
+from rigserver.api.cases.notes import author
+from rigserver.api.cases.runs import load_run
 from rigserver.api.deps import (
     ReadAccess,
     Services,
@@ -24,8 +26,6 @@ from rigserver.api.deps import (
     services_of,
 )
 from rigserver.api.problems import ApiProblem
-from rigserver.api.routes.notes import author
-from rigserver.api.routes.runs import load_run
 from rigserver.api.sketch_images import SketchImage, checked, too_large
 from rigserver.reports.contents import Students
 from rigserver.reports.contents.registry import CONTENTS

@@ -5,10 +5,7 @@ from __future__ import annotations
 
 from rigserver.api.auth import ApiKey
 from rigserver.api.cases.runs import load_run
-from rigserver.api.deps import (
-    Services,
-    require_write,
-)
+from rigserver.api.deps import Services, require_write
 from schemas.student_notes import StudentNotes, StudentNotesWrite
 
 

@@ -9,10 +9,7 @@ from typing import Any
 from pydantic import ValidationError
 
 from rigserver.api.auth import ApiKey
-from rigserver.api.deps import (
-    Services,
-    require_write,
-)
+from rigserver.api.deps import Services, require_write
 from rigserver.api.problems import ApiProblem, violations
 from rigserver.api.report_answers import render_finished
 from rigserver.api.run_results import compute_results

@@ -7,22 +7,16 @@ JSON parsing of the numbers, for high-rate channels.
 
 from __future__ import annotations
 
-import json
 import os
 import tempfile
-from collections.abc import Mapping
-from functools import partial
 from pathlib import Path
 from typing import Annotated, Any, Literal
 
-import jiter
 from fastapi import APIRouter, Query, Request, Response
-from fastapi.concurrency import run_in_threadpool
 from fastapi.responses import FileResponse, StreamingResponse
-from pydantic import ValidationError
 from starlette.background import BackgroundTask
 
-from rigserver.api.auth import ApiKey
+from rigserver.api.cases.readings import group_of, stand_of_run, store_posted
 from rigserver.api.cases.runs import load_run
 from rigserver.api.deps import (
     ReadAccess,
@@ -33,31 +27,23 @@ from rigserver.api.deps import (
     require_write,
     services_of,
 )
-from rigserver.api.ingest_queue import Place
-from rigserver.api.npz import parse_npz
-from rigserver.api.problems import ApiProblem, violations
+from rigserver.api.problems import ApiProblem
 from rigserver.api.routes.api_docs import NPZ_EXAMPLE
 from rigserver.api.run_results import StoredReadings
 from rigserver.reports.arrow import group_arrow
 from rigserver.reports.export import group_csv
-from rigserver.storage.base import NewBatch
 from rigserver.storage.corrections import applied, last_values, struck_rows
 from rigserver.storage.runfile import corrected_copy
-from schemas.channels import ChannelGroup, Violation, check_columns, follows
+from schemas.channels import ChannelGroup, Violation
 from schemas.corrections import Correction
-from schemas.readings import ARROW_MEDIA_TYPE, NPZ_MEDIA_TYPE, BatchReceipt, ReadingBatch
+from schemas.readings import ARROW_MEDIA_TYPE, NPZ_MEDIA_TYPE, BatchReceipt
 from schemas.runs import Run
-from schemas.stands import Stand
-from schemas.strict_json import JsonRefused, strict_loads
 from schemas.wire import Text, ascii_count
 
 router = APIRouter(prefix="/runs/{run_id}/readings", tags=["readings"])
 
 MAX_ROWS_JSON = 1_000_000
 MAX_SEQ = 2**62  # as ReadingBatch.seq
-#: Bodies up to this size are parsed and stored on the event loop (stored in groups, see
-#: rigserver.api.ingest_queue); larger ones in a worker thread.
-SMALL_BODY_BYTES = 64 << 10
 
 _BATCH_BODY: dict[str, Any] = {
     "requestBody": {
@@ -102,94 +88,6 @@ _BATCH_BODY: dict[str, Any] = {
 }
 
 
-def _group_of(stand: Stand, name: str) -> ChannelGroup:
-    group = stand.group(name)
-    if group is None:
-        known = ", ".join(g.name for g in stand.groups)
-        raise ApiProblem(
-            422,
-            "Unknown channel group",
-            f"stand {stand.kind.value!r} has no channel group {name!r}; known: {known}",
-            [Violation(field="group", value=name[:40], limit=f"one of {known}", message="")],
-        )
-    return group
-
-
-def _refuse_violations(
-    group: ChannelGroup, columns: Mapping[str, Any], last: Mapping[str, float]
-) -> None:
-    """The stand's limits and orderings, checked against the run's last stored values."""
-    violations = check_columns(group, columns, last)
-    if violations:
-        raise ApiProblem(
-            422,
-            "Readings refused",
-            f"{violations[0].message} (nothing of this batch was stored)",
-            violations,
-        )
-
-
-def _refuse_across(
-    group: ChannelGroup, columns: Mapping[str, Any], last: Mapping[str, float]
-) -> None:
-    """The order across batches of a batch found good on its own (under the store's lock,
-    which :func:`_refuse_violations` on a large batch would hold for a millisecond)."""
-    if not follows(group, columns, last):
-        _refuse_violations(group, columns, last)
-
-
-def _read_batch(
-    media: str, body: bytes, limit: int, stand: Stand, seq: int, group: str, *, alone: bool
-) -> tuple[int, ChannelGroup, Mapping[str, Any]]:
-    """The body's batch: its seq and group (a JSON body's own; npz's ``seq`` and ``group``
-    come from the query), its group's declaration and its columns; if ``alone``, checked on
-    their own (limits, order within the batch: a large body's, in the thread that reads it)."""
-    columns: Mapping[str, Any]
-    if media == NPZ_MEDIA_TYPE:
-        columns = parse_npz(body, limit)
-    else:
-        batch = _parse_json(body)
-        seq, group, columns = batch.seq, batch.group, batch.columns
-    decl = _group_of(stand, group)
-    if alone:
-        _refuse_violations(decl, columns, {})
-    return seq, decl, columns
-
-
-def _parse_json(body: bytes) -> ReadingBatch:
-    """The batch of a JSON body, strictly: one fast pass (jiter, which also catches a key
-    given twice) and the model's strict types; a body jiter refuses is judged again by
-    :func:`strict_loads`, for the message (and the lone surrogates that only it reads)."""
-    try:
-        tree = jiter.from_json(body, catch_duplicate_keys=True)
-    except ValueError:
-        try:
-            tree = strict_loads(body)
-        except json.JSONDecodeError as exc:
-            where = exc.pos if isinstance(exc, JsonRefused) else "body"
-            raise ApiProblem(
-                422,
-                "Invalid batch",
-                f"{where}: invalid JSON: {exc.msg}",
-                [Violation(field=str(where), message=f"{where}: invalid JSON: {exc.msg}")],
-            ) from None
-    try:
-        return ReadingBatch.model_validate(tree)
-    except ValidationError as exc:
-        errors = violations(exc.errors())
-        raise ApiProblem(422, "Invalid batch", errors[0].message, errors) from None
-
-
-async def stand_of_run(services: Services, run_id: str) -> Stand:
-    """The run's stand as its configuration sets it (the units in a refusal's message):
-    remembered, or looked up (404 for an unknown run)."""
-    stand = services.run_stands.get(run_id)
-    if stand is None:
-        stand = services.stand_of(await run_in_threadpool(load_run, services, run_id))
-        services.remember_stand(run_id, stand)
-    return stand
-
-
 def _binary_query(request: Request) -> tuple[int, str]:
     """``?seq=&group=`` of the binary form: a whole seq from 0 and a group name."""
     seq = request.query_params.get("seq", "")
@@ -220,22 +118,6 @@ def _binary_query(request: Request) -> tuple[int, str]:
     return number, group
 
 
-async def _body(request: Request, place: Place) -> bytes:
-    """The body, each piece counted in the ingest queue as it arrives (503 once it
-    overflows the key's share or the queue: read no further)."""
-    chunks = []
-    async for chunk in request.stream():
-        if chunk:
-            place.arrived(len(chunk))
-            chunks.append(chunk)
-    return b"".join(chunks)
-
-
-def _declared_length(request: Request) -> int:
-    value = request.headers.get("content-length", "")
-    return ascii_count(value) or 0
-
-
 async def post_readings(request: Request) -> Response:
     # the hot path of ingest, called by rigserver.api.ingest_lane (not by the router):
     # run_id, seq and group are documented in _BATCH_BODY. Authenticated
@@ -258,39 +140,6 @@ async def post_readings(request: Request) -> Response:
         status_code=200 if receipt.duplicate else 201,
         media_type="application/json",
     )
-
-
-async def store_posted(
-    request: Request,
-    services: Services,
-    run_id: str,
-    stand: Stand,
-    writer: ApiKey,
-    media: str = "application/json",
-    seq: int = 0,
-    group: str = "",
-) -> BatchReceipt:
-    """The batch of the request's body, checked and stored for ``writer`` (whose scope is
-    checked): the API's post and the run page's rows alike (:mod:`rigserver.api.routes.entry`)."""
-    with services.ingest.admit(_declared_length(request), writer.fingerprint) as place:
-        body = await _body(request, place)
-        small = len(body) <= SMALL_BODY_BYTES
-        read = partial(
-            _read_batch, media, body, services.settings.max_body_bytes, stand, seq, group
-        )
-        if small:  # the check with the run's last values, under the store's lock
-            seq, decl, columns = read(alone=False)
-            check = partial(_refuse_violations, decl)
-        else:  # checked on its own here; only the order after the last values under the lock
-            seq, decl, columns = await run_in_threadpool(partial(read, alone=True))
-            check = partial(_refuse_across, decl)
-        del body, read  # a JSON body is parsed: its bytes are not needed any more
-        try:
-            return await services.ingest.store(
-                NewBatch(run_id, seq, decl.name, columns, check), small=small
-            )
-        except ValueError as exc:  # the store's own check of the batch's shape
-            raise ApiProblem(422, "Batch does not fit its group", str(exc)) from None
 
 
 router.add_api_route(
@@ -361,7 +210,7 @@ def get_readings(
             holder = "CSV" if format == "csv" else "An Arrow stream"
             raise ApiProblem(422, "group needed", f"{holder} holds one channel group: add ?group=")
         return {g.name: _json_group(services, run, g, start, stop, fixes) for g in stand.groups}
-    chosen = _group_of(stand, group)
+    chosen = group_of(stand, group)
     if format == "arrow":
         stream = group_arrow(StoredReadings(services, run, original=original), chosen)
         return StreamingResponse(

@@ -30,7 +30,7 @@ from hypothesis.stateful import (
     rule,
 )
 
-from rigserver.api.routes.eln import example_archive
+from rigserver.api.examples import example_archive
 from rigserver.reports.eln import ELN_MEDIA_TYPE
 from rigserver.reports.formatting import spreadsheet_text
 from rigserver.reports.series_plots import Curve, overlay

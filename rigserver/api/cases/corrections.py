@@ -4,11 +4,11 @@ results computed again and its reports rendered again."""
 from __future__ import annotations
 
 from rigserver.api.auth import ApiKey
+from rigserver.api.cases.found import load_run
 from rigserver.api.cases.notes import author
-from rigserver.api.cases.runs import load_run
+from rigserver.api.cases.reports import render_finished
 from rigserver.api.deps import Services, require_write
 from rigserver.api.problems import ApiProblem
-from rigserver.api.report_answers import render_finished
 from rigserver.api.run_results import compute_results
 from rigserver.storage.corrections import CorrectionRefused
 from schemas.corrections import CorrectedRow, CorrectionWrite, StrikeWrite

@@ -4,7 +4,7 @@ kept with who wrote them (:mod:`rigserver.storage.notes`)."""
 from __future__ import annotations
 
 from rigserver.api.auth import ApiKey
-from rigserver.api.cases.runs import load_run
+from rigserver.api.cases.found import load_run
 from rigserver.api.deps import Services, require_write
 from schemas.student_notes import StudentNotes, StudentNotesWrite
 

@@ -15,7 +15,7 @@ from fastapi.concurrency import run_in_threadpool
 from pydantic import ValidationError
 
 from rigserver.api.auth import ApiKey
-from rigserver.api.cases.runs import load_run
+from rigserver.api.cases.found import load_run
 from rigserver.api.deps import Services
 from rigserver.api.ingest_queue import Place
 from rigserver.api.npz import parse_npz

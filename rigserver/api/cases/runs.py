@@ -9,9 +9,10 @@ from typing import Any
 from pydantic import ValidationError
 
 from rigserver.api.auth import ApiKey
+from rigserver.api.cases.found import load_run
+from rigserver.api.cases.reports import render_finished
 from rigserver.api.deps import Services, require_write
 from rigserver.api.problems import ApiProblem, violations
-from rigserver.api.report_answers import render_finished
 from rigserver.api.run_results import compute_results
 from rigserver.storage.errors import KeyReused
 from schemas.runs import (
@@ -19,21 +20,9 @@ from schemas.runs import (
     RunCreate,
     RunState,
     given_paths,
-    is_run_id,
     new_run_id,
 )
 from schemas.stands import with_overrides
-
-
-def load_run(services: Services, run_id: str) -> Run:
-    """The run, or a 404 that says why (a malformed id never reaches the store)."""
-    if not is_run_id(run_id):
-        raise ApiProblem(
-            404,
-            "Run not found",
-            f"{run_id[:40]!r} is not a run id (they look like 20261122T114026Z-1a2b3c4d)",
-        )
-    return services.store.get_run(run_id)
 
 
 def snapshot(services: Services, body: RunCreate, prefix: str = "") -> dict[str, Any]:

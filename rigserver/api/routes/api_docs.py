@@ -24,15 +24,17 @@ from fastapi.openapi.docs import get_redoc_html
 from fastapi.responses import HTMLResponse
 from fastapi.staticfiles import StaticFiles
 
-from rigserver.api.routes.eln import ELN_EXAMPLE, example_archive
-from rigserver.api.routes.sketches import SKETCH_EXAMPLES, example_sketch
+from rigserver.api.examples import (
+    ELN_EXAMPLE,
+    NPZ_EXAMPLE,
+    SKETCH_EXAMPLES,
+    example_archive,
+    example_sketch,
+)
 from rigserver.reports.eln import ELN_MEDIA_TYPE
 from schemas.readings import NPZ_MEDIA_TYPE, ReadingBatch
 
 ASSETS = "/docs-assets"
-#: The binary form of :class:`ReadingBatch`'s example, the request body's example in the
-#: OpenAPI document.
-NPZ_EXAMPLE = "/docs/examples/readings.npz"
 
 SWAGGER_UI = "/docs"
 REDOC = "/redoc"

@@ -15,7 +15,7 @@ from fastapi import APIRouter
 from fastapi.concurrency import run_in_threadpool
 
 from rigserver.api.cases.corrections import correct
-from rigserver.api.cases.runs import load_run
+from rigserver.api.cases.found import load_run
 from rigserver.api.deps import (
     CallerDep,
     Group,

@@ -4,7 +4,6 @@ which recreates a run exported by a rig server under a new id (naming the origin
 
 from __future__ import annotations
 
-import io
 import itertools
 import math
 import os
@@ -13,7 +12,7 @@ import tempfile
 from collections.abc import Callable, Iterator, Mapping
 from contextlib import ExitStack
 from datetime import UTC, datetime
-from functools import lru_cache, partial
+from functools import partial
 from pathlib import Path
 from typing import IO, Any
 
@@ -27,8 +26,17 @@ from starlette.background import BackgroundTask
 from rigserver.analysis import Readings, analyse
 from rigserver.api import sketch_images
 from rigserver.api.auth import ApiKey
+from rigserver.api.cases.found import load_run
 from rigserver.api.cases.notes import author
-from rigserver.api.cases.runs import load_run, snapshot
+from rigserver.api.cases.reports import caller_key, run_report_bytes, run_report_kept
+from rigserver.api.cases.runs import snapshot
+from rigserver.api.cases.series import (
+    detail_and_members,
+    load_series,
+    series_report_bytes,
+    series_report_kept,
+)
+from rigserver.api.cases.sketches import sketch_item
 from rigserver.api.deps import (
     ReadAccess,
     Services,
@@ -38,13 +46,9 @@ from rigserver.api.deps import (
     require_write,
     services_of,
 )
+from rigserver.api.examples import ELN_EXAMPLE
 from rigserver.api.problems import ApiProblem, violations
-from rigserver.api.report_answers import caller_key
 from rigserver.api.report_jobs import FileReadings
-from rigserver.api.routes import reports as run_reports
-from rigserver.api.routes import series as series_routes
-from rigserver.api.routes.series import _detail, load_series
-from rigserver.api.routes.sketches import sketch_item
 from rigserver.api.run_results import StoredReadings, results_payload
 from rigserver.api.series_export import Progress, Render
 from rigserver.reports.eln import (
@@ -71,16 +75,13 @@ from rigserver.reports.i18n import LANGS, Lang
 from rigserver.reports.series_report import series_csv
 from rigserver.storage.archived import IMPORT_ROWS, file_batches, file_corrections, summary
 from rigserver.storage.errors import RunNotFound, StorageError
-from rigserver.storage.runfile import write_file
 from schemas.channels import check_cell, check_columns
 from schemas.corrections import Correction
 from schemas.runs import ImportedFrom, Run, RunCreate, RunState, new_run_id
-from schemas.stands import MEASUREMENTS, Stand, StandKind, default_stands
+from schemas.stands import MEASUREMENTS, Stand
 
 router = APIRouter(tags=["eln"])
 
-#: Where the OpenAPI document's example archive is served (rigserver.api.routes.api_docs).
-ELN_EXAMPLE = "/docs/examples/run.eln"
 
 #: Tries for a free id when an imported run's id is taken (ids carry 32 random bits).
 ID_TRIES = 3
@@ -126,7 +127,7 @@ def _run_part(services: Services, run: Run) -> RunPart:
         readings=StoredReadings(services, run),
         payload=results_payload(services, run),
         run_file=services.store.run_file(run.id),
-        reports=_reports(lambda lang: run_reports.report_bytes(services, run, lang, _EXPORT)),
+        reports=_reports(lambda lang: run_report_bytes(services, run, lang, _EXPORT)),
         references=_references(services, run),
         sketches=_sketches(services, run),
     )
@@ -183,13 +184,11 @@ def _export_run(services: Services, run_id: str, publisher: Publisher) -> tuple[
 
 
 def _export_series(services: Services, series_id: str, publisher: Publisher) -> tuple[str, str]:
-    detail, members = _detail(services, series_id)
+    detail, members = detail_and_members(services, series_id)
     series = SeriesPart(
         detail=detail,
         runs_csv=series_csv(detail),
-        reports=_reports(
-            lambda lang: series_routes.report_bytes(services, series_id, lang, _EXPORT)
-        ),
+        reports=_reports(lambda lang: series_report_bytes(services, series_id, lang, _EXPORT)),
     )
     licence = licence_of(services.settings.license)
     made = datetime.now(UTC)
@@ -255,15 +254,15 @@ async def export_series(series_id: str, request: Request, services: ServicesDep)
 def _missing_reports(services: Services, series_id: str) -> list[Render]:
     """The reports a series archive packs that are not rendered yet: each member run's and
     the series', in each language; each a render to call."""
-    _, members = _detail(services, series_id)
+    _, members = detail_and_members(services, series_id)
     missing: list[Render] = []
     for lang in LANGS:
         for member in members:
             run = member.run
-            if not run_reports.report_kept(services, run, lang):
-                missing.append(partial(run_reports.report_bytes, services, run, lang, _EXPORT))
-        if not series_routes.report_kept(services, series_id, lang):
-            missing.append(partial(series_routes.report_bytes, services, series_id, lang, _EXPORT))
+            if not run_report_kept(services, run, lang):
+                missing.append(partial(run_report_bytes, services, run, lang, _EXPORT))
+        if not series_report_kept(services, series_id, lang):
+            missing.append(partial(series_report_bytes, services, series_id, lang, _EXPORT))
     return missing
 
 
@@ -496,49 +495,6 @@ def _import(services: Services, found: ArchivedRun, original: Run, by: str) -> R
                     )
                 return services.store.get_run(run.id)
     raise ApiProblem(503, "No free run id", "try the import again", headers={"Retry-After": "1"})
-
-
-@lru_cache(maxsize=1)
-def example_archive() -> bytes:
-    """The archive of a small profilometer run made up here (a sine trace of 1 µm amplitude
-    and 0.1 mm pitch over the 0.8 mm base length, sampled every 0.5 µm), the import's
-    example in the OpenAPI document."""
-    made = datetime(2026, 11, 22, 11, 40, 26, tzinfo=UTC)
-    stand = default_stands()[StandKind.PROFILOMETER]
-    x = np.linspace(0.0, 0.8, 1601)
-    trace = {"x": x, "y": np.sin(2.0 * np.pi * x / 0.1)}
-    weighed = {"base_length": np.array([0.8]), "subrange": np.array([3.2])}
-    run = Run(
-        id="20261122T114026Z-0e1ec0de",
-        stand=StandKind.PROFILOMETER,
-        state=RunState.FINISHED,
-        operator="Ivanova",
-        title="Run-in surface, example",
-        specimen={"surface": "steel 45, run in"},
-        test_plan={"base_length_mm": 0.8},
-        configuration=stand.configuration.model_dump(mode="json"),
-        created=made,
-        ended=made,
-        batches=2,
-        rows={"profile": len(x), "measurements": 1},
-    )
-    with tempfile.TemporaryDirectory(prefix="rig-example-") as directory, ExitStack() as stack:
-        path = Path(directory) / "run.h5"
-        write_file(
-            path, run, [("profile", trace, len(x)), (MEASUREMENTS, weighed, 1)], None, final=True
-        )
-        readings = FileReadings(path, stack)
-        part = RunPart(
-            run=run,
-            stand=stand,
-            readings=readings,
-            payload=analyse(run, readings).payload,
-            run_file=path,
-        )
-        target = io.BytesIO()
-        publisher = Publisher("http://rig.example/")
-        write_run_archive(target, part, made=made, publisher=publisher, licence=None)
-    return target.getvalue()
 
 
 async def _body_to(request: Request, path: Path, reserve: int) -> None:

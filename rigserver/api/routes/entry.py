@@ -4,11 +4,11 @@ page (``/runs/{id}/rows``), their corrections (``/runs/{id}/readings/{group}/{in
 
 They are the pages' own posts, never the API (whose routes never take the session
 cookie): each comes from this site's page (``Origin``) and carries the session's form
-token (:func:`rigserver.api.routes.pages.form_writer`), and the session's key needs the
+token (:func:`rigserver.api.page_forms.form_writer`), and the session's key needs the
 stand's write scope as in the API. Each goes the API's way once the key is known: a run is
 opened by :func:`rigserver.api.cases.runs.open_run`, a row is stored by
 :func:`rigserver.api.cases.readings.store_posted` (the same checks, the same ``seq``),
-a row corrected by :func:`rigserver.api.routes.corrections.correct`, a run ended by
+a row corrected by :func:`rigserver.api.cases.corrections.correct`, a run ended by
 :func:`rigserver.api.cases.runs.end_run`. A refusal is one line in the
 page's language (:func:`rigserver.web.entry.refusal_line`).
 """
@@ -27,13 +27,13 @@ from pydantic import ValidationError
 
 from rigserver.api.auth import ApiKey
 from rigserver.api.cases.corrections import correct
+from rigserver.api.cases.found import load_run
 from rigserver.api.cases.notes import write_notes
 from rigserver.api.cases.readings import stand_of_run, store_posted
-from rigserver.api.cases.runs import end_run, load_run
+from rigserver.api.cases.runs import end_run
 from rigserver.api.cases.runs import open_run as open_api_run
 from rigserver.api.deps import Group, Index, ServicesDep, require_write
-from rigserver.api.problems import ApiProblem, storage_problem
-from rigserver.api.routes.pages import (
+from rigserver.api.page_forms import (
     FORM_TOKEN,
     LoginFirst,
     form_token,
@@ -43,6 +43,7 @@ from rigserver.api.routes.pages import (
     writable_stands,
     writer_of,
 )
+from rigserver.api.problems import ApiProblem, storage_problem
 from rigserver.reports.i18n import Lang, Messages, language_headers, negotiate
 from rigserver.storage.errors import StorageError
 from rigserver.web.entry import FORM_HEADER, REASON_MISSING, refusal_line

@@ -31,7 +31,7 @@ from fastapi import APIRouter, Query, Request
 from fastapi.concurrency import run_in_threadpool
 from fastapi.responses import StreamingResponse
 
-from rigserver.api.cases.runs import load_run
+from rigserver.api.cases.found import load_run
 from rigserver.api.deps import ReadAccess, Services, ServicesDep
 from rigserver.api.problems import ApiProblem
 from schemas.channels import ChannelGroup

@@ -7,8 +7,8 @@ from __future__ import annotations
 from fastapi import APIRouter
 from fastapi.concurrency import run_in_threadpool
 
+from rigserver.api.cases.found import load_run
 from rigserver.api.cases.notes import write_notes
-from rigserver.api.cases.runs import load_run
 from rigserver.api.deps import (
     CallerDep,
     ReadAccess,

@@ -5,11 +5,10 @@ becomes a session cookie (:mod:`rigserver.api.sessions`)."""
 
 from __future__ import annotations
 
-from collections.abc import Sequence
 from datetime import UTC, date, datetime, time, timedelta
 from importlib import resources
 from typing import Annotated, TypeVar
-from urllib.parse import parse_qs, urlencode, urlsplit
+from urllib.parse import parse_qs, urlencode
 
 from fastapi import APIRouter, Depends, FastAPI, Query, Request, Response
 from fastapi.concurrency import run_in_threadpool
@@ -18,13 +17,25 @@ from fastapi.responses import HTMLResponse, RedirectResponse
 from fastapi.staticfiles import StaticFiles
 from pydantic import ValidationError
 
-from rigserver.api.auth import READ, ApiKey, write_scope
+from rigserver.api.auth import READ, write_scope
+from rigserver.api.cases.found import load_run
 from rigserver.api.cases.notes import write_notes
-from rigserver.api.cases.runs import load_run
-from rigserver.api.deps import Services, ServicesDep, caller_of, require_scope
+from rigserver.api.cases.series import series_view
+from rigserver.api.cases.sketches import upload_sketch
+from rigserver.api.deps import Services, ServicesDep
+from rigserver.api.page_forms import (
+    FORM_TOKEN,
+    LoginFirst,
+    form_token,
+    form_writer,
+    read_form,
+    require_page_read,
+    same_origin,
+    signed_in,
+    writable_stands,
+    writer_of,
+)
 from rigserver.api.problems import ApiProblem
-from rigserver.api.routes.series import series_view
-from rigserver.api.routes.sketches import upload_sketch
 from rigserver.api.run_results import results_payload
 from rigserver.api.sessions import COOKIE, SESSION_SECONDS
 from rigserver.api.sketch_form import read_sketch_form
@@ -39,49 +50,6 @@ from schemas.runs import Run, RunQuery, RunState
 from schemas.stands import Stand, StandKind
 from schemas.student_notes import StudentNotesWrite
 from schemas.wire import Text
-
-
-class LoginFirst(Exception):
-    """A page asked for without a key or session: answered with the login page's address."""
-
-    def __init__(self, next_page: str) -> None:
-        self.next_page = next_page
-
-
-async def require_page_read(request: Request, services: ServicesDep) -> None:
-    if services.settings.public_reads:
-        return
-    caller = caller_of(request, services)
-    if caller is None:
-        query = f"?{request.url.query}" if request.url.query else ""
-        raise LoginFirst(request.url.path + query)
-    require_scope(caller, READ)
-
-
-def same_origin(request: Request) -> None:
-    """403 for a form posted from another site (cross-site request forgery): a browser
-    says where a post comes from (``Sec-Fetch-Site``, ``Origin``); a client that says
-    neither is no browser, and no other site's page can make it post."""
-    site = request.headers.get("sec-fetch-site")
-    origin = request.headers.get("origin")
-    if (site is not None and site not in ("same-origin", "none")) or (
-        origin is not None and _host_of(origin) != request.headers.get("host")
-    ):
-        raise ApiProblem(
-            403,
-            "Cross-site form refused",
-            f"{request.url.path} takes forms of this site's own pages only "
-            f"(Origin {origin!r:.60}, Sec-Fetch-Site {site!r:.30})",
-        )
-
-
-def _host_of(origin: str) -> str | None:
-    """The host (and port) of an ``Origin`` header; None for ``null`` or nonsense."""
-    try:
-        return urlsplit(origin).netloc or None
-    except ValueError:
-        return None
-
 
 router = APIRouter(include_in_schema=False, dependencies=[Depends(require_page_read)])
 login_router = APIRouter(include_in_schema=False)
@@ -182,17 +150,10 @@ def runs(
         offset=offset,
         limit=PAGE_SIZE,
         lang=chosen,
-        signed_in=_signed_in(request, services),
+        signed_in=signed_in(request, services),
         writable=writable_stands(writer_of(request, services)),
     )
     return HTMLResponse(html, headers=language_headers(chosen))
-
-
-def writable_stands(writer: ApiKey | None) -> list[StandKind]:
-    """The stands whose runs ``writer`` may open and type into."""
-    if writer is None:
-        return []
-    return [kind for kind in StandKind if writer.allows(write_scope(kind.value))]
 
 
 @router.get("/runs/{run_id}", response_class=HTMLResponse)
@@ -210,7 +171,7 @@ def run(
         stand=stand,
         payload=results_payload(services, found),
         lang=chosen,
-        signed_in=_signed_in(request, services),
+        signed_in=signed_in(request, services),
         notes=services.notes.get(found.id),
         sketches=services.sketches.history(found.id),
         may_write=may_write,
@@ -235,7 +196,7 @@ def run_results(
 def series_list(request: Request, services: ServicesDep, lang: Lang | None = None) -> HTMLResponse:
     chosen = negotiate(lang, request.headers.get("accept-language"))
     html = series_list_page(
-        series=services.series.list(), lang=chosen, signed_in=_signed_in(request, services)
+        series=services.series.list(), lang=chosen, signed_in=signed_in(request, services)
     )
     return HTMLResponse(html, headers=language_headers(chosen))
 
@@ -251,7 +212,7 @@ def series(
         context=context,
         body=render_series_body(context),
         lang=chosen,
-        signed_in=_signed_in(request, services),
+        signed_in=signed_in(request, services),
     )
     return HTMLResponse(html, headers=language_headers(chosen))
 
@@ -289,53 +250,6 @@ async def run_sketch(
     return RedirectResponse(f"/runs/{run_id}{query}#sketches", status_code=303)
 
 
-def read_form(body: bytes, known: Sequence[str]) -> dict[str, str]:
-    """The fields of a form's body (URL-encoded UTF-8), the last value of each; 422 for a
-    body that is none or a field not ``known``."""
-    try:
-        form = parse_qs(
-            body.decode("ascii"),
-            keep_blank_values=True,
-            strict_parsing=bool(body),
-            encoding="utf-8",
-            errors="strict",
-            max_num_fields=len(known),
-        )
-    except ValueError as exc:  # UnicodeDecodeError too
-        raise ApiProblem(
-            422, "Invalid form", f"the form is not URL-encoded UTF-8 with its fields: {exc}"
-        ) from None
-    unknown = sorted(set(form) - set(known))
-    if unknown:
-        raise ApiProblem(422, "Invalid form", f"unknown field {unknown[0][:40]!r}")
-    return {name: values[-1] for name, values in form.items()}
-
-
-def form_writer(request: Request, services: Services, given: str, back: str) -> ApiKey:
-    """The key a page's form writes with: of the request's Authorization header (no
-    browser's cookie: nothing to forge), else of its session, whose form token ``given``
-    must be (403 else: a form of another site); without either, the login page, then
-    ``back``. The form is this site's (:func:`same_origin`)."""
-    same_origin(request)
-    token = request.cookies.get(COOKIE)
-    if request.headers.get("authorization") or token is None:
-        caller = caller_of(request, services)
-        if caller is None:
-            raise LoginFirst(back)
-        return caller
-    key = services.sessions.key(token)
-    if key is None:
-        raise LoginFirst(back)
-    if not services.sessions.form_token_holds(token, given):
-        raise ApiProblem(
-            403,
-            "Form token missing",
-            "the form does not carry this session's token: a form of this site's pages "
-            "only (reload the page)",
-        )
-    return key
-
-
 def _notes_form(form: dict[str, str]) -> StudentNotesWrite:
     """The words of the form; 422 naming the field refused."""
     fields: dict[str, str | list[str]] = dict(form)
@@ -349,18 +263,6 @@ def _notes_form(form: dict[str, str]) -> StudentNotesWrite:
 
 #: The fields of the run page's form of the student's words.
 _NOTES_FIELDS = ("group", "students", "conclusions", "analysis", "mismatch", "observations")
-#: The field of every page form that carries the session's form token.
-FORM_TOKEN = "form_token"
-
-
-def writer_of(request: Request, services: Services) -> ApiKey | None:
-    """The key of the request's Authorization header, else of its session, all its scopes
-    (only this site's pages and forms are answered with it)."""
-    caller = caller_of(request, services)
-    token = request.cookies.get(COOKIE)
-    if request.headers.get("authorization") or token is None:
-        return caller
-    return services.sessions.key(token)
 
 
 @login_router.get("/login", response_class=HTMLResponse)
@@ -408,12 +310,6 @@ def logout(request: Request, services: ServicesDep) -> Response:
     return response
 
 
-def form_token(request: Request, services: Services) -> str:
-    """The form token of the request's session ("" without one)."""
-    token = request.cookies.get(COOKIE)
-    return (services.sessions.form_token(token) or "") if token else ""
-
-
 #: Rows of a group shown as received on the run page (the last ones).
 RECEIVED_ROWS = 100
 
@@ -432,13 +328,6 @@ def received_rows(services: Services, run: Run, stand: Stand) -> dict[str, list[
         data = services.store.read(run.id, group.name, None, start, total)
         found[group.name] = received(group, data, start, corrections)
     return found
-
-
-def _signed_in(request: Request, services: Services) -> bool:
-    """Whether the browser holds a live session (a cookie left from an expired session or
-    from before a restart is none: no log-out button for it)."""
-    token = request.cookies.get(COOKIE)
-    return token is not None and services.sessions.find(token) is not None
 
 
 def _local(target: str) -> str:

@@ -16,8 +16,8 @@ from fastapi import APIRouter, Query, Request, Response
 from fastapi.responses import FileResponse, StreamingResponse
 from starlette.background import BackgroundTask
 
+from rigserver.api.cases.found import load_run
 from rigserver.api.cases.readings import group_of, stand_of_run, store_posted
-from rigserver.api.cases.runs import load_run
 from rigserver.api.deps import (
     ReadAccess,
     Services,
@@ -27,8 +27,8 @@ from rigserver.api.deps import (
     require_write,
     services_of,
 )
+from rigserver.api.examples import NPZ_EXAMPLE
 from rigserver.api.problems import ApiProblem
-from rigserver.api.routes.api_docs import NPZ_EXAMPLE
 from rigserver.api.run_results import StoredReadings
 from rigserver.reports.arrow import group_arrow
 from rigserver.reports.export import group_csv

@@ -12,23 +12,13 @@ from fastapi.concurrency import run_in_threadpool
 from fastapi.responses import FileResponse, HTMLResponse, Response
 from starlette.background import BackgroundTask
 
-from rigserver.api.cases.runs import load_run
+from rigserver.api.cases.found import load_run
+from rigserver.api.cases.reports import run_report_answer
 from rigserver.api.deps import ReadAccess, Services, ServicesDep
 from rigserver.api.problems import ApiProblem
-from rigserver.api.report_answers import (
-    StudentsPart,
-    caller_key,
-    file_answer,
-    kept,
-    rendered,
-    run_job,
-    run_target,
-)
-from rigserver.api.report_files import ReportFile
-from rigserver.api.report_jobs import RunReportJob
 from rigserver.api.run_results import StoredReadings, results_payload
 from rigserver.reports.export import DIALECTS, Dialect, export_zip, results_csv
-from rigserver.reports.i18n import Lang, Messages, language_headers, negotiate
+from rigserver.reports.i18n import Lang, Messages, negotiate
 from rigserver.reports.x3p import PROFILE_GROUP, NoProfile, profile_group, profile_x3p
 from schemas.runs import Run
 
@@ -42,47 +32,6 @@ LangQuery = Annotated[
 
 def _language(request: Request, lang: Lang | None) -> Lang:
     return negotiate(lang, request.headers.get("accept-language"))
-
-
-def _prepare(
-    services: Services, run_id: str, lang: Lang, fmt: str
-) -> tuple[Run, ReportFile, StudentsPart]:
-    run = load_run(services, run_id)
-    return run, *run_target(services, run, lang, fmt)
-
-
-def _job(
-    services: Services, run: Run, target: ReportFile, theirs: StudentsPart
-) -> tuple[RunReportJob, bool]:
-    return run_job(services, run, results_payload(services, run)["values"], target, theirs)
-
-
-async def _report(
-    request: Request, services: Services, run_id: str, lang: Lang, fmt: str
-) -> tuple[Run, Response]:
-    """The run's report in ``fmt``: its file, rendered first if this version has none."""
-    run, target, theirs = await run_in_threadpool(_prepare, services, run_id, lang, fmt)
-    headers = language_headers(lang)
-    if fmt == "pdf":
-        headers["Content-Disposition"] = f'attachment; filename="{run.id}-report-{lang}.pdf"'
-    if not target.path.exists() and not target.matches(request.headers.get("if-none-match")):
-        job, in_process = await run_in_threadpool(_job, services, run, target, theirs)
-        future = services.reports.render(
-            target.render, caller_key(request, services), job, in_process=in_process
-        )
-        await rendered(future, target)
-    return run, file_answer(request, target, headers)
-
-
-def report_kept(services: Services, run: Run, lang: Lang) -> bool:
-    """Whether the run's report of this version in ``lang`` is rendered and kept."""
-    return run_target(services, run, lang, "pdf")[0].path.exists()
-
-
-def report_bytes(services: Services, run: Run, lang: Lang, key: str) -> dict[str, bytes]:
-    """The run's report in ``lang``, ``html`` and ``pdf``: kept, or rendered on the pool."""
-    target, theirs = run_target(services, run, lang, "pdf")
-    return kept(services, target, lambda: _job(services, run, target, theirs), key)
 
 
 _RENDERED = (
@@ -103,7 +52,7 @@ _RENDERED = (
 async def report_html(
     run_id: str, request: Request, services: ServicesDep, lang: LangQuery = None
 ) -> Response:
-    _, answer = await _report(request, services, run_id, _language(request, lang), "html")
+    _, answer = await run_report_answer(request, services, run_id, _language(request, lang), "html")
     return answer
 
 
@@ -117,7 +66,7 @@ async def report_html(
 async def report_pdf(
     run_id: str, request: Request, services: ServicesDep, lang: LangQuery = None
 ) -> Response:
-    _, answer = await _report(request, services, run_id, _language(request, lang), "pdf")
+    _, answer = await run_report_answer(request, services, run_id, _language(request, lang), "pdf")
     return answer
 
 

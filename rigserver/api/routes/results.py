@@ -7,7 +7,7 @@ from typing import Any
 from fastapi import APIRouter
 from fastapi.concurrency import run_in_threadpool
 
-from rigserver.api.cases.runs import load_run
+from rigserver.api.cases.found import load_run
 from rigserver.api.deps import ReadAccess, ServicesDep
 from rigserver.api.run_results import results_payload_async
 from rigserver.reports import results_view

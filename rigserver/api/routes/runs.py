@@ -6,7 +6,8 @@ from typing import Annotated
 
 from fastapi import APIRouter, Header, Query, Response, status
 
-from rigserver.api.cases.runs import end_run, load_run, open_run
+from rigserver.api.cases.found import load_run
+from rigserver.api.cases.runs import end_run, open_run
 from rigserver.api.deps import (
     CallerDep,
     ReadAccess,

@@ -3,15 +3,18 @@ the series report and the per-run table as CSV."""
 
 from __future__ import annotations
 
-from dataclasses import replace
-from typing import Annotated, Any
+from typing import Annotated
 
 from fastapi import APIRouter, Query, Request, status
 from fastapi.concurrency import run_in_threadpool
 from fastapi.responses import HTMLResponse, Response
 
-from rigserver.analysis.series import Member, series_statistics
-from rigserver.api.cases.runs import load_run
+from rigserver.api.cases.found import load_run
+from rigserver.api.cases.series import (
+    load_series,
+    series_detail,
+    series_report_answer,
+)
 from rigserver.api.deps import (
     CallerDep,
     ReadAccess,
@@ -21,23 +24,10 @@ from rigserver.api.deps import (
     require_scope,
 )
 from rigserver.api.problems import ApiProblem
-from rigserver.api.report_answers import (
-    caller_key,
-    file_answer,
-    kept,
-    rendered,
-    sketch_images,
-    targets,
-)
-from rigserver.api.report_files import ReportFile
-from rigserver.api.report_jobs import SeriesReportJob
-from rigserver.api.run_results import StoredReadings, results_payload
 from rigserver.api.strict_json import StrictJsonRoute
-from rigserver.reports.i18n import Lang, language_headers, negotiate
-from rigserver.reports.lab_work import WorkRun
-from rigserver.reports.series_report import series_context, series_csv
-from rigserver.storage.errors import RunNotFound, SeriesNotFound, StorageError
-from schemas.runs import RunState
+from rigserver.reports.i18n import Lang, negotiate
+from rigserver.reports.series_report import series_csv
+from rigserver.storage.errors import RunNotFound
 from schemas.series import (
     LAB_PARTS,
     SERIES_RUNS_LIMIT,
@@ -46,7 +36,6 @@ from schemas.series import (
     SeriesDetail,
     SeriesMemberAdd,
     SeriesPurpose,
-    is_series_id,
 )
 
 router = APIRouter(prefix="/series", tags=["series"], route_class=StrictJsonRoute)
@@ -58,37 +47,6 @@ LangQuery = Annotated[
     Lang | None,
     Query(description="report language; without it, the best of Accept-Language (else en)"),
 ]
-
-
-def load_series(services: Services, series_id: str) -> Series:
-    if not is_series_id(series_id):
-        raise SeriesNotFound(
-            f"{series_id[:40]!r} is not a series id (they look like s-0123456789ab)"
-        )
-    return services.series.get(series_id)
-
-
-def series_detail(services: Services, series_id: str) -> SeriesDetail:
-    """The series, each member run with its results (computed on what an open run holds),
-    and the statistics."""
-    return _detail(services, series_id)[0]
-
-
-def _detail(services: Services, series_id: str) -> tuple[SeriesDetail, list[Member]]:
-    series = load_series(services, series_id)
-    members: list[Member] = []
-    missing: list[str] = []
-    for member in series.members:
-        try:
-            run = services.store.get_run(member.run_id)
-        except StorageError as exc:
-            missing.append(f"{member.run_id}: {exc}")
-            continue
-        values = None
-        if run.state is not RunState.ABORTED:
-            values = results_payload(services, run)["values"]
-        members.append(Member(run=run, level=member.level, values=values))
-    return series_statistics(series, members, missing), members
 
 
 @router.post(
@@ -206,101 +164,6 @@ async def runs_csv(series_id: str, services: ServicesDep) -> Response:
     )
 
 
-def series_view(
-    services: Services, series_id: str, lang: Lang
-) -> tuple[SeriesDetail, dict[str, Any]]:
-    """The series' statistics and what its report and page show of them."""
-    detail, members = _detail(services, series_id)
-    context = series_context(
-        detail,
-        values={m.run.id: m.values for m in members},
-        readings={m.run.id: StoredReadings(services, m.run) for m in members},
-        lang=lang,
-    )
-    return detail, context
-
-
-def _prepare(services: Services, series_id: str, lang: Lang, fmt: str) -> ReportFile:
-    """Where the series report of this version is: the series and its members' versions."""
-    series = load_series(services, series_id)
-    runs = []
-    for member in series.members:
-        try:
-            runs.append(services.store.get_run(member.run_id))
-        except StorageError:
-            continue
-    if not _lab_work(series):
-        return services.report_files.series_report(series, runs, lang, fmt)
-    notes = [services.notes.get(r.id) for r in runs]
-    sketches = [s for r in runs for s in services.sketches.latest(r.id)]
-    return services.report_files.series_report(series, runs, lang, fmt, notes, sketches)
-
-
-def _lab_work(series: Series) -> bool:
-    """Whether the series' report is a lab work's (its runs at the manual's parts)."""
-    return series.purpose is SeriesPurpose.LAB
-
-
-def _job(services: Services, series_id: str, target: ReportFile) -> tuple[SeriesReportJob, bool]:
-    """The series report's job; rendered in this process if a member is open (its readings
-    are only in the store)."""
-    detail, members = _detail(services, series_id)
-    files = {fmt: t.path for fmt, t in targets(target).items()}
-    open_runs = {m.run.id: m.run for m in members if m.run.state is RunState.OPEN}
-    job = SeriesReportJob(
-        detail,
-        values={m.run.id: m.values for m in members},
-        lang=target.lang,
-        targets=files,
-        run_files={
-            m.run.id: services.store.run_file(m.run.id)
-            for m in members
-            if m.run.id not in open_runs
-        },
-        readings={run_id: StoredReadings(services, run) for run_id, run in open_runs.items()},
-    )
-    if _lab_work(detail) and members and members[0].run.stand in LAB_PARTS:
-        work = tuple(
-            WorkRun(
-                m.run,
-                m.level or "",
-                m.values,
-                services.notes.get(m.run.id),
-                sketch_images(services, m.run, tuple(services.sketches.latest(m.run.id))),
-            )
-            for m in members
-        )
-        job = replace(job, work=work, stand=services.stand_of(members[0].run))
-    return job, bool(open_runs)
-
-
-def report_kept(services: Services, series_id: str, lang: Lang) -> bool:
-    """Whether the series report of this version in ``lang`` is rendered and kept."""
-    return _prepare(services, series_id, lang, "pdf").path.exists()
-
-
-def report_bytes(services: Services, series_id: str, lang: Lang, key: str) -> dict[str, bytes]:
-    """The series report in ``lang``, ``html`` and ``pdf``: kept, or rendered on the pool."""
-    target = _prepare(services, series_id, lang, "pdf")
-    return kept(services, target, lambda: _job(services, series_id, target), key)
-
-
-async def _report(
-    request: Request, services: Services, series_id: str, lang: Lang, fmt: str
-) -> Response:
-    target = await run_in_threadpool(_prepare, services, series_id, lang, fmt)
-    headers = language_headers(lang)
-    if fmt == "pdf":
-        headers["Content-Disposition"] = f'attachment; filename="{series_id}-report-{lang}.pdf"'
-    if not target.path.exists() and not target.matches(request.headers.get("if-none-match")):
-        job, in_process = await run_in_threadpool(_job, services, series_id, target)
-        future = services.reports.render(
-            target.render, caller_key(request, services), job, in_process=in_process
-        )
-        await rendered(future, target)
-    return file_answer(request, target, headers)
-
-
 _RENDERED = (
     "Rendered once per version of the series (its runs, their levels and each run's "
     "version), language and deployment, then kept: the answer carries an ETag "
@@ -320,7 +183,7 @@ async def report_html(
     series_id: str, request: Request, services: ServicesDep, lang: LangQuery = None
 ) -> Response:
     chosen = negotiate(lang, request.headers.get("accept-language"))
-    return await _report(request, services, series_id, chosen, "html")
+    return await series_report_answer(request, services, series_id, chosen, "html")
 
 
 @router.get(
@@ -335,4 +198,4 @@ async def report_pdf(
     series_id: str, request: Request, services: ServicesDep, lang: LangQuery = None
 ) -> Response:
     chosen = negotiate(lang, request.headers.get("accept-language"))
-    return await _report(request, services, series_id, chosen, "pdf")
+    return await series_report_answer(request, services, series_id, chosen, "pdf")

@@ -5,31 +5,23 @@ upload never replaces: it is the item's next version, the earlier ones kept."""
 
 from __future__ import annotations
 
-import io
-from functools import lru_cache
 from typing import Annotated
 
 from fastapi import APIRouter, Path, Query, Request, Response, status
 from fastapi.concurrency import run_in_threadpool
-from PIL import Image, ImageDraw
 
-from rigserver.api.auth import ApiKey
-from rigserver.api.cases.notes import author
-from rigserver.api.cases.runs import load_run
+from rigserver.api.cases.found import load_run
+from rigserver.api.cases.sketches import upload_sketch
 from rigserver.api.deps import (
     ReadAccess,
-    Services,
     ServicesDep,
     WriteAccess,
     caller_of,
-    require_write,
     services_of,
 )
+from rigserver.api.examples import SKETCH_EXAMPLES
 from rigserver.api.problems import ApiProblem
-from rigserver.api.sketch_images import SketchImage, checked, too_large
-from rigserver.reports.contents import Students
-from rigserver.reports.contents.registry import CONTENTS
-from schemas.runs import Run
+from rigserver.api.sketch_images import checked, too_large
 from schemas.sketches import SKETCH_MAX_BYTES, SKETCH_TYPES, Sketch, Sketches
 
 router = APIRouter(prefix="/runs/{run_id}", tags=["runs"])
@@ -37,57 +29,6 @@ router = APIRouter(prefix="/runs/{run_id}", tags=["runs"])
 ItemPath = Annotated[
     int, Path(ge=1, le=99, description="the item's number in the lab's list", examples=[4])
 ]
-#: Where the documentation serves an example sketch of each type (:func:`example_sketch`).
-SKETCH_EXAMPLES = {
-    "image/png": "/docs/examples/sketch.png",
-    "image/jpeg": "/docs/examples/sketch.jpg",
-}
-
-
-@lru_cache(maxsize=2)
-def example_sketch(media_type: str) -> bytes:
-    """A sketch of ``media_type`` for the documentation: a pin on a disc, seen from the
-    side, drawn in ink on white."""
-    image = Image.new("RGB", (320, 200), "white")
-    draw = ImageDraw.Draw(image)
-    draw.rectangle((40, 140, 280, 170), outline="black", width=3)  # the disc
-    draw.rectangle((145, 40, 175, 140), outline="black", width=3)  # the pin
-    draw.line((160, 10, 160, 40), fill="black", width=3)  # the load
-    out = io.BytesIO()
-    image.save(out, {"image/png": "PNG", "image/jpeg": "JPEG"}[media_type])
-    return out.getvalue()
-
-
-def sketch_items(run: Run) -> list[int]:
-    """The numbers of the sketch items of the run's lab's report list."""
-    items = CONTENTS[run.stand].students(parts=(1, 2))
-    return [i.number for i in items if i.students is Students.SKETCH]
-
-
-def sketch_item(run: Run, item: int) -> int:
-    """``item`` if it is a sketch item of the run's lab (422 naming the ones that are)."""
-    items = sketch_items(run)
-    if item not in items:
-        raise ApiProblem(
-            422,
-            "Not a sketch item",
-            f"item {item} of the {run.stand.value} lab's report list takes no sketch; its "
-            f"sketch items are {', '.join(map(str, items))}",
-        )
-    return item
-
-
-def upload_sketch(
-    services: Services, run_id: str, item: int, image: SketchImage, caller: ApiKey | None
-) -> Sketch:
-    """Store ``image`` as the next version of the run's sketch of ``item``, for a key with
-    the run's stand's write scope (403 else)."""
-    run = load_run(services, run_id)
-    sketch_item(run, item)
-    key = require_write(caller, run.stand)
-    return services.sketches.put(
-        run.id, item, image.data, media_type=image.media_type, size=image.size, by=author(key)
-    )
 
 
 async def body_of(request: Request) -> bytes:

@@ -11,14 +11,16 @@ from dataclasses import dataclass
 from functools import partial
 
 from fastapi import Request, Response
+from fastapi.concurrency import run_in_threadpool
 from fastapi.responses import FileResponse
 
+from rigserver.api.cases.found import load_run
 from rigserver.api.deps import Services, caller_of
 from rigserver.api.problems import ApiProblem
 from rigserver.api.report_files import ReportFile
 from rigserver.api.report_jobs import Job, RunReportJob
-from rigserver.api.run_results import StoredReadings
-from rigserver.reports.i18n import LANGS, Lang
+from rigserver.api.run_results import StoredReadings, results_payload
+from rigserver.reports.i18n import LANGS, Lang, language_headers
 from rigserver.storage.errors import RunDamaged
 from schemas.runs import Run, RunState
 from schemas.sketches import Sketch
@@ -165,3 +167,44 @@ def _prune_after(target: ReportFile, done: Future[None]) -> None:
     if not done.cancelled() and done.exception() is None:
         for t in targets(target).values():
             t.prune()
+
+
+def _run_target(
+    services: Services, run_id: str, lang: Lang, fmt: str
+) -> tuple[Run, ReportFile, StudentsPart]:
+    run = load_run(services, run_id)
+    return run, *run_target(services, run, lang, fmt)
+
+
+def _run_job(
+    services: Services, run: Run, target: ReportFile, theirs: StudentsPart
+) -> tuple[RunReportJob, bool]:
+    return run_job(services, run, results_payload(services, run)["values"], target, theirs)
+
+
+async def run_report_answer(
+    request: Request, services: Services, run_id: str, lang: Lang, fmt: str
+) -> tuple[Run, Response]:
+    """The run's report in ``fmt``: its file, rendered first if this version has none."""
+    run, target, theirs = await run_in_threadpool(_run_target, services, run_id, lang, fmt)
+    headers = language_headers(lang)
+    if fmt == "pdf":
+        headers["Content-Disposition"] = f'attachment; filename="{run.id}-report-{lang}.pdf"'
+    if not target.path.exists() and not target.matches(request.headers.get("if-none-match")):
+        job, in_process = await run_in_threadpool(_run_job, services, run, target, theirs)
+        future = services.reports.render(
+            target.render, caller_key(request, services), job, in_process=in_process
+        )
+        await rendered(future, target)
+    return run, file_answer(request, target, headers)
+
+
+def run_report_kept(services: Services, run: Run, lang: Lang) -> bool:
+    """Whether the run's report of this version in ``lang`` is rendered and kept."""
+    return run_target(services, run, lang, "pdf")[0].path.exists()
+
+
+def run_report_bytes(services: Services, run: Run, lang: Lang, key: str) -> dict[str, bytes]:
+    """The run's report in ``lang``, ``html`` and ``pdf``: kept, or rendered on the pool."""
+    target, theirs = run_target(services, run, lang, "pdf")
+    return kept(services, target, lambda: _run_job(services, run, target, theirs), key)

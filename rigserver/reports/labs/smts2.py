@@ -25,43 +25,6 @@ GROUP = "friction"
 DRAWN_BLOCKS = 600
 
 
-def build(ctx: Context, v: Smts2Results) -> LabReport:
-    t = ctx.t
-    config = Smts2Config.model_validate(ctx.run.configuration)
-    measured = _measured(ctx, v, config)
-    processed = _wear_tables(t, v)
-    if v.theoretical is not None:
-        processed.append(_theory(t, v))
-    if v.validity is not None:
-        processed.append(_validity(t, v))
-    if v.sensitivity:
-        processed.append(_sensitivity(t, v))
-    if v.experimental and v.theoretical and v.experimental.intensity > 0:
-        processed.append(_adequacy(t, v))
-    if v.experimental is not None or v.theoretical is not None:
-        svg, band = _wear_svg(t, v)
-        caption = t("w.fig_wear_band" if band else "w.fig_wear")
-        processed.append(Figure(html_symbol(caption), svg))
-    spread = blocks.uncertainties(t, v, [("friction_steady", "f", "w.f")], labels=SMTS2)
-    if v.experimental is not None:
-        spread += blocks.uncertainties(
-            t,
-            v.experimental,
-            [("intensity", "I_{h,exp}", "w.intensity_exp"), ("specific_wear_rate", "k", "w.k")],
-            labels=SMTS2,
-            prefix="experimental.",
-        )
-    if v.rows:
-        processed.append(blocks.uncertainty_table(t, spread))
-    return LabReport(
-        sections=[
-            Section(t("sec.measured"), measured),
-            Section(t("sec.processed"), processed),
-        ],
-        conclusions=_conclusions(t, v),
-    )
-
-
 def _measured(ctx: Context, v: Smts2Results, config: Smts2Config) -> list[Block]:
     """The weighings and the friction record: its figures, M_fr beside f, its plot."""
     t = ctx.t
@@ -107,7 +70,8 @@ def _measured(ctx: Context, v: Smts2Results, config: Smts2Config) -> list[Block]
 
 
 def _wear_tables(t: Messages, v: Smts2Results) -> list[Block]:
-    """The pin's wear from the weighings (2.9)-(2.13) and the disc's from its track."""
+    """The pin's wear from the weighings (2.9)-(2.13), the disc's from its track, and
+    (2.1)'s figures: the contact, the pressures and areas (2.3)-(2.6), I_h,th."""
     processed: list[Block] = []
     if v.experimental is not None:
         processed.append(
@@ -144,37 +108,68 @@ def _wear_tables(t: Messages, v: Smts2Results) -> list[Block]:
         track_iso = iso_profile.track_table(t, v.disc_wear.iso, SMTS2, "disc_wear.iso.")
         if track_iso is not None:
             processed.append(track_iso)
+    if v.theoretical is not None:
+        theory = blocks.quantities(
+            t,
+            t("w.theoretical"),
+            v.theoretical,
+            [
+                ("fatigue_t", "t", "w.fatigue_t"),
+                ("contour_pressure", "p_c", "w.pc"),
+                ("nominal_area", "A_a", "w.aa"),
+                ("contour_area", "A_c", "w.ac"),
+                ("eta_c", "η_c", "w.eta_c"),
+                ("complex_parameter", "Δ", "w.delta"),
+                ("rmax_over_r", "R_max/R", "w.rmax_r"),
+                ("C", "C", "w.C"),
+                ("beta", "β", "w.beta"),
+                ("k_nu", "k_ν", "w.k_nu"),
+                ("k_f", "k_f", "w.k_f"),
+                ("intensity", "I_{h,th}", "w.intensity_theor"),
+            ],
+            labels=SMTS2,
+            prefix="theoretical.",
+        )
+        contact: list[Text] = [t("w.contact"), "", t("contact." + v.theoretical.contact), ""]
+        outside = v.validity is not None and not v.validity.within_range
+        note = t("w.theory_note") if outside else ""
+        processed.append(dataclasses.replace(theory, rows=[contact, *theory.rows], note=note))
     return processed
 
 
-def _theory(t: Messages, v: Smts2Results) -> Table:
-    """(2.1)'s figures: the contact, the pressures and areas (2.3)-(2.6), I_h,th."""
-    assert v.theoretical is not None
-    theory = blocks.quantities(
-        t,
-        t("w.theoretical"),
-        v.theoretical,
-        [
-            ("fatigue_t", "t", "w.fatigue_t"),
-            ("contour_pressure", "p_c", "w.pc"),
-            ("nominal_area", "A_a", "w.aa"),
-            ("contour_area", "A_c", "w.ac"),
-            ("eta_c", "η_c", "w.eta_c"),
-            ("complex_parameter", "Δ", "w.delta"),
-            ("rmax_over_r", "R_max/R", "w.rmax_r"),
-            ("C", "C", "w.C"),
-            ("beta", "β", "w.beta"),
-            ("k_nu", "k_ν", "w.k_nu"),
-            ("k_f", "k_f", "w.k_f"),
-            ("intensity", "I_{h,th}", "w.intensity_theor"),
+def build(ctx: Context, v: Smts2Results) -> LabReport:
+    t = ctx.t
+    config = Smts2Config.model_validate(ctx.run.configuration)
+    measured = _measured(ctx, v, config)
+    processed = _wear_tables(t, v)
+    if v.validity is not None:
+        processed.append(_validity(t, v))
+    if v.sensitivity:
+        processed.append(_sensitivity(t, v))
+    if v.experimental and v.theoretical and v.experimental.intensity > 0:
+        processed.append(_adequacy(t, v))
+    if v.experimental is not None or v.theoretical is not None:
+        svg, band = _wear_svg(t, v)
+        caption = t("w.fig_wear_band" if band else "w.fig_wear")
+        processed.append(Figure(html_symbol(caption), svg))
+    spread = blocks.uncertainties(t, v, [("friction_steady", "f", "w.f")], labels=SMTS2)
+    if v.experimental is not None:
+        spread += blocks.uncertainties(
+            t,
+            v.experimental,
+            [("intensity", "I_{h,exp}", "w.intensity_exp"), ("specific_wear_rate", "k", "w.k")],
+            labels=SMTS2,
+            prefix="experimental.",
+        )
+    if v.rows:
+        processed.append(blocks.uncertainty_table(t, spread))
+    return LabReport(
+        sections=[
+            Section(t("sec.measured"), measured),
+            Section(t("sec.processed"), processed),
         ],
-        labels=SMTS2,
-        prefix="theoretical.",
+        conclusions=_conclusions(t, v),
     )
-    contact: list[Text] = [t("w.contact"), "", t("contact." + v.theoretical.contact), ""]
-    outside = v.validity is not None and not v.validity.within_range
-    note = t("w.theory_note") if outside else ""
-    return dataclasses.replace(theory, rows=[contact, *theory.rows], note=note)
 
 
 def _validity(t: Messages, v: Smts2Results) -> Table:

@@ -213,7 +213,7 @@ def add_settings_flags(parser: argparse.ArgumentParser) -> None:
         how: dict[str, Any] = {"dest": name, "help": _flag_help(name, field)}
         if kind is bool:
             how["action"] = argparse.BooleanOptionalAction
-        elif typing.get_origin(kind) is tuple:
+        elif typing.get_origin(kind) in (tuple, list):  # repeatable
             how |= {"action": "append", "type": typing.get_args(kind)[0]}
         elif typing.get_origin(kind) is Literal:
             how["choices"] = typing.get_args(kind)
@@ -226,7 +226,7 @@ def given_settings(args: argparse.Namespace) -> Settings:
     """The settings of the flags given, the others from the environment or their
     defaults."""
     given: dict[str, Any] = {
-        name: tuple(value) if isinstance(value, list) else value
+        name: value
         for name in Settings.model_fields
         if (value := getattr(args, name, None)) is not None
     }

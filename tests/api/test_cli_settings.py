@@ -86,6 +86,7 @@ def test_the_help_names_each_flag_its_variable_and_its_meaning(
     text = " ".join(capsys.readouterr().out.split())
     for name in ON_THE_COMMAND_LINE:
         field = Settings.model_fields[name]
+        assert field.description, f"{name}: a setting says what it is (its flag's help)"
         assert _flag(name, field) in text
         assert f"RIG_{name.upper()}" in text
         assert " ".join(str(field.description).split()) in text

@@ -15,18 +15,21 @@ import gc
 import logging
 import sqlite3
 import sys
+import types
+import typing
 from collections.abc import Callable, Sequence
 from pathlib import Path
 from types import FrameType
-from typing import Any
+from typing import Any, Literal, Union
 
 import uvicorn
 from fastapi import FastAPI
 from pydantic import ValidationError
+from pydantic.fields import FieldInfo
 
 from rigserver.api.app import create_app
 from rigserver.api.auth import ApiKey, load_keys
-from rigserver.api.settings import Settings
+from rigserver.api.settings import Flag, Settings
 from rigserver.commands.check import check_data_dir
 from rigserver.commands.migrate import MigrationMismatch, migrate
 from rigserver.storage import HDF5Store, PostgresStore, RunStore, StorageError
@@ -137,7 +140,7 @@ def build_app(settings: Settings) -> FastAPI:
         notes = PostgresNotes(settings.database_url)
         sketches = PostgresSketches(settings.database_url)
     else:
-        store = HDF5Store(settings.data_dir, synchronous=settings.synchronous)  # type: ignore[arg-type]
+        store = HDF5Store(settings.data_dir, synchronous=settings.synchronous)
         series = SqliteSeries(settings.data_dir / "series.sqlite")
         notes = SqliteNotes(settings.data_dir / "notes.sqlite")
         sketches = SqliteSketches(settings.data_dir / "sketches.sqlite")
@@ -187,114 +190,62 @@ def _migrate(source: Path, target: str) -> int:
     return 0
 
 
-def main(argv: Sequence[str] | None = None) -> int:
+def _flag_type(annotation: Any) -> Any:
+    """The type of a setting, its ``| None`` taken off."""
+    args = [a for a in typing.get_args(annotation) if a is not type(None)]
+    if typing.get_origin(annotation) in (Union, types.UnionType) and len(args) == 1:
+        return args[0]
+    return annotation
+
+
+def _flag_help(name: str, field: FieldInfo) -> str:
+    """The setting's description, its variable in the environment and its default."""
+    env = f"{Settings.model_config.get('env_prefix', '')}{name}".upper()
+    default = field.get_default(call_default_factory=True)
+    said = "" if default in (None, (), "") else f"; default {default}"
+    return f"{field.description} ({env}{said})".replace("%", "%%")
+
+
+def add_settings_flags(parser: argparse.ArgumentParser) -> None:
+    """One flag for each field of :class:`Settings`: named after it, its help the field's
+    description, its type, choices and repetition the field's; not given, the setting
+    comes from the environment or its default."""
+    for name, field in Settings.model_fields.items():
+        flag = next((m for m in field.metadata if isinstance(m, Flag)), Flag())
+        if flag.env_only:
+            continue
+        kind = _flag_type(field.annotation)
+        how: dict[str, Any] = {"dest": name, "help": _flag_help(name, field)}
+        if kind is bool:
+            how["action"] = argparse.BooleanOptionalAction
+        elif typing.get_origin(kind) in (tuple, list):  # repeatable
+            how |= {"action": "append", "type": typing.get_args(kind)[0]}
+        elif typing.get_origin(kind) is Literal:
+            how["choices"] = typing.get_args(kind)
+        else:
+            how["type"] = kind
+        parser.add_argument(f"--{flag.name or name.replace('_', '-')}", **how)
+
+
+def given_settings(args: argparse.Namespace) -> Settings:
+    """The settings of the flags given, the others from the environment or their
+    defaults."""
+    given: dict[str, Any] = {
+        name: value
+        for name in Settings.model_fields
+        if (value := getattr(args, name, None)) is not None
+    }
+    return Settings(**given)
+
+
+def parser() -> argparse.ArgumentParser:
+    """``rigserver``'s commands and their flags."""
     parser = argparse.ArgumentParser(prog="rigserver", description=__doc__)
     sub = parser.add_subparsers(dest="command", required=True)
     serve = sub.add_parser("serve", help="run the service")
     serve.add_argument("--host", default="127.0.0.1")
     serve.add_argument("--port", type=int, default=8000)
-    serve.add_argument("--data-dir", type=Path, help="where runs are stored (RIG_DATA_DIR)")
-    serve.add_argument("--keys-file", type=Path, help="JSON list of API keys (RIG_KEYS_FILE)")
-    serve.add_argument("--stands-file", type=Path, help="the lab's stand configuration")
-    serve.add_argument("--public-reads", action="store_true", help="reads need no key")
-    serve.add_argument(
-        "--max-body-bytes", type=int, help="largest request body (RIG_MAX_BODY_BYTES)"
-    )
-    serve.add_argument(
-        "--ingest-queue", type=int, help="batch posts admitted at once (RIG_INGEST_QUEUE)"
-    )
-    serve.add_argument(
-        "--ingest-queue-bytes",
-        type=int,
-        help="bytes of batch bodies admitted at once (RIG_INGEST_QUEUE_BYTES)",
-    )
-    serve.add_argument(
-        "--ingest-key-share",
-        type=float,
-        help="share of the ingest queue one API key may hold (RIG_INGEST_KEY_SHARE)",
-    )
-    serve.add_argument(
-        "--body-timeout",
-        type=float,
-        help="seconds a request body may take to arrive, 408 after (RIG_BODY_TIMEOUT)",
-    )
-    serve.add_argument(
-        "--rate-limit",
-        type=float,
-        help="requests per second per key or address, 0 for none (RIG_RATE_LIMIT)",
-    )
-    serve.add_argument("--rate-burst", type=int, help="requests at once (RIG_RATE_BURST)")
-    serve.add_argument(
-        "--cors-origin",
-        action="append",
-        dest="cors_origins",
-        help="an origin allowed by CORS, repeatable (RIG_CORS_ORIGINS); none by default",
-    )
-    serve.add_argument(
-        "--results-workers",
-        type=int,
-        help="runs whose results are computed at once, more answered 503 (RIG_RESULTS_WORKERS)",
-    )
-    serve.add_argument(
-        "--report-workers",
-        type=int,
-        help="processes rendering reports (RIG_REPORT_WORKERS; default 1)",
-    )
-    serve.add_argument(
-        "--report-queue",
-        type=int,
-        help="report renders admitted at once, more answered 503 (RIG_REPORT_QUEUE)",
-    )
-    serve.add_argument(
-        "--report-key-share",
-        type=float,
-        help="share of the report renders one key may hold (RIG_REPORT_KEY_SHARE)",
-    )
-    serve.add_argument(
-        "--synchronous",
-        choices=("normal", "full"),
-        help="journal durability: normal survives a crash, full a power loss (RIG_SYNCHRONOUS)",
-    )
-    serve.add_argument(
-        "--database-url",
-        help="PostgreSQL of a cluster: catalogue and journal shared by the workers "
-        "(RIG_DATABASE_URL); the data dir then holds the run files materialised",
-    )
-    serve.add_argument(
-        "--hsds-endpoint",
-        help="HSDS holding the cluster's run arrays, materialised from the journal "
-        "(RIG_HSDS_ENDPOINT; RIG_HSDS_USERNAME, RIG_HSDS_PASSWORD, RIG_HSDS_BUCKET)",
-    )
-    serve.add_argument(
-        "--license",
-        help="the licence stated in the .eln archives this server exports: an SPDX id "
-        "(CC-BY-4.0) or an address (RIG_LICENSE); none stated by default",
-    )
-    serve.add_argument(
-        "--import-max-bytes",
-        type=int,
-        help="largest .eln archive POST /runs/import takes (RIG_IMPORT_MAX_BYTES)",
-    )
-    serve.add_argument(
-        "--import-unpacked-bytes",
-        type=int,
-        help="most bytes an imported archive's members may declare (RIG_IMPORT_UNPACKED_BYTES)",
-    )
-    serve.add_argument(
-        "--import-disk-reserve",
-        type=int,
-        help="bytes an import leaves free on the disk it unpacks to (RIG_IMPORT_DISK_RESERVE)",
-    )
-    serve.add_argument(
-        "--import-queue",
-        type=int,
-        help="archives imported at once, more answered 503 (RIG_IMPORT_QUEUE)",
-    )
-    serve.add_argument(
-        "--import-key-share",
-        type=float,
-        help="share of the imports one key may hold (RIG_IMPORT_KEY_SHARE)",
-    )
+    add_settings_flags(serve)
     serve.add_argument("--log-level", default="info")
     check = sub.add_parser("check", help="list the damaged runs of a data directory")
     check.add_argument("--data-dir", type=Path, required=True, help="the data directory")
@@ -303,39 +254,13 @@ def main(argv: Sequence[str] | None = None) -> int:
     )
     move.add_argument("--from", dest="source", type=Path, required=True, help="DATA_DIR")
     move.add_argument("--to", dest="target", required=True, help="the cluster's database URL")
-    args = parser.parse_args(argv)
-    if args.command == "check":
-        return check_command(args.data_dir)
-    if args.command == "migrate":
-        return _migrate(args.source, args.target)
-    given = {
-        "data_dir": args.data_dir,
-        "keys_file": args.keys_file,
-        "stands_file": args.stands_file,
-        "public_reads": True if args.public_reads else None,
-        "max_body_bytes": args.max_body_bytes,
-        "ingest_queue": args.ingest_queue,
-        "ingest_queue_bytes": args.ingest_queue_bytes,
-        "ingest_key_share": args.ingest_key_share,
-        "body_timeout": args.body_timeout,
-        "rate_limit": args.rate_limit,
-        "rate_burst": args.rate_burst,
-        "cors_origins": tuple(args.cors_origins) if args.cors_origins else None,
-        "synchronous": args.synchronous,
-        "database_url": args.database_url,
-        "results_workers": args.results_workers,
-        "report_workers": args.report_workers,
-        "report_queue": args.report_queue,
-        "report_key_share": args.report_key_share,
-        "hsds_endpoint": args.hsds_endpoint,
-        "license": args.license,
-        "import_max_bytes": args.import_max_bytes,
-        "import_unpacked_bytes": args.import_unpacked_bytes,
-        "import_disk_reserve": args.import_disk_reserve,
-        "import_queue": args.import_queue,
-        "import_key_share": args.import_key_share,
-    }
-    settings = Settings(**{k: v for k, v in given.items() if v is not None})
+    return parser
+
+
+def _serve(args: argparse.Namespace) -> int:
+    """``rigserver serve``: the service on uvicorn until SIGTERM or Ctrl-C; 130 after
+    Ctrl-C."""
+    settings = given_settings(args)
     logging.basicConfig(
         level=args.log_level.upper(), format="%(asctime)s %(levelname)s %(message)s"
     )
@@ -362,6 +287,16 @@ def main(argv: Sequence[str] | None = None) -> int:
     except KeyboardInterrupt:  # uvicorn stopped on Ctrl-C, then raised it again
         return 130
     return 0
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """``rigserver``'s commands: ``serve``, ``check``, ``migrate``."""
+    args = parser().parse_args(argv)
+    if args.command == "check":
+        return check_command(args.data_dir)
+    if args.command == "migrate":
+        return _migrate(args.source, args.target)
+    return _serve(args)
 
 
 if __name__ == "__main__":

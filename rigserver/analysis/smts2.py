@@ -5,6 +5,7 @@ from __future__ import annotations
 import dataclasses
 import math
 from collections.abc import Callable
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -67,6 +68,73 @@ def analyse(run: Run, readings: Readings, profiles: Profiles | None = None) -> S
     specimens = specimen_materials(run, Smts2Config.model_validate(run.configuration), SMTS2)
     config = specimens.config
     pin_known = "pin" not in specimens.unknown
+    record = _friction_record(readings, config)
+    result = record.result()
+    result.notes.extend(specimens.notes)
+    result.pending.extend(specimens.pending)
+    if record.rows == 0:
+        result.pending.append(N_("no friction record yet"))
+        return result
+    _friction_uncertainty(config, result)
+    m = readings.measurements()
+    weighed = "pin_mass_before" in m and "pin_mass_after" in m and record.revolutions > 0
+    if not weighed:
+        result.pending.append(
+            N_("experimental wear needs pin_mass_before, pin_mass_after and revolutions")
+        )
+    elif pin_known:  # else the pending item asks for the pin's properties
+        _experimental(config, result, m["pin_mass_before"], m["pin_mass_after"])
+        _wear_uncertainty(
+            config, result, m["pin_mass_before"], m["pin_mass_after"], record.revolutions
+        )
+    track = (profiles or Profiles()).traces.get("disc")
+    if track is not None and record.revolutions > 0:
+        traced = (profiles or Profiles()).found.get("disc")
+        iso = None if traced is None else traced.iso
+        result.disc_wear = _disc_wear(run, config, result, track, iso)
+    if "disc_ra" not in m:
+        result.pending.append(
+            N_("theoretical wear needs disc_ra (the disc's Ra from the profilometer)")
+        )
+    elif pin_known:
+        _theoretical(config, result, m["disc_ra"] * _M_PER_UM)
+    _verdict(result)
+    return result
+
+
+@dataclass(frozen=True, slots=True)
+class _FrictionRecord:
+    """The friction record's figures, read once in chunks: f (2.8) over time, its steady
+    tail's moments, the disc's turns and the path (2.12)."""
+
+    rows: int
+    duration: float
+    revolutions: float
+    sliding_distance: float
+    steady_time: float
+    f_tail: TailMoments
+    load_tail: TailMoments
+    series: BlockSeries
+
+    def result(self) -> Smts2Results:
+        """The results of the record alone, before the weighings and the theory."""
+        some = self.rows > 0
+        return Smts2Results(
+            rows=self.rows,
+            duration=self.duration,
+            revolutions=self.revolutions,
+            sliding_distance=self.sliding_distance,
+            mean_load=self.load_tail.mean if some else 0.0,
+            friction_steady=self.f_tail.mean if some else 0.0,
+            friction_steady_std=self.f_tail.std if some else 0.0,
+            steady_from_time=self.steady_time,
+            friction=self.series.series("time", "friction coefficient"),
+        )
+
+
+def _friction_record(readings: Readings, config: Smts2Config) -> _FrictionRecord:
+    """f = M_tr/(N·r2) (2.8) chunk by chunk, its mean and spread over the steady tail, and
+    the revolutions the counter gives (its unit: 100 rev)."""
     total = readings.rows(GROUP)
     series = BlockSeries(total)
     start = wear.steady_window_start(samples=total, fraction=config.steady_fraction) if total else 0
@@ -91,74 +159,67 @@ def analyse(run: Run, readings: Readings, profiles: Profiles | None = None) -> S
         last_time, last_count = float(time[-1]), float(chunk["revolutions"][-1])
     revolutions = (last_count - first_count) * _REV_PER_COUNT
     sliding = wear.sliding_distance(disc_radius=config.disc_radius, revolutions=revolutions)
-    result = Smts2Results(
+    return _FrictionRecord(
         rows=total,
         duration=last_time - first_time,
         revolutions=revolutions,
         sliding_distance=float(sliding),
-        mean_load=load_tail.mean if total else 0.0,
-        friction_steady=f_tail.mean if total else 0.0,
-        friction_steady_std=f_tail.std if total else 0.0,
-        steady_from_time=steady_time,
-        friction=series.series("time", "friction coefficient"),
+        steady_time=steady_time,
+        f_tail=f_tail,
+        load_tail=load_tail,
+        series=series,
     )
-    result.notes.extend(specimens.notes)
-    result.pending.extend(specimens.pending)
-    if total == 0:
-        result.pending.append(N_("no friction record yet"))
-        return result
+
+
+def _friction_uncertainty(config: Smts2Config, result: Smts2Results) -> None:
+    """u(f) of the steady mean (2.8): the spread of its batch means and the limits of M, N
+    and r2 (GUM), into result; none with fewer than two steady points."""
     acc = config.accuracy
     steady = [
-        y for x, y in zip(result.friction.x, result.friction.y, strict=True) if x >= steady_time
+        y
+        for x, y in zip(result.friction.x, result.friction.y, strict=True)
+        if x >= result.steady_from_time
     ]
-    if len(steady) >= 2:
-        f_u = estimate(
-            batch_mean(steady)
-            * from_limit(1.0, acc.moment, "M")
-            / from_limit(1.0, acc.load, "N")
-            * config.disc_radius
-            / from_limit(config.disc_radius, acc.length, "r2")
-        )
-        result.friction_steady_uncertainty, result.friction_steady_expanded = (
-            f_u.standard,
-            f_u.expanded,
-        )
-    m = readings.measurements()
-    pin_radius = config.pin_diameter / 2.0
-    weighed = "pin_mass_before" in m and "pin_mass_after" in m and revolutions > 0
-    if not weighed:
-        result.pending.append(
-            N_("experimental wear needs pin_mass_before, pin_mass_after and revolutions")
-        )
-    elif pin_known:  # else the pending item asks for the pin's properties
-        exp = wear.wear_intensity_experimental(
-            mass_before=m["pin_mass_before"] * _KG_PER_G,
-            mass_after=m["pin_mass_after"] * _KG_PER_G,
-            density=config.pin.density,
-            pin_radius=pin_radius,
-            disc_radius=config.disc_radius,
-            revolutions=revolutions,
-        )
-        result.experimental = ExperimentalWearResult(
-            mass_loss=exp.mass_loss,
-            volume=exp.volume,
-            wear_depth=exp.wear_depth,
-            sliding_distance=exp.sliding_distance,
-            intensity=exp.intensity,
-            specific_wear_rate=exp.volume / (result.mean_load * exp.sliding_distance),
-        )
-        _wear_uncertainty(config, result, m["pin_mass_before"], m["pin_mass_after"], revolutions)
-    track = (profiles or Profiles()).traces.get("disc")
-    if track is not None and revolutions > 0:
-        traced = (profiles or Profiles()).found.get("disc")
-        iso = None if traced is None else traced.iso
-        result.disc_wear = _disc_wear(run, config, result, track, iso)
-    if "disc_ra" not in m:
-        result.pending.append(
-            N_("theoretical wear needs disc_ra (the disc's Ra from the profilometer)")
-        )
-    elif pin_known:
-        _theoretical(config, result, m["disc_ra"] * _M_PER_UM)
+    if len(steady) < 2:
+        return
+    f_u = estimate(
+        batch_mean(steady)
+        * from_limit(1.0, acc.moment, "M")
+        / from_limit(1.0, acc.load, "N")
+        * config.disc_radius
+        / from_limit(config.disc_radius, acc.length, "r2")
+    )
+    result.friction_steady_uncertainty, result.friction_steady_expanded = (
+        f_u.standard,
+        f_u.expanded,
+    )
+
+
+def _experimental(
+    config: Smts2Config, result: Smts2Results, before_g: float, after_g: float
+) -> None:
+    """The pin's wear from its weighings, (2.9)-(2.13), and the specific wear rate
+    k = V/(N·L), into result."""
+    exp = wear.wear_intensity_experimental(
+        mass_before=before_g * _KG_PER_G,
+        mass_after=after_g * _KG_PER_G,
+        density=config.pin.density,
+        pin_radius=config.pin_diameter / 2.0,
+        disc_radius=config.disc_radius,
+        revolutions=result.revolutions,
+    )
+    result.experimental = ExperimentalWearResult(
+        mass_loss=exp.mass_loss,
+        volume=exp.volume,
+        wear_depth=exp.wear_depth,
+        sliding_distance=exp.sliding_distance,
+        intensity=exp.intensity,
+        specific_wear_rate=exp.volume / (result.mean_load * exp.sliding_distance),
+    )
+
+
+def _verdict(result: Smts2Results) -> None:
+    """The theory against the experiment: outside its range, or (2.14)-(2.15)."""
     if result.validity is not None and not result.validity.within_range:
         result.verdict = VERDICT_OUTSIDE
     elif result.experimental and result.theoretical and result.experimental.intensity > 0:
@@ -172,7 +233,6 @@ def analyse(run: Run, readings: Readings, profiles: Profiles | None = None) -> S
             upper=adequacy.upper,
         )
         result.verdict = VERDICT_ADEQUATE if adequacy.adequate else VERDICT_NOT_ADEQUATE
-    return result
 
 
 def _theoretical(config: Smts2Config, result: Smts2Results, ra_disc: float) -> None:

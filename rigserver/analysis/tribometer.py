@@ -154,46 +154,80 @@ def _integral(x: NDArray[np.float64], rate: NDArray[np.float64] | float) -> NDAr
 def analyse(run: Run, readings: Readings, profiles: Profiles | None = None) -> Results:
     """The tribometer's results on the run's readings (``profiles`` unused: the track's
     profiles are the run's own group ``wear_track``)."""
-    pin_on_disc = run.stand is StandKind.PIN_ON_DISC
-    config: PinOnDiscConfig | ReciprocatingConfig
-    if pin_on_disc:
-        config = PinOnDiscConfig.model_validate(run.configuration)
-        lap_length = 2.0 * math.pi * config.track_radius
-    else:
-        config = ReciprocatingConfig.model_validate(run.configuration)
-        lap_length = 2.0 * config.stroke_length
+    config, lap_length = _config(run)
     specimens = specimen_materials(run, config)
     config = specimens.config
-    model = PinOnDiscResults if pin_on_disc else ReciprocatingResults
+    model = PinOnDiscResults if run.stand is StandKind.PIN_ON_DISC else ReciprocatingResults
     total = readings.rows(GROUP)
     if total == 0:
-        empty = model(
-            rows=0,
-            duration=0.0,
-            sliding_distance=0.0,
-            laps=0.0,
-            mean_load=0.0,
-            friction_mean=0.0,
-            friction_static=0.0,
-            running_in_distance=0.0,
-            running_in_laps=0.0,
-            change_points=0,
-            friction_steady=0.0,
-            friction_steady_std=0.0,
-            friction=BlockSeries(0).series("sliding distance", "friction coefficient"),
-        )
-        empty.pending.append(PENDING_RECORD)
-        return empty
+        return _no_record(model)
     r = _Record(readings, config, lap_length)
     for note, path in ((NOTE_DISTANCE_TIME, "plan.speed"), (NOTE_LOAD, "plan.load")):
         if note in r.notes and run.from_default(path):
             r.notes.append(NOTE_SPEED_DEFAULT if path == "plan.speed" else NOTE_LOAD_DEFAULT)
     steady, changes = _steady_start(r.laps, r.mu)
+    result = _friction(model, r, total, steady, changes)
+    result.notes.extend(r.notes + specimens.notes)
+    result.pending.extend(specimens.pending)
+    result.steps = _steps(r)
+    if steady is None:
+        result.notes.append(NOTE_UNSETTLED)
+    else:
+        _friction_uncertainty(config, result, r.mu[steady:])
+    if not specimens.unknown:
+        _contact(config, result)
+    load = result.mean_load * from_limit(1.0, config.accuracy.load, "F_N")
+    distance = result.sliding_distance
+    _wear(run, readings, config, result, load, distance, specimens.unknown)
+    if isinstance(result, PinOnDiscResults):
+        _lap_views(r, steady, result)
+    else:
+        _strokes(r, steady, result)
+    return result
+
+
+def _config(run: Run) -> tuple[PinOnDiscConfig | ReciprocatingConfig, float]:
+    """The run's configuration and the length of a lap: 2πR on the disc (ASTM G99), 2S a
+    cycle of strokes (ASTM G133)."""
+    if run.stand is StandKind.PIN_ON_DISC:
+        disc = PinOnDiscConfig.model_validate(run.configuration)
+        return disc, 2.0 * math.pi * disc.track_radius
+    strokes = ReciprocatingConfig.model_validate(run.configuration)
+    return strokes, 2.0 * strokes.stroke_length
+
+
+def _no_record(model: type[Results]) -> Results:
+    """The results of a run without a friction record: zeros, and the record pending."""
+    empty = model(
+        rows=0,
+        duration=0.0,
+        sliding_distance=0.0,
+        laps=0.0,
+        mean_load=0.0,
+        friction_mean=0.0,
+        friction_static=0.0,
+        running_in_distance=0.0,
+        running_in_laps=0.0,
+        change_points=0,
+        friction_steady=0.0,
+        friction_steady_std=0.0,
+        friction=BlockSeries(0).series("sliding distance", "friction coefficient"),
+    )
+    empty.pending.append(PENDING_RECORD)
+    return empty
+
+
+def _friction(
+    model: type[Results], r: _Record, total: int, steady: int | None, changes: int
+) -> Results:
+    """The record's ``total`` rows' figures: the path and laps, μ's mean, its static peak
+    (the first lap's, or the running-in's), the running-in's distance and the steady
+    friction from row ``steady`` on (None: it did not settle)."""
     series = BlockSeries(total)
     series.add(r.distance - r.distance[0], r.mu)
     static_until = _first_lap_end(r) if steady == 0 else (steady or total)
     tail = r.mu[steady:] if steady is not None else None
-    result = model(
+    return model(
         rows=total,
         duration=float(r.time[-1] - r.time[0]),
         sliding_distance=float(r.distance[-1] - r.distance[0]),
@@ -210,32 +244,25 @@ def analyse(run: Run, readings: Readings, profiles: Profiles | None = None) -> R
         temperature_mean=float(r.temperature.mean()) if r.temperature.size else None,
         wear_depth_change=float(r.wear_depth[-1] - r.wear_depth[0]) if r.wear_depth.size else None,
     )
-    result.notes.extend(r.notes + specimens.notes)
-    result.pending.extend(specimens.pending)
-    result.steps = _steps(r)
-    if tail is None:
-        result.notes.append(NOTE_UNSETTLED)
+
+
+def _friction_uncertainty(
+    config: TribometerConfig, result: Results, tail: NDArray[np.float64]
+) -> None:
+    """u(μ) of the steady mean: the spread of its batch means and the limits of the friction
+    force and the load (GUM), into result; none with fewer than two steady rows."""
+    if tail.size < 2:
+        return
     acc = config.accuracy
-    if tail is not None and tail.size >= 2:
-        u = estimate(
-            batch_mean(tail.tolist())
-            * from_limit(1.0, acc.friction_force, "F_t")
-            / from_limit(1.0, acc.load, "F_N")
-        )
-        result.friction_steady_uncertainty, result.friction_steady_expanded = (
-            u.standard,
-            u.expanded,
-        )
-    if not specimens.unknown:
-        _contact(config, result)
-    load = result.mean_load * from_limit(1.0, acc.load, "F_N")
-    distance = result.sliding_distance
-    _wear(run, readings, config, result, load, distance, specimens.unknown)
-    if isinstance(result, PinOnDiscResults):
-        _lap_views(r, steady, result)
-    else:
-        _strokes(r, steady, result)
-    return result
+    u = estimate(
+        batch_mean(tail.tolist())
+        * from_limit(1.0, acc.friction_force, "F_t")
+        / from_limit(1.0, acc.load, "F_N")
+    )
+    result.friction_steady_uncertainty, result.friction_steady_expanded = (
+        u.standard,
+        u.expanded,
+    )
 
 
 def _steady_start(turns: NDArray[np.float64], mu: NDArray[np.float64]) -> tuple[int | None, int]:

@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from pathlib import Path
+from typing import Annotated, Literal
 
 from platformdirs import user_data_dir
 from pydantic import Field
@@ -15,7 +17,23 @@ def default_data_dir() -> Path:
     return local if local.is_dir() else Path(user_data_dir("rig", appauthor=False))
 
 
+@dataclass(frozen=True)
+class Flag:
+    """How a setting is given on ``rigserver serve``'s command line, where it differs from
+    the rule (every setting a flag named after it, ``data_dir`` as ``--data-dir``)."""
+
+    #: The flag's name without the dashes, where the setting's own does not read well
+    name: str | None = None
+    #: Not on the command line at all: a secret, which a command line shows to every user
+    #: of the machine (``ps``)
+    env_only: bool = False
+
+
 class Settings(BaseSettings):
+    """The service's settings: each one a field here, read from the environment (``RIG_``
+    and the name in capitals) and from the flag of ``rigserver serve`` derived from it
+    (:class:`Flag`), the flag winning."""
+
     model_config = SettingsConfigDict(env_prefix="RIG_", frozen=True)
 
     data_dir: Path = Field(default_factory=default_data_dir, description="where runs are stored")
@@ -86,7 +104,9 @@ class Settings(BaseSettings):
         "0 means no limit",
     )
     rate_burst: int = Field(default=200, gt=0, description="requests allowed in a burst")
-    cors_origins: tuple[str, ...] = Field(default=(), description="origins allowed by CORS")
+    cors_origins: Annotated[tuple[str, ...], Flag(name="cors-origin")] = Field(
+        default=(), description="an origin allowed by CORS, repeatable; none by default"
+    )
     results_workers: int = Field(
         default=2,
         gt=0,
@@ -121,9 +141,8 @@ class Settings(BaseSettings):
         description="render the reports of ended runs in processes of their own (off: in "
         "threads of the service)",
     )
-    synchronous: str = Field(
+    synchronous: Literal["normal", "full"] = Field(
         default="normal",
-        pattern="^(normal|full)$",
         description="journal durability: 'normal' survives a crash, 'full' a power loss",
     )
     database_url: str | None = Field(
@@ -138,7 +157,9 @@ class Settings(BaseSettings):
         "the cluster extra; http+unix://... for a unix socket); none: the journal only",
     )
     hsds_username: str = Field(default="rig", description="HSDS user")
-    hsds_password: str = Field(default="", description="HSDS password (set it in the env)")
+    hsds_password: Annotated[str, Flag(env_only=True)] = Field(
+        default="", description="HSDS password (set it in the env)"
+    )
     hsds_bucket: str = Field(default="rig", description="HSDS bucket of the run domains")
     hsds_reads: bool = Field(
         default=False,

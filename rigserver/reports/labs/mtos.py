@@ -18,7 +18,7 @@ from rigserver.reports.document import Block, Figure, Paragraph, Section, Table,
 from rigserver.reports.formatting import fmt, html_symbol, percent, shown, tex
 from rigserver.reports.i18n import Messages
 from rigserver.reports.plots import axes, decorate, to_svg
-from schemas.labels import MTOS, row_labels
+from schemas.labels import MTOS, Label, row_labels
 from schemas.quantity import units_of
 from schemas.results import MtosResults, MtosStep
 from schemas.stands import MEASUREMENTS, MtosConfig
@@ -121,20 +121,11 @@ def _raw_tables(ctx: Context) -> list[Table]:
     return tables
 
 
-def _processed_tables(
-    t: Messages, experiment: int, regime: str, steps: list[MtosStep], every: list[MtosStep]
-) -> list[Table]:
-    """Table 4.4 (fluid film, in three parts as the manual prints it), 4.5 and 4.6."""
-    u = units_of(MtosStep)
-    regime_name = t("regime." + regime)
-    caption = t("m.processed", table=experiment + 3, n=experiment, regime=regime_name)
-    angle = "δ" if regime == "fluid" else "γ"
-
-    labels = row_labels(MTOS, "steps[].")
-
-    def field(name: str, symbol: str) -> tuple[Markup, list[Text]]:
-        return blocks.field(t, labels[name], symbol, u[name], [getattr(s, name) for s in steps])
-
+def _eccentricity_part(
+    t: Messages, caption: str, steps: list[MtosStep], angle: str, labels: dict[str, Label]
+) -> Table:
+    """Table 4.4's first part: each step's eccentricity (4.6)-(4.9) and the friction
+    measured (4.10)-(4.11)."""
     first = blocks.result_table(
         t,
         caption,
@@ -154,6 +145,24 @@ def _processed_tables(
         model=MtosStep,
         labels=labels,
     )
+    return first
+
+
+def _processed_tables(
+    t: Messages, experiment: int, regime: str, steps: list[MtosStep], every: list[MtosStep]
+) -> list[Table]:
+    """Table 4.4 (fluid film, in three parts as the manual prints it), 4.5 and 4.6."""
+    u = units_of(MtosStep)
+    regime_name = t("regime." + regime)
+    caption = t("m.processed", table=experiment + 3, n=experiment, regime=regime_name)
+    angle = "δ" if regime == "fluid" else "γ"
+
+    labels = row_labels(MTOS, "steps[].")
+
+    def field(name: str, symbol: str) -> tuple[Markup, list[Text]]:
+        return blocks.field(t, labels[name], symbol, u[name], [getattr(s, name) for s in steps])
+
+    first = _eccentricity_part(t, caption, steps, angle, labels)
     rises = RISES if regime == "fluid" else RISES[1:]
     rise = MTOS["steps[].temperature_rise"]
     at = MTOS["steps[].viscosity_at"]
@@ -201,6 +210,12 @@ def _processed_tables(
     second = blocks.columns(caption, head, data, note=note)
     if regime != "fluid":
         return _parts_of(caption, first, second)
+    return _parts_of(caption, first, second, _theory_part(t, steps, labels))
+
+
+def _theory_part(t: Messages, steps: list[MtosStep], labels: dict[str, Label]) -> Table:
+    """Table 4.4's third part: the fluid film's theory, f_T against f_e and the finite
+    bearing's f and N."""
     finite = t("m.f_finite")
     third = blocks.result_table(
         t,
@@ -226,7 +241,7 @@ def _processed_tables(
         model=MtosStep,
         labels=labels,
     )
-    return _parts_of(caption, first, second, third)
+    return third
 
 
 def _parts_of(caption: str, *tables: Table) -> list[Table]:

@@ -32,9 +32,9 @@ GROUP = "friction"
 DRAWN_BLOCKS = 600
 
 
-def build(ctx: Context, v: Smts2Results) -> LabReport:
+def _measured(ctx: Context, v: Smts2Results, config: Smts2Config) -> list[Block]:
+    """The weighings and the friction record: its figures, M_fr beside f, its plot."""
     t = ctx.t
-    config = Smts2Config.model_validate(ctx.run.configuration)
     group = ctx.group(MEASUREMENTS)
     balance = {  # the masses with the digits the balance gives (its resolution, declared)
         c.name: config.accuracy.balance_resolution / UNITS[c.unit].factor
@@ -73,6 +73,12 @@ def build(ctx: Context, v: Smts2Results) -> LabReport:
         rows = [*record.rows[:at], row, *record.rows[at:]]
         measured.append(dataclasses.replace(record, rows=rows))
         measured.append(Figure(t("w.fig_friction"), _friction_svg(ctx, v, config)))
+    return measured
+
+
+def _wear_tables(t: Messages, v: Smts2Results) -> list[Block]:
+    """The pin's wear from the weighings (2.9)-(2.13), the disc's from its track, and
+    (2.1)'s figures: the contact, the pressures and areas (2.3)-(2.6), I_h,th."""
     processed: list[Block] = []
     if v.experimental is not None:
         processed.append(
@@ -135,6 +141,14 @@ def build(ctx: Context, v: Smts2Results) -> LabReport:
         outside = v.validity is not None and not v.validity.within_range
         note = t("w.theory_note") if outside else ""
         processed.append(dataclasses.replace(theory, rows=[contact, *theory.rows], note=note))
+    return processed
+
+
+def build(ctx: Context, v: Smts2Results) -> LabReport:
+    t = ctx.t
+    config = Smts2Config.model_validate(ctx.run.configuration)
+    measured = _measured(ctx, v, config)
+    processed = _wear_tables(t, v)
     if v.validity is not None:
         processed.append(_validity(t, v))
     if v.sensitivity:

@@ -35,11 +35,13 @@ WEAR = (
 )
 
 
-def build(ctx: Context, v: Results) -> LabReport:
+def _measured(
+    ctx: Context, v: Results, config: PinOnDiscConfig | ReciprocatingConfig
+) -> list[Block]:
+    """The weighings and the friction record: the conditions, its figures and plot, the
+    steps, the lap map or the strokes and their loops."""
     t = ctx.t
     labels = RESULTS[ctx.run.stand]
-    config = CONFIG_MODELS[ctx.run.stand].model_validate(ctx.run.configuration)
-    assert isinstance(config, PinOnDiscConfig | ReciprocatingConfig)
     balance = config.accuracy.balance_resolution
     masses = {
         f"{specimen}_mass_{when}": balance / UNITS["g"].factor
@@ -92,6 +94,15 @@ def build(ctx: Context, v: Results) -> LabReport:
                         labels={k.removeprefix("strokes[]."): x for k, x in labels.items()},
                     )
                 )
+    return measured
+
+
+def build(ctx: Context, v: Results) -> LabReport:
+    t = ctx.t
+    labels = RESULTS[ctx.run.stand]
+    config = CONFIG_MODELS[ctx.run.stand].model_validate(ctx.run.configuration)
+    assert isinstance(config, PinOnDiscConfig | ReciprocatingConfig)
+    measured = _measured(ctx, v, config)
     processed: list[Block] = []
     if v.hertz is not None:
         processed.append(

@@ -87,6 +87,10 @@ def _decoded_size(data: bytes, fmt: str) -> tuple[int, int]:
                 _within_limits(width, height)
                 with DECODING:
                     image.load()
+            # load() pads a truncated image once anything in the process has set Pillow's
+            # LOAD_TRUNCATED_IMAGES (WeasyPrint does as it is imported); verify() does not
+            with Image.open(io.BytesIO(data), formats=[fmt]) as whole:
+                whole.verify()
     except (Image.DecompressionBombError, Image.DecompressionBombWarning) as exc:
         # Pillow's own guard, met in the header before ours: far over the limits
         raise too_many_pixels(str(exc).split(",")[0]) from None

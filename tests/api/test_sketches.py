@@ -20,7 +20,7 @@ from pathlib import Path
 import httpx
 import pytest
 from fastapi.testclient import TestClient
-from PIL import Image, PngImagePlugin
+from PIL import Image, ImageFile, PngImagePlugin
 
 from rigserver.api.app import create_app
 from rigserver.api.auth import ApiKey
@@ -151,9 +151,19 @@ def test_the_order_is_key_then_body_then_scope(client: TestClient) -> None:
         (bomb(7000, 7000), "image/png", 422, f"{SKETCH_MAX_PIXELS} pixels in all"),
     ],
 )
+@pytest.mark.parametrize("truncated_allowed", [False, True])
 def test_what_is_no_sketch_is_refused_naming_the_problem(
-    client: TestClient, body: bytes, media: str, status: int, words: str
+    client: TestClient,
+    body: bytes,
+    media: str,
+    status: int,
+    words: str,
+    truncated_allowed: bool,
+    monkeypatch: pytest.MonkeyPatch,
 ) -> None:
+    # WeasyPrint, once imported (a report rendered in the service), sets Pillow's global
+    # LOAD_TRUNCATED_IMAGES: a truncated PNG was then taken as a sketch
+    monkeypatch.setattr(ImageFile, "LOAD_TRUNCATED_IMAGES", truncated_allowed)
     run_id = open_run(client)
     answer = put(client, run_id, body, WRITER, media)
     assert answer.status_code == status, answer.text

@@ -177,7 +177,7 @@ def grubbs(values: Sequence[float] | np.ndarray, *, alpha: float = 0.05) -> Grub
         raise ModelInputError(f"Grubbs' test needs at least 3 values, got {n}")
     if not 0.0 < alpha < 1.0:
         raise ModelInputError(f"alpha must be between 0 and 1, got {alpha}")
-    s = float(np.std(x, ddof=1))
+    s = float(np.std(x - x[0], ddof=1))
     if s == 0.0:
         raise ModelInputError("Grubbs' test needs values that differ (s = 0)")
     deviation = np.abs(x - x.mean())
@@ -212,10 +212,13 @@ def summarise(values: Sequence[float] | np.ndarray, *, confidence: float = CONFI
     if not 0.0 < confidence < 1.0:
         raise ModelInputError(f"confidence must be between 0 and 1, got {confidence}")
     n = int(x.size)
-    mean = float(x.mean())
+    # about the first value (the shifted-data form): runs that read alike give s = 0 and
+    # their value as the mean exactly, not the round-off of summing them (s = 1.7e-17)
+    shifted = x - x[0]
+    mean = float(x[0] + shifted.mean())
     if n < 2:
         return Summary(n, mean, None, None, None, None, confidence, None)
-    std = float(np.std(x, ddof=1))
+    std = float(np.std(shifted, ddof=1))
     sem = std / math.sqrt(n)
     half = float(stats.t.ppf((1.0 + confidence) / 2.0, n - 1)) * sem
     test = grubbs(x, alpha=1.0 - confidence) if np.unique(x).size >= 3 else None

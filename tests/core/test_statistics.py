@@ -4,6 +4,7 @@ reference functions."""
 from __future__ import annotations
 
 import math
+import statistics
 
 import numpy as np
 import pytest
@@ -173,3 +174,21 @@ def test_no_grubbs_on_ties_of_a_balances_resolution() -> None:
     # just above G_crit = 1.1543: the test would flag the rounding, so it is not applied.
     assert summarise([6.8e-6, 6.5e-6, 6.8e-6]).grubbs is None
     assert summarise([6.8e-6, 6.5e-6, 6.7e-6]).grubbs is not None
+
+
+@given(
+    value=st.floats(-1e6, 1e6, allow_nan=False).filter(lambda v: v == 0 or abs(v) > 1e-300),
+    n=st.integers(2, 12),
+)
+def test_runs_that_read_alike_have_no_spread(value: float, n: int) -> None:
+    # a series of copies printed s = 1.7·10⁻¹⁷: the round-off of summing n equal values
+    summary = summarise([value] * n)
+    assert summary.mean == value and summary.std == 0.0 and summary.sem == 0.0
+
+
+@given(st.lists(st.floats(-1e3, 1e3, allow_nan=False), min_size=2, max_size=30))
+def test_the_summary_is_the_textbook_mean_and_s(values: list[float]) -> None:
+    # against Python's statistics module (exact rational arithmetic for the mean)
+    summary = summarise(values)
+    assert summary.mean == pytest.approx(statistics.fmean(values), abs=1e-12)
+    assert summary.std == pytest.approx(statistics.stdev(values), rel=1e-9, abs=1e-12)

@@ -239,7 +239,8 @@ def test_rows_typed_offline_and_left_by_a_closed_page_are_delivered_once(
     type_row(page, "steps", readings["steps"])
     until(lambda: page.get_attribute("#entry-status", "data-waiting") == "2")
     assert page.text_content("#entry-status").startswith("2 rows wait to be sent")
-    assert page.locator("#rows-steps tbody tr.waiting").count() == 1
+    # the row is drawn as waiting once the store of the page has it (a step after the count)
+    until(lambda: page.locator("#rows-steps tbody tr.waiting").count() == 1)
     page.close()  # the rows stay in the browser's IndexedDB
     assert run_of(url, run_id)["batches"] == 0
 

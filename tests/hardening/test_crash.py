@@ -20,7 +20,7 @@ import pytest
 from tests.api.conftest import READER, WRITER, auth
 from tests.hardening.conftest import API, friction, npz_body, open_run, serve
 
-ROUNDS = 8  # each round a kill and a restart (~5 s); storage/test_crash.py kills the stores too
+ROUNDS = 5  # each round a kill and a restart (~5 s); storage/test_crash.py kills the stores too
 SEED = 20261122
 T = TypeVar("T")
 

@@ -10,8 +10,8 @@ from typing import Any
 from rich.table import Table
 
 from schemas import labelled
-from schemas.labels import Label, Part, plain_symbol, theory_outside
-from schemas.stands import StandKind
+from schemas.labels import Label, Part, plain_symbol
+from schemas.stands import StandKind, theory_outside
 from schemas.units import UNITS
 
 

@@ -14,10 +14,9 @@ from pydantic import BaseModel
 from rigserver.analysis import mtos, profilometer, slide_bearing, smts2, tribometer
 from rigserver.analysis.readings import Readings
 from rigserver.analysis.references import Profiles, RunLookup, referenced_profiles
-from schemas.labels import THEORY_VERDICT
 from schemas.quantity import unit_paths
 from schemas.runs import Run
-from schemas.stands import StandKind
+from schemas.stands import DECLARATIONS, StandKind
 
 __all__ = ["AnalysisResult", "Readings", "RunLookup", "analyse"]
 
@@ -53,7 +52,7 @@ _KEYS: dict[StandKind, tuple[str, ...]] = {
         "experimental.intensity",
         "experimental.specific_wear_rate",
         "theoretical.intensity",
-        THEORY_VERDICT[StandKind.SMTS2],
+        *filter(None, [DECLARATIONS[StandKind.SMTS2].theory_verdict]),
     ),
     StandKind.SLIDE_BEARING: ("chi_mean", "pressure_max", "phi_max"),
     StandKind.MTOS: ("friction_fluid", "h_min_smallest", "h_crit"),

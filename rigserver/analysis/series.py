@@ -15,19 +15,10 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-from pydantic import BaseModel
 
 from rigserver.core import statistics, wear
-from schemas.labels import RESULTS, WEAR_SUBSCRIPTS, Label, round_to
+from schemas.labels import WEAR_SUBSCRIPTS, Label, round_to
 from schemas.quantity import description_paths, unit_paths
-from schemas.results import (
-    MtosResults,
-    PinOnDiscResults,
-    ProfilometerResults,
-    ReciprocatingResults,
-    SlideBearingResults,
-    Smts2Results,
-)
 from schemas.runs import Run, RunState
 from schemas.series import (
     AdhesiveOxidative,
@@ -43,7 +34,7 @@ from schemas.series import (
     Summary,
     Untested,
 )
-from schemas.stands import StandKind
+from schemas.stands import DECLARATIONS, StandKind
 
 #: Why a result's levels were not compared, as the API says it (the pages translate the code).
 UNTESTED: dict[Untested, str] = {
@@ -115,15 +106,6 @@ HEADLINES: dict[StandKind, tuple[Headline, ...]] = {
     StandKind.RECIPROCATING: _TRIBOMETER,
 }
 
-RESULT_MODELS: dict[StandKind, type[BaseModel]] = {
-    StandKind.SMTS2: Smts2Results,
-    StandKind.SLIDE_BEARING: SlideBearingResults,
-    StandKind.MTOS: MtosResults,
-    StandKind.PROFILOMETER: ProfilometerResults,
-    StandKind.PIN_ON_DISC: PinOnDiscResults,
-    StandKind.RECIPROCATING: ReciprocatingResults,
-}
-
 
 @dataclass(frozen=True, slots=True)
 class Member:
@@ -159,8 +141,8 @@ def series_statistics(
     ]
     counted = [m for m in members if m.run.state is not RunState.ABORTED and m.values is not None]
     comparison = series.purpose is not SeriesPurpose.REPEATABILITY  # levels of their own
-    units = unit_paths(RESULT_MODELS[stand]) if stand else {}
-    described = description_paths(RESULT_MODELS[stand]) if stand else {}
+    units = unit_paths(DECLARATIONS[stand].results) if stand else {}
+    described = description_paths(DECLARATIONS[stand].results) if stand else {}
     statistics_ = [
         _result_statistics(key, headline, counted, comparison, units, described)
         for key, headline in keys
@@ -400,7 +382,7 @@ def _comparison(levels: Mapping[str, list[RunValue]]) -> ComparisonResult:
 
 def label_of(stand: StandKind, key: str) -> Label | None:
     """The label (schemas.labels) of a headline result: ``steps[3].chi`` -> ``steps[].chi``."""
-    return RESULTS[stand].get(_generic(key))
+    return DECLARATIONS[stand].labels.get(_generic(key))
 
 
 def _symbol(key: str, headline: Headline) -> str:

@@ -14,7 +14,7 @@ from pydantic import BaseModel
 from schemas.materials import properties
 from schemas.messages import N_
 from schemas.runs import Run
-from schemas.stands import CONFIG_MODELS, PinMaterial, SpecimenMaterial, StandKind
+from schemas.stands import DECLARATIONS, PinMaterial, SpecimenMaterial, StandKind
 
 Config = TypeVar("Config", bound=BaseModel)
 
@@ -119,6 +119,6 @@ def specimen_materials(run: Run, config: Config, roles: Roles = TRIBOMETER) -> S
 def run_materials(run: Run) -> Specimens[BaseModel]:
     """The run's configuration as its stand's analysis reads it: with the table's properties
     of the materials its specimen names (as given, for a stand without such roles)."""
-    config = CONFIG_MODELS[run.stand].model_validate(run.configuration)
+    config = DECLARATIONS[run.stand].configuration.model_validate(run.configuration)
     roles = ROLES.get(run.stand)
     return Specimens(config) if roles is None else specimen_materials(run, config, roles)

@@ -28,26 +28,9 @@ from rigserver.reports.students import students_part
 from schemas.corrections import Correction
 from schemas.labels import CONFIGURATION, PARTICULARS
 from schemas.messages import N_
-from schemas.results import (
-    MtosResults,
-    PinOnDiscResults,
-    ProfilometerResults,
-    ReciprocatingResults,
-    SlideBearingResults,
-    Smts2Results,
-)
 from schemas.runs import Run, RunState
-from schemas.stands import CONFIG_MODELS, Stand, StandKind
+from schemas.stands import DECLARATIONS, Stand, StandKind
 from schemas.student_notes import StudentNotes
-
-RESULT_MODELS: dict[StandKind, type[BaseModel]] = {
-    StandKind.SMTS2: Smts2Results,
-    StandKind.SLIDE_BEARING: SlideBearingResults,
-    StandKind.MTOS: MtosResults,
-    StandKind.PROFILOMETER: ProfilometerResults,
-    StandKind.PIN_ON_DISC: PinOnDiscResults,
-    StandKind.RECIPROCATING: ReciprocatingResults,
-}
 
 _LABS: dict[StandKind, Callable[[Context, Any], LabReport]] = {
     StandKind.SMTS2: smts2.build,
@@ -123,7 +106,7 @@ def _build(
     work: tuple[str, Sequence[Section]] | None = None,
 ) -> Report:
     kind = run.stand.value
-    model = RESULT_MODELS[run.stand].model_validate(values)
+    model = DECLARATIONS[run.stand].results.model_validate(values)
     lab = _LABS[run.stand](Context(run=run, stand=stand, readings=readings, t=t), model)
     first: list[Paragraph | Table] = []
     if run.state is RunState.OPEN:
@@ -325,7 +308,7 @@ def configuration_rows(t: Messages, run: Run) -> list[ConfigRow]:
                 shown = t("config.table", value=shown)
             rows.append(ConfigRow(html_symbol(words), shown, unit_text, source))
 
-    walk(CONFIG_MODELS[run.stand], materials.config.model_dump(mode="json"), "", "")
+    walk(DECLARATIONS[run.stand].configuration, materials.config.model_dump(mode="json"), "", "")
     return rows
 
 
@@ -337,4 +320,4 @@ FIELD_WORDS = {
 """Words for the configuration fields declared without a description."""
 
 
-__all__ = ["RESULT_MODELS", "build_report", "render_report"]
+__all__ = ["build_report", "render_report"]

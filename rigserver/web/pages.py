@@ -31,16 +31,16 @@ from rigserver.reports.formatting import (
 )
 from rigserver.reports.i18n import LANGS, Lang, Messages
 from rigserver.reports.labs.tribometer import stribeck_svg
-from rigserver.reports.run_report import RESULT_MODELS, configuration_rows, particulars_text
+from rigserver.reports.run_report import configuration_rows, particulars_text
 from rigserver.reports.x3p import PROFILE_GROUP, NoProfile, profile_group
 from rigserver.web.entry import ReceivedRow, entry_config, entry_groups, typed
 from schemas import labelled
-from schemas.labels import RESULTS, THEORY_VERDICT, Part, theory_outside
+from schemas.labels import Part
 from schemas.messages import NP_
 from schemas.quantity import unit_paths
 from schemas.results import PinOnDiscResults, ReciprocatingResults
 from schemas.runs import Run, RunPage, RunState
-from schemas.stands import Stand, StandKind
+from schemas.stands import DECLARATIONS, Stand, StandKind, theory_outside
 from schemas.student_notes import CONCLUSIONS_LIMIT, StudentNotes
 
 API = "/api/v1"
@@ -97,10 +97,10 @@ def render_page(template: str, lang: Lang, **context: Any) -> str:
 def key_results(t: Messages, run: Run) -> Markup:
     """``f = 0.3985; I_h,exp = 3.833·10⁻⁸`` in the display units of the stand's results; a
     theoretical value outside its theory's range says so beside it (never a bare headline)."""
-    units = unit_paths(RESULT_MODELS[run.stand])
-    labels = RESULTS[run.stand]
+    units = unit_paths(DECLARATIONS[run.stand].results)
+    labels = DECLARATIONS[run.stand].labels
     outside = theory_outside(run.stand, run.key_results)
-    verdict = THEORY_VERDICT.get(run.stand)
+    verdict = DECLARATIONS[run.stand].theory_verdict
     parts = []
     for path, value in run.key_results.items():
         if path == verdict:
@@ -172,7 +172,7 @@ def _figures(t: Messages, run: Run, payload: Mapping[str, Any]) -> list[dict[str
         return []
     if not any(step.get("sliding_speed") is not None for step in values.get("steps", [])):
         return []
-    found = RESULT_MODELS[run.stand].model_validate(values)
+    found = DECLARATIONS[run.stand].results.model_validate(values)
     assert isinstance(found, PinOnDiscResults | ReciprocatingResults)
     return [{"caption": t("t.fig_stribeck"), "svg": Markup(stribeck_svg(t, found))}]
 

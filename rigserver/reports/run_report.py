@@ -13,7 +13,7 @@ from markupsafe import escape
 from pydantic import BaseModel
 
 from rigserver.analysis import Readings
-from rigserver.analysis.specimens import run_materials
+from rigserver.analysis.kits import run_materials
 from rigserver.reports import equations, layout
 from rigserver.reports.contents.common import TASKS
 from rigserver.reports.contents.registry import CONTENTS

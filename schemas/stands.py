@@ -419,7 +419,7 @@ SLIDE_BEARING_GROUPS = (
         name="rows",
         long_name=N_("one row of table 3.1 per position of the loader limb"),
         aligned=True,
-        signals=("p1", "p2", "p3", "p4", "p5"),
+        signals=("p3", "p1", "p2", "p4", "p5"),  # p3: the middle manometer, z = 0
         axis="limb_angle",
         channels=(
             _c("limb_angle", "deg", "φ_limb, loader limb angle", Limit(low=-360, high=720)),

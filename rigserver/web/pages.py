@@ -35,6 +35,7 @@ from rigserver.reports.run_report import configuration_rows, particulars_text
 from rigserver.reports.x3p import PROFILE_GROUP, NoProfile, profile_group
 from rigserver.web.entry import ReceivedRow, entry_config, entry_groups, typed
 from schemas import labelled
+from schemas.channels import ChannelGroup
 from schemas.labels import Part
 from schemas.messages import NP_
 from schemas.quantity import unit_paths
@@ -44,16 +45,6 @@ from schemas.stands import DECLARATIONS, Stand, StandKind, theory_outside
 from schemas.student_notes import CONCLUSIONS_LIMIT, StudentNotes
 
 API = "/api/v1"
-
-LIVE_AXES: dict[StandKind, tuple[str, str]] = {
-    StandKind.SMTS2: ("time", "friction_moment"),
-    StandKind.SLIDE_BEARING: ("limb_angle", "p3"),
-    StandKind.MTOS: ("load", "indicator"),
-    StandKind.PROFILOMETER: ("x", "y"),
-    StandKind.PIN_ON_DISC: ("time", "friction_coefficient"),
-    StandKind.RECIPROCATING: ("time", "friction_coefficient"),
-}
-"""The channels drawn first on a run's live chart: x and y (any channel can be chosen)."""
 
 
 @lru_cache
@@ -73,6 +64,15 @@ def environment(lang: Lang) -> Environment:
     env.filters["plain"] = plain_text
     env.filters["typed"] = typed
     return env
+
+
+def live_axes(record: ChannelGroup) -> tuple[str, str]:
+    """The channels drawn first on a run's live chart, x and y: the record's declared axis
+    and main signal (its NeXus default plot), else its first and last channels (any channel
+    can be chosen)."""
+    if record.axis is not None and record.signals:
+        return record.axis, record.signals[0]
+    return record.channels[0].name, record.channels[-1].name
 
 
 def render_page(template: str, lang: Lang, **context: Any) -> str:
@@ -247,7 +247,7 @@ def run_page(
     run, the rows received, to be corrected."""
     t = Messages(lang)
     record = next(g for g in stand.groups if g.aligned)
-    x, y = LIVE_AXES.get(stand.kind, (record.channels[0].name, record.channels[-1].name))
+    x, y = live_axes(record)
     base = f"{API}/runs/{run.id}"
     config: dict[str, Any] = {
         "run": run.id,

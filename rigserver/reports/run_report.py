@@ -4,7 +4,7 @@ conclusions; rendered to HTML by ``templates/report.html`` and to PDF from the s
 from __future__ import annotations
 
 import re
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import replace
 from datetime import datetime
 from typing import Any, NamedTuple
@@ -16,30 +16,20 @@ from rigserver.analysis import Readings
 from rigserver.analysis.kits import run_materials
 from rigserver.reports import equations, layout
 from rigserver.reports.contents.common import TASKS
-from rigserver.reports.contents.registry import CONTENTS
-from rigserver.reports.context import Context, LabReport
+from rigserver.reports.context import Context
 from rigserver.reports.corrections import corrections_section
 from rigserver.reports.document import Items, Paragraph, Report, Section, Table, Text
 from rigserver.reports.formatting import fmt, html_symbol, number_locale, value_text, with_unit
 from rigserver.reports.i18n import MESSAGES, Lang, Messages, translations
-from rigserver.reports.labs import mtos, profilometer, slide_bearing, smts2, tribometer
+from rigserver.reports.kits import KITS
 from rigserver.reports.render import render
 from rigserver.reports.students import students_part
 from schemas.corrections import Correction
 from schemas.labels import CONFIGURATION, PARTICULARS
 from schemas.messages import N_
 from schemas.runs import Run, RunState
-from schemas.stands import DECLARATIONS, Stand, StandKind
+from schemas.stands import DECLARATIONS, Stand
 from schemas.student_notes import StudentNotes
-
-_LABS: dict[StandKind, Callable[[Context, Any], LabReport]] = {
-    StandKind.SMTS2: smts2.build,
-    StandKind.SLIDE_BEARING: slide_bearing.build,
-    StandKind.MTOS: mtos.build,
-    StandKind.PROFILOMETER: profilometer.build,
-    StandKind.PIN_ON_DISC: tribometer.build,
-    StandKind.RECIPROCATING: tribometer.build,
-}
 
 
 def build_report(
@@ -107,7 +97,7 @@ def _build(
 ) -> Report:
     kind = run.stand.value
     model = DECLARATIONS[run.stand].results.model_validate(values)
-    lab = _LABS[run.stand](Context(run=run, stand=stand, readings=readings, t=t), model)
+    lab = KITS[run.stand].build(Context(run=run, stand=stand, readings=readings, t=t), model)
     first: list[Paragraph | Table] = []
     if run.state is RunState.OPEN:
         first.append(Paragraph(t("open_warning")))
@@ -118,7 +108,7 @@ def _build(
         sections.append(Section(t("sec.computed"), [Items(lab.conclusions)]))
     if work:
         sections += work[1]
-    contents = CONTENTS[run.stand]
+    contents = KITS[run.stand].contents
     sections += students_part(t, contents.students(), notes)
     for key, items in (("sec.pending", model.pending), ("sec.notes", model.notes)):  # type: ignore[attr-defined]
         if items:  # the analysis' words, printed as they are (x_zero is not x subscript zero)

@@ -19,7 +19,6 @@ from jinja2 import Environment, PackageLoader, select_autoescape
 from markupsafe import Markup
 
 from rigserver.reports import results_view
-from rigserver.reports.contents.registry import CONTENTS
 from rigserver.reports.formatting import (
     decimal_sign,
     fmt,
@@ -30,6 +29,7 @@ from rigserver.reports.formatting import (
     with_unit,
 )
 from rigserver.reports.i18n import LANGS, Lang, Messages
+from rigserver.reports.kits import KITS
 from rigserver.reports.labs.tribometer import stribeck_svg
 from rigserver.reports.run_report import configuration_rows, particulars_text
 from rigserver.reports.x3p import PROFILE_GROUP, NoProfile, profile_group
@@ -300,7 +300,9 @@ def run_page(
             entry_config(t, lang, run.id, form_token, config["decimal"]) if entry else None
         ),
         rows_received=t.plural(*ROWS_RECEIVED, 0),
-        words=[(field.value, t.gettext(heading)) for field, heading in CONTENTS[run.stand].words()],
+        words=[
+            (field.value, t.gettext(heading)) for field, heading in KITS[run.stand].contents.words()
+        ],
     )
 
 

@@ -23,6 +23,7 @@ from schemas.calculators import (
 from schemas.mechanism import DynamicErrorsRequest, DynamicErrorsResponse
 from schemas.problems import Problem
 from schemas.readings import BatchReceipt, ReadingBatch
+from schemas.results import RESULT_MODELS
 from schemas.runs import Run, RunCreate, RunPage
 from schemas.stands import DECLARATIONS, Stand
 
@@ -36,7 +37,7 @@ MODELS: dict[str, type[BaseModel]] = {
     "batch_receipt": BatchReceipt,
     "problem": Problem,
     "stand": Stand,
-    **{f"results_{kind.value}": declared.results for kind, declared in DECLARATIONS.items()},
+    **{f"results_{kind.value}": model for kind, model in RESULT_MODELS.items()},
     "model_wear_theory_input": WearTheoryInput,
     "model_bearing_friction_input": BearingFrictionInput,
     "model_bearing_friction_result": BearingFrictionResult,

@@ -23,14 +23,6 @@ from schemas.channels import Channel, ChannelGroup, Limit, Order, configured_gro
 from schemas.labels import Label, RowTable
 from schemas.messages import N_
 from schemas.quantity import quantity
-from schemas.results import (
-    MtosResults,
-    PinOnDiscResults,
-    ProfilometerResults,
-    ReciprocatingResults,
-    SlideBearingResults,
-    Smts2Results,
-)
 from schemas.units import UnitSymbol
 from schemas.wire import Number, Text
 
@@ -672,16 +664,16 @@ class Stand(BaseModel):
 
 @dataclass(frozen=True, slots=True)
 class StandDeclaration:
-    """One stand kind as every layer reads it: its configuration and results models, its
-    channel groups (a record group names its live chart's axis and signals), how people read
-    its results (labels, per-row tables, the result that says whether its theory holds) and
-    what a new run of it asks for (specimens, test plan: keys of ``labels.PARTICULARS``)."""
+    """One stand kind as every layer reads it: its configuration model, its channel groups
+    (a record group names its live chart's axis and signals), how people read its results
+    (labels, per-row tables, the result that says whether its theory holds) and what a new
+    run of it asks for (specimens, test plan: keys of ``labels.PARTICULARS``). Its results
+    model is :data:`schemas.results.RESULT_MODELS`' (rigclient knows no results models)."""
 
     kind: StandKind
     title: str
     lab_work: int | None
     configuration: type[StandConfig]
-    results: type[BaseModel]
     groups: tuple[ChannelGroup, ...]
     labels: Mapping[str, Label]
     specimens: tuple[str, ...]
@@ -706,7 +698,6 @@ DECLARATIONS: dict[StandKind, StandDeclaration] = {
         title="SMTs-2 friction and wear machine (pin on disc)",
         lab_work=2,
         configuration=Smts2Config,
-        results=Smts2Results,
         groups=SMTS2_GROUPS,
         labels=labels.SMTS2,
         specimens=("pin", "disc"),
@@ -718,7 +709,6 @@ DECLARATIONS: dict[StandKind, StandDeclaration] = {
         title="Slide-bearing stand: hydrodynamic pressure",
         lab_work=3,
         configuration=SlideBearingConfig,
-        results=SlideBearingResults,
         groups=SLIDE_BEARING_GROUPS,
         labels=labels.SLIDE_BEARING,
         specimens=("journal", "bearing"),
@@ -730,7 +720,6 @@ DECLARATIONS: dict[StandKind, StandDeclaration] = {
         title="MTOS stand: friction moment of a journal bearing",
         lab_work=4,
         configuration=MtosConfig,
-        results=MtosResults,
         groups=MTOS_GROUPS,
         labels=labels.MTOS,
         specimens=("journal", "bush"),
@@ -742,7 +731,6 @@ DECLARATIONS: dict[StandKind, StandDeclaration] = {
         title="ABRIS-PM7 profilometer: roughness of a run-in surface",
         lab_work=1,
         configuration=ProfilometerConfig,
-        results=ProfilometerResults,
         groups=PROFILOMETER_GROUPS,
         labels=labels.PROFILOMETER,
         specimens=("surface",),
@@ -754,7 +742,6 @@ DECLARATIONS: dict[StandKind, StandDeclaration] = {
         title="Pin- or ball-on-disc tribometer (ASTM G99, ISO 20808)",
         lab_work=None,
         configuration=PinOnDiscConfig,
-        results=PinOnDiscResults,
         groups=PIN_ON_DISC_GROUPS,
         labels=labels.PIN_ON_DISC,
         specimens=("ball", "disc"),
@@ -766,7 +753,6 @@ DECLARATIONS: dict[StandKind, StandDeclaration] = {
         title="Reciprocating tribometer (ASTM G133)",
         lab_work=None,
         configuration=ReciprocatingConfig,
-        results=ReciprocatingResults,
         groups=RECIPROCATING_GROUPS,
         labels=labels.RECIPROCATING,
         specimens=("ball", "disc"),
@@ -774,8 +760,9 @@ DECLARATIONS: dict[StandKind, StandDeclaration] = {
         tables=labels.RECIPROCATING_TABLES,
     ),
 }
-"""Every stand kind, declared once; a new kind is a module of its own (configuration,
-channels, results, labels) and one entry here. ``tests/test_stand_kinds.py`` checks that
+"""Every stand kind, declared once; a new kind is its configuration, channels and labels, its
+results module (:mod:`schemas.results`, which maps each kind to its model) and one entry
+here. ``tests/test_stand_kinds.py`` checks that
 every layer (analysis, reports, rigsim) registers every kind."""
 
 

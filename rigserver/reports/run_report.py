@@ -27,6 +27,7 @@ from rigserver.reports.students import students_part
 from schemas.corrections import Correction
 from schemas.labels import CONFIGURATION, PARTICULARS
 from schemas.messages import N_
+from schemas.results import RESULT_MODELS
 from schemas.runs import Run, RunState
 from schemas.stands import DECLARATIONS, Stand
 from schemas.student_notes import StudentNotes
@@ -96,7 +97,7 @@ def _build(
     work: tuple[str, Sequence[Section]] | None = None,
 ) -> Report:
     kind = run.stand.value
-    model = DECLARATIONS[run.stand].results.model_validate(values)
+    model = RESULT_MODELS[run.stand].model_validate(values)
     lab = KITS[run.stand].build(Context(run=run, stand=stand, readings=readings, t=t), model)
     first: list[Paragraph | Table] = []
     if run.state is RunState.OPEN:

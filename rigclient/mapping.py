@@ -74,7 +74,7 @@ from rigclient.errors import InputError
 from rigclient.jsontext import DuplicateKey, TooDeep, loads_json, loads_toml
 from rigclient.units import unit_factor
 from schemas.quantity import unit_paths
-from schemas.stands import CONFIG_MODELS, StandKind, default_stands, with_overrides
+from schemas.stands import DECLARATIONS, StandKind, default_stands, with_overrides
 from schemas.wire import PlanValue, Scalar
 
 #: The start of the line of a run's notes that says how its map read the file.
@@ -350,7 +350,7 @@ def configuration(kind: str, given: dict[str, Any], *, where: str = "") -> dict[
         stand = StandKind(kind)
     except ValueError:
         return given
-    units = unit_paths(CONFIG_MODELS[stand])
+    units = unit_paths(DECLARATIONS[stand].configuration)
     converted = _converted(given, units, "", where)
     try:
         with_overrides(default_stands()[stand].configuration, converted)

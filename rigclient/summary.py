@@ -11,8 +11,8 @@ from rich.table import Table
 
 from schemas import labelled
 from schemas.digits import count, result_places, stated_uncertainty
-from schemas.labels import Label, Part, plain_symbol, theory_outside
-from schemas.stands import StandKind
+from schemas.labels import Label, Part, plain_symbol
+from schemas.stands import StandKind, theory_outside
 from schemas.units import UNITS
 
 

@@ -30,7 +30,7 @@ from rigsim.errors import RigsimError, ServerError
 from rigsim.instruments import FAULT_KINDS, Fault, Instrument
 from rigsim.report import print_results
 from rigsim.stands import SIMULATORS
-from rigsim.stands.smts2 import MODES, Smts2Settings
+from rigsim.stands.smts2 import MODES
 from schemas.stands import StandKind
 
 
@@ -92,10 +92,11 @@ def settings_for(
     the friction of the SMTs-2 and the tribometers does not fluctuate: the readings are the
     truth, so the analysis must return it to round-off or to its own discretisation
     error."""
-    if kind is StandKind.SMTS2:
-        settings: Any = Smts2Settings.for_mode(mode or "wear")  # type: ignore[arg-type]
+    simulator = SIMULATORS[kind]
+    if mode is not None and simulator.for_mode is not None:
+        settings: Any = simulator.for_mode(mode)
     else:
-        settings = SIMULATORS[kind].settings()
+        settings = simulator.settings()
     if model is not None and hasattr(settings, "model"):
         settings = replace(settings, model=model)
     if not noise:
@@ -243,7 +244,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     export.add_argument(
         "--stand",
         required=True,
-        choices=[k.value for k in (StandKind.PIN_ON_DISC, StandKind.RECIPROCATING)],
+        choices=[kind.value for kind, s in SIMULATORS.items() if s.vendor_export],
     )
     export.add_argument("--dialect", required=True, choices=["tab-comma", "csv-units", "utf16-tab"])
     export.add_argument("--out", required=True, type=Path, help="the file to write")

@@ -35,8 +35,8 @@ from rigsim.client import LabClient, RunOutcome
 from rigsim.errors import PortInUse, RigsimError, ServerError, ServerUnavailable
 from rigsim.stands import simulate
 from rigsim.stands.tribometer import simulate_sweep
-from schemas.labels import RESULTS, THEORY_VERDICT, Part, theory_outside
-from schemas.stands import StandKind
+from schemas.labels import Part
+from schemas.stands import DECLARATIONS, StandKind, theory_outside
 
 KEYS_FILE = "demo-keys.json"
 STARTUP_TIMEOUT = 60.0
@@ -259,13 +259,13 @@ def _pace(speed: float | None) -> str:
 
 def _headline(key_results: dict[str, Any], units: dict[str, str], stand: StandKind) -> str:
     """The key results with the manual's symbols, in the display units (µm, MPa), each
-    theoretical value outside its theory's range marked so (schemas.labels.THEORY_VERDICT),
+    theoretical value outside its theory's range marked so (its declaration's ``theory_verdict``),
     never a bare headline."""
     outside = theory_outside(stand, key_results)
-    verdict = THEORY_VERDICT.get(stand)
+    verdict = DECLARATIONS[stand].theory_verdict
     parts = []
     for k, v in key_results.items():
-        label = RESULTS[stand].get(k)
+        label = DECLARATIONS[stand].labels.get(k)
         if k == verdict or label is None:
             continue
         part = quantity(label, v, units.get(k, label.unit))

@@ -28,6 +28,7 @@ from numpy.typing import NDArray
 
 from rigsim.batches import SimulatedRun
 from rigsim.errors import SettingsError
+from rigsim.stands import SIMULATORS
 from rigsim.stands.tribometer import TribometerTruth
 from schemas.stands import PinOnDiscConfig, ReciprocatingConfig, StandKind
 
@@ -146,7 +147,7 @@ def export_text(kind: StandKind, sim: SimulatedRun[TribometerTruth], dialect: st
     found = DIALECTS.get(dialect)
     if found is None:
         raise SettingsError(f"dialect must be one of {', '.join(DIALECTS)}, got {dialect!r}")
-    if kind not in (StandKind.PIN_ON_DISC, StandKind.RECIPROCATING):
+    if not SIMULATORS[kind].vendor_export:
         raise SettingsError(f"rigsim exports the tribometers only, not {kind.value!r}")
     columns = found.columns + (found.stroke_columns if kind is StandKind.RECIPROCATING else ())
     record = sim.columns("friction")

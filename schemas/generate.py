@@ -23,16 +23,9 @@ from schemas.calculators import (
 from schemas.mechanism import DynamicErrorsRequest, DynamicErrorsResponse
 from schemas.problems import Problem
 from schemas.readings import BatchReceipt, ReadingBatch
-from schemas.results import (
-    MtosResults,
-    PinOnDiscResults,
-    ProfilometerResults,
-    ReciprocatingResults,
-    SlideBearingResults,
-    Smts2Results,
-)
+from schemas.results import RESULT_MODELS
 from schemas.runs import Run, RunCreate, RunPage
-from schemas.stands import CONFIG_MODELS, Stand
+from schemas.stands import DECLARATIONS, Stand
 
 OUT = Path(__file__).parent / "json"
 
@@ -44,12 +37,7 @@ MODELS: dict[str, type[BaseModel]] = {
     "batch_receipt": BatchReceipt,
     "problem": Problem,
     "stand": Stand,
-    "results_smts2": Smts2Results,
-    "results_slide_bearing": SlideBearingResults,
-    "results_mtos": MtosResults,
-    "results_profilometer": ProfilometerResults,
-    "results_pin_on_disc": PinOnDiscResults,
-    "results_reciprocating": ReciprocatingResults,
+    **{f"results_{kind.value}": model for kind, model in RESULT_MODELS.items()},
     "model_wear_theory_input": WearTheoryInput,
     "model_bearing_friction_input": BearingFrictionInput,
     "model_bearing_friction_result": BearingFrictionResult,
@@ -57,7 +45,7 @@ MODELS: dict[str, type[BaseModel]] = {
     "model_roughness_equilibrium_result": EquilibriumRoughnessResult,
     "model_mechanism_request": DynamicErrorsRequest,
     "model_mechanism_response": DynamicErrorsResponse,
-    **{f"config_{kind.value}": model for kind, model in CONFIG_MODELS.items()},
+    **{f"config_{kind.value}": declared.configuration for kind, declared in DECLARATIONS.items()},
 }
 
 

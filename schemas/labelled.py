@@ -12,8 +12,8 @@ from dataclasses import dataclass
 from itertools import zip_longest
 from typing import Any
 
-from schemas.labels import PARTS, RESULTS, TABLES, Label, Part, RowTable
-from schemas.stands import StandKind
+from schemas.labels import PARTS, Label, Part, RowTable
+from schemas.stands import DECLARATIONS, StandKind
 
 
 @dataclass(frozen=True, slots=True)
@@ -75,7 +75,7 @@ def _column_values(values: Mapping[str, Any], path: str) -> list[Any]:
 
 
 def _in_tables(kind: StandKind) -> set[str]:
-    return {path for table in TABLES[kind] for path in table.columns}
+    return {path for table in DECLARATIONS[kind].tables for path in table.columns}
 
 
 def scalars(kind: StandKind, payload: Mapping[str, Any]) -> list[Entry]:
@@ -86,7 +86,7 @@ def scalars(kind: StandKind, payload: Mapping[str, Any]) -> list[Entry]:
     units: Mapping[str, str] = payload.get("units", {})
     tabled = _in_tables(kind)
     found: list[Entry] = []
-    for path, label in RESULTS[kind].items():
+    for path, label in DECLARATIONS[kind].labels.items():
         if path in tabled or "[]" in path:
             continue
         value = _get(values, path)
@@ -113,9 +113,9 @@ def row_tables(kind: StandKind, payload: Mapping[str, Any]) -> list[RowsOf]:
     """The stand's per-row tables that hold rows in ``payload``."""
     values: Mapping[str, Any] = payload.get("values", {})
     units: Mapping[str, str] = payload.get("units", {})
-    labels = RESULTS[kind]
+    labels = DECLARATIONS[kind].labels
     tables = []
-    for table in TABLES[kind]:
+    for table in DECLARATIONS[kind].tables:
         columns: list[Column] = []
         data: list[list[Any]] = []
         for path in table.columns:

@@ -23,7 +23,6 @@ from dataclasses import dataclass
 from enum import StrEnum
 
 from schemas.messages import N_
-from schemas.stands import StandKind
 from schemas.units import UNITS, UnitSymbol
 
 
@@ -514,27 +513,6 @@ PROFILOMETER: dict[str, Label] = {
 }
 
 
-THEORY_VERDICT: dict[StandKind, str] = {StandKind.SMTS2: "validity.within_range"}
-"""The result that says whether a stand's theory is within its range for the run (1 yes, 0
-no in the key results): every theoretical value shown (runs list, run page, console, report)
-carries this verdict beside it."""
-
-
-def theory_outside(kind: StandKind, values: Mapping[str, object]) -> bool:
-    """Whether the stand's theory is outside its range for a run: ``values`` holds the key
-    results (``{"validity.within_range": 0.0}``) or the results payload's values."""
-    path = THEORY_VERDICT.get(kind)
-    if path is None:
-        return False
-    found: object = values.get(path)
-    if found is None:  # the payload's values: walk the path
-        node: object = values
-        for part in path.split("."):
-            node = node.get(part) if isinstance(node, Mapping) else None
-        found = node
-    return found is not None and not bool(found)
-
-
 #: The wear estimates' subscripts: the specimen (1 the ball or pin, 2 the disc or flat, as
 #: the manual numbers the pin and the disc) and the method (A the track's area, d the scar,
 #: m the mass).
@@ -664,17 +642,6 @@ def row_labels(labels: Mapping[str, Label], prefix: str) -> dict[str, Label]:
     return {k.removeprefix(prefix): v for k, v in labels.items() if k.startswith(prefix)}
 
 
-RESULTS: dict[StandKind, Mapping[str, Label]] = {
-    StandKind.SMTS2: SMTS2,
-    StandKind.SLIDE_BEARING: SLIDE_BEARING,
-    StandKind.MTOS: MTOS,
-    StandKind.PROFILOMETER: PROFILOMETER,
-    StandKind.PIN_ON_DISC: PIN_ON_DISC,
-    StandKind.RECIPROCATING: RECIPROCATING,
-}
-"""Every stand's results as people read them, in the order of the report."""
-
-
 @dataclass(frozen=True, slots=True)
 class RowTable:
     """A per-row table of the results (a CSV of its own): its file name, its caption and
@@ -689,48 +656,47 @@ def _columns(labels: Mapping[str, Label], prefix: str) -> tuple[str, ...]:
     return tuple(path for path in labels if path.startswith(prefix))
 
 
-TABLES: dict[StandKind, tuple[RowTable, ...]] = {
-    StandKind.SMTS2: (),
-    StandKind.SLIDE_BEARING: (
-        RowTable(
-            "angles",
-            N_("Tables 3.1 and 3.3: pressure along the angle at z = 0"),
-            _columns(SLIDE_BEARING, "table[]."),
-        ),
-        RowTable(
-            "axial_profile",
-            N_("Table 3.2: pressure along the axis"),
-            _columns(SLIDE_BEARING, "axial[]."),
-        ),
+SLIDE_BEARING_TABLES = (
+    RowTable(
+        "angles",
+        N_("Tables 3.1 and 3.3: pressure along the angle at z = 0"),
+        _columns(SLIDE_BEARING, "table[]."),
     ),
-    StandKind.MTOS: (
-        RowTable("steps", N_("Tables 4.4-4.6: the load steps"), _columns(MTOS, "steps[].")),
+    RowTable(
+        "axial_profile",
+        N_("Table 3.2: pressure along the axis"),
+        _columns(SLIDE_BEARING, "axial[]."),
     ),
-    StandKind.PROFILOMETER: (
-        RowTable(
-            "bearing_curve",
-            N_("Tables 1.6 and 1.8: the bearing curve"),
-            ("levels", "eps", "tp", "fit_manual.residuals", "fit_lsq.residuals"),
-        ),
-        RowTable(
-            "partial_fits",
-            N_("Table 1.7: coefficients by pairs of levels"),
-            ("fit_manual.nu_partial", "fit_manual.b_partial"),
-        ),
+)
+"""The per-row tables of the slide bearing's results (a stand's declaration names its own)."""
+
+MTOS_TABLES = (RowTable("steps", N_("Tables 4.4-4.6: the load steps"), _columns(MTOS, "steps[].")),)
+
+PROFILOMETER_TABLES = (
+    RowTable(
+        "bearing_curve",
+        N_("Tables 1.6 and 1.8: the bearing curve"),
+        ("levels", "eps", "tp", "fit_manual.residuals", "fit_lsq.residuals"),
     ),
-    StandKind.PIN_ON_DISC: (
-        RowTable("steps", N_("The recipe's steps"), _columns(PIN_ON_DISC, "steps[].")),
+    RowTable(
+        "partial_fits",
+        N_("Table 1.7: coefficients by pairs of levels"),
+        ("fit_manual.nu_partial", "fit_manual.b_partial"),
     ),
-    StandKind.RECIPROCATING: (
-        RowTable("steps", N_("The recipe's steps"), _columns(RECIPROCATING, "steps[].")),
-        RowTable(
-            "strokes",
-            N_("Forward and backward strokes, by blocks of cycles"),
-            _columns(RECIPROCATING, "strokes[]."),
-        ),
+)
+
+PIN_ON_DISC_TABLES = (
+    RowTable("steps", N_("The recipe's steps"), _columns(PIN_ON_DISC, "steps[].")),
+)
+
+RECIPROCATING_TABLES = (
+    RowTable("steps", N_("The recipe's steps"), _columns(RECIPROCATING, "steps[].")),
+    RowTable(
+        "strokes",
+        N_("Forward and backward strokes, by blocks of cycles"),
+        _columns(RECIPROCATING, "strokes[]."),
     ),
-}
-"""The per-row tables of each stand's results."""
+)
 
 #: Results that are plot series or the analysis' own words, not quantities.
 NOT_QUANTITIES = frozenset({"stand", "friction", "pending", "notes", "friction_map", "loops"})
@@ -898,26 +864,3 @@ def channel_symbol(name: str, long_name: str) -> str:
         return CHANNEL_SYMBOLS[name]
     head, comma, _ = long_name.partition(", ")
     return head if comma and " " not in head else ""
-
-
-SPECIMEN_KEYS: dict[StandKind, tuple[str, ...]] = {
-    StandKind.SMTS2: ("pin", "disc"),
-    StandKind.SLIDE_BEARING: ("journal", "bearing"),
-    StandKind.MTOS: ("journal", "bush"),
-    StandKind.PROFILOMETER: ("surface",),
-    StandKind.PIN_ON_DISC: ("ball", "disc"),
-    StandKind.RECIPROCATING: ("ball", "disc"),
-}
-"""The specimens a run of each stand names (keys of :data:`PARTICULARS`), as the new-run
-page asks for them."""
-
-PLAN_KEYS: dict[StandKind, tuple[str, ...]] = {
-    StandKind.SMTS2: ("mode", "load_N", "speed_rpm", "revolutions"),
-    StandKind.SLIDE_BEARING: ("loader_scale_mm", "limb_step_deg"),
-    StandKind.MTOS: ("loads_fluid", "loads_mixed", "loads_boundary"),
-    StandKind.PROFILOMETER: ("ra_um", "base_length_mm"),
-    StandKind.PIN_ON_DISC: ("load_N", "laps"),
-    StandKind.RECIPROCATING: ("load_N", "laps"),
-}
-"""The test plan of each stand (keys of :data:`PARTICULARS`; ``loads_*`` are lists of
-loads), as the new-run page asks for it."""

@@ -1,6 +1,7 @@
 """The stand kinds: the lab's four stands, configured with the manual's values as defaults,
 and two commercial tribometers (pin- or ball-on-disc, reciprocating); configuration and
-channels.
+channels, and each kind's declaration (:data:`DECLARATIONS`: its configuration, results,
+channels, labels), the one place in the schemas that names the kinds.
 
 Every number of a configuration carries its unit. Defaults are the lab manual's where it
 gives one; where it does not (the MTOS spring calibration and lever arms, the displacement
@@ -11,12 +12,15 @@ and the field's description says so.
 from __future__ import annotations
 
 from collections.abc import Mapping
+from dataclasses import dataclass
 from enum import StrEnum
 from typing import Literal
 
 from pydantic import BaseModel, ConfigDict, Field
 
+from schemas import labels
 from schemas.channels import Channel, ChannelGroup, Limit, Order, configured_groups
+from schemas.labels import Label, RowTable
 from schemas.messages import N_
 from schemas.quantity import quantity
 from schemas.units import UnitSymbol
@@ -409,7 +413,7 @@ SLIDE_BEARING_GROUPS = (
         name="rows",
         long_name=N_("one row of table 3.1 per position of the loader limb"),
         aligned=True,
-        signals=("p1", "p2", "p3", "p4", "p5"),
+        signals=("p3", "p1", "p2", "p4", "p5"),  # p3: the middle manometer, z = 0
         axis="limb_angle",
         channels=(
             _c("limb_angle", "deg", "φ_limb, loader limb angle", Limit(low=-360, high=720)),
@@ -660,62 +664,129 @@ class Stand(BaseModel):
         return self if groups is self.groups else self.model_copy(update={"groups": groups})
 
 
-CONFIG_MODELS: dict[StandKind, type[_Config]] = {
-    StandKind.SMTS2: Smts2Config,
-    StandKind.SLIDE_BEARING: SlideBearingConfig,
-    StandKind.MTOS: MtosConfig,
-    StandKind.PROFILOMETER: ProfilometerConfig,
-    StandKind.PIN_ON_DISC: PinOnDiscConfig,
-    StandKind.RECIPROCATING: ReciprocatingConfig,
+@dataclass(frozen=True, slots=True)
+class StandDeclaration:
+    """One stand kind as every layer reads it: its configuration model, its channel groups
+    (a record group names its live chart's axis and signals), how people read its results
+    (labels, per-row tables, the result that says whether its theory holds) and what a new
+    run of it asks for (specimens, test plan: keys of ``labels.PARTICULARS``). Its results
+    model is :data:`schemas.results.RESULT_MODELS`' (rigclient knows no results models)."""
+
+    kind: StandKind
+    title: str
+    lab_work: int | None
+    configuration: type[StandConfig]
+    groups: tuple[ChannelGroup, ...]
+    labels: Mapping[str, Label]
+    specimens: tuple[str, ...]
+    plan: tuple[str, ...]
+    tables: tuple[RowTable, ...] = ()
+    theory_verdict: str | None = None
+
+    def stand(self) -> Stand:
+        """The stand with its defaults: the manual's, a common tribometer test's."""
+        return Stand(
+            kind=self.kind,
+            title=self.title,
+            lab_work=self.lab_work,
+            configuration=self.configuration(),
+            groups=self.groups,
+        )
+
+
+DECLARATIONS: dict[StandKind, StandDeclaration] = {
+    StandKind.SMTS2: StandDeclaration(
+        kind=StandKind.SMTS2,
+        title="SMTs-2 friction and wear machine (pin on disc)",
+        lab_work=2,
+        configuration=Smts2Config,
+        groups=SMTS2_GROUPS,
+        labels=labels.SMTS2,
+        specimens=("pin", "disc"),
+        plan=("mode", "load_N", "speed_rpm", "revolutions"),
+        theory_verdict="validity.within_range",
+    ),
+    StandKind.SLIDE_BEARING: StandDeclaration(
+        kind=StandKind.SLIDE_BEARING,
+        title="Slide-bearing stand: hydrodynamic pressure",
+        lab_work=3,
+        configuration=SlideBearingConfig,
+        groups=SLIDE_BEARING_GROUPS,
+        labels=labels.SLIDE_BEARING,
+        specimens=("journal", "bearing"),
+        plan=("loader_scale_mm", "limb_step_deg"),
+        tables=labels.SLIDE_BEARING_TABLES,
+    ),
+    StandKind.MTOS: StandDeclaration(
+        kind=StandKind.MTOS,
+        title="MTOS stand: friction moment of a journal bearing",
+        lab_work=4,
+        configuration=MtosConfig,
+        groups=MTOS_GROUPS,
+        labels=labels.MTOS,
+        specimens=("journal", "bush"),
+        plan=("loads_fluid", "loads_mixed", "loads_boundary"),
+        tables=labels.MTOS_TABLES,
+    ),
+    StandKind.PROFILOMETER: StandDeclaration(
+        kind=StandKind.PROFILOMETER,
+        title="ABRIS-PM7 profilometer: roughness of a run-in surface",
+        lab_work=1,
+        configuration=ProfilometerConfig,
+        groups=PROFILOMETER_GROUPS,
+        labels=labels.PROFILOMETER,
+        specimens=("surface",),
+        plan=("ra_um", "base_length_mm"),
+        tables=labels.PROFILOMETER_TABLES,
+    ),
+    StandKind.PIN_ON_DISC: StandDeclaration(
+        kind=StandKind.PIN_ON_DISC,
+        title="Pin- or ball-on-disc tribometer (ASTM G99, ISO 20808)",
+        lab_work=None,
+        configuration=PinOnDiscConfig,
+        groups=PIN_ON_DISC_GROUPS,
+        labels=labels.PIN_ON_DISC,
+        specimens=("ball", "disc"),
+        plan=("load_N", "laps"),
+        tables=labels.PIN_ON_DISC_TABLES,
+    ),
+    StandKind.RECIPROCATING: StandDeclaration(
+        kind=StandKind.RECIPROCATING,
+        title="Reciprocating tribometer (ASTM G133)",
+        lab_work=None,
+        configuration=ReciprocatingConfig,
+        groups=RECIPROCATING_GROUPS,
+        labels=labels.RECIPROCATING,
+        specimens=("ball", "disc"),
+        plan=("load_N", "laps"),
+        tables=labels.RECIPROCATING_TABLES,
+    ),
 }
+"""Every stand kind, declared once; a new kind is its configuration, channels and labels, its
+results module (:mod:`schemas.results`, which maps each kind to its model) and one entry
+here. ``tests/test_stand_kinds.py`` checks that
+every layer (analysis, reports, rigsim) registers every kind."""
 
 
 def default_stands() -> dict[StandKind, Stand]:
     """The stands with their defaults: the manual's, a common tribometer test's."""
-    return {
-        StandKind.SMTS2: Stand(
-            kind=StandKind.SMTS2,
-            title="SMTs-2 friction and wear machine (pin on disc)",
-            lab_work=2,
-            configuration=Smts2Config(),
-            groups=SMTS2_GROUPS,
-        ),
-        StandKind.SLIDE_BEARING: Stand(
-            kind=StandKind.SLIDE_BEARING,
-            title="Slide-bearing stand: hydrodynamic pressure",
-            lab_work=3,
-            configuration=SlideBearingConfig(),
-            groups=SLIDE_BEARING_GROUPS,
-        ),
-        StandKind.MTOS: Stand(
-            kind=StandKind.MTOS,
-            title="MTOS stand: friction moment of a journal bearing",
-            lab_work=4,
-            configuration=MtosConfig(),
-            groups=MTOS_GROUPS,
-        ),
-        StandKind.PROFILOMETER: Stand(
-            kind=StandKind.PROFILOMETER,
-            title="ABRIS-PM7 profilometer: roughness of a run-in surface",
-            lab_work=1,
-            configuration=ProfilometerConfig(),
-            groups=PROFILOMETER_GROUPS,
-        ),
-        StandKind.PIN_ON_DISC: Stand(
-            kind=StandKind.PIN_ON_DISC,
-            title="Pin- or ball-on-disc tribometer (ASTM G99, ISO 20808)",
-            lab_work=None,
-            configuration=PinOnDiscConfig(),
-            groups=PIN_ON_DISC_GROUPS,
-        ),
-        StandKind.RECIPROCATING: Stand(
-            kind=StandKind.RECIPROCATING,
-            title="Reciprocating tribometer (ASTM G133)",
-            lab_work=None,
-            configuration=ReciprocatingConfig(),
-            groups=RECIPROCATING_GROUPS,
-        ),
-    }
+    return {kind: declared.stand() for kind, declared in DECLARATIONS.items()}
+
+
+def theory_outside(kind: StandKind, values: Mapping[str, object]) -> bool:
+    """Whether the stand's theory is outside its range for a run: ``values`` holds the key
+    results (``{"validity.within_range": 0.0}``) or the results payload's values. Every
+    theoretical value shown (runs list, run page, console, report) carries this verdict."""
+    path = DECLARATIONS[kind].theory_verdict
+    if path is None:
+        return False
+    found: object = values.get(path)
+    if found is None:  # the payload's values: walk the path
+        node: object = values
+        for part in path.split("."):
+            node = node.get(part) if isinstance(node, Mapping) else None
+        found = node
+    return found is not None and not bool(found)
 
 
 def configure_stands(

@@ -1,34 +1,23 @@
 """One pipeline per stand: a stored run's readings -> the lab manual's results (via core).
 
-:func:`analyse` picks the stand's pipeline and returns the results with their units.
+:func:`analyse` picks the stand's pipeline (its kit: :mod:`rigserver.analysis.kits`) and
+returns the results with their units.
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
 from pydantic import BaseModel
 
-from rigserver.analysis import mtos, profilometer, slide_bearing, smts2, tribometer
+from rigserver.analysis.kits import KITS
 from rigserver.analysis.readings import Readings
-from rigserver.analysis.references import Profiles, RunLookup, referenced_profiles
-from schemas.labels import THEORY_VERDICT
+from rigserver.analysis.references import RunLookup, referenced_profiles
 from schemas.quantity import unit_paths
 from schemas.runs import Run
-from schemas.stands import StandKind
 
 __all__ = ["AnalysisResult", "Readings", "RunLookup", "analyse"]
-
-_PIPELINES: dict[StandKind, Callable[[Run, Readings, Profiles], BaseModel]] = {
-    StandKind.SMTS2: smts2.analyse,
-    StandKind.SLIDE_BEARING: lambda run, readings, _: slide_bearing.analyse(run, readings),
-    StandKind.MTOS: mtos.analyse,
-    StandKind.PROFILOMETER: lambda run, readings, _: profilometer.analyse(run, readings),
-    StandKind.PIN_ON_DISC: tribometer.analyse,
-    StandKind.RECIPROCATING: tribometer.analyse,
-}
 
 
 @dataclass(frozen=True)
@@ -47,40 +36,17 @@ class AnalysisResult:
         }
 
 
-_KEYS: dict[StandKind, tuple[str, ...]] = {
-    StandKind.SMTS2: (
-        "friction_steady",
-        "experimental.intensity",
-        "experimental.specific_wear_rate",
-        "theoretical.intensity",
-        THEORY_VERDICT[StandKind.SMTS2],
-    ),
-    StandKind.SLIDE_BEARING: ("chi_mean", "pressure_max", "phi_max"),
-    StandKind.MTOS: ("friction_fluid", "h_min_smallest", "h_crit"),
-    StandKind.PROFILOMETER: ("ra", "rz", "complex_parameter"),
-    StandKind.PIN_ON_DISC: (
-        "friction_steady",
-        "running_in_distance",
-        "disc_track.specific_wear_rate",
-        "pin_scar.specific_wear_rate",
-    ),
-    StandKind.RECIPROCATING: (
-        "friction_steady",
-        "running_in_distance",
-        "disc_track.specific_wear_rate",
-        "pin_scar.specific_wear_rate",
-    ),
-}
-
-
 def analyse(run: Run, readings: Readings, lookup: RunLookup | None = None) -> AnalysisResult:
     """The stand's results on the run's readings (what has arrived, for an open run).
 
     ``lookup`` finds the profilometer runs that the run's specimen names
     (:mod:`rigserver.analysis.references`); without it they are reported as not found.
     """
-    values = _PIPELINES[run.stand](run, readings, referenced_profiles(run, lookup))
-    return AnalysisResult(values=values, key_results=_headline(values, _KEYS[run.stand]))
+    kit = KITS[run.stand]
+    values = kit.analyse(run, readings, referenced_profiles(run, lookup))
+    return AnalysisResult(
+        values=values, key_results=_headline(values, kit.headline_paths(run.stand))
+    )
 
 
 def _headline(values: BaseModel, paths: tuple[str, ...]) -> dict[str, float]:

@@ -1,10 +1,10 @@
 """A series' statistics: each headline result of its runs gathered and summarised.
 
-Every stand declares the results a series compares (:data:`HEADLINES`): a path into the
-run's results (``experimental.intensity``; ``steps[].friction_measured`` stands for one
-result per load step) and, where the run reports one, the path of its own standard
-uncertainty. Aborted runs are listed but left out of the statistics; open runs count with
-what they hold so far.
+Every stand's kit declares the results a series compares (``Kit.series`` in
+:mod:`rigserver.analysis.kits`): a path into the run's results (``experimental.intensity``;
+``steps[].friction_measured`` stands for one result per load step) and, where the run
+reports one, the path of its own standard uncertainty. Aborted runs are listed but left out
+of the statistics; open runs count with what they hold so far.
 """
 
 from __future__ import annotations
@@ -15,19 +15,12 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-from pydantic import BaseModel
 
+from rigserver.analysis.kits import KITS, Headline
 from rigserver.core import statistics, wear
-from schemas.labels import RESULTS, WEAR_SUBSCRIPTS, Label, round_to
+from schemas.labels import Label, round_to
 from schemas.quantity import description_paths, unit_paths
-from schemas.results import (
-    MtosResults,
-    PinOnDiscResults,
-    ProfilometerResults,
-    ReciprocatingResults,
-    SlideBearingResults,
-    Smts2Results,
-)
+from schemas.results import RESULT_MODELS
 from schemas.runs import Run, RunState
 from schemas.series import (
     AdhesiveOxidative,
@@ -43,7 +36,7 @@ from schemas.series import (
     Summary,
     Untested,
 )
-from schemas.stands import StandKind
+from schemas.stands import DECLARATIONS, StandKind
 
 #: Why a result's levels were not compared, as the API says it (the pages translate the code).
 UNTESTED: dict[Untested, str] = {
@@ -55,74 +48,6 @@ UNTESTED: dict[Untested, str] = {
 
 #: Paths of a list of per-step results: one headline per step, keyed by the step's index.
 _EACH = "[]"
-
-
-@dataclass(frozen=True, slots=True)
-class Headline:
-    """A result a series compares: its path in the results, its symbol (the manual's), and
-    the path of the run's own standard uncertainty of it, where the results hold one."""
-
-    path: str
-    symbol: str
-    uncertainty: str | None = None
-
-
-_TRIBOMETER = (
-    Headline("friction_steady", "μ", "friction_steady_uncertainty"),
-    Headline("friction_static", "μ_s"),
-    Headline("running_in_distance", "L_r"),
-    *(
-        Headline(
-            f"{wear}.specific_wear_rate",
-            f"k_{{{WEAR_SUBSCRIPTS[wear]}}}",
-            f"{wear}.specific_wear_rate_uncertainty",
-        )
-        for wear in ("disc_track", "pin_scar")
-    ),
-)
-
-HEADLINES: dict[StandKind, tuple[Headline, ...]] = {
-    StandKind.SMTS2: (
-        Headline("friction_steady", "f", "friction_steady_uncertainty"),
-        Headline("experimental.intensity", "I_{h,exp}", "experimental.intensity_uncertainty"),
-        Headline(
-            "experimental.specific_wear_rate", "k", "experimental.specific_wear_rate_uncertainty"
-        ),
-        Headline("experimental.volume", "V"),
-        Headline("experimental.mass_loss", "Δm"),
-    ),
-    StandKind.SLIDE_BEARING: (
-        Headline("chi_mean", "χ_mean", "chi_mean_uncertainty"),
-        Headline("pressure_max", "p_max"),
-        Headline("phi_max", "φ_{p max}"),
-        Headline("attitude_angle", "ψ"),
-    ),
-    StandKind.MTOS: (
-        Headline("friction_fluid", "f̄_e"),
-        Headline("h_min_smallest", "h_min"),
-        Headline("steps[].friction_measured", "f_e", "steps[].friction_measured_uncertainty"),
-        Headline("steps[].chi", "χ", "steps[].chi_uncertainty"),
-        Headline("steps[].film_parameter", "Λ"),
-    ),
-    StandKind.PROFILOMETER: (
-        Headline("ra", "R_a", "ra_uncertainty"),
-        Headline("rz", "R_z", "rz_uncertainty"),
-        Headline("rq", "R_q"),
-        Headline("rmax", "R_max"),
-        Headline("sm", "S_m"),
-    ),
-    StandKind.PIN_ON_DISC: _TRIBOMETER,
-    StandKind.RECIPROCATING: _TRIBOMETER,
-}
-
-RESULT_MODELS: dict[StandKind, type[BaseModel]] = {
-    StandKind.SMTS2: Smts2Results,
-    StandKind.SLIDE_BEARING: SlideBearingResults,
-    StandKind.MTOS: MtosResults,
-    StandKind.PROFILOMETER: ProfilometerResults,
-    StandKind.PIN_ON_DISC: PinOnDiscResults,
-    StandKind.RECIPROCATING: ReciprocatingResults,
-}
 
 
 @dataclass(frozen=True, slots=True)
@@ -249,7 +174,7 @@ def identical_runs(rows: Sequence[SeriesRun]) -> list[list[str]]:
 def _keys(stand: StandKind, members: Sequence[Member]) -> list[tuple[str, Headline]]:
     """Each headline's keys: its path, or one path per step for a per-step result."""
     keys: list[tuple[str, Headline]] = []
-    for headline in HEADLINES[stand]:
+    for headline in KITS[stand].series:
         if _EACH not in headline.path:
             keys.append((headline.path, headline))
             continue
@@ -400,7 +325,7 @@ def _comparison(levels: Mapping[str, list[RunValue]]) -> ComparisonResult:
 
 def label_of(stand: StandKind, key: str) -> Label | None:
     """The label (schemas.labels) of a headline result: ``steps[3].chi`` -> ``steps[].chi``."""
-    return RESULTS[stand].get(_generic(key))
+    return DECLARATIONS[stand].labels.get(_generic(key))
 
 
 def _symbol(key: str, headline: Headline) -> str:

@@ -14,7 +14,7 @@ from pydantic import BaseModel
 from schemas.materials import properties
 from schemas.messages import N_
 from schemas.runs import Run
-from schemas.stands import CONFIG_MODELS, PinMaterial, SpecimenMaterial, StandKind
+from schemas.stands import PinMaterial, SpecimenMaterial
 
 Config = TypeVar("Config", bound=BaseModel)
 
@@ -65,14 +65,6 @@ SMTS2 = Roles(
 )
 
 
-#: The stands whose theory takes its specimens' materials from the table.
-ROLES = {
-    StandKind.PIN_ON_DISC: TRIBOMETER,
-    StandKind.RECIPROCATING: TRIBOMETER,
-    StandKind.SMTS2: SMTS2,
-}
-
-
 @dataclass(frozen=True, slots=True)
 class Specimens(Generic[Config]):
     """The configuration with the named materials' properties, the roles (``pin``,
@@ -114,11 +106,3 @@ def specimen_materials(run: Run, config: Config, roles: Roles = TRIBOMETER) -> S
         [roles.note] if update else [],
         [roles.pending] if unknown else [],
     )
-
-
-def run_materials(run: Run) -> Specimens[BaseModel]:
-    """The run's configuration as its stand's analysis reads it: with the table's properties
-    of the materials its specimen names (as given, for a stand without such roles)."""
-    config = CONFIG_MODELS[run.stand].model_validate(run.configuration)
-    roles = ROLES.get(run.stand)
-    return Specimens(config) if roles is None else specimen_materials(run, config, roles)

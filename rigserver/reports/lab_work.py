@@ -15,10 +15,10 @@ from markupsafe import Markup
 from rigserver.analysis import Readings
 from rigserver.analysis.series import Member, adhesive_oxidative
 from rigserver.reports.contents import Students
-from rigserver.reports.contents.registry import CONTENTS
 from rigserver.reports.document import Paragraph, Report, Section, Table, Text
 from rigserver.reports.formatting import fmt, html_symbol, number_locale, with_uncertainty
 from rigserver.reports.i18n import Lang, Messages
+from rigserver.reports.kits import KITS
 from rigserver.reports.run_report import build_report
 from rigserver.reports.students import section
 from schemas.messages import N_
@@ -89,7 +89,7 @@ def part_two(t: Messages, kind: StandKind, runs: Sequence[WorkRun]) -> list[Sect
         sections = [Section(t.gettext(PART_2), [first])]
     else:
         sections = [Section(t.gettext(PART_2), [_friction_table(t, runs, found)])]
-    observed = [i for i in CONTENTS[kind].items if i.students is Students.OBSERVATIONS]
+    observed = [i for i in KITS[kind].contents.items if i.students is Students.OBSERVATIONS]
     for item, mode in zip(observed, MODES, strict=True):
         said = [r.notes.observations for r in runs if r.part == mode]
         sections.append(section(t, item, "\n\n".join(w for w in said if w.strip())))

@@ -4,7 +4,7 @@ conclusions; rendered to HTML by ``templates/report.html`` and to PDF from the s
 from __future__ import annotations
 
 import re
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import replace
 from datetime import datetime
 from typing import Any, NamedTuple
@@ -13,50 +13,24 @@ from markupsafe import escape
 from pydantic import BaseModel
 
 from rigserver.analysis import Readings
-from rigserver.analysis.specimens import run_materials
+from rigserver.analysis.kits import run_materials
 from rigserver.reports import equations, layout
 from rigserver.reports.contents.common import TASKS
-from rigserver.reports.contents.registry import CONTENTS
-from rigserver.reports.context import Context, LabReport
+from rigserver.reports.context import Context
 from rigserver.reports.corrections import corrections_section
 from rigserver.reports.document import Items, Paragraph, Report, Section, Table, Text
 from rigserver.reports.formatting import fmt, html_symbol, number_locale, value_text, with_unit
 from rigserver.reports.i18n import MESSAGES, Lang, Messages, translations
-from rigserver.reports.labs import mtos, profilometer, slide_bearing, smts2, tribometer
+from rigserver.reports.kits import KITS
 from rigserver.reports.render import render
 from rigserver.reports.students import students_part
 from schemas.corrections import Correction
 from schemas.labels import CONFIGURATION, PARTICULARS
 from schemas.messages import N_
-from schemas.results import (
-    MtosResults,
-    PinOnDiscResults,
-    ProfilometerResults,
-    ReciprocatingResults,
-    SlideBearingResults,
-    Smts2Results,
-)
+from schemas.results import RESULT_MODELS
 from schemas.runs import Run, RunState
-from schemas.stands import CONFIG_MODELS, Stand, StandKind
+from schemas.stands import DECLARATIONS, Stand
 from schemas.student_notes import StudentNotes
-
-RESULT_MODELS: dict[StandKind, type[BaseModel]] = {
-    StandKind.SMTS2: Smts2Results,
-    StandKind.SLIDE_BEARING: SlideBearingResults,
-    StandKind.MTOS: MtosResults,
-    StandKind.PROFILOMETER: ProfilometerResults,
-    StandKind.PIN_ON_DISC: PinOnDiscResults,
-    StandKind.RECIPROCATING: ReciprocatingResults,
-}
-
-_LABS: dict[StandKind, Callable[[Context, Any], LabReport]] = {
-    StandKind.SMTS2: smts2.build,
-    StandKind.SLIDE_BEARING: slide_bearing.build,
-    StandKind.MTOS: mtos.build,
-    StandKind.PROFILOMETER: profilometer.build,
-    StandKind.PIN_ON_DISC: tribometer.build,
-    StandKind.RECIPROCATING: tribometer.build,
-}
 
 
 def build_report(
@@ -130,7 +104,7 @@ def _build(
     kind = run.stand.value
     notes, sketches = theirs
     model = RESULT_MODELS[run.stand].model_validate(values)
-    lab = _LABS[run.stand](Context(run=run, stand=stand, readings=readings, t=t), model)
+    lab = KITS[run.stand].build(Context(run=run, stand=stand, readings=readings, t=t), model)
     first: list[Paragraph | Table] = []
     if run.state is RunState.OPEN:
         first.append(Paragraph(t("open_warning")))
@@ -141,7 +115,7 @@ def _build(
         sections.append(Section(t("sec.computed"), [Items(lab.conclusions)]))
     if work:
         sections += work[1]
-    contents = CONTENTS[run.stand]
+    contents = KITS[run.stand].contents
     sections += students_part(t, contents.students(), notes, sketches)
     for key, items in (("sec.pending", model.pending), ("sec.notes", model.notes)):  # type: ignore[attr-defined]
         if items:  # the analysis' words, printed as they are (x_zero is not x subscript zero)
@@ -331,7 +305,7 @@ def configuration_rows(t: Messages, run: Run) -> list[ConfigRow]:
                 shown = t("config.table", value=shown)
             rows.append(ConfigRow(html_symbol(words), shown, unit_text, source))
 
-    walk(CONFIG_MODELS[run.stand], materials.config.model_dump(mode="json"), "", "")
+    walk(DECLARATIONS[run.stand].configuration, materials.config.model_dump(mode="json"), "", "")
     return rows
 
 
@@ -349,4 +323,4 @@ FIELD_WORDS = {
 """Words for the configuration fields declared without a description."""
 
 
-__all__ = ["RESULT_MODELS", "build_report", "render_report"]
+__all__ = ["build_report", "render_report"]

@@ -23,7 +23,6 @@ from rigserver.analysis import Readings
 from rigserver.analysis.series import label_of
 from rigserver.reports import results_view
 from rigserver.reports.blocks import axis
-from rigserver.reports.downsample import min_max
 from rigserver.reports.formatting import (
     fmt,
     number_locale,
@@ -32,6 +31,7 @@ from rigserver.reports.formatting import (
     spreadsheet_text,
 )
 from rigserver.reports.i18n import Lang, Messages
+from rigserver.reports.kits import KITS
 from rigserver.reports.render import render
 from rigserver.reports.series_plots import Curve, overlay
 from schemas.labels import Label
@@ -121,8 +121,6 @@ OPEN_RUNS = NP_(
 
 #: Per-step results (``steps[3].chi``) are in the statistics table only, not in the runs'.
 _PER_STEP = "["
-#: Points of a profile drawn per run (min-max decimation; the statistics use every reading).
-PROFILE_POINTS = 800
 
 
 def text(lang: Lang) -> Callable[..., str]:
@@ -296,54 +294,15 @@ def _plots(
             )
 
     plots: list[tuple[str, str]] = []
-    v = values
-    if detail.stand is StandKind.SMTS2:
-        draw("plot.friction", axis(m, "L", "m"), axis(m, "f"), curves(lambda r: _friction(r, v[r])))
-    elif detail.stand in (StandKind.PIN_ON_DISC, StandKind.RECIPROCATING):
+    for plot in KITS[detail.stand].series_plots if detail.stand else ():
+        found = curves(plot.of(values, readings))
         draw(
-            "plot.tribometer",
-            axis(m, "L", "m"),
-            axis(m, "μ"),
-            curves(lambda r: _series(r, v[r], "friction")),
-        )
-    elif detail.stand is StandKind.MTOS:
-        draw(
-            "plot.mtos_f",
-            axis(m, "N", "N"),
-            axis(m, "f_e"),
-            curves(lambda r: _rows(r, v[r], "steps", "load", "friction_measured")),
-            paired=True,
-        )
-        draw(
-            "plot.stribeck",
-            axis(m, "S_1"),
-            axis(m, "f_e"),
-            curves(
-                lambda r: _rows(r, v[r], "steps", "bearing_characteristic", "friction_measured")
-            ),
-            paired=True,
-        )
-    elif detail.stand is StandKind.SLIDE_BEARING:
-        draw(
-            "plot.pressure",
-            axis(m, "φ", "deg"),
-            axis(m, "Π_e"),
-            curves(lambda r: _rows(r, v[r], "table", "phi_model", "pi_measured")),
-            markers=True,
-        )
-    elif detail.stand is StandKind.PROFILOMETER:
-        draw(
-            "plot.bearing",
-            axis(m, "ε"),
-            axis(m, "t_p"),
-            curves(lambda r: _pairs(r, v[r], "eps", "tp")),
-            markers=True,
-        )
-        draw(
-            "plot.profile",
-            axis(m, "x", "mm"),
-            axis(m, "y", "um"),
-            curves(lambda r: _profile(r, readings.get(r))),
+            plot.caption,
+            axis(m, *plot.x),
+            axis(m, *plot.y),
+            found,
+            markers=plot.markers,
+            paired=plot.paired,
         )
     return plots
 
@@ -363,51 +322,3 @@ def run_names(runs: Sequence[SeriesRun]) -> dict[str, str]:
         else:
             found[run.run_id] = f"{day[place]} ({place + 1})"
     return found
-
-
-def _friction(run_id: str, values: Mapping[str, Any] | None) -> Curve | None:
-    """f against the sliding distance: the block means' times scaled so the last reaches
-    the run's L (the disc turns at a constant speed within ±10 %)."""
-    if values is None or not values.get("friction") or not values.get("sliding_distance"):
-        return None
-    x = np.asarray(values["friction"]["x"], dtype=float)
-    y = np.asarray(values["friction"]["y"], dtype=float)
-    if x.size < 2 or not x[-1] > x[0]:
-        return None
-    distance = (x - x[0]) / (x[-1] - x[0]) * float(values["sliding_distance"])
-    return Curve(run_id, distance, y)
-
-
-def _series(run_id: str, values: Mapping[str, Any] | None, name: str) -> Curve | None:
-    """A plot series of the results as it is (the tribometers' μ against L)."""
-    found = None if values is None else values.get(name)
-    if not found or len(found.get("x") or []) < 2:
-        return None
-    return Curve(run_id, np.asarray(found["x"], float), np.asarray(found["y"], float))
-
-
-def _rows(
-    run_id: str, values: Mapping[str, Any] | None, table: str, x: str, y: str
-) -> Curve | None:
-    if values is None:
-        return None
-    rows = [r for r in values.get(table) or [] if r.get(x) is not None and r.get(y) is not None]
-    if not rows:
-        return None
-    return Curve(
-        run_id, np.array([r[x] for r in rows], float), np.array([r[y] for r in rows], float)
-    )
-
-
-def _pairs(run_id: str, values: Mapping[str, Any] | None, x: str, y: str) -> Curve | None:
-    if values is None or not values.get(x) or len(values[x]) != len(values.get(y) or []):
-        return None
-    return Curve(run_id, np.asarray(values[x], float), np.asarray(values[y], float))
-
-
-def _profile(run_id: str, readings: Readings | None) -> Curve | None:
-    if readings is None or readings.rows("profile") < 2:
-        return None
-    columns = readings.read("profile", ["x", "y"])
-    x, y = min_max(columns["x"], columns["y"], buckets=PROFILE_POINTS // 2)
-    return Curve(run_id, x, y)

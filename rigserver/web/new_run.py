@@ -24,9 +24,9 @@ from rigserver.reports.i18n import Lang, Messages
 from rigserver.reports.run_report import FIELD_WORDS
 from rigserver.web.entry import TEXTS
 from rigserver.web.pages import render_page
-from schemas.labels import CONFIGURATION, PARTICULARS, PLAN_KEYS, SPECIMEN_KEYS
+from schemas.labels import CONFIGURATION, PARTICULARS
 from schemas.messages import N_
-from schemas.stands import Stand, StandKind
+from schemas.stands import DECLARATIONS, Stand, StandKind
 from schemas.units import UNITS
 
 Kind = Literal["text", "number", "numbers", "choice", "lines"]
@@ -177,8 +177,8 @@ def form_fields(t: Messages, stand: Stand, lang: Lang) -> dict[str, list[Field]]
             owners[leaf.path] = (t.gettext(label.text) if label else t.gettext(leaf.path[0])) + ": "
     return {
         "run": run,
-        "specimen": [_particular(t, "specimen", k) for k in SPECIMEN_KEYS[stand.kind]],
-        "test_plan": [_particular(t, "test_plan", k) for k in PLAN_KEYS[stand.kind]],
+        "specimen": [_particular(t, "specimen", k) for k in DECLARATIONS[stand.kind].specimens],
+        "test_plan": [_particular(t, "test_plan", k) for k in DECLARATIONS[stand.kind].plan],
         "configuration": [
             _leaf_field(t, leaf, lang, owners[leaf.path]) for leaf in _leaves(stand.configuration)
         ],
@@ -207,11 +207,11 @@ def read_posted(t: Messages, stand: Stand, form: Mapping[str, str]) -> Posted:
     body: dict[str, Any] = {"stand": stand.kind.value, "specimen": {}, "test_plan": {}}
     for name in ("operator", "title", "notes"):
         body[name] = form.get(name, "").strip()
-    for key in SPECIMEN_KEYS[stand.kind]:
+    for key in DECLARATIONS[stand.kind].specimens:
         text = form.get(f"specimen.{key}", "").strip()
         if text:
             body["specimen"][key] = text
-    for key in PLAN_KEYS[stand.kind]:
+    for key in DECLARATIONS[stand.kind].plan:
         name = f"test_plan.{key}"
         text = form.get(name, "").strip()
         if not text:

@@ -19,7 +19,6 @@ from jinja2 import Environment, PackageLoader, select_autoescape
 from markupsafe import Markup
 
 from rigserver.reports import results_view
-from rigserver.reports.contents.registry import CONTENTS
 from rigserver.reports.formatting import (
     decimal_sign,
     fmt,
@@ -31,33 +30,25 @@ from rigserver.reports.formatting import (
     with_unit,
 )
 from rigserver.reports.i18n import LANGS, Lang, Messages
+from rigserver.reports.kits import KITS
 from rigserver.reports.labs.tribometer import stribeck_svg
-from rigserver.reports.run_report import RESULT_MODELS, configuration_rows, particulars_text
+from rigserver.reports.run_report import configuration_rows, particulars_text
 from rigserver.reports.x3p import PROFILE_GROUP, NoProfile, profile_group
 from rigserver.web.entry import ReceivedRow, entry_config, entry_groups, typed
 from rigserver.web.sketches import SKETCH_MAX_MIB, sketch_items
 from schemas import labelled
+from schemas.channels import ChannelGroup
 from schemas.digits import stated_uncertainty
-from schemas.labels import RESULTS, THEORY_VERDICT, Part, theory_outside
+from schemas.labels import Part
 from schemas.messages import NP_
 from schemas.quantity import unit_paths
-from schemas.results import PinOnDiscResults, ReciprocatingResults
+from schemas.results import RESULT_MODELS, PinOnDiscResults, ReciprocatingResults
 from schemas.runs import Run, RunPage, RunState
 from schemas.sketches import Sketch
-from schemas.stands import Stand, StandKind
+from schemas.stands import DECLARATIONS, Stand, StandKind, theory_outside
 from schemas.student_notes import CONCLUSIONS_LIMIT, StudentNotes
 
 API = "/api/v1"
-
-LIVE_AXES: dict[StandKind, tuple[str, str]] = {
-    StandKind.SMTS2: ("time", "friction_moment"),
-    StandKind.SLIDE_BEARING: ("limb_angle", "p3"),
-    StandKind.MTOS: ("load", "indicator"),
-    StandKind.PROFILOMETER: ("x", "y"),
-    StandKind.PIN_ON_DISC: ("time", "friction_coefficient"),
-    StandKind.RECIPROCATING: ("time", "friction_coefficient"),
-}
-"""The channels drawn first on a run's live chart: x and y (any channel can be chosen)."""
 
 
 @lru_cache
@@ -77,6 +68,15 @@ def environment(lang: Lang) -> Environment:
     env.filters["plain"] = plain_text
     env.filters["typed"] = typed
     return env
+
+
+def live_axes(record: ChannelGroup) -> tuple[str, str]:
+    """The channels drawn first on a run's live chart, x and y: the record's declared axis
+    and main signal (its NeXus default plot), else its first and last channels (any channel
+    can be chosen)."""
+    if record.axis is not None and record.signals:
+        return record.axis, record.signals[0]
+    return record.channels[0].name, record.channels[-1].name
 
 
 def render_page(template: str, lang: Lang, **context: Any) -> str:
@@ -102,9 +102,9 @@ def key_results(t: Messages, run: Run) -> Markup:
     """``f = 0.3985; I_h,exp = 3.833·10⁻⁸`` in the display units of the stand's results; a
     theoretical value outside its theory's range says so beside it (never a bare headline)."""
     units = unit_paths(RESULT_MODELS[run.stand])
-    labels = RESULTS[run.stand]
+    labels = DECLARATIONS[run.stand].labels
     outside = theory_outside(run.stand, run.key_results)
-    verdict = THEORY_VERDICT.get(run.stand)
+    verdict = DECLARATIONS[run.stand].theory_verdict
     parts = []
     for path, value in run.key_results.items():
         if path == verdict:
@@ -270,7 +270,7 @@ def run_page(
     ``received`` so far; of a finished run, the rows received, to be corrected."""
     t = Messages(lang)
     record = next(g for g in stand.groups if g.aligned)
-    x, y = LIVE_AXES.get(stand.kind, (record.channels[0].name, record.channels[-1].name))
+    x, y = live_axes(record)
     base = f"{API}/runs/{run.id}"
     config: dict[str, Any] = {
         "run": run.id,
@@ -325,7 +325,9 @@ def run_page(
             entry_config(t, lang, run.id, form_token, config["decimal"]) if entry else None
         ),
         rows_received=t.plural(*ROWS_RECEIVED, 0),
-        words=[(field.value, t.gettext(heading)) for field, heading in CONTENTS[run.stand].words()],
+        words=[
+            (field.value, t.gettext(heading)) for field, heading in KITS[run.stand].contents.words()
+        ],
     )
 
 

@@ -6,9 +6,8 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass
 
-from rigserver.reports.contents import Students
-from rigserver.reports.contents.registry import CONTENTS
 from rigserver.reports.i18n import Messages
+from rigserver.reports.kits import KITS
 from schemas.sketches import SKETCH_MAX_BYTES, Sketch
 from schemas.stands import StandKind
 
@@ -31,13 +30,11 @@ class SketchItem:
 
 def sketch_items(t: Messages, stand: StandKind, sketches: Sequence[Sketch]) -> list[SketchItem]:
     """The sketch items of ``stand``'s lab, each with its versions among ``sketches``."""
-    items = CONTENTS[stand].students(parts=(1, 2))
     return [
         SketchItem(
             item.number,
             t.gettext(item.heading),
             sorted((s for s in sketches if s.item == item.number), key=lambda s: s.version),
         )
-        for item in items
-        if item.students is Students.SKETCH
+        for item in KITS[stand].contents.sketches()
     ]

@@ -34,7 +34,7 @@ from rigserver.api.examples import example_archive
 from rigserver.reports.eln import ELN_MEDIA_TYPE
 from rigserver.reports.formatting import spreadsheet_text
 from rigserver.reports.series_plots import Curve, overlay
-from schemas.stands import CONFIG_MODELS, StandKind
+from schemas.stands import DECLARATIONS, StandKind
 from schemas.strict_json import MAX_DEPTH
 from tests.api.conftest import READER, WRITER, Server, auth
 from tests.api.test_profile_robustness import posted_profiles
@@ -74,7 +74,7 @@ _ARRAY = st.lists(_LEAF, max_size=4).map(lambda items: "[" + ",".join(items) + "
 def run_bodies(draw: st.DrawFn) -> tuple[str, bytes]:
     """A body of POST /runs: a real stand, hostile values in its free fields and overrides."""
     stand = draw(st.sampled_from(list(StandKind)))
-    config_keys = st.sampled_from(sorted(CONFIG_MODELS[stand].model_fields)) | _TEXT
+    config_keys = st.sampled_from(sorted(DECLARATIONS[stand].configuration.model_fields)) | _TEXT
     fields = {
         "stand": json.dumps(stand.value),
         "operator": draw(st.just('"Ivanova"') | _LEAF),
@@ -149,7 +149,7 @@ def _no_flag_or_text_for_a_number(opened: tuple[str, bytes]) -> None:
     """A run taken was sent a number (never ``true`` or ``"20"``) for every number of its
     stand's configuration it overrides."""
     stand, body = opened
-    defaults = CONFIG_MODELS[StandKind(stand)]().model_dump()
+    defaults = DECLARATIONS[StandKind(stand)].configuration().model_dump()
     for name, value in json.loads(body).get("configuration", {}).items():
         if isinstance(defaults.get(name), float):
             assert isinstance(value, int | float) and not isinstance(value, bool), (name, value)

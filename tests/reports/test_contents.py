@@ -12,9 +12,9 @@ from markupsafe import Markup
 
 from rigserver.reports import equations
 from rigserver.reports.contents import Item, Students
-from rigserver.reports.contents.registry import CONTENTS
 from rigserver.reports.formatting import html_symbol
 from rigserver.reports.i18n import LANGS, MESSAGES, Lang, Messages
+from rigserver.reports.kits import KITS
 from schemas.stands import StandKind
 from tests.reports.rendered import run_report, squeezed
 
@@ -60,14 +60,14 @@ def missing(kind: StandKind, lang: Lang, items: tuple[Item, ...]) -> list[str]:
 
 @pytest.mark.parametrize(("kind", "lang"), CASES, ids=[f"{k.value}-{lang}" for k, lang in CASES])
 def test_the_report_holds_every_item_of_its_list(kind: StandKind, lang: Lang) -> None:
-    gone = missing(kind, lang, CONTENTS[kind].of_part(1))
+    gone = missing(kind, lang, KITS[kind].contents.of_part(1))
     assert not gone, "\n".join(gone)
 
 
 @pytest.mark.parametrize("kind", list(StandKind))
 def test_the_students_sections_print_as_room_on_paper_when_empty(kind: StandKind) -> None:
     html = run_report(kind, "en").html
-    for item in CONTENTS[kind].students():
+    for item in KITS[kind].contents.students():
         t = Messages("en")
         section = html.split(f"<h2>{t.gettext(item.heading)}</h2>", 1)[1].split("</section>")[0]
         room = "space frame" if item.students is Students.SKETCH else "space ruled"
@@ -75,7 +75,7 @@ def test_the_students_sections_print_as_room_on_paper_when_empty(kind: StandKind
 
 
 def test_every_formula_the_lists_ask_for_has_its_text() -> None:
-    asked = {n for c in CONTENTS.values() for i in c.items for n in i.formulas}
+    asked = {n for kit in KITS.values() for i in kit.contents.items for n in i.formulas}
     assert not asked - set(equations.EQUATIONS)
 
 

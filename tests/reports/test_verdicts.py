@@ -13,13 +13,13 @@ from rigserver.reports.i18n import Messages
 from rigserver.web.pages import key_results
 from rigsim.demo import _headline
 from rigsim.report import print_results
-from schemas.labels import THEORY_VERDICT, theory_outside
 from schemas.results import Smts2Results
-from schemas.stands import StandKind
+from schemas.stands import DECLARATIONS, StandKind, theory_outside
 from tests.reports.rendered import run_report
 from tests.reports.simulated import simulated
 
 KIND = StandKind.SMTS2
+VERDICT = DECLARATIONS[KIND].theory_verdict or ""
 
 
 def _outside_run() -> tuple[Smts2Results, dict[str, float]]:
@@ -31,14 +31,14 @@ def _outside_run() -> tuple[Smts2Results, dict[str, float]]:
 
 def test_the_key_results_carry_the_verdict() -> None:
     v, keys = _outside_run()
-    assert keys[THEORY_VERDICT[KIND]] == float(v.validity.within_range)  # type: ignore[union-attr]
+    assert keys[VERDICT] == float(v.validity.within_range)  # type: ignore[union-attr]
     assert theory_outside(KIND, keys) == (not v.validity.within_range)  # type: ignore[union-attr]
 
 
 def test_the_runs_list_and_the_console_mark_a_theory_out_of_range() -> None:
     s = simulated(KIND)
     for within, marked in ((0.0, True), (1.0, False)):
-        keys = {**s.result.key_results, THEORY_VERDICT[KIND]: within}
+        keys = {**s.result.key_results, VERDICT: within}
         run = s.run.model_copy(update={"key_results": keys})
         for lang, words in (("en", "theory outside its range"), ("ru", "теория вне области")):
             page = str(key_results(Messages(lang), run))  # type: ignore[arg-type]

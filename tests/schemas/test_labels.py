@@ -10,8 +10,8 @@ from typing import Any
 import pytest
 
 from rigserver.reports.i18n import Messages
-from schemas.labels import NOT_QUANTITIES, RESULTS, TABLES, Label
-from schemas.stands import StandKind, default_stands
+from schemas.labels import NOT_QUANTITIES, Label
+from schemas.stands import DECLARATIONS, StandKind, default_stands
 from schemas.units import UNITS
 from tests.reports.simulated import simulated
 
@@ -46,7 +46,7 @@ def _translated(text: str) -> bool:
 
 
 def _label_of(kind: StandKind, path: str) -> Label | None:
-    labels = RESULTS[kind]
+    labels = DECLARATIONS[kind].labels
     general = re.sub(r"\[\d+\]", "[]", path)
     for candidate in (general, general.removesuffix("[]"), general.rsplit(".", 1)[0]):
         if candidate in labels:
@@ -62,7 +62,7 @@ def test_every_result_produced_has_a_label(kind: StandKind) -> None:
         if re.split(r"[.\[]", path)[0] in NOT_QUANTITIES:
             continue
         label = _label_of(kind, path)
-        if value is None and any(key.startswith(f"{path}.") for key in RESULTS[kind]):
+        if value is None and any(key.startswith(f"{path}.") for key in DECLARATIONS[kind].labels):
             continue  # a part of the results this run has not got (no disc profile)
         if label is None:
             missing.append(path)
@@ -74,13 +74,13 @@ def test_every_result_produced_has_a_label(kind: StandKind) -> None:
 
 @pytest.mark.parametrize("kind", list(StandKind))
 def test_every_label_has_both_languages_and_a_unit(kind: StandKind) -> None:
-    for path, label in RESULTS[kind].items():
+    for path, label in DECLARATIONS[kind].labels.items():
         assert _translated(label.text), f"{kind.value}.{path}: no Russian for {label.text!r}"
         assert label.unit in UNITS, path
         assert 1 <= label.digits <= 9, path
-    for table in TABLES[kind]:
+    for table in DECLARATIONS[kind].tables:
         assert _translated(table.caption)
-        assert set(table.columns) <= set(RESULTS[kind])
+        assert set(table.columns) <= set(DECLARATIONS[kind].labels)
 
 
 def test_every_channel_has_both_languages_and_a_unit() -> None:

@@ -23,11 +23,12 @@ from tests.api.conftest import KEYS, WRITER, Server
 pytestmark = pytest.mark.slow
 
 #: stand -> (channel group, the signals, the axis): the quantities of the lab manual's
-#: plots (lab 2: M_tr(t); lab 3: p1..p5 over the limb angle, table 3.1; lab 4: Δl over N,
-#: tables 4.1-4.3; lab 1: the profile y(x); a tribometer: μ and F_t over time).
+#: plots (lab 2: M_tr(t); lab 3: p1..p5 over the limb angle, table 3.1, first p3, the middle
+#: manometer at z = 0; lab 4: Δl over N, tables 4.1-4.3; lab 1: the profile y(x); a
+#: tribometer: μ and F_t over time).
 DEFAULT_PLOT = {
     StandKind.SMTS2: ("friction", ["friction_moment"], "time"),
-    StandKind.SLIDE_BEARING: ("rows", ["p1", "p2", "p3", "p4", "p5"], "limb_angle"),
+    StandKind.SLIDE_BEARING: ("rows", ["p3", "p1", "p2", "p4", "p5"], "limb_angle"),
     StandKind.MTOS: ("steps", ["indicator"], "load"),
     StandKind.PROFILOMETER: ("profile", ["y"], "x"),
     StandKind.PIN_ON_DISC: ("friction", ["friction_coefficient", "friction_force"], "time"),

@@ -18,8 +18,9 @@ from rigserver.api.sessions import COOKIE, SESSION_SECONDS, Sessions
 from rigserver.api.settings import Settings
 from rigserver.reports.formatting import shown
 from rigserver.storage import MemoryStore
+from rigserver.web.pages import live_axes
 from schemas.labels import PROFILOMETER, SMTS2
-from schemas.stands import StandKind, configure_stands
+from schemas.stands import StandKind, configure_stands, default_stands
 from tests.api.conftest import KEYS, MTOS_ONLY, READER, WRITER, auth
 from tests.reports.simulated import post, simulated
 
@@ -191,6 +192,25 @@ def test_a_read_key_given_once_becomes_a_session_for_reads_only(tmp_path: Path) 
         assert opened.status_code == 401  # never a write by cookie
         client.post("/logout")
         assert client.get("/").status_code == 303
+
+
+#: The manual's plots of each stand's record (x, y): lab 2 M_tr(t); lab 3 the middle
+#: manometer p3 (z = 0, table 3.1) over the limb angle; lab 4 Δl over N (tables 4.1-4.3);
+#: lab 1 the profile y(x); a tribometer μ(t).
+LIVE_CHARTS = {
+    StandKind.SMTS2: ("time", "friction_moment"),
+    StandKind.SLIDE_BEARING: ("limb_angle", "p3"),
+    StandKind.MTOS: ("load", "indicator"),
+    StandKind.PROFILOMETER: ("x", "y"),
+    StandKind.PIN_ON_DISC: ("time", "friction_coefficient"),
+    StandKind.RECIPROCATING: ("time", "friction_coefficient"),
+}
+
+
+@pytest.mark.parametrize("kind", list(StandKind))
+def test_a_live_chart_draws_the_manual_s_plot_of_the_record(kind: StandKind) -> None:
+    record = next(g for g in default_stands()[kind].groups if g.aligned)
+    assert live_axes(record) == LIVE_CHARTS[kind]
 
 
 def test_a_cookie_of_no_live_session_shows_no_log_out(

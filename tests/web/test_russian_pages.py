@@ -13,8 +13,7 @@ import httpx
 import pytest
 
 from rigserver.reports.i18n import Messages
-from schemas.labels import RESULTS
-from schemas.stands import StandKind
+from schemas.stands import DECLARATIONS, StandKind
 from tests.api.conftest import READER, WRITER, Server
 from tests.i18n.messages import every_message
 from tests.reports.simulated import post, simulated
@@ -42,7 +41,10 @@ def symbols() -> set[str]:
     results' labels, and the symbols the Russian texts of the catalog carry (``E1, модуль
     упругости``, ``HB2``)."""
     found = {
-        w for labels in RESULTS.values() for label in labels.values() for w in _words(label.symbol)
+        w
+        for declared in DECLARATIONS.values()
+        for label in declared.labels.values()
+        for w in _words(label.symbol)
     }
     ru = Messages("ru")
     for context, text in every_message():

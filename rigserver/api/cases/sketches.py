@@ -6,22 +6,17 @@ from __future__ import annotations
 from rigserver.api.auth import ApiKey
 from rigserver.api.cases.found import load_run
 from rigserver.api.cases.notes import author
-from rigserver.api.deps import (
-    Services,
-    require_write,
-)
+from rigserver.api.deps import Services, require_write
 from rigserver.api.problems import ApiProblem
 from rigserver.api.sketch_images import SketchImage
-from rigserver.reports.contents import Students
-from rigserver.reports.contents.registry import CONTENTS
+from rigserver.reports.kits import KITS
 from schemas.runs import Run
 from schemas.sketches import Sketch
 
 
 def sketch_items(run: Run) -> list[int]:
     """The numbers of the sketch items of the run's lab's report list."""
-    items = CONTENTS[run.stand].students(parts=(1, 2))
-    return [i.number for i in items if i.students is Students.SKETCH]
+    return [i.number for i in KITS[run.stand].contents.sketches()]
 
 
 def sketch_item(run: Run, item: int) -> int:

@@ -69,6 +69,11 @@ class Contents:
         """The items the students fill in, in the list's order."""
         return tuple(i for i in self.items if i.students is not None and i.part in parts)
 
+    def sketches(self) -> tuple[Item, ...]:
+        """The items that take a sketch (an image uploaded, or a frame drawn in on paper),
+        of every part of the work."""
+        return tuple(i for i in self.items if i.students is Students.SKETCH)
+
     def words(self) -> list[tuple[Students, str]]:
         """The fields of their notes the students write for a run of this lab, each with
         the heading it is printed under (the first item's of that field; observations, which

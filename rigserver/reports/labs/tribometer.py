@@ -16,9 +16,14 @@ from rigserver.reports.i18n import Messages
 from rigserver.reports.labs import iso_profile
 from rigserver.reports.labs.tribometer_conditions import conditions_table, deviations
 from rigserver.reports.plots import axes, decorate, to_svg
-from schemas.labels import RESULTS, TABLES, WEAR_SUBSCRIPTS, RowTable, row_labels
+from schemas.labels import WEAR_SUBSCRIPTS, RowTable, row_labels
 from schemas.results import PinOnDiscResults, ReciprocatingResults, TribometerStep, WearEstimate
-from schemas.stands import CONFIG_MODELS, MEASUREMENTS, PinOnDiscConfig, ReciprocatingConfig
+from schemas.stands import (
+    DECLARATIONS,
+    MEASUREMENTS,
+    PinOnDiscConfig,
+    ReciprocatingConfig,
+)
 from schemas.units import UNITS
 
 Results = PinOnDiscResults | ReciprocatingResults
@@ -41,7 +46,7 @@ def _measured(
     """The weighings and the friction record: the conditions, its figures and plot, the
     steps, the lap map or the strokes and their loops."""
     t = ctx.t
-    labels = RESULTS[ctx.run.stand]
+    labels = DECLARATIONS[ctx.run.stand].labels
     balance = config.accuracy.balance_resolution
     masses = {
         f"{specimen}_mass_{when}": balance / UNITS["g"].factor
@@ -99,8 +104,9 @@ def _measured(
 
 def build(ctx: Context, v: Results) -> LabReport:
     t = ctx.t
-    labels = RESULTS[ctx.run.stand]
-    config = CONFIG_MODELS[ctx.run.stand].model_validate(ctx.run.configuration)
+    declared = DECLARATIONS[ctx.run.stand]
+    labels = declared.labels
+    config = declared.configuration.model_validate(ctx.run.configuration)
     assert isinstance(config, PinOnDiscConfig | ReciprocatingConfig)
     measured = _measured(ctx, v, config)
     processed: list[Block] = []
@@ -160,13 +166,13 @@ def _wear(v: Results) -> list[tuple[str, str]]:
 
 
 def _table(ctx: Context, name: str) -> RowTable:
-    return next(table for table in TABLES[ctx.run.stand] if table.name == name)
+    return next(table for table in DECLARATIONS[ctx.run.stand].tables if table.name == name)
 
 
 def _steps(ctx: Context, v: Results) -> list[Block]:
     """The recipe's steps: their table and μ against the sliding speed (a Stribeck curve)."""
     t = ctx.t
-    labels = row_labels(RESULTS[ctx.run.stand], "steps[].")
+    labels = row_labels(DECLARATIONS[ctx.run.stand].labels, "steps[].")
     table = blocks.result_table(
         t,
         t.gettext(_table(ctx, "steps").caption),

@@ -1,0 +1,84 @@
+"""The results of each stand's analysis, declared with units (what `/results` answers).
+
+The wire form is ``{"stand": ..., "values": <one of the models below>, "units": {path: unit}}``
+with the units of every quantity, nested paths joined by dots (``rows[].chi``).
+"""
+
+from __future__ import annotations
+
+from pydantic import BaseModel
+
+from schemas.results.common import IsoRoughnessResult, Series
+from schemas.results.mtos import MtosResults, MtosStep
+from schemas.results.profilometer import BearingFitResult, ProfilometerResults
+from schemas.results.slide_bearing import AxialPoint, SlideBearingResults, SlideBearingRow
+from schemas.results.smts2 import (
+    AdequacyResult,
+    DiscWearResult,
+    ExperimentalWearResult,
+    SensitivityPoint,
+    Smts2Results,
+    TheoreticalWearResult,
+    WearValidityResult,
+)
+from schemas.results.tribometer import (
+    FrictionLoop,
+    HertzResult,
+    LapMapResult,
+    MassWear,
+    PinOnDiscResults,
+    ReciprocatingResults,
+    ScarWear,
+    StrokeBlock,
+    TrackWear,
+    TribometerResults,
+    TribometerStep,
+    WearEstimate,
+)
+from schemas.stands import StandKind
+
+RESULT_MODELS: dict[StandKind, type[BaseModel]] = {
+    StandKind(model.model_fields["stand"].default): model
+    for model in (
+        Smts2Results,
+        SlideBearingResults,
+        MtosResults,
+        ProfilometerResults,
+        PinOnDiscResults,
+        ReciprocatingResults,
+    )
+}
+"""Each stand kind's results model, by the kind its ``stand`` field names: a module of this
+package per kind, one line here."""
+
+__all__ = [
+    "RESULT_MODELS",
+    "AdequacyResult",
+    "AxialPoint",
+    "BearingFitResult",
+    "DiscWearResult",
+    "ExperimentalWearResult",
+    "FrictionLoop",
+    "HertzResult",
+    "IsoRoughnessResult",
+    "LapMapResult",
+    "MassWear",
+    "MtosResults",
+    "MtosStep",
+    "PinOnDiscResults",
+    "ProfilometerResults",
+    "ReciprocatingResults",
+    "ScarWear",
+    "SensitivityPoint",
+    "Series",
+    "SlideBearingResults",
+    "SlideBearingRow",
+    "Smts2Results",
+    "StrokeBlock",
+    "TheoreticalWearResult",
+    "TrackWear",
+    "TribometerResults",
+    "TribometerStep",
+    "WearEstimate",
+    "WearValidityResult",
+]

@@ -21,6 +21,7 @@ import re
 from collections.abc import Iterator, Sequence
 from contextlib import contextmanager
 from contextvars import ContextVar
+from decimal import Decimal
 from typing import Any
 
 from babel.numbers import get_decimal_symbol
@@ -104,7 +105,8 @@ def column_numbers(values: Sequence[float | None], places: int) -> list[str]:
         if v is None or isinstance(v, bool) or not math.isfinite(v):
             out.append(DASH)
             continue
-        mantissa = round(v / 10.0**power, shift) if shift < 0 else v / 10.0**power
+        scaled = float(Decimal(v).scaleb(-power))  # 10^-power overflows past 1e308
+        mantissa = round(scaled, shift) if shift < 0 else scaled
         text = f"{mantissa:.{max(shift, 0)}f}"
         if float(text) == 0:
             text = text.lstrip("-")  # -0.00 is 0.00

@@ -116,7 +116,7 @@ def speed(repeat: int) -> dict[str, Any]:
 def mtos_run(steps: int) -> tuple[Any, Any]:
     """An MTOS run of ``steps`` load steps (300-3000 N, the simulator's short-bearing truth,
     the gauges' resolution and noise): the run and its readings."""
-    from rigsim.stands import mtos as simulated_mtos
+    from rigsim.simulators import mtos as simulated_mtos
     from tests.analysis.conftest import FakeReadings, make_run
 
     loads = tuple(float(n) for n in np.linspace(300.0, 3000.0, steps).round(1))

@@ -51,7 +51,7 @@ sys.path.insert(0, str(ROOT))
 from benchmarks.ingest import API, KEY, rigserver  # noqa: E402
 from rigsim.client import LabClient  # noqa: E402
 from rigsim.errors import RigsimError  # noqa: E402
-from rigsim.stands import simulate  # noqa: E402
+from rigsim.simulators import simulate  # noqa: E402
 from schemas.stands import StandKind  # noqa: E402
 
 TARGET_P99_MS = 100.0

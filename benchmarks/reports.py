@@ -40,7 +40,7 @@ sys.path.insert(0, str(ROOT))
 
 from benchmarks.ingest import API, KEY, rigserver  # noqa: E402
 from rigsim.batches import SimulatedRun  # noqa: E402
-from rigsim.stands import simulate  # noqa: E402
+from rigsim.simulators import simulate  # noqa: E402
 from schemas.stands import StandKind  # noqa: E402
 
 TARGET_REPEAT_RATIO = 0.05

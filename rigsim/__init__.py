@@ -1,6 +1,6 @@
 """rigsim: simulated tribology stands that post readings to a real rigserver over HTTP.
 
-- :mod:`rigsim.stands`: the lab's four stands and the two tribometers,
+- :mod:`rigsim.simulators`: the lab's four stands and the two tribometers,
   ``simulate(settings, seed) -> SimulatedRun`` (the run to open, its batches in stand
   order, and the truth).
 - :mod:`rigsim.instruments`: offsets, drift, noise, quantisation and faults.
@@ -21,7 +21,7 @@ from rigsim.errors import (
     SettingsError,
 )
 from rigsim.instruments import Fault, Instrument
-from rigsim.stands import SIMULATORS, simulate
+from rigsim.simulators import SIMULATORS, simulate
 
 __all__ = [
     "SIMULATORS",

@@ -29,8 +29,8 @@ from rigsim.client import LabClient
 from rigsim.errors import RigsimError, ServerError
 from rigsim.instruments import FAULT_KINDS, Fault, Instrument
 from rigsim.report import print_results
-from rigsim.stands import SIMULATORS
-from rigsim.stands.smts2 import MODES
+from rigsim.simulators import SIMULATORS
+from rigsim.simulators.smts2 import MODES
 from schemas.stands import StandKind
 
 

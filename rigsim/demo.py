@@ -33,8 +33,8 @@ from rigclient.summary import quantity
 from rigsim.batches import SimulatedRun
 from rigsim.client import LabClient, RunOutcome
 from rigsim.errors import PortInUse, RigsimError, ServerError, ServerUnavailable
-from rigsim.stands import simulate
-from rigsim.stands.tribometer import simulate_sweep
+from rigsim.simulators import simulate
+from rigsim.simulators.tribometer import simulate_sweep
 from schemas.labels import Part
 from schemas.stands import DECLARATIONS, StandKind, theory_outside
 

@@ -28,8 +28,8 @@ from numpy.typing import NDArray
 
 from rigsim.batches import SimulatedRun
 from rigsim.errors import SettingsError
-from rigsim.stands import SIMULATORS
-from rigsim.stands.tribometer import TribometerTruth
+from rigsim.simulators import SIMULATORS
+from rigsim.simulators.tribometer import TribometerTruth
 from schemas.stands import PinOnDiscConfig, ReciprocatingConfig, StandKind
 
 FloatArray = NDArray[np.float64]

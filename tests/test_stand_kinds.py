@@ -17,7 +17,7 @@ from rigserver.analysis.kits import KITS as ANALYSIS_KITS
 from rigserver.analysis.series import label_of
 from rigserver.reports.kits import KITS as REPORT_KITS
 from rigserver.reports.series_report import TEXT
-from rigsim.stands import SIMULATORS
+from rigsim.simulators import SIMULATORS
 from schemas.results import RESULT_MODELS
 from schemas.stands import DECLARATIONS, StandKind
 
@@ -28,7 +28,7 @@ REGISTRIES = {
     "schemas/stands.py",
     "rigserver/analysis/kits.py",
     "rigserver/reports/kits.py",
-    "rigsim/stands/__init__.py",
+    "rigsim/simulators/__init__.py",
 }
 
 

@@ -13,7 +13,7 @@ import pytest
 
 from rigsim.batches import Batch
 from rigsim.cli import settings_for
-from rigsim.stands import SIMULATORS
+from rigsim.simulators import SIMULATORS
 from schemas.results import PinOnDiscResults
 from schemas.stands import MEASUREMENTS, StandKind
 from tests.reports.rendered import report_html

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from rigserver.analysis import analyse
-from rigsim.stands import mtos, profilometer
+from rigsim.simulators import mtos, profilometer
 from schemas.results import MtosResults
 from schemas.runs import Run
 from schemas.stands import StandKind

@@ -15,8 +15,8 @@ from hypothesis import strategies as st
 from rigserver.analysis import analyse
 from rigserver.analysis.series import Member, series_statistics
 from rigsim.batches import SimulatedRun
-from rigsim.stands import simulate
-from rigsim.stands.smts2 import MODES, Mode, Smts2Settings
+from rigsim.simulators import simulate
+from rigsim.simulators.smts2 import MODES, Mode, Smts2Settings
 from schemas.runs import Run, RunState
 from schemas.series import ResultStatistics, Series, SeriesPurpose
 from schemas.stands import StandKind, default_stands, with_overrides

@@ -12,7 +12,7 @@ import pytest
 
 from rigserver.reports import plots
 from rigserver.reports.i18n import Lang
-from rigsim.stands.tribometer import SweepTruth, simulate_sweep
+from rigsim.simulators.tribometer import SweepTruth, simulate_sweep
 from schemas.results import PinOnDiscResults
 from schemas.stands import StandKind
 from tests.reports.rendered import report_html

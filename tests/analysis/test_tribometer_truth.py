@@ -25,8 +25,8 @@ from hypothesis import strategies as st
 from rigserver.analysis.running_in import NOISE_ALPHA, blocks_of
 from rigserver.core.tribometer import STEADY_BAND
 from rigsim.cli import settings_for
-from rigsim.stands import SIMULATORS
-from rigsim.stands.tribometer import TRACE_STEP, running_in_shape
+from rigsim.simulators import SIMULATORS
+from rigsim.simulators.tribometer import TRACE_STEP, running_in_shape
 from schemas.results import PinOnDiscResults, ReciprocatingResults
 from schemas.stands import StandKind
 from tests.reports.simulated import analysed

@@ -25,8 +25,8 @@ from scipy.signal import find_peaks
 
 from rigserver.core import roughness
 from rigsim.cli import settings_for
-from rigsim.stands import SIMULATORS
-from rigsim.stands.mtos import simulated_configuration
+from rigsim.simulators import SIMULATORS
+from rigsim.simulators.mtos import simulated_configuration
 from schemas.results import MtosResults, ProfilometerResults, SlideBearingResults, Smts2Results
 from schemas.stands import StandKind
 from tests.reports.simulated import analysed

@@ -12,7 +12,7 @@ from pathlib import Path
 import httpx
 
 from rigsim.client import LabClient
-from rigsim.stands import simulate
+from rigsim.simulators import simulate
 from tests.api.conftest import READER, WRITER, Server, auth
 
 #: The bound of the issue: no descendant left this long after the server's death.

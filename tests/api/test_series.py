@@ -16,8 +16,8 @@ from rigserver.api.app import create_app
 from rigserver.api.auth import ApiKey
 from rigserver.api.settings import Settings
 from rigserver.storage import MemoryStore
-from rigsim.stands import simulate
-from rigsim.stands.smts2 import Smts2Settings
+from rigsim.simulators import simulate
+from rigsim.simulators.smts2 import Smts2Settings
 from schemas.stands import StandKind, configure_stands
 from tests.api.conftest import KEYS, MTOS_ONLY, READER, WRITER, auth
 from tests.reports.simulated import post, tables

@@ -27,8 +27,8 @@ from rigserver.api.auth import ApiKey
 from rigserver.api.settings import Settings
 from rigserver.api.sketch_images import checked
 from rigserver.storage import MemoryStore
-from rigsim.stands import simulate
-from rigsim.stands.smts2 import Smts2Settings
+from rigsim.simulators import simulate
+from rigsim.simulators.smts2 import Smts2Settings
 from schemas.sketches import SKETCH_MAX_BYTES, SKETCH_MAX_PIXELS, SKETCH_MAX_SIDE
 from schemas.stands import StandKind, configure_stands
 from tests.api.conftest import KEYS, MTOS_ONLY, READER, WRITER, Server, auth

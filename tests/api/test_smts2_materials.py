@@ -12,8 +12,8 @@ import pytest
 from fastapi.testclient import TestClient
 
 from rigserver.analysis.specimens import SMTS2
-from rigsim.stands import simulate
-from rigsim.stands.smts2 import Smts2Settings
+from rigsim.simulators import simulate
+from rigsim.simulators.smts2 import Smts2Settings
 from schemas.stands import PinMaterial, StandKind
 from tests.api.conftest import READER, WRITER, auth
 from tests.reports.simulated import post

@@ -8,7 +8,7 @@ from html import unescape
 import pytest
 from fastapi.testclient import TestClient
 
-from rigsim.stands.tribometer import simulate_sweep
+from rigsim.simulators.tribometer import simulate_sweep
 from tests.api.conftest import READER, WRITER, auth
 from tests.reports.simulated import post
 

@@ -23,7 +23,7 @@ from rigserver.api.auth import ApiKey
 from rigserver.api.settings import Settings
 from rigserver.reports.eln import ELN_MEDIA_TYPE, METADATA
 from rigserver.storage import HDF5Store, MemoryStore
-from rigsim.stands import simulate
+from rigsim.simulators import simulate
 from schemas.stands import StandKind, configure_stands
 from tests.api.conftest import KEYS, WRITER, auth
 from tests.reports.simulated import post

@@ -16,7 +16,7 @@ from rigserver.api.problems import ApiProblem
 from rigserver.api.routes.eln import _checked
 from rigsim.batches import Batch
 from rigsim.cli import settings_for
-from rigsim.stands import SIMULATORS
+from rigsim.simulators import SIMULATORS
 from schemas.stands import StandKind, default_stands
 from tests.api.conftest import WRITER
 from tests.eln.conftest import Lab, export, import_archive

@@ -10,7 +10,7 @@ from typing import Any
 import h5py
 from fastapi.testclient import TestClient
 
-from rigsim.stands import simulate
+from rigsim.simulators import simulate
 from schemas.stands import StandKind
 from tests.api.conftest import READER, WRITER, auth
 from tests.eln.conftest import Lab, export, import_archive, members

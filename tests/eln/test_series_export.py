@@ -16,7 +16,7 @@ from rigserver.api.auth import ApiKey
 from rigserver.api.settings import Settings
 from rigserver.reports.i18n import LANGS
 from rigserver.storage import MemoryStore
-from rigsim.stands import simulate
+from rigsim.simulators import simulate
 from schemas.stands import StandKind, configure_stands
 from tests.api.conftest import KEYS, READER, WRITER, auth
 from tests.reports.simulated import post

@@ -7,7 +7,7 @@ from __future__ import annotations
 import pytest
 from fastapi.testclient import TestClient
 
-from rigsim.stands import simulate
+from rigsim.simulators import simulate
 from schemas.stands import StandKind
 from tests.api.conftest import READER, WRITER, auth
 from tests.api.test_sketches import image

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from rigsim.client import LabClient, RunOutcome
-from rigsim.stands import simulate
+from rigsim.simulators import simulate
 from tests.api.conftest import WRITER, auth, read_columns
 from tests.hardening.conftest import API, friction, npz_body, open_run, serve
 

@@ -35,8 +35,8 @@ from rigserver.storage import MemoryStore
 from rigserver.storage.cluster.series_postgres import PostgresSeries
 from rigserver.storage.errors import MemberExists, OtherStand, SeriesFull
 from rigserver.storage.series import SeriesStore, SqliteSeries
-from rigsim.stands import simulate
-from rigsim.stands.smts2 import Smts2Settings
+from rigsim.simulators import simulate
+from rigsim.simulators.smts2 import Smts2Settings
 from schemas.series import SERIES_RUNS_LIMIT, SeriesCreate, SeriesPurpose
 from schemas.stands import StandKind, configure_stands
 from tests.api.conftest import KEYS, READER, WRITER, Server, auth

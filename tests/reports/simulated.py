@@ -19,7 +19,7 @@ from numpy.typing import NDArray
 
 from rigserver.analysis import AnalysisResult, analyse
 from rigsim.batches import SimulatedRun
-from rigsim.stands import simulate
+from rigsim.simulators import simulate
 from schemas.runs import Run, RunState
 from schemas.stands import MEASUREMENTS, Stand, StandKind, default_stands, with_overrides
 

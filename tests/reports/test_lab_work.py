@@ -19,8 +19,8 @@ from rigserver.reports.i18n import Lang
 from rigserver.reports.lab_work import WorkRun, build_lab_work
 from rigserver.reports.run_report import render_report
 from rigserver.storage import MemoryStore
-from rigsim.stands import simulate
-from rigsim.stands.smts2 import Smts2Settings
+from rigsim.simulators import simulate
+from rigsim.simulators.smts2 import Smts2Settings
 from schemas.stands import StandKind, configure_stands
 from schemas.student_notes import StudentNotes
 from tests.api.conftest import KEYS, READER, WRITER, auth

@@ -25,7 +25,7 @@ from rigserver.reports.run_report import (
     particulars_text,
     render_report,
 )
-from rigsim.stands.smts2 import MODES
+from rigsim.simulators.smts2 import MODES
 from schemas.labels import MTOS, PROFILOMETER, SLIDE_BEARING, Label
 from schemas.results import MtosResults, ProfilometerResults, SlideBearingResults, Smts2Results
 from schemas.runs import RunState

@@ -23,7 +23,7 @@ import pytest
 from rigclient import Client, RetryPolicy, ServerUnavailable
 from rigclient.http import Api, TryLater
 from rigsim.client import LabClient
-from rigsim.stands import SIMULATORS
+from rigsim.simulators import SIMULATORS
 from schemas.stands import StandKind
 from tests.processes import spawn, stop
 from tests.rigclient.conftest import AgentProcess

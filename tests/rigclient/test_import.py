@@ -12,7 +12,7 @@ import pytest
 
 from rigsim.cli import settings_for
 from rigsim.export import export_text
-from rigsim.stands import SIMULATORS
+from rigsim.simulators import SIMULATORS
 from schemas.stands import StandKind
 from tests.api.conftest import WRITER, Server, read_columns
 from tests.rigclient.conftest import AgentProcess

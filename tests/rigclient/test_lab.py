@@ -24,9 +24,9 @@ import pytest
 from rigclient import Lab, LabRun
 from rigclient.errors import ServerRefused
 from rigsim.client import LabClient
-from rigsim.stands import simulate
-from rigsim.stands.mtos import MtosSettings
-from rigsim.stands.tribometer import TribometerSettings
+from rigsim.simulators import simulate
+from rigsim.simulators.mtos import MtosSettings
+from rigsim.simulators.tribometer import TribometerSettings
 from schemas.runs import RunCreate
 from schemas.stands import default_stands
 from tests.api.conftest import MTOS_ONLY, READER, WRITER, Server, auth, served

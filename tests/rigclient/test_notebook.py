@@ -14,8 +14,8 @@ import pytest
 from nbclient import NotebookClient
 
 from rigsim.client import LabClient
-from rigsim.stands import simulate
-from rigsim.stands.mtos import MtosSettings
+from rigsim.simulators import simulate
+from rigsim.simulators.mtos import MtosSettings
 from schemas.runs import RunCreate
 from tests.api.conftest import READER, WRITER, Server, auth, served
 

@@ -16,7 +16,7 @@ import pytest
 
 from rigclient.mapping import load_map
 from rigsim.batches import split
-from rigsim.stands.tribometer import simulate_sweep
+from rigsim.simulators.tribometer import simulate_sweep
 from schemas.results import PinOnDiscResults
 from schemas.stands import StandKind
 from tests.reports.simulated import analysed

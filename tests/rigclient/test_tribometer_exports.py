@@ -16,7 +16,7 @@ import pytest
 from rigclient.mapping import load_map
 from rigsim.cli import settings_for
 from rigsim.export import DIALECTS, export_text
-from rigsim.stands import SIMULATORS
+from rigsim.simulators import SIMULATORS
 from schemas.stands import StandKind
 from tests.rigclient.importing import import_file
 

@@ -20,8 +20,8 @@ from rigsim.cli import parse_fault, parse_speed, settings_for
 from rigsim.demo import KEYS_FILE, demo_key
 from rigsim.instruments import Fault
 from rigsim.report import print_results
-from rigsim.stands import mtos, smts2
-from rigsim.stands.tribometer import SWEEP
+from rigsim.simulators import mtos, smts2
+from rigsim.simulators.tribometer import SWEEP
 from schemas.stands import StandKind
 from tests.api.conftest import READER, Server, auth, free_port
 from tests.processes import spawn, stop

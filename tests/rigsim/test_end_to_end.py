@@ -20,7 +20,7 @@ from rigsim import cli
 from rigsim.client import LabClient, RetryPolicy
 from rigsim.errors import ServerRefused
 from rigsim.instruments import Fault
-from rigsim.stands import mtos, profilometer, simulate, slide_bearing, smts2
+from rigsim.simulators import mtos, profilometer, simulate, slide_bearing, smts2
 from tests.api.conftest import WRITER, Server, read_columns
 
 pytestmark = pytest.mark.slow

@@ -11,7 +11,7 @@ import pytest
 
 from rigsim.cli import main, settings_for
 from rigsim.export import DIALECTS, export_text
-from rigsim.stands import SIMULATORS
+from rigsim.simulators import SIMULATORS
 from schemas.stands import StandKind
 
 KINDS = [StandKind.PIN_ON_DISC, StandKind.RECIPROCATING]

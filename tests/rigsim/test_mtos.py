@@ -1,4 +1,4 @@
-"""rigsim.stands.mtos: the readings, processed by the stand's formulas, give back the truth."""
+"""rigsim.simulators.mtos: the readings, processed by the stand's formulas, give back the truth."""
 
 from __future__ import annotations
 
@@ -11,7 +11,7 @@ import pytest
 from rigserver.core import bearing, bearing_readings
 from rigsim.batches import SimulatedRun
 from rigsim.errors import SettingsError
-from rigsim.stands import mtos
+from rigsim.simulators import mtos
 from rigsim.thermal import DROP_VOLUME, OIL_DENSITY, OIL_HEAT_CAPACITY
 from schemas.channels import check_columns
 from schemas.stands import MTOS_GROUPS

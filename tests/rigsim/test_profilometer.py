@@ -1,4 +1,4 @@
-"""rigsim.stands.profilometer: the trace's Ra, the bearing-curve shape, the correlation."""
+"""rigsim.simulators.profilometer: the trace's Ra, the bearing-curve shape, the correlation."""
 
 from __future__ import annotations
 
@@ -7,7 +7,7 @@ import pytest
 
 from rigserver.core import roughness
 from rigsim.errors import SettingsError
-from rigsim.stands import profilometer as pm
+from rigsim.simulators import profilometer as pm
 from schemas.channels import check_columns
 from schemas.stands import PROFILOMETER_GROUPS
 

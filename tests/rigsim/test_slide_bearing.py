@@ -1,4 +1,4 @@
-"""rigsim.stands.slide_bearing: readings that the lab-3 formulas turn back into the truth."""
+"""rigsim.simulators.slide_bearing: readings that the lab-3 formulas turn back into the truth."""
 
 from __future__ import annotations
 
@@ -11,7 +11,7 @@ from rigserver.core import bearing, bearing_readings
 from rigsim.batches import SimulatedRun
 from rigsim.bearing_model import Geometry, film
 from rigsim.errors import SettingsError
-from rigsim.stands import slide_bearing as sb
+from rigsim.simulators import slide_bearing as sb
 from rigsim.thermal import OIL_DENSITY, OIL_HEAT_CAPACITY
 from schemas.channels import check_columns
 from schemas.stands import SLIDE_BEARING_GROUPS, SlideBearingConfig

@@ -1,4 +1,4 @@
-"""rigsim.stands.smts2: the friction record and the weighings give back the truth."""
+"""rigsim.simulators.smts2: the friction record and the weighings give back the truth."""
 
 from __future__ import annotations
 
@@ -8,7 +8,7 @@ import pytest
 from rigserver.core import wear
 from rigsim.batches import SimulatedRun
 from rigsim.errors import SettingsError
-from rigsim.stands import smts2
+from rigsim.simulators import smts2
 from schemas.channels import check_columns
 from schemas.stands import SMTS2_GROUPS, Smts2Config
 

@@ -13,7 +13,7 @@ from hypothesis import strategies as st
 
 from rigsim.batches import SimulatedRun
 from rigsim.instruments import Fault, beyond_limit
-from rigsim.stands import mtos, profilometer, slide_bearing, smts2, tribometer
+from rigsim.simulators import mtos, profilometer, slide_bearing, smts2, tribometer
 from schemas.channels import check_columns
 from schemas.stands import default_stands
 

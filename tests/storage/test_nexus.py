@@ -16,7 +16,7 @@ import pytest
 from nexusformat.nexus import NXdata, nxload
 
 from rigsim.client import LabClient
-from rigsim.stands import simulate
+from rigsim.simulators import simulate
 from schemas.stands import StandKind
 from tests.api.conftest import KEYS, WRITER, Server
 

@@ -18,7 +18,7 @@ import httpx
 import pytest
 
 from rigsim.client import LabClient, RunOutcome
-from rigsim.stands import smts2
+from rigsim.simulators import smts2
 from tests.api.conftest import READER, WRITER, Server, auth
 
 CHROMIUM = Path("/usr/bin/chromium")

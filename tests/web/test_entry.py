@@ -24,7 +24,7 @@ import pytest
 
 from rigsim.batches import SimulatedRun
 from rigsim.client import LabClient
-from rigsim.stands import mtos, slide_bearing
+from rigsim.simulators import mtos, slide_bearing
 from tests.api.conftest import KEYS, READER, WRITER, Server, auth, read_columns
 from tests.web.test_browser import CHROMIUM, chromium, until
 

@@ -9,8 +9,8 @@ from pathlib import Path
 import httpx
 import pytest
 
-from rigsim.stands import simulate
-from rigsim.stands.smts2 import Smts2Settings
+from rigsim.simulators import simulate
+from rigsim.simulators.smts2 import Smts2Settings
 from schemas.stands import StandKind
 from tests.api.conftest import WRITER, Server, auth, served
 from tests.reports.simulated import post

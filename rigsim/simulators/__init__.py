@@ -12,7 +12,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from rigsim.batches import SimulatedRun
-from rigsim.stands import mtos, profilometer, slide_bearing, smts2, tribometer
+from rigsim.simulators import mtos, profilometer, slide_bearing, smts2, tribometer
 from schemas.stands import StandKind
 
 __all__ = ["SIMULATORS", "Simulator", "simulate"]

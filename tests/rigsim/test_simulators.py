@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import rigsim
-from rigsim.stands import SIMULATORS, simulate
+from rigsim.simulators import SIMULATORS, simulate
 from schemas.stands import StandKind
 
 FAST: dict[StandKind, dict[str, Any]] = {

@@ -37,7 +37,7 @@ from rigserver.core.tribometer import STEADY_BAND
 from rigsim.batches import Batch, SimulatedRun, split
 from rigsim.errors import SettingsError
 from rigsim.instruments import Fault, Instrument, apply_faults
-from rigsim.stands.smts2 import _fluctuation
+from rigsim.simulators.smts2 import _fluctuation
 from schemas.runs import RunCreate
 from schemas.stands import (
     MEASUREMENTS,

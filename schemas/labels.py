@@ -833,6 +833,7 @@ WORDS: tuple[str, ...] = (
 modes, methods, the instrument)."""
 
 VALUE_WORDS: dict[str, str] = {
+    "flat_pin": N_("flat-ended pin"),
     "lsq": N_("least squares in log-log"),
     "manual": N_("three pairs of levels (1.16)-(1.19)"),
 }

@@ -25,7 +25,7 @@ from rigserver.reports.kits import KITS
 from rigserver.reports.render import render
 from rigserver.reports.students import students_part
 from schemas.corrections import Correction
-from schemas.labels import CONFIGURATION, PARTICULARS
+from schemas.labels import CONFIGURATION, PARTICULARS, VALUE_WORDS
 from schemas.messages import N_
 from schemas.results import RESULT_MODELS
 from schemas.runs import Run, RunState
@@ -289,7 +289,11 @@ def configuration_rows(t: Messages, run: Run) -> list[ConfigRow]:
             if name == "gauge_unit" and isinstance(value, str):
                 shown = t.unit(value)
             elif isinstance(value, str | bool):
-                shown = t.gettext(value) if isinstance(value, str) else t("yes" if value else "no")
+                shown = (
+                    t.gettext(VALUE_WORDS.get(value, value))
+                    if isinstance(value, str)
+                    else t("yes" if value else "no")
+                )
             elif display is not None and unit is not None and isinstance(value, int | float):
                 shown = fmt(display.shown(float(value), str(unit)), display.digits)
                 unit = display.unit

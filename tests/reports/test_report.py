@@ -583,6 +583,9 @@ def test_a_ball_is_named_a_ball_not_a_pin(kind: StandKind, lang: Lang) -> None:
     )
     rows = configuration_rows(Messages(lang), flat_pin)
     assert sum(str(row.words).startswith(pin) for row in rows) == len(s.run.configuration["pin"])
+    # the tip printed in words, not as the code word "flat_pin"
+    tip = {"en": "flat-ended pin", "ru": "палец с плоским торцом"}[lang]
+    assert tip in [row.value for row in rows]
 
 
 @pytest.mark.parametrize("mode", MODES)

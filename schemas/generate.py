@@ -23,7 +23,6 @@ from schemas.calculators import (
 from schemas.mechanism import DynamicErrorsRequest, DynamicErrorsResponse
 from schemas.problems import Problem
 from schemas.readings import BatchReceipt, ReadingBatch
-from schemas.results import RESULT_MODELS
 from schemas.runs import Run, RunCreate, RunPage
 from schemas.stands import DECLARATIONS, Stand
 
@@ -37,7 +36,7 @@ MODELS: dict[str, type[BaseModel]] = {
     "batch_receipt": BatchReceipt,
     "problem": Problem,
     "stand": Stand,
-    **{f"results_{kind.value}": model for kind, model in RESULT_MODELS.items()},
+    **{f"results_{kind.value}": declared.results for kind, declared in DECLARATIONS.items()},
     "model_wear_theory_input": WearTheoryInput,
     "model_bearing_friction_input": BearingFrictionInput,
     "model_bearing_friction_result": BearingFrictionResult,

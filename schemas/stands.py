@@ -23,6 +23,11 @@ from schemas.channels import Channel, ChannelGroup, Limit, Order, configured_gro
 from schemas.labels import Label, RowTable
 from schemas.messages import N_
 from schemas.quantity import quantity
+from schemas.results.mtos import MtosResults
+from schemas.results.profilometer import ProfilometerResults
+from schemas.results.slide_bearing import SlideBearingResults
+from schemas.results.smts2 import Smts2Results
+from schemas.results.tribometer import PinOnDiscResults, ReciprocatingResults
 from schemas.units import UnitSymbol
 from schemas.wire import Number, Text
 
@@ -667,16 +672,17 @@ class Stand(BaseModel):
 @dataclass(frozen=True, slots=True)
 class StandDeclaration:
     """One stand kind as every layer reads it: its configuration model, its channel groups
-    (a record group names its live chart's axis and signals), how people read its results
-    (labels, per-row tables, the result that says whether its theory holds) and what a new
-    run of it asks for (specimens, test plan: keys of ``labels.PARTICULARS``). Its results
-    model is :data:`schemas.results.RESULT_MODELS`' (rigclient knows no results models)."""
+    (a record group names its live chart's axis and signals), its results model (what
+    ``/results`` answers), how people read its results (labels, per-row tables, the result
+    that says whether its theory holds) and what a new run of it asks for (specimens, test
+    plan: keys of ``labels.PARTICULARS``)."""
 
     kind: StandKind
     title: str
     lab_work: int | None
     configuration: type[StandConfig]
     groups: tuple[ChannelGroup, ...]
+    results: type[BaseModel]
     labels: Mapping[str, Label]
     specimens: tuple[str, ...]
     plan: tuple[str, ...]
@@ -701,6 +707,7 @@ DECLARATIONS: dict[StandKind, StandDeclaration] = {
         lab_work=2,
         configuration=Smts2Config,
         groups=SMTS2_GROUPS,
+        results=Smts2Results,
         labels=labels.SMTS2,
         specimens=("pin", "disc"),
         plan=("mode", "load_N", "speed_rpm", "revolutions"),
@@ -712,6 +719,7 @@ DECLARATIONS: dict[StandKind, StandDeclaration] = {
         lab_work=3,
         configuration=SlideBearingConfig,
         groups=SLIDE_BEARING_GROUPS,
+        results=SlideBearingResults,
         labels=labels.SLIDE_BEARING,
         specimens=("journal", "bearing"),
         plan=("loader_scale_mm", "limb_step_deg"),
@@ -723,6 +731,7 @@ DECLARATIONS: dict[StandKind, StandDeclaration] = {
         lab_work=4,
         configuration=MtosConfig,
         groups=MTOS_GROUPS,
+        results=MtosResults,
         labels=labels.MTOS,
         specimens=("journal", "bush"),
         plan=("loads_fluid", "loads_mixed", "loads_boundary"),
@@ -734,6 +743,7 @@ DECLARATIONS: dict[StandKind, StandDeclaration] = {
         lab_work=1,
         configuration=ProfilometerConfig,
         groups=PROFILOMETER_GROUPS,
+        results=ProfilometerResults,
         labels=labels.PROFILOMETER,
         specimens=("surface",),
         plan=("ra_um", "base_length_mm"),
@@ -745,6 +755,7 @@ DECLARATIONS: dict[StandKind, StandDeclaration] = {
         lab_work=None,
         configuration=PinOnDiscConfig,
         groups=PIN_ON_DISC_GROUPS,
+        results=PinOnDiscResults,
         labels=labels.PIN_ON_DISC,
         specimens=("ball", "disc"),
         plan=("load_N", "laps"),
@@ -756,6 +767,7 @@ DECLARATIONS: dict[StandKind, StandDeclaration] = {
         lab_work=None,
         configuration=ReciprocatingConfig,
         groups=RECIPROCATING_GROUPS,
+        results=ReciprocatingResults,
         labels=labels.RECIPROCATING,
         specimens=("ball", "disc"),
         plan=("load_N", "laps"),
@@ -763,9 +775,8 @@ DECLARATIONS: dict[StandKind, StandDeclaration] = {
     ),
 }
 """Every stand kind, declared once; a new kind is its configuration, channels and labels, its
-results module (:mod:`schemas.results`, which maps each kind to its model) and one entry
-here. ``tests/test_stand_kinds.py`` checks that
-every layer (analysis, reports, rigsim) registers every kind."""
+results module (in :mod:`schemas.results`) and one entry here. ``tests/test_stand_kinds.py``
+checks that every layer (analysis, reports, rigsim) registers every kind."""
 
 
 def default_stands() -> dict[StandKind, Stand]:

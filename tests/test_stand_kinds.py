@@ -18,7 +18,6 @@ from rigserver.analysis.series import label_of
 from rigserver.reports.kits import KITS as REPORT_KITS
 from rigserver.reports.series_report import TEXT
 from rigsim.simulators import SIMULATORS
-from schemas.results import RESULT_MODELS
 from schemas.stands import DECLARATIONS, StandKind
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -36,7 +35,7 @@ REGISTRIES = {
 def test_every_kind_is_declared_with_its_own_models(kind: StandKind) -> None:
     declared = DECLARATIONS[kind]
     assert declared.kind is kind
-    assert RESULT_MODELS[kind].model_fields["stand"].default == kind.value
+    assert declared.results.model_fields["stand"].default == kind.value
     assert declared.configuration.model_validate({}) == declared.configuration()
     assert declared.labels and declared.specimens and declared.groups
     assert sum(g.aligned for g in declared.groups) >= 1  # the record a live chart draws

@@ -20,7 +20,6 @@ from rigserver.analysis.kits import KITS, Headline
 from rigserver.core import statistics, wear
 from schemas.labels import Label, round_to
 from schemas.quantity import description_paths, unit_paths
-from schemas.results import RESULT_MODELS
 from schemas.runs import Run, RunState
 from schemas.series import (
     AdhesiveOxidative,
@@ -84,8 +83,8 @@ def series_statistics(
     ]
     counted = [m for m in members if m.run.state is not RunState.ABORTED and m.values is not None]
     comparison = series.purpose is not SeriesPurpose.REPEATABILITY  # levels of their own
-    units = unit_paths(RESULT_MODELS[stand]) if stand else {}
-    described = description_paths(RESULT_MODELS[stand]) if stand else {}
+    units = unit_paths(DECLARATIONS[stand].results) if stand else {}
+    described = description_paths(DECLARATIONS[stand].results) if stand else {}
     statistics_ = [
         _result_statistics(key, headline, counted, comparison, units, described)
         for key, headline in keys

@@ -27,7 +27,6 @@ from rigserver.reports.students import students_part
 from schemas.corrections import Correction
 from schemas.labels import CONFIGURATION, PARTICULARS, VALUE_WORDS
 from schemas.messages import N_
-from schemas.results import RESULT_MODELS
 from schemas.runs import Run, RunState
 from schemas.stands import DECLARATIONS, Stand
 from schemas.student_notes import StudentNotes
@@ -103,7 +102,7 @@ def _build(
 ) -> Report:
     kind = run.stand.value
     notes, sketches = theirs
-    model = RESULT_MODELS[run.stand].model_validate(values)
+    model = DECLARATIONS[run.stand].results.model_validate(values)
     lab = KITS[run.stand].build(Context(run=run, stand=stand, readings=readings, t=t), model)
     first: list[Paragraph | Table] = []
     if run.state is RunState.OPEN:

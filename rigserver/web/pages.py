@@ -42,7 +42,7 @@ from schemas.digits import stated_uncertainty
 from schemas.labels import Part
 from schemas.messages import NP_
 from schemas.quantity import unit_paths
-from schemas.results import RESULT_MODELS, PinOnDiscResults, ReciprocatingResults
+from schemas.results import PinOnDiscResults, ReciprocatingResults
 from schemas.runs import Run, RunPage, RunState
 from schemas.sketches import Sketch
 from schemas.stands import DECLARATIONS, Stand, StandKind, theory_outside
@@ -101,7 +101,7 @@ def render_page(template: str, lang: Lang, **context: Any) -> str:
 def key_results(t: Messages, run: Run) -> Markup:
     """``f = 0.3985; I_h,exp = 3.833·10⁻⁸`` in the display units of the stand's results; a
     theoretical value outside its theory's range says so beside it (never a bare headline)."""
-    units = unit_paths(RESULT_MODELS[run.stand])
+    units = unit_paths(DECLARATIONS[run.stand].results)
     labels = DECLARATIONS[run.stand].labels
     outside = theory_outside(run.stand, run.key_results)
     verdict = DECLARATIONS[run.stand].theory_verdict
@@ -194,7 +194,7 @@ def _figures(t: Messages, run: Run, payload: Mapping[str, Any]) -> list[dict[str
         return []
     if not any(step.get("sliding_speed") is not None for step in values.get("steps", [])):
         return []
-    found = RESULT_MODELS[run.stand].model_validate(values)
+    found = DECLARATIONS[run.stand].results.model_validate(values)
     assert isinstance(found, PinOnDiscResults | ReciprocatingResults)
     return [{"caption": t("t.fig_stribeck"), "svg": Markup(stribeck_svg(t, found))}]
 

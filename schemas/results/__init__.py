@@ -6,8 +6,6 @@ with the units of every quantity, nested paths joined by dots (``rows[].chi``).
 
 from __future__ import annotations
 
-from pydantic import BaseModel
-
 from schemas.results.common import IsoRoughnessResult, Series
 from schemas.results.mtos import MtosResults, MtosStep
 from schemas.results.profilometer import BearingFitResult, ProfilometerResults
@@ -35,24 +33,8 @@ from schemas.results.tribometer import (
     TribometerStep,
     WearEstimate,
 )
-from schemas.stands import StandKind
-
-RESULT_MODELS: dict[StandKind, type[BaseModel]] = {
-    StandKind(model.model_fields["stand"].default): model
-    for model in (
-        Smts2Results,
-        SlideBearingResults,
-        MtosResults,
-        ProfilometerResults,
-        PinOnDiscResults,
-        ReciprocatingResults,
-    )
-}
-"""Each stand kind's results model, by the kind its ``stand`` field names: a module of this
-package per kind, one line here."""
 
 __all__ = [
-    "RESULT_MODELS",
     "AdequacyResult",
     "AxialPoint",
     "BearingFitResult",

@@ -20,6 +20,7 @@ from pydantic import BaseModel, ConfigDict, Field
 
 from schemas import labels
 from schemas.channels import Channel, ChannelGroup, Limit, Order, configured_groups
+from schemas.configuration import Configuration
 from schemas.labels import Label, RowTable
 from schemas.messages import N_
 from schemas.quantity import quantity
@@ -41,15 +42,10 @@ class StandKind(StrEnum):
     RECIPROCATING = "reciprocating"
 
 
-class _Config(BaseModel):
-    # strict: a flag or a text is no number (``true`` for a spring rate is refused, not 1.0)
-    model_config = ConfigDict(frozen=True, extra="forbid", allow_inf_nan=False, strict=True)
-
-
 # --- SMTs-2 friction and wear machine, lab work 2 -------------------------------------
 
 
-class PinMaterial(_Config):
+class PinMaterial(Configuration):
     """The upper specimen (pin); defaults: steel St3sp (VSt3ps), table 2.2 and item 18."""
 
     name: Text = "St3sp"
@@ -62,7 +58,7 @@ class PinMaterial(_Config):
     density: float = quantity(7800.0, "kg/m^3", "ρ, density (2.10)", gt=0)
 
 
-class DiscMaterial(_Config):
+class DiscMaterial(Configuration):
     """The lower specimen (disc); defaults: steel R9."""
 
     name: Text = "R9"
@@ -71,7 +67,7 @@ class DiscMaterial(_Config):
     hardness: float = quantity(6.4e9, "Pa", "HB2, Brinell hardness", gt=0)
 
 
-class Smts2Accuracy(_Config):
+class Smts2Accuracy(Configuration):
     """Limits of error of the SMTs-2's measurements (GUM type B: a rectangular distribution of
     half-width a has the standard uncertainty a/√3)."""
 
@@ -88,7 +84,7 @@ class Smts2Accuracy(_Config):
     counter: float = quantity(100.0, "rev", "revolution counter's step (100 rev)", ge=0)
 
 
-class Smts2Config(_Config):
+class Smts2Config(Configuration):
     disc_radius: float = quantity(0.0225, "m", "r2, disc radius", gt=0)
     disc_width: float = quantity(0.012, "m", "b2, disc width", gt=0)
     pin_diameter: float = quantity(0.010, "m", "d1 = 2·r1, pin diameter", gt=0)
@@ -104,7 +100,7 @@ class Smts2Config(_Config):
     accuracy: Smts2Accuracy = Smts2Accuracy()
 
 
-class ViscosityLaw(_Config):
+class ViscosityLaw(Configuration):
     """The oil's viscosity law μ = A·exp(α·t), t in °C (3.21, 4.17)."""
 
     A: float = quantity(0.0773, "Pa*s", "A of the oil's viscosity μ = A·exp(α·t)", gt=0)
@@ -114,7 +110,7 @@ class ViscosityLaw(_Config):
 # --- Slide-bearing stand, lab work 3 --------------------------------------------------
 
 
-class SlideBearingAccuracy(_Config):
+class SlideBearingAccuracy(Configuration):
     """Limits of error of the slide-bearing stand's measurements (GUM type B, rectangular)."""
 
     manometer_class: float = quantity(
@@ -125,7 +121,7 @@ class SlideBearingAccuracy(_Config):
     clearance: float = quantity(5e-6, "m", "h0 as machined, limit of error", ge=0)
 
 
-class SlideBearingConfig(_Config):
+class SlideBearingConfig(Configuration):
     clearance: float = quantity(175e-6, "m", "h0, radial clearance (3.17)", gt=0)
     bearing_radius: float = quantity(25.175e-3, "m", "R2, bearing radius (3.19)", gt=0)
     width: float = quantity(
@@ -151,7 +147,7 @@ class SlideBearingConfig(_Config):
 # --- MTOS stand, lab work 4 -----------------------------------------------------------
 
 
-class MtosAccuracy(_Config):
+class MtosAccuracy(Configuration):
     """Limits of error of the MTOS stand's measurements (GUM type B, rectangular)."""
 
     indicator: float = quantity(0.005, "mm", "indicator of the flat spring, limit of error", ge=0)
@@ -164,7 +160,7 @@ class MtosAccuracy(_Config):
     clearance: float = quantity(2e-6, "m", "h0 as machined, limit of error", ge=0)
 
 
-class MtosConfig(_Config):
+class MtosConfig(Configuration):
     spring_rate: float = quantity(
         20.0, "N/mm", "k, flat-spring calibration F = k·Δl (4.13) (placeholder)", gt=0
     )
@@ -204,7 +200,7 @@ class MtosConfig(_Config):
 # --- ABRIS-PM7 profilometer, lab work 1 -----------------------------------------------
 
 
-class ProfilometerConfig(_Config):
+class ProfilometerConfig(Configuration):
     """The profilograph-profilometer and its settings for the run; the magnifications are
     the nominal ones of the instrument's data in the manual's lab 1 (vertical 200 … 100 000,
     horizontal 20 … 500, each of those also ×2 and ×4)."""
@@ -261,7 +257,7 @@ class ProfilometerConfig(_Config):
 # (ASTM G133) ------------------------------------------------------------------------------
 
 
-class SpecimenMaterial(_Config):
+class SpecimenMaterial(Configuration):
     """A specimen's material; defaults: bearing steel 100Cr6 (AISI 52100), hardened."""
 
     name: Text = "100Cr6"
@@ -278,7 +274,7 @@ def _alumina() -> SpecimenMaterial:
     )
 
 
-class PlannedTest(_Config):
+class PlannedTest(Configuration):
     """The test as planned: load, speed, distance and the environment."""
 
     load: float = quantity(5.0, "N", "F, normal load", gt=0)
@@ -289,7 +285,7 @@ class PlannedTest(_Config):
     humidity: float = quantity(50.0, "%", "relative humidity", ge=0, le=100)
 
 
-class TribometerAccuracy(_Config):
+class TribometerAccuracy(Configuration):
     """Limits of error of a tribometer's measurements (GUM type B, rectangular)."""
 
     load: float = quantity(0.01, "1", "normal load, relative limit of error", ge=0)
@@ -304,7 +300,7 @@ class TribometerAccuracy(_Config):
     )
 
 
-class TribometerConfig(_Config):
+class TribometerConfig(Configuration):
     """What both tribometers share: the counter-body (pin or ball) and its geometry, the
     materials, the test plan, the accuracy."""
 
@@ -671,15 +667,19 @@ class Stand(BaseModel):
 
 @dataclass(frozen=True, slots=True)
 class StandDeclaration:
-    """One stand kind as every layer reads it: its configuration model, its channel groups
-    (a record group names its live chart's axis and signals), its results model (what
-    ``/results`` answers), how people read its results (labels, per-row tables, the result
-    that says whether its theory holds) and what a new run of it asks for (specimens, test
-    plan: keys of ``labels.PARTICULARS``)."""
+    """One stand kind as every layer reads it: its names (``name`` the stand's, ``work`` the
+    title of its lab work, ``aim`` the work's aim: message ids), its configuration model, its
+    channel groups (a record group names its live chart's axis and signals), its results
+    model (what ``/results`` answers), how people read its results (labels, per-row tables,
+    the result that says whether its theory holds) and what a new run of it asks for
+    (specimens, test plan: keys of ``labels.PARTICULARS``)."""
 
     kind: StandKind
     title: str
     lab_work: int | None
+    name: str
+    work: str
+    aim: str
     configuration: type[StandConfig]
     groups: tuple[ChannelGroup, ...]
     results: type[BaseModel]
@@ -705,6 +705,12 @@ DECLARATIONS: dict[StandKind, StandDeclaration] = {
         kind=StandKind.SMTS2,
         title="SMTs-2 friction and wear machine (pin on disc)",
         lab_work=2,
+        name=N_("SMTs-2 friction and wear machine"),
+        work=N_("Experimental and theoretical study of wear in sliding under dry friction"),
+        aim=N_(
+            "To study the experimental and theoretical methods of finding the linear wear "
+            "intensity in sliding of a pin on a disc."
+        ),
         configuration=Smts2Config,
         groups=SMTS2_GROUPS,
         results=Smts2Results,
@@ -717,6 +723,12 @@ DECLARATIONS: dict[StandKind, StandDeclaration] = {
         kind=StandKind.SLIDE_BEARING,
         title="Slide-bearing stand: hydrodynamic pressure",
         lab_work=3,
+        name=N_("Slide-bearing stand"),
+        work=N_("Experimental and theoretical hydrodynamic pressure diagrams of a slide bearing"),
+        aim=N_(
+            "To study the experimental and theoretical methods of finding the hydrodynamic "
+            "pressure along the angle and the axis of a bearing, and to compare them."
+        ),
         configuration=SlideBearingConfig,
         groups=SLIDE_BEARING_GROUPS,
         results=SlideBearingResults,
@@ -729,6 +741,12 @@ DECLARATIONS: dict[StandKind, StandDeclaration] = {
         kind=StandKind.MTOS,
         title="MTOS stand: friction moment of a journal bearing",
         lab_work=4,
+        name=N_("MTOS stand"),
+        work=N_("Friction in slide bearings"),
+        aim=N_(
+            "To study the experimental and theoretical methods of finding the friction "
+            "coefficient of a slide bearing in fluid, mixed and boundary lubrication."
+        ),
         configuration=MtosConfig,
         groups=MTOS_GROUPS,
         results=MtosResults,
@@ -741,6 +759,14 @@ DECLARATIONS: dict[StandKind, StandDeclaration] = {
         kind=StandKind.PROFILOMETER,
         title="ABRIS-PM7 profilometer: roughness of a run-in surface",
         lab_work=1,
+        name=N_("ABRIS-PM7 profilometer"),
+        work=N_(
+            "Experimental and theoretical determination of the parameters of equilibrium roughness"
+        ),
+        aim=N_(
+            "To study the equipment and the methods of measuring and computing the roughness "
+            "parameters of a run-in surface."
+        ),
         configuration=ProfilometerConfig,
         groups=PROFILOMETER_GROUPS,
         results=ProfilometerResults,
@@ -753,6 +779,12 @@ DECLARATIONS: dict[StandKind, StandDeclaration] = {
         kind=StandKind.PIN_ON_DISC,
         title="Pin- or ball-on-disc tribometer (ASTM G99, ISO 20808)",
         lab_work=None,
+        name=N_("Pin- or ball-on-disc tribometer"),
+        work=N_("Friction and wear of a ball or pin on a disc (ASTM G99, ISO 20808)"),
+        aim=N_(
+            "To find the friction coefficient, its running-in and the specific wear rates of a "
+            "ball or pin sliding on a rotating disc."
+        ),
         configuration=PinOnDiscConfig,
         groups=PIN_ON_DISC_GROUPS,
         results=PinOnDiscResults,
@@ -765,6 +797,12 @@ DECLARATIONS: dict[StandKind, StandDeclaration] = {
         kind=StandKind.RECIPROCATING,
         title="Reciprocating tribometer (ASTM G133)",
         lab_work=None,
+        name=N_("Reciprocating tribometer"),
+        work=N_("Friction and wear in reciprocating sliding (ASTM G133)"),
+        aim=N_(
+            "To find the friction coefficient, its running-in and the specific wear rates of a "
+            "ball sliding back and forth on a flat."
+        ),
         configuration=ReciprocatingConfig,
         groups=RECIPROCATING_GROUPS,
         results=ReciprocatingResults,

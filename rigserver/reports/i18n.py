@@ -22,6 +22,7 @@ from babel.messages.mofile import write_mo
 from babel.messages.pofile import read_po
 
 from schemas.messages import C_, N_
+from schemas.stands import DECLARATIONS
 
 Lang = Literal["en", "ru"]
 LANGS: tuple[Lang, ...] = get_args(Lang)
@@ -185,49 +186,12 @@ UNIT_LABELS: dict[str, str] = {
 context ``unit``)."""
 
 MESSAGES: dict[str, str] = {
+    **{f"stand.{kind.value}": declared.name for kind, declared in DECLARATIONS.items()},
+    **{f"title.{kind.value}": declared.work for kind, declared in DECLARATIONS.items()},
+    **{f"aim.{kind.value}": declared.aim for kind, declared in DECLARATIONS.items()},
     "lab_work": N_("Lab work {n}"),
     "report": N_("Report"),
     "aim": N_("Aim"),
-    "title.profilometer": N_(
-        "Experimental and theoretical determination of the parameters of equilibrium roughness"
-    ),
-    "title.smts2": N_("Experimental and theoretical study of wear in sliding under dry friction"),
-    "title.slide_bearing": N_(
-        "Experimental and theoretical hydrodynamic pressure diagrams of a slide bearing"
-    ),
-    "title.mtos": N_("Friction in slide bearings"),
-    "aim.profilometer": N_(
-        "To study the equipment and the methods of measuring and computing the roughness "
-        "parameters of a run-in surface."
-    ),
-    "aim.smts2": N_(
-        "To study the experimental and theoretical methods of finding the linear wear "
-        "intensity in sliding of a pin on a disc."
-    ),
-    "aim.slide_bearing": N_(
-        "To study the experimental and theoretical methods of finding the hydrodynamic "
-        "pressure along the angle and the axis of a bearing, and to compare them."
-    ),
-    "aim.mtos": N_(
-        "To study the experimental and theoretical methods of finding the friction "
-        "coefficient of a slide bearing in fluid, mixed and boundary lubrication."
-    ),
-    "stand.smts2": N_("SMTs-2 friction and wear machine"),
-    "stand.slide_bearing": N_("Slide-bearing stand"),
-    "stand.mtos": N_("MTOS stand"),
-    "stand.profilometer": N_("ABRIS-PM7 profilometer"),
-    "stand.pin_on_disc": N_("Pin- or ball-on-disc tribometer"),
-    "stand.reciprocating": N_("Reciprocating tribometer"),
-    "title.pin_on_disc": N_("Friction and wear of a ball or pin on a disc (ASTM G99, ISO 20808)"),
-    "title.reciprocating": N_("Friction and wear in reciprocating sliding (ASTM G133)"),
-    "aim.pin_on_disc": N_(
-        "To find the friction coefficient, its running-in and the specific wear rates of a "
-        "ball or pin sliding on a rotating disc."
-    ),
-    "aim.reciprocating": N_(
-        "To find the friction coefficient, its running-in and the specific wear rates of a "
-        "ball sliding back and forth on a flat."
-    ),
     "run": N_("Run"),
     "stand": N_("Stand"),
     "state": N_("State"),

@@ -83,12 +83,14 @@ class Server:
         public_reads: bool = False,
         args: Sequence[str] = (),
         env: Mapping[str, str] | None = None,
+        cwd: Path | None = None,
     ) -> None:
         self.data_dir = data_dir
         self.keys_file = keys_file
         self.public_reads = public_reads
         self.args = list(args)  # more `rigserver serve` options
         self.env = dict(env or {})  # more environment
+        self.cwd = cwd  # where `python -m` finds the packages first (a copy of them)
         self.port = free_port()
         self.url = f"http://127.0.0.1:{self.port}"
         self.log = data_dir.parent / "rigserver.log"
@@ -101,7 +103,7 @@ class Server:
         cmd += self.args
         env = {**os.environ, "PYTHONUNBUFFERED": "1", **self.env}
         with self.log.open("ab") as log:
-            self.proc = spawn(cmd, env=env, stdout=log, stderr=log)
+            self.proc = spawn(cmd, env=env, stdout=log, stderr=log, cwd=self.cwd)
         deadline = time.monotonic() + 30
         while time.monotonic() < deadline:
             if self.proc.poll() is not None:

@@ -86,7 +86,8 @@ def test_hsds_killed_posts_acknowledged_reads_503_then_everything_materialised(
         poster.join(60)
         hsds.restart()
     assert statuses == [201] * 40  # every post acknowledged by PostgreSQL
-    wait_materialised(c, run_id, 500)
+    # HSDS starts its nodes again on a loaded machine (CI runs -n auto): time for that
+    wait_materialised(c, run_id, 500, seconds=180)
     posted = [cast(dict[str, list[float]], batch(s)["columns"]) for s in range(50)]
     expected = {k: np.concatenate([cols[k] for cols in posted]) for k in posted[0]}
     for url in c.urls:

@@ -40,9 +40,7 @@ from __future__ import annotations
 
 import fcntl
 import json
-import logging
 import os
-import shutil
 import threading
 from collections.abc import Iterable, Iterator, Mapping, Sequence
 from pathlib import Path
@@ -70,23 +68,18 @@ from rigserver.storage.embedded.backlog import (
     WhenQuiet,
 )
 from rigserver.storage.embedded.ingest import GroupCommit, prepared_batch
-from rigserver.storage.embedded.journal import Journal, Synchronous
-from rigserver.storage.embedded.recovery import rebuild_catalogue, recover
+from rigserver.storage.embedded.journal import Synchronous
+from rigserver.storage.embedded.recovery import open_journal, recover_directory
 from rigserver.storage.embedded.views import Live, RunFiles
 from rigserver.storage.errors import (
-    RunDamaged,
-    RunNotFound,
     RunNotOpen,
-    StorageError,
     StorageUnavailable,
 )
-from rigserver.storage.runfile import RunFile, fsync_path, write_file
+from rigserver.storage.runfile import RunFile, fsync_path
 from rigserver.storage.waiters import AppendWaiters, TellsInProcess
 from schemas.corrections import CorrectedRow, Correction
 from schemas.readings import BatchReceipt
 from schemas.runs import Run, RunPage, RunQuery, RunState
-
-log = logging.getLogger(__name__)
 
 
 class HDF5Store(RowEdits, TellsInProcess):
@@ -125,28 +118,12 @@ class HDF5Store(RowEdits, TellsInProcess):
             self._dir_lock = _lock_directory(self.data_dir)
         try:
             with failures_as(f"opening the journal in {self.data_dir}"):
-                path = self.data_dir / "journal.sqlite"
-                new = not path.exists()
-                if new:  # a WAL or payloads left beside a lost journal belong to no journal
-                    for stale in (path.with_name(path.name + s) for s in ("-wal", "-shm")):
-                        stale.unlink(missing_ok=True)
-                    for stale in self.data_dir.glob("payloads/*.bin"):
-                        stale.unlink()
-                self._journal = Journal(path, synchronous=synchronous)
-                fsync_path(self.data_dir)
+                self._journal, new = open_journal(self.data_dir, synchronous)
             #: the open runs and the run files, views of the journal
             self._views = RunFiles(self._journal, self._runs, self._snapshots)
             try:
                 with failures_as(f"recovering the runs of {self.data_dir}"):
-                    for leftover in [*self._runs.glob("*.tmp"), *self._snapshots.iterdir()]:
-                        leftover.unlink()
-                    if new:
-                        rebuild_catalogue(self._journal, self._runs)
-                    for run_id in self._journal.final_runs_with_payloads():
-                        self._journal.drop_payloads(run_id)
-                    clean = self._journal.clean_shutdown()
-                    self._journal.set_clean_shutdown(False)
-                    recover(self._views, clean=clean)
+                    recover_directory(self._views, new=new)
             except BaseException:
                 self._journal.close()
                 raise
@@ -242,19 +219,7 @@ class HDF5Store(RowEdits, TellsInProcess):
             del self._views.live[run_id]
             self._views.files.pop(run_id, None)
             self.appends.ended(run_id)
-            try:
-                with failures_as(doing):
-                    try:
-                        rf.finalize(ended)
-                    finally:
-                        rf.close()
-            except StorageError as exc:
-                # The file failed where the journal did not (a write of its cached chunks
-                # on a disk that was full): the final file is written anew from the journal.
-                log.warning(
-                    "finalizing run %s: %s; its file is written from the journal", run_id, exc
-                )
-                self._views.finish_file(ended)
+            if not self._views.finalize(rf, ended):  # written anew from the journal
                 return ended.model_copy(deep=True)
             self._views.finishing.add(run_id)
         try:
@@ -399,15 +364,7 @@ class HDF5Store(RowEdits, TellsInProcess):
                 edited = run.model_copy(deep=True, update=update)
                 with failures_as(doing):
                     self._journal.add_corrections(edited, new)
-                if live is not None:
-                    live.run.corrections = edited.corrections
-                    live.run.corrected_after_finish = edited.corrected_after_finish
-                    rf = self._views.view(live, doing)
-                    with self._views.spoiling(live, doing):
-                        rf.write_corrections(every, edited)
-                else:
-                    with failures_as(f"{doing} (it is stored; the file follows)"):
-                        self._views.rewrite(edited, lambda rf: rf.write_corrections(every, edited))
+                self._views.write_corrections(live, edited, every, doing)
             elif live is None and every:  # a retry: the file may have missed the first try
                 with failures_as(doing):
                     self._views.sync_corrections(run)
@@ -469,17 +426,10 @@ class HDF5Store(RowEdits, TellsInProcess):
         path = self._views.path(run.id)
         with self._lock:
             self._check_open()
-            if run.id in self._views.live or path.exists() or self._catalogued(run.id):
+            if run.id in self._views.live or path.exists() or self._views.catalogued(run.id):
                 return False
         with failures_as(f"writing the file of imported run {run.id}"):
-            write_file(
-                path,
-                run,
-                ((s.group, dict(columns), s.rows) for _, s, columns in batches),
-                checked,
-                final=True,
-                corrections=list(corrections),
-            )
+            self._views.write_final(run, batches, checked, corrections)
         try:
             with self._lock:
                 self._check_open()
@@ -494,16 +444,6 @@ class HDF5Store(RowEdits, TellsInProcess):
         except BaseException:
             path.unlink(missing_ok=True)
             raise
-        return True
-
-    def _catalogued(self, run_id: str) -> bool:
-        with failures_as(f"looking up run {run_id}"):
-            try:
-                self._journal.entry(run_id)
-            except RunNotFound:
-                return False
-            except RunDamaged:
-                pass
         return True
 
     def readings_version(self, run_id: str) -> int:
@@ -525,15 +465,7 @@ class HDF5Store(RowEdits, TellsInProcess):
             if live is None:
                 self._views.final_entry(run_id)
                 return self._views.path(run_id)
-            rf = self._views.view(live, f"flushing run {run_id}")
-            with self._views.spoiling(live, f"flushing run {run_id}"):
-                rf.flush()
-            snapshot = self._snapshots / f"{run_id}.h5"
-            tmp = snapshot.with_name(snapshot.name + ".tmp")
-            with failures_as(f"copying a snapshot of run {run_id}"):
-                shutil.copyfile(rf.path, tmp)
-                os.replace(tmp, snapshot)
-            return snapshot
+            return self._views.snapshot(live)
 
     def close(self) -> None:
         """Write and close every open file, mark the shutdown clean, release the directory."""
@@ -559,24 +491,7 @@ class HDF5Store(RowEdits, TellsInProcess):
         """One batch of the backlog of the first open run that has one (the store is quiet:
         :class:`WhenQuiet`); True if any is left."""
         with self._lock:
-            if self._closed:
-                return False
-            for live in self._views.live.values():
-                live.direct = False  # whatever stream made it so has paused
-            owing = [live for live in self._views.live.values() if live.backlog and not live.stale]
-            if not owing:
-                return False
-            live = owing[0]
-            rf = self._views.files.get(live.run.id)
-            try:
-                if rf is None:  # not expected: a file is closed only with its backlog written
-                    raise StorageUnavailable(f"the file of run {live.run.id} is not open")
-                with self._views.spoiling(live, f"writing the backlog of run {live.run.id}"):
-                    self._views.pay(live, rf, 1)
-            except StorageError as exc:
-                log.warning("%s; the file will be rebuilt from the journal", exc)
-                self._views.spoil(live)
-            return len(owing) > 1 or bool(live.backlog)
+            return not self._closed and self._views.pay_backlog()
 
     def _check_open(self) -> None:
         if self._closed:

@@ -11,10 +11,10 @@ from pathlib import Path
 
 from rigserver.storage._checks import prepare, stand_groups
 from rigserver.storage._failures import UNREADABLE
-from rigserver.storage.embedded.journal import Journal
+from rigserver.storage.embedded.journal import Journal, Synchronous
 from rigserver.storage.embedded.views import Live, RunFiles
 from rigserver.storage.errors import StorageError
-from rigserver.storage.runfile import RunFile, read_summary
+from rigserver.storage.runfile import RunFile, fsync_path, read_summary
 from schemas.runs import Run, RunState
 
 log = logging.getLogger(__name__)
@@ -23,6 +23,37 @@ log = logging.getLogger(__name__)
 _SYNC_FAILURES: tuple[type[Exception], ...] = (*UNREADABLE, StorageError)
 #: Rows per batch when the readings of an unfinished file are taken back into the journal.
 _IMPORT_ROWS = 1 << 20
+
+
+def open_journal(data_dir: Path, synchronous: Synchronous) -> tuple[Journal, bool]:
+    """The directory's journal, and whether it is new (then a WAL or payload files left
+    beside a lost journal belong to no journal and are removed)."""
+    path = data_dir / "journal.sqlite"
+    new = not path.exists()
+    if new:
+        for stale in (path.with_name(path.name + s) for s in ("-wal", "-shm")):
+            stale.unlink(missing_ok=True)
+        for stale in data_dir.glob("payloads/*.bin"):
+            stale.unlink()
+    journal = Journal(path, synchronous=synchronous)
+    fsync_path(data_dir)
+    return journal, new
+
+
+def recover_directory(files: RunFiles, *, new: bool) -> None:
+    """Bring the directory to what its journal says: temp files and snapshots removed, a
+    new journal's catalogue rebuilt from the run files, the payloads of final runs dropped,
+    the open runs loaded (rebuilt after an unclean shutdown); the store is then open
+    (the clean-shutdown marker "0")."""
+    for leftover in [*files.runs.glob("*.tmp"), *files.snapshots.iterdir()]:
+        leftover.unlink()
+    if new:
+        rebuild_catalogue(files.journal, files.runs)
+    for run_id in files.journal.final_runs_with_payloads():
+        files.journal.drop_payloads(run_id)
+    clean = files.journal.clean_shutdown()
+    files.journal.set_clean_shutdown(False)
+    recover(files, clean=clean)
 
 
 def recover(files: RunFiles, *, clean: bool) -> None:

@@ -14,7 +14,7 @@ import logging
 import os
 import shutil
 from collections import OrderedDict
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -22,13 +22,20 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import NDArray
 
-from rigserver.storage._checks import channel_group, padded
+from rigserver.storage._checks import StoredBatch, channel_group, padded
 from rigserver.storage._failures import LOW_LEVEL, UNREADABLE, failures_as, translated
 from rigserver.storage._results import CheckedResults, check_results
 from rigserver.storage.embedded.backlog import PIECE_ROWS, Backlog
 from rigserver.storage.embedded.journal import CatalogueEntry, Journal
-from rigserver.storage.errors import RunDamaged, RunNotOpen, StorageError
+from rigserver.storage.errors import (
+    RunDamaged,
+    RunNotFound,
+    RunNotOpen,
+    StorageError,
+    StorageUnavailable,
+)
 from rigserver.storage.runfile import RunFile, fsync_path, write_file
+from schemas.corrections import Correction
 from schemas.runs import Run
 
 log = logging.getLogger(__name__)
@@ -238,6 +245,100 @@ class RunFiles:
         except BaseException:
             tmp.unlink(missing_ok=True)
             raise
+
+    def finalize(self, rf: RunFile, ended: Run) -> bool:
+        """Finalize an ended run's open file (not yet fsynced); False when it failed where
+        the journal did not (its cached chunks written on a full disk) and the final file
+        was written anew from the journal instead (fsynced, final)."""
+        try:
+            with failures_as(f"finalizing the file of run {ended.id}"):
+                try:
+                    rf.finalize(ended)
+                finally:
+                    rf.close()
+        except StorageError as exc:
+            log.warning(
+                "finalizing run %s: %s; its file is written from the journal", ended.id, exc
+            )
+            self.finish_file(ended)
+            return False
+        return True
+
+    def snapshot(self, live: Live) -> Path:
+        """A fresh consistent copy of an open run's file (``snapshots/<id>.h5``)."""
+        run_id = live.run.id
+        rf = self.view(live, f"flushing run {run_id}")
+        with self.spoiling(live, f"flushing run {run_id}"):
+            rf.flush()
+        snapshot = self.snapshots / f"{run_id}.h5"
+        tmp = snapshot.with_name(snapshot.name + ".tmp")
+        with failures_as(f"copying a snapshot of run {run_id}"):
+            shutil.copyfile(rf.path, tmp)
+            os.replace(tmp, snapshot)
+        return snapshot
+
+    def pay_backlog(self) -> bool:
+        """One batch of the backlog of the first open run that has one (the store is
+        quiet); True if any is left."""
+        for live in self.live.values():
+            live.direct = False  # whatever stream made it so has paused
+        owing = [live for live in self.live.values() if live.backlog and not live.stale]
+        if not owing:
+            return False
+        live = owing[0]
+        rf = self.files.get(live.run.id)
+        try:
+            if rf is None:  # not expected: a file is closed only with its backlog written
+                raise StorageUnavailable(f"the file of run {live.run.id} is not open")
+            with self.spoiling(live, f"writing the backlog of run {live.run.id}"):
+                self.pay(live, rf, 1)
+        except StorageError as exc:
+            log.warning("%s; the file will be rebuilt from the journal", exc)
+            self.spoil(live)
+        return len(owing) > 1 or bool(live.backlog)
+
+    def write_final(
+        self,
+        run: Run,
+        batches: Iterable[tuple[int, StoredBatch, Mapping[str, NDArray[np.float64]]]],
+        results: CheckedResults | None,
+        corrections: Sequence[Correction],
+    ) -> None:
+        """Write an imported run's final file whole (a temp file renamed when complete)."""
+        write_file(
+            self.path(run.id),
+            run,
+            ((s.group, dict(columns), s.rows) for _, s, columns in batches),
+            results,
+            final=True,
+            corrections=list(corrections),
+        )
+
+    def catalogued(self, run_id: str) -> bool:
+        """Whether the catalogue has the run (damaged or not)."""
+        with failures_as(f"looking up run {run_id}"):
+            try:
+                self.journal.entry(run_id)
+            except RunNotFound:
+                return False
+            except RunDamaged:
+                pass
+        return True
+
+    def write_corrections(
+        self, live: Live | None, edited: Run, every: list[Correction], doing: str
+    ) -> None:
+        """Write the run's corrections, committed to the journal, to its file: an open
+        run's view, an ended run's final file by copy and rename."""
+        if live is not None:
+            live.run.corrections = edited.corrections
+            live.run.corrected_after_finish = edited.corrected_after_finish
+            rf = self.view(live, doing)
+            with self.spoiling(live, doing):
+                rf.write_corrections(every, edited)
+            return
+        with failures_as(f"{doing} (it is stored; the file follows)"):
+            self.rewrite(edited, lambda rf: rf.write_corrections(every, edited))
 
     def sync_corrections(self, run: Run) -> None:
         """Bring an ended run's final file up to the corrections of the journal (a crash

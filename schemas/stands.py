@@ -306,7 +306,7 @@ class TribometerConfig(Configuration):
 
     tip: Literal["ball", "flat_pin"] = Field(
         default="ball",
-        description=N_("the counter-body: a ball (ISO 20808), or a pin with a flat end (ASTM G99)"),
+        description=N_("the counter-body: a ball or a pin with a flat end"),
     )
     tip_diameter: float = quantity(
         6e-3, "m", "diameter of the ball, or of the pin's flat end", gt=0

@@ -90,3 +90,11 @@ def test_the_disc_report_says_its_parameters_are_its_own() -> None:
     ]
     html = unescape(report_html(done, "ru"))
     assert "не взяты из межлабораторного исследования ASTM G99" in html
+
+
+def test_the_reciprocating_report_cites_g133_not_g99() -> None:
+    # issue 38: the flat's report cited G99 (the pin-on-disc method) through the counter-
+    # body's description, and so listed G99 among its abbreviations
+    for lang in ("en", "ru"):
+        text = unescape(report_html(simulated(StandKind.RECIPROCATING), lang))
+        assert "G133" in text and "G99" not in text, lang

@@ -29,8 +29,7 @@ def _shown(label: Label, value: Any, stored: str, uncertainty: float | None = No
         return f"{label.shown(value, stored):.{label.digits}g}"
     if label.count:
         return str(count(label.displayed(value, stored)))
-    shown = label.displayed(value, stored)
-    return f"{round(shown, places):.{max(places, 0)}f}"
+    return f"{round(label.noiseless(value, stored), places):.{max(places, 0)}f}"
 
 
 def _unit(label: Label) -> str:

@@ -76,6 +76,12 @@ class Label:
         digits, 0 below its resolution."""
         return round_to(self.displayed(value, stored), self.digits, self.resolution)
 
+    def noiseless(self, value: float, stored: str) -> float:
+        """``value`` (stored in ``stored``) in the display unit, 0 below the label's
+        resolution (rounding noise: ``e_x = 2.7·10⁻²⁰ m`` is 0), else to full precision."""
+        shown_as = self.displayed(value, stored)
+        return 0.0 if abs(shown_as) < self.resolution else shown_as
+
 
 def round_to(value: float, digits: int, resolution: float = 0.0) -> float:
     """``value`` to ``digits`` significant digits; 0 if ``|value| < resolution``."""

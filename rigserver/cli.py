@@ -203,7 +203,7 @@ def _flag_help(name: str, field: FieldInfo) -> str:
     env = f"{Settings.model_config.get('env_prefix', '')}{name}".upper()
     default = field.get_default(call_default_factory=True)
     said = "" if default in (None, (), "") else f"; default {default}"
-    return f"{field.description} ({env}{said})".replace("%", "%%")
+    return f"{field.description}; {env}{said}".replace("%", "%%")
 
 
 def add_settings_flags(parser: argparse.ArgumentParser) -> None:
@@ -235,7 +235,24 @@ def given_settings(args: argparse.Namespace) -> Settings:
         for name in Settings.model_fields
         if (value := getattr(args, name, None)) is not None
     }
-    return Settings(**given)
+    try:
+        return Settings(**given)
+    except ValidationError as exc:
+        said = "; ".join(_refused(e, given) for e in exc.errors(include_url=False))
+        raise SystemExit(f"rigserver: {said}") from None
+
+
+def _refused(error: Any, given: dict[str, Any]) -> str:
+    """One refused setting: its flag (given) or its variable (from the environment), why,
+    and the value (no secret is checked beyond being text, so none is repeated)."""
+    name = str(error["loc"][0]) if error["loc"] else ""
+    field = Settings.model_fields.get(name)
+    flag = next((m for m in field.metadata if isinstance(m, Flag)), Flag()) if field else Flag()
+    if name in given:
+        where = f"--{flag.name or name.replace('_', '-')}"
+    else:
+        where = f"{Settings.model_config.get('env_prefix', '')}{name}".upper()
+    return f"{where}: {error['msg']} (given {error['input']!r})"
 
 
 def parser() -> argparse.ArgumentParser:

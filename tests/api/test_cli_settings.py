@@ -107,3 +107,14 @@ def test_the_flags_of_the_readme_are_kept() -> None:
     assert settings.max_body_bytes == 5
     with pytest.raises(SystemExit):
         _serve("--synchronous", "sometimes")
+
+
+def test_a_bad_setting_is_named_with_why_not_a_traceback(monkeypatch: pytest.MonkeyPatch) -> None:
+    # a flag is named as typed, a variable of the environment as set; both at once
+    monkeypatch.setenv("RIG_SYNCHRONOUS", "sometimes")
+    with pytest.raises(SystemExit) as stopped:
+        _serve("--report-workers", "0")
+    said = str(stopped.value.code)
+    assert said.startswith("rigserver: ")
+    assert "--report-workers: Input should be greater than 0 (given 0)" in said
+    assert "RIG_SYNCHRONOUS: Input should be 'normal' or 'full' (given 'sometimes')" in said

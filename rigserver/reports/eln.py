@@ -12,6 +12,7 @@ The layout (``docs/eln.md`` maps rig's entities to the crate)::
           report-en.pdf|html, report-ru.pdf|html          the report in both languages
           references/<run id>.h5     the profilometer runs the run's specimen names
           sketches/item-<n>-v<k>.png|jpg   the students' sketches, every version
+          notes.json                 the students' words (conclusions, ...), every version
 
 A series' archive holds one such folder per run and the series' own folder (``series.json``
 with the statistics, ``runs.csv``, its report); each run's Dataset is ``isPartOf`` the
@@ -50,6 +51,7 @@ from schemas.quantity import units_of
 from schemas.runs import Run, RunState
 from schemas.series import SeriesDetail
 from schemas.stands import Stand
+from schemas.student_notes import StudentNotes
 from schemas.units import UNITS
 
 ELN_MEDIA_TYPE = "application/vnd.eln+zip"
@@ -67,6 +69,8 @@ SKETCHES = "sketches"
 SKETCH_NAME = re.compile(r"item-([1-9][0-9]?)-v([1-9][0-9]{0,5})\.(png|jpg)")
 #: The media type of a sketch, by suffix.
 SKETCH_SUFFIXES = {"png": "image/png", "jpg": "image/jpeg"}
+#: The students' words on the run, every version (a JSON list of StudentNotes, first first).
+NOTES = "notes.json"
 
 
 def sketch_member(item: int, version: int, media_type: str) -> str:
@@ -249,6 +253,8 @@ class RunPart:
     references: Mapping[str, tuple[Run, Path]] = field(default_factory=dict)
     #: the students' sketches, every version: :func:`sketch_member` -> the image
     sketches: Mapping[str, bytes] = field(default_factory=dict)
+    #: the students' words, every version, the first first
+    notes: Sequence[StudentNotes] = ()
 
 
 @dataclass(frozen=True)
@@ -459,6 +465,17 @@ def add_run(crate: Crate, part: RunPart, *, series: str | None = None) -> str:
                 encoding=SKETCH_SUFFIXES[found[3]],
                 description=f"The students' sketch of item {found[1]} of the lab's report "
                 f"list, version {found[2]}",
+            )
+        )
+    if part.notes:
+        words = [n.model_dump(mode="json") for n in part.notes]
+        files.append(
+            crate.file(
+                folder + NOTES,
+                [json.dumps(words, ensure_ascii=False, indent=1).encode()],
+                encoding=JSON,
+                description="The students' words on the run (group, names, conclusions, "
+                "analysis, mismatch, observations), every version written, the first first",
             )
         )
     based_on = []

@@ -31,8 +31,11 @@ from dataclasses import dataclass, field
 from pathlib import Path, PurePosixPath
 from typing import IO, Any
 
+from pydantic import TypeAdapter, ValidationError
+
 from rigserver.reports.eln import (
     METADATA,
+    NOTES,
     REFERENCES,
     SKETCH_NAME,
     SKETCH_SUFFIXES,
@@ -41,6 +44,7 @@ from rigserver.reports.eln import (
     term,
 )
 from schemas.strict_json import JsonRefused, strict_loads
+from schemas.student_notes import StudentNotes
 
 #: The metadata of an archive is at most this large (bytes, unpacked).
 METADATA_BYTES = 32 << 20
@@ -72,8 +76,9 @@ class ArchivedRun:
 
     ``run_json`` is the text of ``run.json``; ``run_file`` the run's HDF5 file;
     ``references`` the files of the profilometer runs it names, by run id; ``sketches`` the
-    students' sketches, by their member's name (item, version and media type); ``server``
-    the address of the server that exported it.
+    students' sketches, by their member's name (item, version and media type); ``notes``
+    every version of the students' words, the first first; ``server`` the address of the
+    server that exported it.
     """
 
     directory: Path
@@ -84,6 +89,7 @@ class ArchivedRun:
     exported: str
     references: dict[str, Path] = field(default_factory=dict)
     sketches: dict[str, ArchivedSketch] = field(default_factory=dict)
+    notes: list[StudentNotes] = field(default_factory=list)
 
 
 @dataclass(frozen=True)
@@ -212,6 +218,9 @@ class RunArchive:
                 wanted[part] = references[other]
         sketches = _sketches(folder, parts, directory)
         wanted.update({name: s.path for name, s in sketches.items()})
+        notes = f"{folder}{NOTES}"
+        if notes in parts:
+            wanted[notes] = directory / NOTES
         for needed in wanted:
             if needed not in parts:
                 raise ArchiveRefused(needed, "the run's Dataset does not name this file")
@@ -224,7 +233,8 @@ class RunArchive:
         # the members that are only checked first: a lie among them costs no writing
         for entity_id in sorted(files, key=lambda e: wanted.get(e) is not None):
             out = wanted.get(entity_id)
-            info, hdf5 = members[f"{root}/{entity_id}"], entity_id not in sketches
+            info = members[f"{root}/{entity_id}"]
+            hdf5 = entity_id not in sketches and entity_id != notes
             _verify(archive, info, checked[entity_id], out, self.limits, hdf5=hdf5)
         return ArchivedRun(
             directory=directory,
@@ -235,7 +245,21 @@ class RunArchive:
             exported=exported,
             references=references,
             sketches=sketches,
+            notes=_notes(notes, directory / NOTES) if notes in wanted else [],
         )
+
+
+def _notes(name: str, path: Path) -> list[StudentNotes]:
+    """Every version of the students' words, checked as the API checks a write."""
+    try:
+        return _NOTES.validate_python(json_member(name, path.read_bytes()))
+    except ValidationError as exc:
+        first = exc.errors(include_url=False)[0]
+        where = ".".join(str(p) for p in first["loc"])
+        raise ArchiveRefused(name, f"{where}: {first['msg']}") from None
+
+
+_NOTES = TypeAdapter(list[StudentNotes])
 
 
 def _sketches(folder: str, parts: set[str], directory: Path) -> dict[str, ArchivedSketch]:

@@ -79,6 +79,7 @@ from schemas.channels import check_cell, check_columns
 from schemas.corrections import Correction
 from schemas.runs import ImportedFrom, Run, RunCreate, RunState, new_run_id
 from schemas.stands import MEASUREMENTS, Stand
+from schemas.student_notes import StudentNotesWrite
 
 router = APIRouter(tags=["eln"])
 
@@ -130,6 +131,7 @@ def _run_part(services: Services, run: Run) -> RunPart:
         reports=_reports(lambda lang: run_report_bytes(services, run, lang, _EXPORT)),
         references=_references(services, run),
         sketches=_sketches(services, run),
+        notes=services.notes.history(run.id),
     )
 
 
@@ -436,8 +438,8 @@ def _checked(
 
 def _import(services: Services, found: ArchivedRun, original: Run, by: str) -> Run:
     """Recreate the archive's run here (a new id; readings, measurements and results
-    computed again), all or nothing; its students' sketches uploaded anew ``by`` the
-    importer, every version in its order."""
+    computed again), all or nothing; its students' sketches and words written anew ``by``
+    the importer, every version in its order."""
     if original.state is RunState.OPEN:
         raise ApiProblem(
             409,
@@ -492,6 +494,14 @@ def _import(services: Services, found: ArchivedRun, original: Run, by: str) -> R
                     size, media_type = image.size, image.media_type
                     services.sketches.put(
                         run.id, item, image.data, media_type=media_type, size=size, by=by
+                    )
+                for words in found.notes:
+                    services.notes.put(
+                        run.id,
+                        StudentNotesWrite.model_validate(
+                            words.model_dump(include=set(StudentNotesWrite.model_fields))
+                        ),
+                        by=by,
                     )
                 return services.store.get_run(run.id)
     raise ApiProblem(503, "No free run id", "try the import again", headers={"Retry-After": "1"})

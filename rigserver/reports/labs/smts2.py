@@ -21,6 +21,7 @@ from rigserver.reports.formatting import (
 )
 from rigserver.reports.i18n import Messages
 from rigserver.reports.labs import iso_profile
+from rigserver.reports.labs.friction_record import friction_record_svg
 from rigserver.reports.plots import axes, decorate, to_svg
 from schemas.labels import SMTS2
 from schemas.results import Smts2Results
@@ -284,23 +285,17 @@ def _friction_svg(ctx: Context, v: Smts2Results, config: Smts2Config) -> str:
         if seen <= start < seen + counts.size:
             steady_distance = float(distance[start - seen])
         seen += counts.size
-    drawn = series.series("sliding distance", "friction coefficient")
-    fig, (ax,) = axes(height=3.0)
     share = fmt(100.0 * (1.0 - config.steady_fraction))
-    ax.axvspan(0.0, steady_distance, color="0.88", label=t("w.running_in", share=share))
-    ax.fill_between(drawn.x, drawn.y_min, drawn.y_max, color="C0", alpha=0.25, linewidth=0)
-    ax.plot(drawn.x, drawn.y, color="C0", linewidth=0.8, label=t("w.block_mean"))
-    steady = to_uncertainty(v.friction_steady, v.friction_steady_expanded)
-    ax.hlines(
-        v.friction_steady,
-        steady_distance,
-        drawn.x[-1],
-        colors="C3",
-        linewidth=1.2,
-        label=f"{t('w.steady_mean')} f = {steady}",
+    return friction_record_svg(
+        t,
+        series.series("sliding distance", "friction coefficient"),
+        "f",
+        running_in=steady_distance,
+        running_in_label=t("w.running_in", share=share),
+        steady_from=steady_distance,
+        steady=v.friction_steady,
+        steady_shown=to_uncertainty(v.friction_steady, v.friction_steady_expanded),
     )
-    decorate(ax, xlabel=blocks.axis(t, "L", "m"), ylabel=blocks.axis(t, "f"))
-    return to_svg(fig)
 
 
 def _wear_svg(t: Messages, v: Smts2Results) -> tuple[str, bool]:

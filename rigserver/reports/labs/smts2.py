@@ -9,8 +9,8 @@ import numpy as np
 from rigserver.analysis.streaming import BlockSeries
 from rigserver.core import wear
 from rigserver.reports import blocks
-from rigserver.reports.context import Context, LabReport
-from rigserver.reports.document import Block, Figure, Section, Table, Text
+from rigserver.reports.context import Context, LabReport, sections
+from rigserver.reports.document import Block, Figure, Table, Text
 from rigserver.reports.formatting import (
     fmt,
     html_symbol,
@@ -36,13 +36,12 @@ DRAWN_BLOCKS = 600
 def _measured(ctx: Context, v: Smts2Results, config: Smts2Config) -> list[Block]:
     """The weighings and the friction record: its figures, M_fr beside f, its plot."""
     t = ctx.t
-    group = ctx.group(MEASUREMENTS)
     balance = {  # the masses with the digits the balance gives (its resolution, declared)
-        c.name: config.accuracy.balance_resolution / UNITS[c.unit].factor
-        for c in group.channels
-        if UNITS[c.unit].si == "kg"
+        name: config.accuracy.balance_resolution / UNITS[unit].factor
+        for name, unit in ctx.units(MEASUREMENTS).items()
+        if UNITS[unit].si == "kg"
     }
-    measured: list[Block] = [blocks.measurements(t, group, ctx.readings.measurements(), balance)]
+    measured: list[Block] = [ctx.measurements(balance)]
     if v.rows:
         record = blocks.quantities(
             t,
@@ -172,10 +171,7 @@ def build(ctx: Context, v: Smts2Results) -> LabReport:
     if v.rows:
         processed.append(blocks.uncertainty_table(t, spread))
     return LabReport(
-        sections=[
-            Section(t("sec.measured"), measured),
-            Section(t("sec.processed"), processed),
-        ],
+        sections=sections(t, measured, processed),
         conclusions=_conclusions(t, v),
     )
 
@@ -264,7 +260,7 @@ def _friction_svg(ctx: Context, v: Smts2Results, config: Smts2Config) -> str:
     means with their min-max band; the part before the steady window is shaded."""
     t = ctx.t
     total = ctx.readings.rows(GROUP)
-    units = {c.name: c.unit for c in ctx.group(GROUP).channels}
+    units = ctx.units(GROUP)
     per_count = UNITS[units["revolutions"]].factor
     start = wear.steady_window_start(samples=total, fraction=config.steady_fraction)
     series = BlockSeries(total, blocks=DRAWN_BLOCKS)

@@ -9,8 +9,8 @@ import math
 import numpy as np
 
 from rigserver.reports import blocks
-from rigserver.reports.context import Context, LabReport
-from rigserver.reports.document import Block, Figure, Section, Text
+from rigserver.reports.context import Context, LabReport, sections
+from rigserver.reports.document import Block, Figure, Text
 from rigserver.reports.formatting import fmt, html_symbol, percent, to_uncertainty
 from rigserver.reports.i18n import Messages
 from rigserver.reports.labs import iso_profile
@@ -21,7 +21,6 @@ from schemas.labels import WEAR_SUBSCRIPTS, RowTable, row_labels
 from schemas.results import PinOnDiscResults, ReciprocatingResults, TribometerStep, WearEstimate
 from schemas.stands import (
     DECLARATIONS,
-    MEASUREMENTS,
     PinOnDiscConfig,
     ReciprocatingConfig,
 )
@@ -54,9 +53,7 @@ def _measured(
         for specimen in ("pin", "disc")
         for when in ("before", "after")
     }
-    measured: list[Block] = [
-        blocks.measurements(t, ctx.group(MEASUREMENTS), ctx.readings.measurements(), masses)
-    ]
+    measured: list[Block] = [ctx.measurements(masses)]
     if v.rows:
         measured.append(conditions_table(t, ctx.run, config, v))
         flat = isinstance(v, ReciprocatingResults)
@@ -150,10 +147,7 @@ def build(ctx: Context, v: Results) -> LabReport:
     if v.rows:
         processed.append(blocks.uncertainty_table(t, spread))
     return LabReport(
-        sections=[
-            Section(t("sec.measured"), measured),
-            Section(t("sec.processed"), processed),
-        ],
+        sections=sections(t, measured, processed),
         conclusions=_conclusions(t, v)
         + ([html_symbol(line) for line in deviations(t, config, v)] if v.rows else []),
     )

@@ -171,27 +171,17 @@ def export_members(
 
 
 def export_zip(
-    target: IO[bytes],
-    *,
-    run: Run,
-    stand: Stand,
-    readings: Readings,
-    payload: Mapping[str, Any],
-    t: Messages,
-    dialect: CsvDialect,
+    target: IO[bytes], folder: str, members: Iterable[tuple[str, Iterable[bytes]]]
 ) -> None:
-    """Write the run's archive into ``target``, under ``<run id>/``: the members of
-    :func:`export_members`, entries dated now."""
+    """Write the run's archive into ``target``, under ``<folder>/`` (the run's id): the
+    members of :func:`export_members`, entries dated now."""
     now = time.localtime()[:6]
 
     def entry(name: str) -> zipfile.ZipInfo:
-        info = zipfile.ZipInfo(f"{run.id}/{name}", date_time=now)
+        info = zipfile.ZipInfo(f"{folder}/{name}", date_time=now)
         info.compress_type = zipfile.ZIP_DEFLATED
         return info
 
-    members = export_members(
-        run=run, stand=stand, readings=readings, payload=payload, t=t, dialect=dialect
-    )
     with zipfile.ZipFile(target, "w", compression=zipfile.ZIP_DEFLATED) as archive:
         for name, pieces in members:
             with archive.open(entry(name), "w") as member:

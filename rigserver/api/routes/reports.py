@@ -17,7 +17,13 @@ from rigserver.api.cases.reports import run_report_answer
 from rigserver.api.deps import ReadAccess, Services, ServicesDep
 from rigserver.api.problems import ApiProblem
 from rigserver.api.run_results import StoredReadings, results_payload
-from rigserver.reports.export import DIALECTS, Dialect, export_zip, results_csv
+from rigserver.reports.export import (
+    DIALECTS,
+    Dialect,
+    export_members,
+    export_zip,
+    results_csv,
+)
 from rigserver.reports.i18n import Lang, Messages, negotiate
 from rigserver.reports.x3p import PROFILE_GROUP, NoProfile, profile_group, profile_x3p
 from schemas.runs import Run
@@ -128,8 +134,7 @@ def _export(services: Services, run_id: str, lang: Lang, dialect: Dialect) -> tu
     handle, path = tempfile.mkstemp(prefix="rig-export-", suffix=".zip")
     try:
         with os.fdopen(handle, "wb") as target:
-            export_zip(
-                target,
+            members = export_members(
                 run=run,
                 stand=services.stand_of(run),
                 readings=StoredReadings(services, run),
@@ -137,6 +142,7 @@ def _export(services: Services, run_id: str, lang: Lang, dialect: Dialect) -> tu
                 t=Messages(lang),
                 dialect=DIALECTS[dialect],
             )
+            export_zip(target, run.id, members)
     except BaseException:
         os.unlink(path)
         raise

@@ -13,15 +13,15 @@ from numpy.typing import NDArray
 from scipy.interpolate import make_interp_spline
 
 from rigserver.reports import blocks
-from rigserver.reports.context import Context, LabReport
-from rigserver.reports.document import Block, Figure, Paragraph, Section, Table, Text
+from rigserver.reports.context import Context, LabReport, sections
+from rigserver.reports.document import Block, Figure, Paragraph, Table, Text
 from rigserver.reports.formatting import fmt, html_symbol, percent, shown, tex
 from rigserver.reports.i18n import Messages
 from rigserver.reports.plots import axes, decorate, to_svg
 from schemas.labels import MTOS, Label, row_labels
 from schemas.quantity import units_of
 from schemas.results import MtosResults, MtosStep
-from schemas.stands import MEASUREMENTS, MtosConfig
+from schemas.stands import MtosConfig
 from schemas.units import UNITS
 
 GROUP = "steps"
@@ -36,9 +36,7 @@ VISCOSITIES = ("t1", *RISES)
 def build(ctx: Context, v: MtosResults) -> LabReport:
     t = ctx.t
     config = MtosConfig.model_validate(ctx.run.configuration)
-    measured: list[Block] = [
-        blocks.measurements(t, ctx.group(MEASUREMENTS), ctx.readings.measurements())
-    ]
+    measured: list[Block] = [ctx.measurements()]
     if ctx.readings.rows(GROUP):
         measured.extend(_raw_tables(ctx))
     measured.append(
@@ -87,10 +85,7 @@ def build(ctx: Context, v: MtosResults) -> LabReport:
             Figure(t("m.fig_temperature"), _temperature_svg(t, v)),
         ]
     return LabReport(
-        sections=[
-            Section(t("sec.measured"), measured),
-            Section(t("sec.processed"), processed),
-        ],
+        sections=sections(t, measured, processed),
         conclusions=_conclusions(t, v),
     )
 
@@ -103,7 +98,7 @@ def _raw_tables(ctx: Context) -> list[Table]:
     """Tables 4.1-4.3: the readings of each experiment as posted."""
     t = ctx.t
     raw = ctx.readings.read(GROUP)
-    units = {c.name: c.unit for c in ctx.group(GROUP).channels}
+    units = ctx.units(GROUP)
     names = ("load", "indicator", "x", "y", "t1", "t2", "t3", "t4", "t5")
     symbols = ("N", "Δl", "X", "Y", "t_1", "t_2", "t_3", "t_4", "t_5")
     head = [blocks.header(t, s, units[n]) for s, n in zip(symbols, names, strict=True)]

@@ -10,8 +10,8 @@ from numpy.typing import NDArray
 
 from rigserver.core import bearing_readings, roughness
 from rigserver.reports import blocks
-from rigserver.reports.context import Context, LabReport
-from rigserver.reports.document import Block, Figure, Section, Table, Text
+from rigserver.reports.context import Context, LabReport, sections
+from rigserver.reports.document import Block, Figure, Table, Text
 from rigserver.reports.downsample import min_max
 from rigserver.reports.formatting import (
     DASH,
@@ -28,7 +28,6 @@ from rigserver.reports.plots import axes, decorate, to_svg
 from schemas.labels import PROFILOMETER
 from schemas.quantity import units_of
 from schemas.results import BearingFitResult, ProfilometerResults
-from schemas.stands import MEASUREMENTS
 from schemas.units import UNITS
 
 GROUP = "profile"
@@ -40,9 +39,7 @@ DRAWN_COLUMNS = 700
 
 def build(ctx: Context, v: ProfilometerResults) -> LabReport:
     t = ctx.t
-    measured: list[Block] = [
-        blocks.measurements(t, ctx.group(MEASUREMENTS), ctx.readings.measurements())
-    ]
+    measured: list[Block] = [ctx.measurements()]
     if ctx.readings.rows(GROUP):
         measured.append(Figure(t("p.fig_profile"), _profile_svg(ctx, v)))
     if v.ra is not None:
@@ -98,19 +95,19 @@ def build(ctx: Context, v: ProfilometerResults) -> LabReport:
     )
     if spread and v.ra_expanded is not None:
         processed.append(blocks.uncertainty_table(t, spread))
-    sections = [Section(t("sec.measured"), measured), Section(t("sec.processed"), processed)]
+    found = sections(t, measured, processed)
     iso = iso_profile.profilometer_section(
         t, v, _trace_m(ctx) if ctx.readings.rows(GROUP) else None
     )
     if iso is not None:
-        sections.append(iso)
-    return LabReport(sections=sections, conclusions=_conclusions(t, v))
+        found.append(iso)
+    return LabReport(sections=found, conclusions=_conclusions(t, v))
 
 
 def _trace_m(ctx: Context) -> dict[str, NDArray[np.float64]]:
     """The trace in metres."""
     trace = ctx.readings.read(GROUP, ["x", "y"])
-    units = {c.name: c.unit for c in ctx.group(GROUP).channels}
+    units = ctx.units(GROUP)
     return {name: trace[name] * UNITS[units[name]].factor for name in ("x", "y")}
 
 
@@ -118,8 +115,7 @@ def _profile_svg(ctx: Context, v: ProfilometerResults) -> str:
     """The trace as measured (mm, μm) with the mean, peak and valley lines of (1.3)-(1.4)."""
     t = ctx.t
     trace = ctx.readings.read(GROUP, ["x", "y"])
-    group = ctx.group(GROUP)
-    units = {c.name: c.unit for c in group.channels}
+    units = ctx.units(GROUP)
     fx, fy = UNITS[units["x"]].factor, UNITS[units["y"]].factor
     x, y = trace["x"], trace["y"]
     fig, (ax,) = axes(height=3.0)

@@ -8,24 +8,21 @@ import numpy as np
 from markupsafe import Markup
 
 from rigserver.reports import blocks
-from rigserver.reports.context import Context, LabReport
-from rigserver.reports.document import Block, Figure, Paragraph, Section, Table, Text
+from rigserver.reports.context import Context, LabReport, sections
+from rigserver.reports.document import Block, Figure, Paragraph, Table, Text
 from rigserver.reports.formatting import fmt, html_symbol, percent, shown, with_uncertainty
 from rigserver.reports.i18n import Messages
 from rigserver.reports.plots import axes, decorate, to_svg
 from schemas.labels import SLIDE_BEARING, row_labels
 from schemas.quantity import units_of
 from schemas.results import AxialPoint, SlideBearingResults, SlideBearingRow
-from schemas.stands import MEASUREMENTS
 
 GROUP = "rows"
 
 
 def build(ctx: Context, v: SlideBearingResults) -> LabReport:
     t = ctx.t
-    measured: list[Block] = [
-        blocks.measurements(t, ctx.group(MEASUREMENTS), ctx.readings.measurements())
-    ]
+    measured: list[Block] = [ctx.measurements()]
     if ctx.readings.rows(GROUP):
         measured.append(_table_3_1(ctx, v))
     measured.append(
@@ -62,10 +59,7 @@ def build(ctx: Context, v: SlideBearingResults) -> LabReport:
     if spread:
         processed.append(blocks.uncertainty_table(t, spread))
     return LabReport(
-        sections=[
-            Section(t("sec.measured"), measured),
-            Section(t("sec.processed"), processed),
-        ],
+        sections=sections(t, measured, processed),
         conclusions=_conclusions(t, v),
     )
 
@@ -74,7 +68,7 @@ def _table_3_1(ctx: Context, v: SlideBearingResults) -> Table:
     """The limb rows as read (X, Y, t1, t2) beside their processing (3.16)-(3.20)."""
     t = ctx.t
     raw = ctx.readings.read(GROUP, ["limb_angle", "x", "y", "t1", "t2"])
-    units = {c.name: c.unit for c in ctx.group(GROUP).channels}
+    units = ctx.units(GROUP)
     n = raw["limb_angle"].size
     rows = v.table if len(v.table) == n else [None] * n
 

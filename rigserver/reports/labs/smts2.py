@@ -9,8 +9,8 @@ import numpy as np
 from rigserver.analysis.streaming import BlockSeries
 from rigserver.core import wear
 from rigserver.reports import blocks
-from rigserver.reports.context import Context, LabReport
-from rigserver.reports.document import Block, Figure, Section, Table, Text
+from rigserver.reports.context import Context, LabReport, sections
+from rigserver.reports.document import Block, Figure, Table, Text
 from rigserver.reports.formatting import (
     fmt,
     html_symbol,
@@ -21,6 +21,7 @@ from rigserver.reports.formatting import (
 )
 from rigserver.reports.i18n import Messages
 from rigserver.reports.labs import iso_profile
+from rigserver.reports.labs.friction_record import friction_record_svg
 from rigserver.reports.plots import axes, decorate, to_svg
 from schemas.labels import SMTS2
 from schemas.results import Smts2Results
@@ -35,13 +36,12 @@ DRAWN_BLOCKS = 600
 def _measured(ctx: Context, v: Smts2Results, config: Smts2Config) -> list[Block]:
     """The weighings and the friction record: its figures, M_fr beside f, its plot."""
     t = ctx.t
-    group = ctx.group(MEASUREMENTS)
     balance = {  # the masses with the digits the balance gives (its resolution, declared)
-        c.name: config.accuracy.balance_resolution / UNITS[c.unit].factor
-        for c in group.channels
-        if UNITS[c.unit].si == "kg"
+        name: config.accuracy.balance_resolution / UNITS[unit].factor
+        for name, unit in ctx.units(MEASUREMENTS).items()
+        if UNITS[unit].si == "kg"
     }
-    measured: list[Block] = [blocks.measurements(t, group, ctx.readings.measurements(), balance)]
+    measured: list[Block] = [ctx.measurements(balance)]
     if v.rows:
         record = blocks.quantities(
             t,
@@ -171,10 +171,7 @@ def build(ctx: Context, v: Smts2Results) -> LabReport:
     if v.rows:
         processed.append(blocks.uncertainty_table(t, spread))
     return LabReport(
-        sections=[
-            Section(t("sec.measured"), measured),
-            Section(t("sec.processed"), processed),
-        ],
+        sections=sections(t, measured, processed),
         conclusions=_conclusions(t, v),
     )
 
@@ -263,7 +260,7 @@ def _friction_svg(ctx: Context, v: Smts2Results, config: Smts2Config) -> str:
     means with their min-max band; the part before the steady window is shaded."""
     t = ctx.t
     total = ctx.readings.rows(GROUP)
-    units = {c.name: c.unit for c in ctx.group(GROUP).channels}
+    units = ctx.units(GROUP)
     per_count = UNITS[units["revolutions"]].factor
     start = wear.steady_window_start(samples=total, fraction=config.steady_fraction)
     series = BlockSeries(total, blocks=DRAWN_BLOCKS)
@@ -284,23 +281,17 @@ def _friction_svg(ctx: Context, v: Smts2Results, config: Smts2Config) -> str:
         if seen <= start < seen + counts.size:
             steady_distance = float(distance[start - seen])
         seen += counts.size
-    drawn = series.series("sliding distance", "friction coefficient")
-    fig, (ax,) = axes(height=3.0)
     share = fmt(100.0 * (1.0 - config.steady_fraction))
-    ax.axvspan(0.0, steady_distance, color="0.88", label=t("w.running_in", share=share))
-    ax.fill_between(drawn.x, drawn.y_min, drawn.y_max, color="C0", alpha=0.25, linewidth=0)
-    ax.plot(drawn.x, drawn.y, color="C0", linewidth=0.8, label=t("w.block_mean"))
-    steady = to_uncertainty(v.friction_steady, v.friction_steady_expanded)
-    ax.hlines(
-        v.friction_steady,
-        steady_distance,
-        drawn.x[-1],
-        colors="C3",
-        linewidth=1.2,
-        label=f"{t('w.steady_mean')} f = {steady}",
+    return friction_record_svg(
+        t,
+        series.series("sliding distance", "friction coefficient"),
+        "f",
+        running_in=steady_distance,
+        running_in_label=t("w.running_in", share=share),
+        steady_from=steady_distance,
+        steady=v.friction_steady,
+        steady_shown=to_uncertainty(v.friction_steady, v.friction_steady_expanded),
     )
-    decorate(ax, xlabel=blocks.axis(t, "L", "m"), ylabel=blocks.axis(t, "f"))
-    return to_svg(fig)
 
 
 def _wear_svg(t: Messages, v: Smts2Results) -> tuple[str, bool]:

@@ -9,18 +9,18 @@ import math
 import numpy as np
 
 from rigserver.reports import blocks
-from rigserver.reports.context import Context, LabReport
-from rigserver.reports.document import Block, Figure, Section, Text
+from rigserver.reports.context import Context, LabReport, sections
+from rigserver.reports.document import Block, Figure, Text
 from rigserver.reports.formatting import fmt, html_symbol, percent, to_uncertainty
 from rigserver.reports.i18n import Messages
 from rigserver.reports.labs import iso_profile
+from rigserver.reports.labs.friction_record import friction_record_svg
 from rigserver.reports.labs.tribometer_conditions import conditions_table, deviations
 from rigserver.reports.plots import axes, decorate, to_svg
 from schemas.labels import WEAR_SUBSCRIPTS, RowTable, row_labels
 from schemas.results import PinOnDiscResults, ReciprocatingResults, TribometerStep, WearEstimate
 from schemas.stands import (
     DECLARATIONS,
-    MEASUREMENTS,
     PinOnDiscConfig,
     ReciprocatingConfig,
 )
@@ -53,9 +53,7 @@ def _measured(
         for specimen in ("pin", "disc")
         for when in ("before", "after")
     }
-    measured: list[Block] = [
-        blocks.measurements(t, ctx.group(MEASUREMENTS), ctx.readings.measurements(), masses)
-    ]
+    measured: list[Block] = [ctx.measurements(masses)]
     if v.rows:
         measured.append(conditions_table(t, ctx.run, config, v))
         flat = isinstance(v, ReciprocatingResults)
@@ -149,10 +147,7 @@ def build(ctx: Context, v: Results) -> LabReport:
     if v.rows:
         processed.append(blocks.uncertainty_table(t, spread))
     return LabReport(
-        sections=[
-            Section(t("sec.measured"), measured),
-            Section(t("sec.processed"), processed),
-        ],
+        sections=sections(t, measured, processed),
         conclusions=_conclusions(t, v)
         + ([html_symbol(line) for line in deviations(t, config, v)] if v.rows else []),
     )
@@ -229,23 +224,16 @@ def _wear_fields(name: str) -> list[tuple[str, str, str]]:
 def _friction_svg(t: Messages, v: Results) -> str:
     """μ against the sliding distance (block means and their min-max band), the running-in
     shaded, the steady mean drawn over the steady part."""
-    s = v.friction
-    fig, (ax,) = axes(height=3.0)
-    if v.running_in_distance:
-        ax.axvspan(0.0, v.running_in_distance, color="0.88", label=t("t.running_in_band"))
-    ax.fill_between(s.x, s.y_min, s.y_max, color="C0", alpha=0.25, linewidth=0)
-    ax.plot(s.x, s.y, color="C0", linewidth=0.8, label=t("w.block_mean"))
-    if s.x and v.friction_steady is not None and v.running_in_distance is not None:
-        ax.hlines(
-            v.friction_steady,
-            v.running_in_distance,
-            s.x[-1],
-            colors="C3",
-            linewidth=1.2,
-            label=f"{t('w.steady_mean')} μ = {_mu(v)}",
-        )
-    decorate(ax, xlabel=blocks.axis(t, "L", "m"), ylabel=blocks.axis(t, "μ"))
-    return to_svg(fig)
+    return friction_record_svg(
+        t,
+        v.friction,
+        "μ",
+        running_in=v.running_in_distance or None,
+        running_in_label=t("t.running_in_band"),
+        steady_from=v.running_in_distance,
+        steady=v.friction_steady,
+        steady_shown=_mu(v),
+    )
 
 
 def _map_svg(t: Messages, v: PinOnDiscResults) -> str:

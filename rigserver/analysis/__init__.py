@@ -6,6 +6,7 @@ returns the results with their units.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Any
 
@@ -55,6 +56,6 @@ def _headline(values: BaseModel, paths: tuple[str, ...]) -> dict[str, float]:
         node: Any = values
         for part in path.split("."):
             node = getattr(node, part, None)
-        if isinstance(node, int | float):  # a verdict (bool) as 1 or 0
+        if isinstance(node, int | float) and math.isfinite(node):  # a verdict as 1 or 0
             found[path] = float(node)
     return found

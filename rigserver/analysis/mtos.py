@@ -50,8 +50,14 @@ def analyse(run: Run, readings: Readings, profiles: Profiles | None = None) -> M
     result = _heading(run, readings, config, profiles or Profiles())
     rows = readings.read(GROUP)
     zeros = readings.measurements()
-    if not rows:
+    if readings.rows(GROUP) == 0:
         result.pending.append(N_("no load steps yet"))
+    unloaded = [] if result.pending else np.flatnonzero(~(rows["load"] > 0.0)).tolist()
+    if unloaded:  # a typo to correct: the run still finishes, its results wait for it
+        result.pending.append(
+            f"steps {', '.join(map(str, unloaded))}: the load is 0 N; f = M/(N·r) (4.11) "
+            "needs N > 0"
+        )
     if "x_zero" not in zeros or "y_zero" not in zeros:
         result.pending.append(N_("needs the measurements x_zero, y_zero"))
     if result.pending:
@@ -222,13 +228,17 @@ def _step(
     if regime == "fluid":
         theory = _fluid_theory(i, config, chi, viscosity, load, steps, notes)
     u_chi, u_f = _uncertainties(i, config, rows, spread, load)
+    if u_f is None:
+        notes.append(f"step {i}: u(f_e) is undefined to first order at N = {load:g} N")
+    if u_chi is None:
+        notes.append(f"step {i}: journal centred, u(χ) is undefined to first order (GUM 5.1.2)")
     s1 = float(steps.s1[i])
     h_min, lam = float(steps.h_min[i]), float(steps.film_parameter[i])
     return MtosStep(
-        chi_uncertainty=u_chi.standard,
-        chi_expanded=u_chi.expanded,
-        friction_measured_uncertainty=u_f.standard,
-        friction_measured_expanded=u_f.expanded,
+        chi_uncertainty=None if u_chi is None else u_chi.standard,
+        chi_expanded=None if u_chi is None else u_chi.expanded,
+        friction_measured_uncertainty=None if u_f is None else u_f.standard,
+        friction_measured_expanded=None if u_f is None else u_f.expanded,
         load=load,
         regime=regime,
         e_x=float(ecc.e_x[i]),
@@ -303,28 +313,35 @@ def _fluid_theory(
 
 def _uncertainties(
     i: int, config: MtosConfig, rows: Columns, spread: _Spread, load: float
-) -> tuple[uncertainty.Estimate, uncertainty.Estimate]:
+) -> tuple[uncertainty.Estimate | None, uncertainty.Estimate | None]:
     """The standard and expanded uncertainties of step ``i``'s χ (4.9) and measured f
-    (4.11), from the gauges' limits (GUM)."""
+    (4.11), from the gauges' limits (GUM); none of χ for a centred journal, where χ's
+    derivatives are undefined."""
     accuracy = config.accuracy
-    u_chi = uncertainty.estimate(
-        uncertainty.mtos_chi(
-            x=float(rows["x"][i]) * _M_PER_UM,
-            y=float(rows["y"][i]) * _M_PER_UM,
-            x_zero=spread.x_zero,
-            y_zero=spread.y_zero,
-            limit=accuracy.displacement * _M_PER_UM,
-            clearance=spread.clearance,
-            signed=config.signed_sensors,
+    try:
+        u_chi: uncertainty.Estimate | None = uncertainty.estimate(
+            uncertainty.mtos_chi(
+                x=float(rows["x"][i]) * _M_PER_UM,
+                y=float(rows["y"][i]) * _M_PER_UM,
+                x_zero=spread.x_zero,
+                y_zero=spread.y_zero,
+                limit=accuracy.displacement * _M_PER_UM,
+                clearance=spread.clearance,
+                signed=config.signed_sensors,
+            )
         )
-    )
-    u_f = uncertainty.estimate(
-        spread.arms
-        * uncertainty.from_limit(
-            float(rows["indicator"][i]) * _M_PER_MM, accuracy.indicator * _M_PER_MM
+    except ArithmeticError:  # hypot's derivative at e_x = e_y = 0
+        u_chi = None
+    try:
+        u_f: uncertainty.Estimate | None = uncertainty.estimate(
+            spread.arms
+            * uncertainty.from_limit(
+                float(rows["indicator"][i]) * _M_PER_MM, accuracy.indicator * _M_PER_MM
+            )
+            / uncertainty.from_limit(load, load * accuracy.dynamometer)
         )
-        / uncertainty.from_limit(load, load * accuracy.dynamometer)
-    )
+    except ArithmeticError:  # a load near nothing: the derivative by N overflows
+        u_f = None
     return u_chi, u_f
 
 

@@ -35,11 +35,11 @@ def analyse(run: Run, readings: Readings) -> SlideBearingResults:
         result.load = zeros["loader_scale"] * config.loader_rate
     rows = readings.read(GROUP)
     missing = [k for k in ("x_zero", "y_zero", "load_zone_end") if k not in zeros]
-    if not rows:
+    if result.rows == 0:
         result.pending.append(N_("no limb rows yet"))
     if missing:
         result.pending.append("needs the measurements " + ", ".join(missing))
-    if not rows or missing:
+    if result.rows == 0 or missing:
         return result
     limbs = _Limbs.of(config, rows, zeros)
     result.attitude_angle = float(np.degrees(np.angle(np.mean(np.exp(1j * limbs.attitude)))))

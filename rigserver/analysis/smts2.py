@@ -83,10 +83,14 @@ def analyse(run: Run, readings: Readings, profiles: Profiles | None = None) -> S
             N_("experimental wear needs pin_mass_before, pin_mass_after and revolutions")
         )
     elif pin_known:  # else the pending item asks for the pin's properties
-        _experimental(config, result, m["pin_mass_before"], m["pin_mass_after"])
-        _wear_uncertainty(
-            config, result, m["pin_mass_before"], m["pin_mass_after"], record.revolutions
-        )
+        try:
+            _experimental(config, result, m["pin_mass_before"], m["pin_mass_after"])
+        except ModelInputError as exc:  # a weighing to correct: the run still finishes
+            result.pending.append(f"experimental wear not computed: {exc}")
+        else:
+            _wear_uncertainty(
+                config, result, m["pin_mass_before"], m["pin_mass_after"], record.revolutions
+            )
     track = (profiles or Profiles()).traces.get("disc")
     if track is not None and record.revolutions > 0:
         traced = (profiles or Profiles()).found.get("disc")
@@ -222,7 +226,12 @@ def _verdict(result: Smts2Results) -> None:
     """The theory against the experiment: outside its range, or (2.14)-(2.15)."""
     if result.validity is not None and not result.validity.within_range:
         result.verdict = VERDICT_OUTSIDE
-    elif result.experimental and result.theoretical and result.experimental.intensity > 0:
+    elif (
+        result.experimental
+        and result.theoretical
+        and result.experimental.intensity > 0
+        and result.theoretical.intensity > 0
+    ):
         adequacy = wear.wear_adequacy(
             i_exp=result.experimental.intensity, i_theor=result.theoretical.intensity
         )
@@ -266,7 +275,10 @@ def _theoretical(config: Smts2Config, result: Smts2Results, ra_disc: float) -> N
     except ModelInputError as exc:
         result.notes.append(f"theoretical wear not computed: {exc}")
         return
-    result.validity = _validity(config, result.friction_steady, theory, t, 1.0)
+    try:
+        result.validity = _validity(config, result.friction_steady, theory, t, 1.0)
+    except ModelInputError as exc:
+        result.notes.append(f"the range of (2.1) not checked: {exc}")
     result.sensitivity = _sensitivity(config, result.friction_steady, at, t)
     result.theoretical = TheoreticalWearResult(
         intensity=theory.intensity,
@@ -319,10 +331,10 @@ def _sensitivity(
     for t, ratio in grid:
         try:
             theory = at(t, ratio)
+            n = _validity(config, f, theory, t, ratio).cycles_to_failure
         except ModelInputError:
             points.append(SensitivityPoint(fatigue_t=t, strength_ratio=ratio))
             continue
-        n = _validity(config, f, theory, t, ratio).cycles_to_failure
         points.append(
             SensitivityPoint(
                 fatigue_t=t,

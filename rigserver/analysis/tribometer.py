@@ -178,7 +178,10 @@ def analyse(run: Run, readings: Readings, profiles: Profiles | None = None) -> R
         _contact(config, result)
     load = result.mean_load * from_limit(1.0, config.accuracy.load, "F_N")
     distance = result.sliding_distance
-    _wear(run, readings, config, result, load, distance, specimens.unknown)
+    try:
+        _wear(run, readings, config, result, load, distance, specimens.unknown)
+    except ArithmeticError:  # F·L of a load or path near nothing: k's derivatives overflow
+        result.notes.append(f"k = V/(F·L) not computed: F·L = {result.mean_load * distance:g} N·m")
     if isinstance(result, PinOnDiscResults):
         _lap_views(r, steady, result)
     else:
@@ -381,8 +384,12 @@ def _wear(
     if config.tip == "ball" and "scar_diameter" in m:
         cap = wrap(lambda d: tribometer.spherical_cap_volume(scar_diameter=d, ball_radius=radius))
         d = m["scar_diameter"] * _M_PER_UM
-        volume = cap(from_limit(d, acc.scar, "d"))
-        result.pin_scar = ScarWear(scar_diameter=d, **_rate(volume, load, distance))
+        try:
+            volume = cap(from_limit(d, acc.scar, "d"))
+        except ModelInputError as exc:  # a reading to correct: the run still finishes
+            result.notes.append(f"the ball's wear from its scar not computed: {exc}")
+        else:
+            result.pin_scar = ScarWear(scar_diameter=d, **_rate(volume, load, distance))
     elif config.tip == "flat_pin" and "pin_height_loss" in m:
         h = m["pin_height_loss"] * _M_PER_UM
         area = math.pi * from_limit(config.tip_diameter, acc.length, "D") ** 2 / 4.0

@@ -100,6 +100,8 @@ def hertz_ball_on_flat(*, load: float, ball_radius: float, modulus: float) -> He
     r = float(positive("ball_radius", ball_radius))
     e = float(positive("modulus", modulus))
     a = (3.0 * f * r / (4.0 * e)) ** (1.0 / 3.0)
+    if a**2 == 0.0:
+        raise ModelInputError(f"the contact radius of a load of {f:g} N is below the floats'")
     mean = f / (math.pi * a**2)
     return HertzContact(radius=a, max_pressure=1.5 * mean, mean_pressure=mean)
 

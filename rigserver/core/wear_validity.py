@@ -14,6 +14,7 @@ import math
 from dataclasses import dataclass
 
 from rigserver.core._checks import positive
+from rigserver.core.errors import ModelInputError
 from rigserver.core.wear import (
     TheoreticalWear,
     elastic_fatigue_factor,
@@ -133,6 +134,11 @@ def wear_theory_validity(
     t = float(positive("fatigue_t", fatigue_t))
     b_nu = float(positive("b", b))
     nu_ = float(positive("nu", nu))
+    if theory.rmax_over_r <= 0.0:
+        raise ModelInputError(
+            "Rmax/R is 0 (a disc without roughness, Ra = 0): the approach of the asperities "
+            "is undefined"
+        )
     root = math.sqrt(theory.rmax_over_r)
     approach = (theory.contour_pressure * theory.theta / (b_nu * theory.k_nu * root)) ** (
         1.0 / (nu_ + 0.5)
@@ -142,7 +148,14 @@ def wear_theory_validity(
     stress = (
         elastic_fatigue_factor(friction_coefficient=friction_coefficient, poisson=poisson) * p_r
     )
-    cycles = (sigma_0 / stress) ** t
+    if stress <= 0.0:
+        raise ModelInputError("σ = k_f^y·p_r is 0: n = (σ0/σ)^t is undefined")
+    try:
+        cycles = (sigma_0 / stress) ** t
+    except OverflowError:
+        raise ModelInputError(
+            f"n = (σ0/σ)^t exceeds the largest number (σ0/σ = {sigma_0 / stress:.3g}, t = {t:g})"
+        ) from None
     k_f_n = plastic_fatigue_factor(
         friction_coefficient=friction_coefficient, yield_strength=yield_strength, hardness=hb
     )

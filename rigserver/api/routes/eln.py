@@ -46,7 +46,7 @@ from rigserver.api.deps import (
     require_write,
     services_of,
 )
-from rigserver.api.examples import ELN_EXAMPLE
+from rigserver.api.examples import ELN_EXAMPLE, file_body
 from rigserver.api.problems import ApiProblem, violations
 from rigserver.api.report_jobs import FileReadings
 from rigserver.api.run_results import StoredReadings, results_payload
@@ -530,22 +530,9 @@ async def _body_to(request: Request, path: Path, reserve: int) -> None:
     "`RIG_IMPORT_DISK_RESERVE` free on the disk.",
     responses={201: {"model": Run}},
     dependencies=[WriteAccess],
-    openapi_extra={
-        "requestBody": {
-            "required": True,
-            "content": {
-                ELN_MEDIA_TYPE: {
-                    "schema": {"type": "string", "format": "binary"},
-                    "examples": {
-                        "profile": {
-                            "summary": "a profilometer run exported by a rig server",
-                            "externalValue": ELN_EXAMPLE,
-                        }
-                    },
-                }
-            },
-        }
-    },
+    openapi_extra=file_body(
+        {ELN_MEDIA_TYPE: ELN_EXAMPLE}, "profile", "a profilometer run exported by a rig server"
+    ),
 )
 async def import_run(request: Request) -> Response:
     services = services_of(request)

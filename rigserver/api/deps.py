@@ -12,7 +12,7 @@ from collections import OrderedDict, defaultdict
 from dataclasses import dataclass, field
 from typing import Annotated, cast
 
-from fastapi import Depends, Path, Request
+from fastapi import Depends, Path, Query, Request
 from starlette.requests import cookie_parser
 from starlette.types import Scope
 
@@ -26,6 +26,7 @@ from rigserver.api.results_cache import ResultsCache
 from rigserver.api.series_export import SeriesExports
 from rigserver.api.sessions import COOKIE, Sessions
 from rigserver.api.settings import Settings
+from rigserver.reports.i18n import Lang, negotiate
 from rigserver.storage.base import RunStore
 from rigserver.storage.notes import NotesStore, SqliteNotes
 from rigserver.storage.series import SeriesStore
@@ -233,3 +234,18 @@ Group = Annotated[str, Path(max_length=40, description="the channel group, e.g. 
 Index = Annotated[
     int, Path(ge=0, le=2**62, description="the row's index in its group as stored, from 0")
 ]
+
+
+def chosen_language(
+    request: Request,
+    lang: Annotated[
+        Lang | None,
+        Query(description="report language; without it, the best of Accept-Language (else en)"),
+    ] = None,
+) -> Lang:
+    return negotiate(lang, request.headers.get("accept-language"))
+
+
+#: The language of a report or a page: ``?lang=``, else the best of ``Accept-Language``
+#: (else English).
+Language = Annotated[Lang, Depends(chosen_language)]

@@ -14,25 +14,15 @@ from starlette.background import BackgroundTask
 
 from rigserver.api.cases.found import load_run
 from rigserver.api.cases.reports import run_report_answer
-from rigserver.api.deps import ReadAccess, Services, ServicesDep
+from rigserver.api.deps import Language, ReadAccess, Services, ServicesDep
 from rigserver.api.problems import ApiProblem
 from rigserver.api.run_results import StoredReadings, results_payload
 from rigserver.reports.export import DIALECTS, Dialect, export_zip, results_csv
-from rigserver.reports.i18n import Lang, Messages, negotiate
+from rigserver.reports.i18n import Lang, Messages
 from rigserver.reports.x3p import PROFILE_GROUP, NoProfile, profile_group, profile_x3p
 from schemas.runs import Run
 
 router = APIRouter(prefix="/runs/{run_id}", tags=["reports"], dependencies=[ReadAccess])
-
-LangQuery = Annotated[
-    Lang | None,
-    Query(description="report language; without it, the best of Accept-Language (else en)"),
-]
-
-
-def _language(request: Request, lang: Lang | None) -> Lang:
-    return negotiate(lang, request.headers.get("accept-language"))
-
 
 _RENDERED = (
     "Rendered once per version of the run (its readings, state, results and the students' "
@@ -50,9 +40,9 @@ _RENDERED = (
     response_class=HTMLResponse,
 )
 async def report_html(
-    run_id: str, request: Request, services: ServicesDep, lang: LangQuery = None
+    run_id: str, request: Request, services: ServicesDep, lang: Language
 ) -> Response:
-    _, answer = await run_report_answer(request, services, run_id, _language(request, lang), "html")
+    _, answer = await run_report_answer(request, services, run_id, lang, "html")
     return answer
 
 
@@ -64,9 +54,9 @@ async def report_html(
     responses={200: {"content": {"application/pdf": {}}}},
 )
 async def report_pdf(
-    run_id: str, request: Request, services: ServicesDep, lang: LangQuery = None
+    run_id: str, request: Request, services: ServicesDep, lang: Language
 ) -> Response:
-    _, answer = await run_report_answer(request, services, run_id, _language(request, lang), "pdf")
+    _, answer = await run_report_answer(request, services, run_id, lang, "pdf")
     return answer
 
 

@@ -18,6 +18,7 @@ from fastapi.responses import JSONResponse
 from starlette.exceptions import HTTPException as StarletteHTTPException
 from starlette.routing import Match
 
+from rigserver.api.media import media_type
 from rigserver.api.openapi import component_schemas
 from rigserver.core.errors import ModelInputError
 from rigserver.storage.errors import (
@@ -118,7 +119,7 @@ def _not_json(request: Request, exc: RequestValidationError) -> Problem | None:
     ``Content-Type`` header named, not "Input should be a valid dictionary"."""
     if not any(tuple(e.get("loc", ())) == ("body",) for e in exc.errors()):
         return None
-    media = request.headers.get("content-type", "").partition(";")[0].strip().lower()
+    media = media_type(request.headers.get("content-type"))
     if media == "application/json" or media.endswith("+json"):
         return None
     got = f"Content-Type: {media[:80]}" if media else "no Content-Type header"

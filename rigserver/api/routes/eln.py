@@ -47,6 +47,7 @@ from rigserver.api.deps import (
     services_of,
 )
 from rigserver.api.examples import ELN_EXAMPLE, file_body
+from rigserver.api.media import media_type
 from rigserver.api.problems import ApiProblem, violations
 from rigserver.api.report_jobs import FileReadings
 from rigserver.api.run_results import StoredReadings, results_payload
@@ -537,7 +538,7 @@ async def _body_to(request: Request, path: Path, reserve: int) -> None:
 async def import_run(request: Request) -> Response:
     services = services_of(request)
     caller = caller_of(request, services)
-    media = request.headers.get("content-type", "").split(";")[0].strip().lower()
+    media = media_type(request.headers.get("content-type"))
     if media != ELN_MEDIA_TYPE:
         raise ApiProblem(415, "Unsupported media type", f"send the archive as {ELN_MEDIA_TYPE}")
     with services.imports.admitted(caller_key(request, services)):

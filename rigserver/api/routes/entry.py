@@ -33,6 +33,7 @@ from rigserver.api.cases.readings import stand_of_run, store_posted
 from rigserver.api.cases.runs import end_run
 from rigserver.api.cases.runs import open_run as open_api_run
 from rigserver.api.deps import Group, Index, Language, ServicesDep, require_write
+from rigserver.api.media import media_type
 from rigserver.api.page_forms import (
     FORM_TOKEN,
     LoginFirst,
@@ -293,7 +294,7 @@ async def _page_write(
         )
         stand = await stand_of_run(services, run_id)
         require_write(writer, stand.kind)
-        media = request.headers.get("content-type", "").split(";")[0].strip()
+        media = media_type(request.headers.get("content-type"))
         if media != "application/json":
             raise ApiProblem(415, "Unsupported media type", "send application/json")
         return await act(writer, stand)

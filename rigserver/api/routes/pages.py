@@ -220,8 +220,7 @@ async def run_notes(
     writer = form_writer(request, services, form.pop(FORM_TOKEN, ""), f"/runs/{run_id}")
     words = _notes_form(form)
     await run_in_threadpool(write_notes, services, run_id, words, writer)
-    query = f"?{urlencode({'lang': lang})}" if lang else ""
-    return RedirectResponse(f"/runs/{run_id}{query}#notes", status_code=303)
+    return _back_to(run_id, "notes", lang)
 
 
 @login_router.post("/runs/{run_id}/sketches/{item}", dependencies=[SameOrigin])
@@ -237,8 +236,13 @@ async def run_sketch(
     writer = form_writer(request, services, form.token, f"/runs/{run_id}")
     image = await run_in_threadpool(checked, form.data, form.media_type)
     await run_in_threadpool(upload_sketch, services, run_id, item, image, writer)
+    return _back_to(run_id, "sketches", lang)
+
+
+def _back_to(run_id: str, part: str, lang: Lang | None) -> RedirectResponse:
+    """The run's page again at ``part``, in the language asked for if one was (303)."""
     query = f"?{urlencode({'lang': lang})}" if lang else ""
-    return RedirectResponse(f"/runs/{run_id}{query}#sketches", status_code=303)
+    return RedirectResponse(f"/runs/{run_id}{query}#{part}", status_code=303)
 
 
 def _notes_form(form: dict[str, str]) -> StudentNotesWrite:

@@ -4,7 +4,7 @@ An import writes the archive (up to ``--import-max-bytes``) and the run file it 
 (up to ``--import-unpacked-bytes``) to disk and recomputes the run's results: any number at
 once would take the disk and the service's threads from everyone. So at most ``queue``
 imports run at once, and one key (its fingerprint; a caller without a key by its address)
-at most its ``share`` of them, as the report renders (:mod:`rigserver.api.places`);
+at most its ``share`` of them (:mod:`rigserver.api.places`, as the report renders);
 one more is answered 503 with ``Retry-After`` before its body is read.
 """
 

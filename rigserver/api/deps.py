@@ -243,6 +243,7 @@ def chosen_language(
         Query(description="report language; without it, the best of Accept-Language (else en)"),
     ] = None,
 ) -> Lang:
+    """``lang``, else the best of the request's ``Accept-Language`` (else English)."""
     return negotiate(lang, request.headers.get("accept-language"))
 
 

@@ -177,6 +177,20 @@ def caller_of(request: Request, services: Services) -> ApiKey | None:
     return caller_in(request.scope, services)
 
 
+def client_of(scope: Scope, services: Services) -> str:
+    """Whose share of the service a request takes (the rate limit's tokens, the report
+    renders, the imports): its key's fingerprint, else its address (a key not configured
+    too: it is refused 401 further in)."""
+    try:
+        caller = caller_in(scope, services)
+    except ApiProblem:
+        caller = None
+    if caller is not None:
+        return caller.fingerprint
+    client = scope.get("client")
+    return f"address {client[0]}" if client else "address unknown"
+
+
 async def get_caller(request: Request, services: ServicesDep) -> ApiKey | None:
     return caller_of(request, services)
 

@@ -15,7 +15,7 @@ from fastapi.concurrency import run_in_threadpool
 from fastapi.responses import FileResponse
 
 from rigserver.api.cases.found import load_run
-from rigserver.api.deps import Services, caller_of
+from rigserver.api.deps import Services, client_of
 from rigserver.api.problems import ApiProblem
 from rigserver.api.report_files import ReportFile
 from rigserver.api.report_jobs import Job, RunReportJob
@@ -25,15 +25,6 @@ from rigserver.storage.errors import RunDamaged
 from schemas.runs import Run, RunState
 from schemas.sketches import Sketch
 from schemas.student_notes import StudentNotes
-
-
-def caller_key(request: Request, services: Services) -> str:
-    """Whose share of the render pool a request takes: its key, else its address."""
-    caller = caller_of(request, services)
-    if caller is not None:
-        return caller.fingerprint
-    client = request.scope.get("client")
-    return f"address {client[0]}" if client else "address unknown"
 
 
 def targets(target: ReportFile) -> dict[str, ReportFile]:
@@ -191,7 +182,7 @@ async def report_answer(
     if not target.path.exists() and not target.matches(request.headers.get("if-none-match")):
         made, in_process = await run_in_threadpool(job)
         future = services.reports.render(
-            target.render, caller_key(request, services), made, in_process=in_process
+            target.render, client_of(request.scope, services), made, in_process=in_process
         )
         await rendered(future, target)
     return file_answer(request, target, headers)

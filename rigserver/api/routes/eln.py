@@ -28,7 +28,7 @@ from rigserver.api import sketch_images
 from rigserver.api.auth import ApiKey
 from rigserver.api.cases.found import load_run
 from rigserver.api.cases.notes import author
-from rigserver.api.cases.reports import caller_key, run_report_bytes, run_report_kept
+from rigserver.api.cases.reports import run_report_bytes, run_report_kept
 from rigserver.api.cases.runs import snapshot
 from rigserver.api.cases.series import (
     detail_and_members,
@@ -43,6 +43,7 @@ from rigserver.api.deps import (
     ServicesDep,
     WriteAccess,
     caller_of,
+    client_of,
     require_write,
     services_of,
 )
@@ -541,7 +542,7 @@ async def import_run(request: Request) -> Response:
     media = media_type(request.headers.get("content-type"))
     if media != ELN_MEDIA_TYPE:
         raise ApiProblem(415, "Unsupported media type", f"send the archive as {ELN_MEDIA_TYPE}")
-    with services.imports.admitted(caller_key(request, services)):
+    with services.imports.admitted(client_of(request.scope, services)):
         directory = Path(await run_in_threadpool(tempfile.mkdtemp, prefix="rig-import-"))
         try:
             archive = directory / "archive.eln"

@@ -12,7 +12,7 @@ from collections import OrderedDict, defaultdict
 from dataclasses import dataclass, field
 from typing import Annotated, cast
 
-from fastapi import Depends, Path, Request
+from fastapi import Depends, Path, Query, Request
 from starlette.requests import cookie_parser
 from starlette.types import Scope
 
@@ -26,6 +26,7 @@ from rigserver.api.results_cache import ResultsCache
 from rigserver.api.series_export import SeriesExports
 from rigserver.api.sessions import COOKIE, Sessions
 from rigserver.api.settings import Settings
+from rigserver.reports.i18n import Lang, negotiate
 from rigserver.storage.base import RunStore
 from rigserver.storage.notes import NotesStore, SqliteNotes
 from rigserver.storage.series import SeriesStore
@@ -176,6 +177,20 @@ def caller_of(request: Request, services: Services) -> ApiKey | None:
     return caller_in(request.scope, services)
 
 
+def client_of(scope: Scope, services: Services) -> str:
+    """Whose share of the service a request takes (the rate limit's tokens, the report
+    renders, the imports): its key's fingerprint, else its address (a key not configured
+    too: it is refused 401 further in)."""
+    try:
+        caller = caller_in(scope, services)
+    except ApiProblem:
+        caller = None
+    if caller is not None:
+        return caller.fingerprint
+    client = scope.get("client")
+    return f"address {client[0]}" if client else "address unknown"
+
+
 async def get_caller(request: Request, services: ServicesDep) -> ApiKey | None:
     return caller_of(request, services)
 
@@ -233,3 +248,19 @@ Group = Annotated[str, Path(max_length=40, description="the channel group, e.g. 
 Index = Annotated[
     int, Path(ge=0, le=2**62, description="the row's index in its group as stored, from 0")
 ]
+
+
+def chosen_language(
+    request: Request,
+    lang: Annotated[
+        Lang | None,
+        Query(description="report language; without it, the best of Accept-Language (else en)"),
+    ] = None,
+) -> Lang:
+    """``lang``, else the best of the request's ``Accept-Language`` (else English)."""
+    return negotiate(lang, request.headers.get("accept-language"))
+
+
+#: The language of a report or a page: ``?lang=``, else the best of ``Accept-Language``
+#: (else English).
+Language = Annotated[Lang, Depends(chosen_language)]

@@ -6,10 +6,12 @@ from __future__ import annotations
 
 import io
 import tempfile
+from collections.abc import Mapping
 from contextlib import ExitStack
 from datetime import UTC, datetime
 from functools import lru_cache
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 from PIL import Image, ImageDraw
@@ -92,3 +94,20 @@ def example_archive() -> bytes:
 #: The binary form of :class:`ReadingBatch`'s example, the request body's example in the
 #: OpenAPI document.
 NPZ_EXAMPLE = "/docs/examples/readings.npz"
+
+
+def file_body(examples: Mapping[str, str], name: str, summary: str) -> dict[str, Any]:
+    """The ``openapi_extra`` of a route whose body is a file of one of ``examples``' media
+    types, each with its example (``name``, ``summary``) served at the path given."""
+    return {
+        "requestBody": {
+            "required": True,
+            "content": {
+                media_type: {
+                    "schema": {"type": "string", "format": "binary"},
+                    "examples": {name: {"summary": summary, "externalValue": url}},
+                }
+                for media_type, url in examples.items()
+            },
+        }
+    }

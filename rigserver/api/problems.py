@@ -18,7 +18,8 @@ from fastapi.responses import JSONResponse
 from starlette.exceptions import HTTPException as StarletteHTTPException
 from starlette.routing import Match
 
-from rigserver.api.openapi import component_schemas
+from rigserver.api.media import media_type
+from rigserver.api.openapi import amend, component_schemas, schemas_of
 from rigserver.core.errors import ModelInputError
 from rigserver.storage.errors import (
     KeyReused,
@@ -118,7 +119,7 @@ def _not_json(request: Request, exc: RequestValidationError) -> Problem | None:
     ``Content-Type`` header named, not "Input should be a valid dictionary"."""
     if not any(tuple(e.get("loc", ())) == ("body",) for e in exc.errors()):
         return None
-    media = request.headers.get("content-type", "").partition(";")[0].strip().lower()
+    media = media_type(request.headers.get("content-type"))
     if media == "application/json" or media.endswith("+json"):
         return None
     got = f"Content-Type: {media[:80]}" if media else "no Content-Type header"
@@ -165,31 +166,25 @@ def _document(app: FastAPI) -> None:
     """Describe the errors in the OpenAPI document as they are sent: every operation's
     ``default`` response, and its 422, is application/problem+json (FastAPI documents its
     own validation error, which :func:`install` replaces)."""
-    build = app.openapi
+    amend(app, _problems_documented)
 
-    def openapi() -> dict[str, Any]:
-        if app.openapi_schema is not None:
-            return app.openapi_schema
-        document = build()
-        problem = {"$ref": "#/components/schemas/Problem"}
-        error = {
-            "description": "an error: its title, the detail, the offending fields",
-            "content": {PROBLEM_MEDIA_TYPE: {"schema": problem}},
-        }
-        for operations in document.get("paths", {}).values():
-            for operation in operations.values():
-                responses = operation.setdefault("responses", {})
-                responses["default"] = error
-                if "422" in responses:
-                    responses["422"] = {**error, "description": "the request is not valid"}
-        schemas = document.setdefault("components", {}).setdefault("schemas", {})
-        for name in ("HTTPValidationError", "ValidationError"):
-            schemas.pop(name, None)
-        schemas.update(_PROBLEM_SCHEMAS)
-        app.openapi_schema = document
-        return document
 
-    app.openapi = openapi  # type: ignore[method-assign]
+def _problems_documented(document: dict[str, Any]) -> None:
+    problem = {"$ref": "#/components/schemas/Problem"}
+    error = {
+        "description": "an error: its title, the detail, the offending fields",
+        "content": {PROBLEM_MEDIA_TYPE: {"schema": problem}},
+    }
+    for operations in document.get("paths", {}).values():
+        for operation in operations.values():
+            responses = operation.setdefault("responses", {})
+            responses["default"] = error
+            if "422" in responses:
+                responses["422"] = {**error, "description": "the request is not valid"}
+    schemas = schemas_of(document)
+    for name in ("HTTPValidationError", "ValidationError"):
+        schemas.pop(name, None)
+    schemas.update(_PROBLEM_SCHEMAS)
 
 
 _PROBLEM_SCHEMAS: dict[str, Any] = component_schemas(Problem)

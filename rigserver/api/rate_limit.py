@@ -17,8 +17,8 @@ from collections import OrderedDict
 
 from starlette.types import ASGIApp, Receive, Scope, Send
 
-from rigserver.api.deps import Services, caller_in
-from rigserver.api.problems import ApiProblem, problem_response
+from rigserver.api.deps import Services, client_of
+from rigserver.api.problems import problem_response
 from schemas.problems import Problem
 
 MAX_CLIENTS = 10_000
@@ -40,7 +40,7 @@ class RateLimit:
         if scope["type"] != "http":
             await self.app(scope, receive, send)
             return
-        wait = self._take(self._client(scope))
+        wait = self._take(client_of(scope, self.services))
         if wait > 0:
             problem = Problem(
                 title="Too many requests",
@@ -52,17 +52,6 @@ class RateLimit:
             await response(scope, receive, send)
             return
         await self.app(scope, receive, send)
-
-    def _client(self, scope: Scope) -> str:
-        """The bucket of the request: its key's, else its address's."""
-        try:
-            caller = caller_in(scope, self.services)
-        except ApiProblem:  # an unknown key: refused 401 further in, counted here
-            caller = None
-        if caller is not None:
-            return "key:" + caller.fingerprint
-        address = scope.get("client")
-        return f"address:{address[0] if address else '?'}"
 
     def _take(self, client: str) -> float:
         """Take a token from the client's bucket: 0, or the seconds until there is one."""

@@ -31,7 +31,7 @@ from concurrent.futures import Executor, Future, ProcessPoolExecutor, ThreadPool
 from concurrent.futures.process import BrokenProcessPool
 from dataclasses import dataclass
 
-from rigserver.api.problems import ApiProblem
+from rigserver.api.places import Busy, FairPlaces
 from rigserver.api.report_jobs import (
     Job,
     quiet_renderer_logs,
@@ -61,12 +61,19 @@ class RenderPool:
         self, *, workers: int, queue: int, share: float, retry_after: int, processes: bool
     ) -> None:
         self.workers = workers
-        self.queue = queue
-        self.per_key = max(1, int(queue * share))
-        self.retry_after = retry_after
+        self._places = FairPlaces(
+            queue=queue,
+            share=share,
+            retry_after=retry_after,
+            busy=Busy(
+                "Reports are being rendered",
+                "the server renders at most {queue} reports at once and all places are taken",
+                "one key may have at most {per_key} reports rendered at once",
+                note=" (a report rendered once is kept)",
+            ),
+        )
         self._use_processes = processes
         self._lock = threading.Lock()
-        self._held: dict[str, int] = {}
         self._flights: dict[str, Future[None]] = {}
         self._threads = ThreadPoolExecutor(max_workers=workers, thread_name_prefix="reports")
         self._processes: ProcessPoolExecutor | None = None
@@ -74,8 +81,8 @@ class RenderPool:
 
     @property
     def admitted(self) -> Admission:
-        with self._lock:
-            return Admission(sum(self._held.values()), dict(self._held))
+        held = self._places.held
+        return Admission(sum(held.values()), held)
 
     def render(self, name: str, key: str, job: Job, *, in_process: bool) -> Future[None]:
         """Render ``job`` (named ``name``: its first target) for the caller ``key``; joins a
@@ -132,13 +139,11 @@ class RenderPool:
             flight = self._flights.get(name)
             if flight is not None:
                 return flight
-            total = sum(self._held.values())
-            held = self._held.get(key, 0)
-            if total >= self.queue or held >= self.per_key:
+            refusal = self._places.claim(key)
+            if refusal is not None:
                 if background:
                     return None
-                raise self._busy(total >= self.queue)
-            self._held[key] = held + 1
+                raise refusal
             flight = self._flights[name] = Future()
             executor = self._executor(in_process)
         try:
@@ -202,19 +207,4 @@ class RenderPool:
     def _release(self, name: str, key: str) -> None:
         with self._lock:
             self._flights.pop(name, None)
-            held = self._held.pop(key, 0) - 1
-            if held > 0:
-                self._held[key] = held
-
-    def _busy(self, full: bool) -> ApiProblem:
-        detail = (
-            f"the server renders at most {self.queue} reports at once and all places are taken"
-            if full
-            else f"one key may have at most {self.per_key} reports rendered at once"
-        )
-        return ApiProblem(
-            503,
-            "Reports are being rendered",
-            f"{detail}; retry in {self.retry_after} s (a report rendered once is kept)",
-            headers={"Retry-After": str(self.retry_after)},
-        )
+            self._places.release(key)

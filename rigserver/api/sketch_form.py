@@ -8,6 +8,7 @@ import email
 import email.policy
 from dataclasses import dataclass
 
+from rigserver.api.media import media_type
 from rigserver.api.problems import ApiProblem
 
 #: The fields of the form: the session's form token, the image file.
@@ -32,7 +33,7 @@ def read_sketch_form(body: bytes, content_type: str | None) -> SketchForm:
     """The form of ``body``, sent as ``content_type`` (415 for another type than
     ``multipart/form-data``, 422 for a form that is not the sketch's)."""
     header = content_type or ""
-    if header.partition(";")[0].strip().lower() != "multipart/form-data":
+    if media_type(header) != "multipart/form-data":
         raise ApiProblem(
             415,
             "Invalid form",

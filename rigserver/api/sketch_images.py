@@ -12,6 +12,7 @@ from dataclasses import dataclass
 
 from PIL import Image, UnidentifiedImageError
 
+from rigserver.api.media import media_type
 from rigserver.api.problems import ApiProblem
 from schemas.sketches import SKETCH_MAX_BYTES, SKETCH_MAX_PIXELS, SKETCH_MAX_SIDE, SKETCH_TYPES
 
@@ -51,7 +52,7 @@ def checked(data: bytes, declared: str | None) -> SketchImage:
     PNG or JPEG or not what the header says, 422 too many pixels or damaged."""
     if len(data) > SKETCH_MAX_BYTES:
         raise too_large(len(data))
-    said = (declared or "").partition(";")[0].strip().lower()
+    said = media_type(declared)
     if said not in SKETCH_TYPES:
         raise ApiProblem(
             415,

@@ -4,6 +4,7 @@ archive that lies about its members is refused (422), never a 500."""
 from __future__ import annotations
 
 import io
+import json
 import zipfile
 from collections.abc import Callable, Iterator
 from pathlib import Path
@@ -17,7 +18,7 @@ from rigserver.api.npz import parse_npz
 from rigserver.storage._checks import prepare
 from schemas.readings import NPZ_MEDIA_TYPE
 from tests.api.conftest import READER, WRITER, auth
-from tests.hardening.conftest import API, friction, hdf5_app, is_problem, open_run
+from tests.hardening.conftest import API, friction, hdf5_app, is_problem, json_batch, open_run
 
 NPZ = {**auth(WRITER), "content-type": NPZ_MEDIA_TYPE}
 
@@ -81,6 +82,28 @@ def test_archives_are_read_back_exactly(
     ).json()["friction"]["columns"]
     for name, values in columns.items():
         np.testing.assert_array_equal(back[name], values, err_msg=name)
+
+
+@pytest.mark.parametrize(
+    ("content_type", "query", "body"),
+    [
+        ("Application/JSON; charset=UTF-8", "", None),
+        (NPZ_MEDIA_TYPE.upper(), "?seq=0&group=friction", _savez(friction(0, 3))),
+    ],
+    ids=["json", "npz"],
+)
+def test_the_media_type_is_read_in_any_case_and_without_its_parameters(
+    hdf5_client: TestClient, content_type: str, query: str, body: bytes | None
+) -> None:
+    """RFC 9110, 8.3.1: the type and subtype of a media type are case-insensitive."""
+    run_id = open_run(hdf5_client)
+    content = body if body is not None else json.dumps(json_batch(0, 0, 3)).encode()
+    r = hdf5_client.post(
+        f"{API}/runs/{run_id}/readings{query}",
+        content=content,
+        headers={**auth(WRITER), "content-type": content_type},
+    )
+    assert r.status_code == 201, r.text
 
 
 def _short_member() -> bytes:

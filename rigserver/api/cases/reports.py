@@ -15,7 +15,7 @@ from fastapi.concurrency import run_in_threadpool
 from fastapi.responses import FileResponse
 
 from rigserver.api.cases.found import load_run
-from rigserver.api.deps import Services, caller_of
+from rigserver.api.deps import Services, client_of
 from rigserver.api.problems import ApiProblem
 from rigserver.api.report_files import ReportFile
 from rigserver.api.report_jobs import Job, RunReportJob
@@ -25,15 +25,6 @@ from rigserver.storage.errors import RunDamaged
 from schemas.runs import Run, RunState
 from schemas.sketches import Sketch
 from schemas.student_notes import StudentNotes
-
-
-def caller_key(request: Request, services: Services) -> str:
-    """Whose share of the render pool a request takes: its key, else its address."""
-    caller = caller_of(request, services)
-    if caller is not None:
-        return caller.fingerprint
-    client = request.scope.get("client")
-    return f"address {client[0]}" if client else "address unknown"
 
 
 def targets(target: ReportFile) -> dict[str, ReportFile]:
@@ -83,34 +74,19 @@ def run_job(
 ) -> tuple[RunReportJob, bool]:
     """The job of ``target``, the report of ``run`` with what the students put on it, and
     whether it renders in this process (an open run, whose readings only the store has)."""
-    lang = target.lang
-    files = {fmt: t.path for fmt, t in targets(target).items()}
-    stand = services.stand_of(run)
-    notes, sketches = theirs.notes, sketch_images(services, run, theirs.sketches)
-    if run.state is RunState.OPEN:
-        return (
-            RunReportJob(
-                run,
-                stand,
-                dict(values),
-                lang,
-                files,
-                readings=StoredReadings(services, run),
-                notes=notes,
-                sketches=sketches,
-            ),
-            True,
-        )
-    return RunReportJob(
+    in_process = run.state is RunState.OPEN
+    job = RunReportJob(
         run,
-        stand,
+        services.stand_of(run),
         dict(values),
-        lang,
-        files,
-        run_file=services.store.run_file(run.id),
-        notes=notes,
-        sketches=sketches,
-    ), False
+        target.lang,
+        {fmt: t.path for fmt, t in targets(target).items()},
+        run_file=None if in_process else services.store.run_file(run.id),
+        readings=StoredReadings(services, run) if in_process else None,
+        notes=theirs.notes,
+        sketches=sketch_images(services, run, theirs.sketches),
+    )
+    return job, in_process
 
 
 def kept(
@@ -187,16 +163,29 @@ async def run_report_answer(
 ) -> tuple[Run, Response]:
     """The run's report in ``fmt``: its file, rendered first if this version has none."""
     run, target, theirs = await run_in_threadpool(_run_target, services, run_id, lang, fmt)
-    headers = language_headers(lang)
-    if fmt == "pdf":
-        headers["Content-Disposition"] = f'attachment; filename="{run.id}-report-{lang}.pdf"'
+    job = partial(_run_job, services, run, target, theirs)
+    return run, await report_answer(request, services, target, run.id, job)
+
+
+async def report_answer(
+    request: Request,
+    services: Services,
+    target: ReportFile,
+    name: str,
+    job: Callable[[], tuple[Job, bool]],
+) -> Response:
+    """The report ``target`` (of the run or series ``name``): its file, rendered on the pool
+    first (``job``) if this version has none; a PDF is a download."""
+    headers = language_headers(target.lang)
+    if target.fmt == "pdf":
+        headers["Content-Disposition"] = f'attachment; filename="{name}-report-{target.lang}.pdf"'
     if not target.path.exists() and not target.matches(request.headers.get("if-none-match")):
-        job, in_process = await run_in_threadpool(_run_job, services, run, target, theirs)
+        made, in_process = await run_in_threadpool(job)
         future = services.reports.render(
-            target.render, caller_key(request, services), job, in_process=in_process
+            target.render, client_of(request.scope, services), made, in_process=in_process
         )
         await rendered(future, target)
-    return run, file_answer(request, target, headers)
+    return file_answer(request, target, headers)
 
 
 def run_report_kept(services: Services, run: Run, lang: Lang) -> bool:

@@ -4,6 +4,7 @@ and their report answered as the run's is (:mod:`.reports`)."""
 from __future__ import annotations
 
 from dataclasses import replace
+from functools import partial
 from typing import Any
 
 from fastapi import Request
@@ -11,21 +12,14 @@ from fastapi.concurrency import run_in_threadpool
 from fastapi.responses import Response
 
 from rigserver.analysis.series import Member, series_statistics
-from rigserver.api.cases.reports import (
-    caller_key,
-    file_answer,
-    kept,
-    rendered,
-    sketch_images,
-    targets,
-)
+from rigserver.api.cases.reports import kept, report_answer, sketch_images, targets
 from rigserver.api.deps import (
     Services,
 )
 from rigserver.api.report_files import ReportFile
 from rigserver.api.report_jobs import SeriesReportJob
 from rigserver.api.run_results import StoredReadings, results_payload
-from rigserver.reports.i18n import Lang, language_headers
+from rigserver.reports.i18n import Lang
 from rigserver.reports.lab_work import WorkRun
 from rigserver.reports.series_report import series_context
 from rigserver.storage.errors import SeriesNotFound, StorageError
@@ -156,14 +150,7 @@ def series_report_bytes(
 async def series_report_answer(
     request: Request, services: Services, series_id: str, lang: Lang, fmt: str
 ) -> Response:
+    """The series report in ``fmt``: its file, rendered first if this version has none."""
     target = await run_in_threadpool(_series_target, services, series_id, lang, fmt)
-    headers = language_headers(lang)
-    if fmt == "pdf":
-        headers["Content-Disposition"] = f'attachment; filename="{series_id}-report-{lang}.pdf"'
-    if not target.path.exists() and not target.matches(request.headers.get("if-none-match")):
-        job, in_process = await run_in_threadpool(_series_job, services, series_id, target)
-        future = services.reports.render(
-            target.render, caller_key(request, services), job, in_process=in_process
-        )
-        await rendered(future, target)
-    return file_answer(request, target, headers)
+    job = partial(_series_job, services, series_id, target)
+    return await report_answer(request, services, target, series_id, job)

@@ -28,7 +28,7 @@ from rigserver.api import sketch_images
 from rigserver.api.auth import ApiKey
 from rigserver.api.cases.found import load_run
 from rigserver.api.cases.notes import author
-from rigserver.api.cases.reports import caller_key, run_report_bytes, run_report_kept
+from rigserver.api.cases.reports import run_report_bytes, run_report_kept
 from rigserver.api.cases.runs import snapshot
 from rigserver.api.cases.series import (
     detail_and_members,
@@ -43,10 +43,12 @@ from rigserver.api.deps import (
     ServicesDep,
     WriteAccess,
     caller_of,
+    client_of,
     require_write,
     services_of,
 )
-from rigserver.api.examples import ELN_EXAMPLE
+from rigserver.api.examples import ELN_EXAMPLE, file_body
+from rigserver.api.media import media_type
 from rigserver.api.problems import ApiProblem, violations
 from rigserver.api.report_jobs import FileReadings
 from rigserver.api.run_results import StoredReadings, results_payload
@@ -540,30 +542,17 @@ async def _body_to(request: Request, path: Path, reserve: int) -> None:
     "`RIG_IMPORT_DISK_RESERVE` free on the disk.",
     responses={201: {"model": Run}},
     dependencies=[WriteAccess],
-    openapi_extra={
-        "requestBody": {
-            "required": True,
-            "content": {
-                ELN_MEDIA_TYPE: {
-                    "schema": {"type": "string", "format": "binary"},
-                    "examples": {
-                        "profile": {
-                            "summary": "a profilometer run exported by a rig server",
-                            "externalValue": ELN_EXAMPLE,
-                        }
-                    },
-                }
-            },
-        }
-    },
+    openapi_extra=file_body(
+        {ELN_MEDIA_TYPE: ELN_EXAMPLE}, "profile", "a profilometer run exported by a rig server"
+    ),
 )
 async def import_run(request: Request) -> Response:
     services = services_of(request)
     caller = caller_of(request, services)
-    media = request.headers.get("content-type", "").split(";")[0].strip().lower()
+    media = media_type(request.headers.get("content-type"))
     if media != ELN_MEDIA_TYPE:
         raise ApiProblem(415, "Unsupported media type", f"send the archive as {ELN_MEDIA_TYPE}")
-    with services.imports.admitted(caller_key(request, services)):
+    with services.imports.admitted(client_of(request.scope, services)):
         directory = Path(await run_in_threadpool(tempfile.mkdtemp, prefix="rig-import-"))
         try:
             archive = directory / "archive.eln"

@@ -32,7 +32,8 @@ from rigserver.api.cases.notes import write_notes
 from rigserver.api.cases.readings import stand_of_run, store_posted
 from rigserver.api.cases.runs import end_run
 from rigserver.api.cases.runs import open_run as open_api_run
-from rigserver.api.deps import Group, Index, ServicesDep, require_write
+from rigserver.api.deps import Group, Index, Language, ServicesDep, require_write
+from rigserver.api.media import media_type
 from rigserver.api.page_forms import (
     FORM_TOKEN,
     LoginFirst,
@@ -44,7 +45,7 @@ from rigserver.api.page_forms import (
     writer_of,
 )
 from rigserver.api.problems import ApiProblem, storage_problem
-from rigserver.reports.i18n import Lang, Messages, language_headers, negotiate
+from rigserver.reports.i18n import Lang, Messages, language_headers
 from rigserver.storage.errors import StorageError
 from rigserver.web.entry import FORM_HEADER, REASON_MISSING, refusal_line
 from rigserver.web.new_run import (
@@ -80,15 +81,14 @@ def _stand(value: str) -> StandKind | None:
 def new_run_form(
     request: Request,
     services: ServicesDep,
+    lang: Language,
     stand: Annotated[Text, Query(max_length=40)] = "",
-    lang: Lang | None = None,
 ) -> HTMLResponse:
     """The form that opens a run on ``stand`` (without one: the stands to choose from)."""
-    chosen = negotiate(lang, request.headers.get("accept-language"))
-    t = Messages(chosen)
+    t = Messages(lang)
     writer = writer_of(request, services)
     if writer is None:
-        raise LoginFirst(f"/runs/new?{urlencode({'stand': stand, 'lang': chosen})}")
+        raise LoginFirst(f"/runs/new?{urlencode({'stand': stand, 'lang': lang})}")
     writable = writable_stands(writer)
     kind = _stand(stand)
     status, refusal = 200, ""
@@ -97,17 +97,17 @@ def new_run_form(
         kind = None
     elif not writable:
         status, refusal = 403, t.gettext(NO_STAND)
-    fields = form_fields(t, services.stands[kind], chosen) if kind else None
+    fields = form_fields(t, services.stands[kind], lang) if kind else None
     html = new_run_page(
         stand=services.stands[kind] if kind else None,
         stands=writable,
         fields=fields,
-        lang=chosen,
+        lang=lang,
         form_token=form_token(request, services),
         idempotency_key=secrets.token_urlsafe(16),
         refusal=refusal,
     )
-    return HTMLResponse(html, status_code=status, headers=language_headers(chosen))
+    return HTMLResponse(html, status_code=status, headers=language_headers(lang))
 
 
 def _scope_missing(kind: StandKind) -> Problem:
@@ -120,23 +120,22 @@ def _scope_missing(kind: StandKind) -> Problem:
 async def open_run(
     request: Request,
     services: ServicesDep,
+    lang: Language,
     stand: Annotated[Text, Query(max_length=40)] = "",
-    lang: Lang | None = None,
 ) -> Response:
     """The new-run form posted: the run opened as ``POST /api/v1/runs`` opens it (the
     students' names its first words), then its page; else the form again, each refusal
     beside its field (422), or one line (403)."""
-    chosen = negotiate(lang, request.headers.get("accept-language"))
-    t = Messages(chosen)
+    t = Messages(lang)
     kind = _stand(stand)
     if kind is None:
         raise ApiProblem(422, "Invalid form", f"stand must be a stand kind, got {stand[:40]!r}")
     declared = services.stands[kind]
-    fields = form_fields(t, declared, chosen)
+    fields = form_fields(t, declared, lang)
     names = [f.name for section in fields.values() for f in section]
     body = await request.body()  # at most ANONYMOUS_BODY_BYTES (rigserver.api.app.body_limit)
     form = read_form(body, (*names, FORM_TOKEN, _IDEMPOTENCY))
-    back = f"/runs/new?{urlencode({'stand': kind.value, 'lang': chosen})}"
+    back = f"/runs/new?{urlencode({'stand': kind.value, 'lang': lang})}"
     writer = form_writer(request, services, form.pop(FORM_TOKEN, ""), back)
     idempotency = form.pop(_IDEMPOTENCY, "") or None
 
@@ -145,12 +144,12 @@ async def open_run(
             stand=declared,
             stands=writable_stands(writer),
             fields=with_posted(fields, form, errors),
-            lang=chosen,
+            lang=lang,
             form_token=form_token(request, services),
             idempotency_key=idempotency or secrets.token_urlsafe(16),
             refusal=refusal,
         )
-        return HTMLResponse(html, status_code=status, headers=language_headers(chosen))
+        return HTMLResponse(html, status_code=status, headers=language_headers(lang))
 
     if not writer.allows(f"write:{kind.value}"):
         return again({}, refusal_line(t, _scope_missing(kind)), 403)
@@ -169,7 +168,7 @@ async def open_run(
     except ApiProblem as exc:
         errors = {e.field: e.message for e in exc.problem.errors if e.field in names}
         return again(errors, "" if errors else refusal_line(t, exc.problem), exc.problem.status)
-    return RedirectResponse(f"/runs/{run.id}?lang={chosen}", status_code=303)
+    return RedirectResponse(f"/runs/{run.id}?lang={lang}", status_code=303)
 
 
 def _by_field(t: Messages, exc: ValidationError, fields: dict[str, list[Field]]) -> dict[str, str]:
@@ -191,7 +190,7 @@ def _by_field(t: Messages, exc: ValidationError, fields: dict[str, list[Field]])
 
 @router.post("/runs/{run_id}/rows")
 async def typed_row(
-    run_id: str, request: Request, services: ServicesDep, lang: Lang | None = None
+    run_id: str, request: Request, services: ServicesDep, lang: Language
 ) -> Response:
     """A row typed on the run's page (JSON as ``POST /api/v1/runs/{id}/readings`` takes
     it, one batch with its ``seq``), sent by ``entry.js`` with the session's form token in
@@ -213,7 +212,7 @@ async def corrected_row(
     index: Index,
     request: Request,
     services: ServicesDep,
-    lang: Lang | None = None,
+    lang: Language,
 ) -> Response:
     """A row's cells corrected on the run's page (JSON as ``PATCH
     /api/v1/runs/{id}/readings/{group}/{index}`` takes it: ``values``, ``reason``), sent by
@@ -235,7 +234,7 @@ async def struck_row(
     index: Index,
     request: Request,
     services: ServicesDep,
-    lang: Lang | None = None,
+    lang: Language,
 ) -> Response:
     """A row struck out on the run's page (``{"reason"}``, as ``DELETE
     /api/v1/runs/{id}/readings/{group}/{index}`` takes it): as :func:`corrected_row`."""
@@ -281,14 +280,13 @@ async def _page_write(
     run_id: str,
     request: Request,
     services: ServicesDep,
-    lang: Lang | None,
+    lang: Lang,
     act: Callable[[ApiKey, Stand], Awaitable[Response]],
 ) -> Response:
     """A write of the run's page by ``entry.js`` (JSON, the session's form token in the
     ``X-Rig-Form`` header), ``act`` for a key that may write the run's stand; a refusal
     as one line of the page's language (``{"status", "message", "channel"}``)."""
-    chosen = negotiate(lang, request.headers.get("accept-language"))
-    t = Messages(chosen)
+    t = Messages(lang)
     stand: Stand | None = None
     try:
         writer = form_writer(
@@ -296,7 +294,7 @@ async def _page_write(
         )
         stand = await stand_of_run(services, run_id)
         require_write(writer, stand.kind)
-        media = request.headers.get("content-type", "").split(";")[0].strip()
+        media = media_type(request.headers.get("content-type"))
         if media != "application/json":
             raise ApiProblem(415, "Unsupported media type", "send application/json")
         return await act(writer, stand)
@@ -324,29 +322,24 @@ def _refused(t: Messages, problem: Problem, stand: Stand | None = None) -> JSONR
 
 
 async def _end(
-    run_id: str, request: Request, services: ServicesDep, lang: Lang | None, state: RunState
+    run_id: str, request: Request, services: ServicesDep, lang: Lang, state: RunState
 ) -> Response:
-    chosen = negotiate(lang, request.headers.get("accept-language"))
     body = await request.body()
     form = read_form(body, (FORM_TOKEN,))
     writer = form_writer(request, services, form.get(FORM_TOKEN, ""), f"/runs/{run_id}")
     run = await run_in_threadpool(load_run, services, run_id)
     if run.state is RunState.OPEN:  # a second press (another tab) finds it ended: its page
         await run_in_threadpool(end_run, run_id, services, writer, state)
-    return RedirectResponse(f"/runs/{run_id}?lang={chosen}", status_code=303)
+    return RedirectResponse(f"/runs/{run_id}?lang={lang}", status_code=303)
 
 
 @router.post("/runs/{run_id}/finish")
-async def finish(
-    run_id: str, request: Request, services: ServicesDep, lang: Lang | None = None
-) -> Response:
+async def finish(run_id: str, request: Request, services: ServicesDep, lang: Language) -> Response:
     """The run page's "Finish the run": results computed, the run closed; back to its page."""
     return await _end(run_id, request, services, lang, RunState.FINISHED)
 
 
 @router.post("/runs/{run_id}/abort")
-async def abort(
-    run_id: str, request: Request, services: ServicesDep, lang: Lang | None = None
-) -> Response:
+async def abort(run_id: str, request: Request, services: ServicesDep, lang: Language) -> Response:
     """The run page's "Abort the run": closed without results; back to its page."""
     return await _end(run_id, request, services, lang, RunState.ABORTED)

@@ -22,7 +22,7 @@ from rigserver.api.cases.found import load_run
 from rigserver.api.cases.notes import write_notes
 from rigserver.api.cases.series import series_view
 from rigserver.api.cases.sketches import upload_sketch
-from rigserver.api.deps import Services, ServicesDep
+from rigserver.api.deps import Language, Services, ServicesDep
 from rigserver.api.page_forms import (
     FORM_TOKEN,
     LoginFirst,
@@ -40,7 +40,7 @@ from rigserver.api.run_results import results_payload
 from rigserver.api.sessions import COOKIE, SESSION_SECONDS
 from rigserver.api.sketch_form import read_sketch_form
 from rigserver.api.sketch_images import checked
-from rigserver.reports.i18n import Lang, language_headers, negotiate
+from rigserver.reports.i18n import Lang, language_headers
 from rigserver.reports.series_report import render_series_body
 from rigserver.web.entry import ReceivedRow, received
 from rigserver.web.pages import login_page, results_html, run_page, runs_page
@@ -124,15 +124,14 @@ def _day(field: str, value: str, *, end: bool = False) -> datetime | None:
 def runs(
     request: Request,
     services: ServicesDep,
+    lang: Language,
     stand: Filter = "",
     operator: Filter = "",
     state: Filter = "",
     since: Filter = "",
     until: Filter = "",
     offset: Annotated[int, Query(ge=0)] = 0,
-    lang: Lang | None = None,
 ) -> HTMLResponse:
-    chosen = negotiate(lang, request.headers.get("accept-language"))
     query = RunQuery(
         stand=_choice(StandKind, "stand", stand),
         operator=operator or None,
@@ -149,18 +148,15 @@ def runs(
         filters=filters,
         offset=offset,
         limit=PAGE_SIZE,
-        lang=chosen,
+        lang=lang,
         signed_in=signed_in(request, services),
         writable=writable_stands(writer_of(request, services)),
     )
-    return HTMLResponse(html, headers=language_headers(chosen))
+    return HTMLResponse(html, headers=language_headers(lang))
 
 
 @router.get("/runs/{run_id}", response_class=HTMLResponse)
-def run(
-    run_id: str, request: Request, services: ServicesDep, lang: Lang | None = None
-) -> HTMLResponse:
-    chosen = negotiate(lang, request.headers.get("accept-language"))
+def run(run_id: str, request: Request, services: ServicesDep, lang: Language) -> HTMLResponse:
     found = load_run(services, run_id)
     writer = writer_of(request, services)
     may_write = writer is not None and writer.allows(write_scope(found.stand.value))
@@ -170,7 +166,7 @@ def run(
         run=found,
         stand=stand,
         payload=results_payload(services, found),
-        lang=chosen,
+        lang=lang,
         signed_in=signed_in(request, services),
         notes=services.notes.get(found.id),
         sketches=services.sketches.history(found.id),
@@ -178,43 +174,38 @@ def run(
         form_token=token,
         received=received_rows(services, found, stand) if token else None,
     )
-    return HTMLResponse(html, headers=language_headers(chosen))
+    return HTMLResponse(html, headers=language_headers(lang))
 
 
 @router.get("/runs/{run_id}/results", response_class=HTMLResponse)
 def run_results(
-    run_id: str, request: Request, services: ServicesDep, lang: Lang | None = None
+    run_id: str, request: Request, services: ServicesDep, lang: Language
 ) -> HTMLResponse:
     """The results part of a run's page (refreshed by the page while the run is open)."""
-    chosen = negotiate(lang, request.headers.get("accept-language"))
     found = load_run(services, run_id)
-    html = results_html(run=found, payload=results_payload(services, found), lang=chosen)
-    return HTMLResponse(html, headers=language_headers(chosen))
+    html = results_html(run=found, payload=results_payload(services, found), lang=lang)
+    return HTMLResponse(html, headers=language_headers(lang))
 
 
 @router.get("/series", response_class=HTMLResponse)
-def series_list(request: Request, services: ServicesDep, lang: Lang | None = None) -> HTMLResponse:
-    chosen = negotiate(lang, request.headers.get("accept-language"))
+def series_list(request: Request, services: ServicesDep, lang: Language) -> HTMLResponse:
     html = series_list_page(
-        series=services.series.list(), lang=chosen, signed_in=signed_in(request, services)
+        series=services.series.list(), lang=lang, signed_in=signed_in(request, services)
     )
-    return HTMLResponse(html, headers=language_headers(chosen))
+    return HTMLResponse(html, headers=language_headers(lang))
 
 
 @router.get("/series/{series_id}", response_class=HTMLResponse)
-def series(
-    series_id: str, request: Request, services: ServicesDep, lang: Lang | None = None
-) -> HTMLResponse:
-    chosen = negotiate(lang, request.headers.get("accept-language"))
-    detail, context = series_view(services, series_id, chosen)
+def series(series_id: str, request: Request, services: ServicesDep, lang: Language) -> HTMLResponse:
+    detail, context = series_view(services, series_id, lang)
     html = series_page(
         detail=detail,
         context=context,
         body=render_series_body(context),
-        lang=chosen,
+        lang=lang,
         signed_in=signed_in(request, services),
     )
-    return HTMLResponse(html, headers=language_headers(chosen))
+    return HTMLResponse(html, headers=language_headers(lang))
 
 
 @login_router.post("/runs/{run_id}/notes", dependencies=[SameOrigin])
@@ -229,8 +220,7 @@ async def run_notes(
     writer = form_writer(request, services, form.pop(FORM_TOKEN, ""), f"/runs/{run_id}")
     words = _notes_form(form)
     await run_in_threadpool(write_notes, services, run_id, words, writer)
-    query = f"?{urlencode({'lang': lang})}" if lang else ""
-    return RedirectResponse(f"/runs/{run_id}{query}#notes", status_code=303)
+    return _back_to(run_id, "notes", lang)
 
 
 @login_router.post("/runs/{run_id}/sketches/{item}", dependencies=[SameOrigin])
@@ -246,8 +236,13 @@ async def run_sketch(
     writer = form_writer(request, services, form.token, f"/runs/{run_id}")
     image = await run_in_threadpool(checked, form.data, form.media_type)
     await run_in_threadpool(upload_sketch, services, run_id, item, image, writer)
+    return _back_to(run_id, "sketches", lang)
+
+
+def _back_to(run_id: str, part: str, lang: Lang | None) -> RedirectResponse:
+    """The run's page again at ``part``, in the language asked for if one was (303)."""
     query = f"?{urlencode({'lang': lang})}" if lang else ""
-    return RedirectResponse(f"/runs/{run_id}{query}#sketches", status_code=303)
+    return RedirectResponse(f"/runs/{run_id}{query}#{part}", status_code=303)
 
 
 def _notes_form(form: dict[str, str]) -> StudentNotesWrite:
@@ -267,16 +262,14 @@ _NOTES_FIELDS = ("group", "students", "conclusions", "analysis", "mismatch", "ob
 
 @login_router.get("/login", response_class=HTMLResponse)
 def login_form(
-    request: Request,
+    lang: Language,
     next: Annotated[Text, Query(max_length=2000)] = "/",
-    lang: Lang | None = None,
 ) -> HTMLResponse:
-    chosen = negotiate(lang, request.headers.get("accept-language"))
-    return HTMLResponse(login_page(next_page=_local(next), refused=False, lang=chosen))
+    return HTMLResponse(login_page(next_page=_local(next), refused=False, lang=lang))
 
 
 @login_router.post("/login", dependencies=[SameOrigin])
-async def login(request: Request, services: ServicesDep, lang: Lang | None = None) -> Response:
+async def login(request: Request, services: ServicesDep, lang: Language) -> Response:
     """The login form posted (``key``, ``next``): a session and back to ``next``, or the form
     again (401) if the key is unknown or may not read."""
     body = await request.body()  # at most LOGIN_BODY_BYTES (rigserver.api.app.body_limit)
@@ -284,8 +277,7 @@ async def login(request: Request, services: ServicesDep, lang: Lang | None = Non
     key, next_page = form.get("key", [""])[0].strip(), _local(form.get("next", ["/"])[0])
     found = services.keyring.find(key) if key else None
     if found is None or not found.allows(READ):
-        chosen = negotiate(lang, request.headers.get("accept-language"))
-        page = login_page(next_page=next_page, refused=True, lang=chosen)
+        page = login_page(next_page=next_page, refused=True, lang=lang)
         return HTMLResponse(page, status_code=401)
     response = RedirectResponse(next_page, status_code=303)
     response.set_cookie(

@@ -28,6 +28,7 @@ from rigserver.api.deps import (
     services_of,
 )
 from rigserver.api.examples import NPZ_EXAMPLE
+from rigserver.api.media import media_type
 from rigserver.api.problems import ApiProblem
 from rigserver.api.run_results import StoredReadings
 from rigserver.reports.arrow import group_arrow
@@ -126,7 +127,7 @@ async def post_readings(request: Request) -> Response:
     run_id: str = request.path_params["run_id"]
     services = services_of(request)
     caller = caller_of(request, services)
-    media = request.headers.get("content-type", "application/json").split(";")[0].strip()
+    media = media_type(request.headers.get("content-type", "application/json"))
     if media not in ("application/json", NPZ_MEDIA_TYPE):
         raise ApiProblem(
             415, "Unsupported media type", f"send application/json or {NPZ_MEDIA_TYPE}"

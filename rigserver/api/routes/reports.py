@@ -5,40 +5,32 @@ from __future__ import annotations
 
 import os
 import tempfile
+from dataclasses import dataclass
 from typing import Annotated
 
-from fastapi import APIRouter, Query, Request
+from fastapi import APIRouter, Depends, Query, Request
 from fastapi.concurrency import run_in_threadpool
 from fastapi.responses import FileResponse, HTMLResponse, Response
 from starlette.background import BackgroundTask
 
 from rigserver.api.cases.found import load_run
 from rigserver.api.cases.reports import run_report_answer
-from rigserver.api.deps import ReadAccess, Services, ServicesDep
+from rigserver.api.deps import Language, ReadAccess, Services, ServicesDep
 from rigserver.api.problems import ApiProblem
 from rigserver.api.run_results import StoredReadings, results_payload
 from rigserver.reports.export import (
     DIALECTS,
+    CsvDialect,
     Dialect,
     export_members,
     export_zip,
     results_csv,
 )
-from rigserver.reports.i18n import Lang, Messages, negotiate
+from rigserver.reports.i18n import Lang, Messages
 from rigserver.reports.x3p import PROFILE_GROUP, NoProfile, profile_group, profile_x3p
 from schemas.runs import Run
 
 router = APIRouter(prefix="/runs/{run_id}", tags=["reports"], dependencies=[ReadAccess])
-
-LangQuery = Annotated[
-    Lang | None,
-    Query(description="report language; without it, the best of Accept-Language (else en)"),
-]
-
-
-def _language(request: Request, lang: Lang | None) -> Lang:
-    return negotiate(lang, request.headers.get("accept-language"))
-
 
 _RENDERED = (
     "Rendered once per version of the run (its readings, state, results and the students' "
@@ -56,9 +48,9 @@ _RENDERED = (
     response_class=HTMLResponse,
 )
 async def report_html(
-    run_id: str, request: Request, services: ServicesDep, lang: LangQuery = None
+    run_id: str, request: Request, services: ServicesDep, lang: Language
 ) -> Response:
-    _, answer = await run_report_answer(request, services, run_id, _language(request, lang), "html")
+    _, answer = await run_report_answer(request, services, run_id, lang, "html")
     return answer
 
 
@@ -70,9 +62,9 @@ async def report_html(
     responses={200: {"content": {"application/pdf": {}}}},
 )
 async def report_pdf(
-    run_id: str, request: Request, services: ServicesDep, lang: LangQuery = None
+    run_id: str, request: Request, services: ServicesDep, lang: Language
 ) -> Response:
-    _, answer = await run_report_answer(request, services, run_id, _language(request, lang), "pdf")
+    _, answer = await run_report_answer(request, services, run_id, lang, "pdf")
     return answer
 
 
@@ -89,19 +81,31 @@ DialectQuery = Annotated[
 ]
 
 
-def _csv_language(lang: Lang | None, dialect: Dialect) -> Lang:
-    """The labels' language of a CSV: ``lang``, else Russian for ``excel-ru``, else English
-    (a download is not negotiated: the same link gives the same file)."""
-    return lang if lang is not None else ("ru" if dialect == "excel-ru" else "en")
+@dataclass(frozen=True, slots=True)
+class _Tables:
+    """How a download writes its tables: the labels' words and the CSV dialect."""
+
+    t: Messages
+    dialect: CsvDialect
 
 
-def _results_csv(services: Services, run_id: str, lang: Lang, dialect: Dialect) -> tuple[Run, str]:
+def _tables(lang: LabelsQuery = None, dialect: DialectQuery = "csv") -> _Tables:
+    """The labels in ``lang``, else in Russian for ``excel-ru``, else in English (a download
+    is not negotiated: the same link gives the same file)."""
+    chosen = lang if lang is not None else ("ru" if dialect == "excel-ru" else "en")
+    return _Tables(Messages(chosen), DIALECTS[dialect])
+
+
+TablesDep = Annotated[_Tables, Depends(_tables)]
+
+
+def _results_csv(services: Services, run_id: str, tables: _Tables) -> tuple[Run, str]:
     run = load_run(services, run_id)
     text = results_csv(
         results_payload(services, run),
         stand=services.stand_of(run),
-        t=Messages(lang),
-        dialect=DIALECTS[dialect],
+        t=tables.t,
+        dialect=tables.dialect,
     )
     return run, text
 
@@ -113,15 +117,8 @@ def _results_csv(services: Services, run_id: str, lang: Lang, dialect: Dialect) 
     response_class=Response,
     responses={200: {"content": {"text/csv": {}}}},
 )
-async def get_results_csv(
-    run_id: str,
-    services: ServicesDep,
-    lang: LabelsQuery = None,
-    dialect: DialectQuery = "csv",
-) -> Response:
-    run, text = await run_in_threadpool(
-        _results_csv, services, run_id, _csv_language(lang, dialect), dialect
-    )
+async def get_results_csv(run_id: str, services: ServicesDep, tables: TablesDep) -> Response:
+    run, text = await run_in_threadpool(_results_csv, services, run_id, tables)
     return Response(
         text,
         media_type="text/csv; charset=utf-8",
@@ -129,7 +126,7 @@ async def get_results_csv(
     )
 
 
-def _export(services: Services, run_id: str, lang: Lang, dialect: Dialect) -> tuple[Run, str]:
+def _export(services: Services, run_id: str, tables: _Tables) -> tuple[Run, str]:
     run = load_run(services, run_id)
     handle, path = tempfile.mkstemp(prefix="rig-export-", suffix=".zip")
     try:
@@ -139,8 +136,8 @@ def _export(services: Services, run_id: str, lang: Lang, dialect: Dialect) -> tu
                 stand=services.stand_of(run),
                 readings=StoredReadings(services, run),
                 payload=results_payload(services, run),
-                t=Messages(lang),
-                dialect=DIALECTS[dialect],
+                t=tables.t,
+                dialect=tables.dialect,
             )
             export_zip(target, run.id, members)
     except BaseException:
@@ -156,15 +153,8 @@ def _export(services: Services, run_id: str, lang: Lang, dialect: Dialect) -> tu
     response_class=FileResponse,
     responses={200: {"content": {"application/zip": {}}}},
 )
-async def get_export(
-    run_id: str,
-    services: ServicesDep,
-    lang: LabelsQuery = None,
-    dialect: DialectQuery = "csv",
-) -> FileResponse:
-    run, path = await run_in_threadpool(
-        _export, services, run_id, _csv_language(lang, dialect), dialect
-    )
+async def get_export(run_id: str, services: ServicesDep, tables: TablesDep) -> FileResponse:
+    run, path = await run_in_threadpool(_export, services, run_id, tables)
     return FileResponse(
         path,
         media_type="application/zip",

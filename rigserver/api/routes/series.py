@@ -3,9 +3,7 @@ the series report and the per-run table as CSV."""
 
 from __future__ import annotations
 
-from typing import Annotated
-
-from fastapi import APIRouter, Query, Request, status
+from fastapi import APIRouter, Request, status
 from fastapi.concurrency import run_in_threadpool
 from fastapi.responses import HTMLResponse, Response
 
@@ -17,6 +15,7 @@ from rigserver.api.cases.series import (
 )
 from rigserver.api.deps import (
     CallerDep,
+    Language,
     ReadAccess,
     Services,
     ServicesDep,
@@ -25,7 +24,6 @@ from rigserver.api.deps import (
 )
 from rigserver.api.problems import ApiProblem
 from rigserver.api.strict_json import StrictJsonRoute
-from rigserver.reports.i18n import Lang, negotiate
 from rigserver.reports.series_report import series_csv
 from rigserver.storage.errors import RunNotFound
 from schemas.series import (
@@ -42,11 +40,6 @@ router = APIRouter(prefix="/series", tags=["series"], route_class=StrictJsonRout
 
 #: The scope that creates series and changes their runs (``write:*`` has it too).
 WRITE_SERIES = "write:series"
-
-LangQuery = Annotated[
-    Lang | None,
-    Query(description="report language; without it, the best of Accept-Language (else en)"),
-]
 
 
 @router.post(
@@ -180,10 +173,9 @@ _RENDERED = (
     dependencies=[ReadAccess],
 )
 async def report_html(
-    series_id: str, request: Request, services: ServicesDep, lang: LangQuery = None
+    series_id: str, request: Request, services: ServicesDep, lang: Language
 ) -> Response:
-    chosen = negotiate(lang, request.headers.get("accept-language"))
-    return await series_report_answer(request, services, series_id, chosen, "html")
+    return await series_report_answer(request, services, series_id, lang, "html")
 
 
 @router.get(
@@ -195,7 +187,6 @@ async def report_html(
     dependencies=[ReadAccess],
 )
 async def report_pdf(
-    series_id: str, request: Request, services: ServicesDep, lang: LangQuery = None
+    series_id: str, request: Request, services: ServicesDep, lang: Language
 ) -> Response:
-    chosen = negotiate(lang, request.headers.get("accept-language"))
-    return await series_report_answer(request, services, series_id, chosen, "pdf")
+    return await series_report_answer(request, services, series_id, lang, "pdf")

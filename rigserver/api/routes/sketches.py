@@ -19,7 +19,7 @@ from rigserver.api.deps import (
     caller_of,
     services_of,
 )
-from rigserver.api.examples import SKETCH_EXAMPLES
+from rigserver.api.examples import SKETCH_EXAMPLES, file_body
 from rigserver.api.problems import ApiProblem
 from rigserver.api.sketch_images import checked, too_large
 from schemas.sketches import SKETCH_MAX_BYTES, SKETCH_TYPES, Sketch, Sketches
@@ -99,18 +99,7 @@ def get_sketch(
     "naming them). Needs the run's stand's write scope (`write:<stand>` or `write:*`).",
     responses={201: {"model": Sketch}},
     dependencies=[WriteAccess],
-    openapi_extra={
-        "requestBody": {
-            "required": True,
-            "content": {
-                t: {
-                    "schema": {"type": "string", "format": "binary"},
-                    "examples": {"sketch": {"summary": "a sketch", "externalValue": url}},
-                }
-                for t, url in SKETCH_EXAMPLES.items()
-            },
-        }
-    },
+    openapi_extra=file_body(SKETCH_EXAMPLES, "sketch", "a sketch"),
 )
 async def put_sketch(run_id: str, item: ItemPath, request: Request) -> Response:
     services = services_of(request)

@@ -162,6 +162,17 @@
   }
 
   // --- sending, in the order typed ----------------------------------------------------------
+  // A JSON body posted as the page's session: its form token in the X-Rig-Form header.
+  function post(url, body) {
+    return fetch(url, {
+      method: "POST",
+      credentials: "same-origin",
+      cache: "no-store",
+      headers: { "Content-Type": "application/json", "X-Rig-Form": config.form_token },
+      body: JSON.stringify(body),
+    });
+  }
+
   function later() {
     if (retry === null) retry = window.setTimeout(() => { retry = null; send(); }, RETRY_MS);
   }
@@ -195,13 +206,7 @@
       const row = rows[0];
       let answer;
       try {
-        answer = await fetch(config.rows_url, {
-          method: "POST",
-          credentials: "same-origin",
-          cache: "no-store",
-          headers: { "Content-Type": "application/json", "X-Rig-Form": config.form_token },
-          body: JSON.stringify({ seq: row.seq, group: row.group, columns: row.columns }),
-        });
+        answer = await post(config.rows_url, { seq: row.seq, group: row.group, columns: row.columns });
       } catch (error) {
         offline = true;
         later();
@@ -489,13 +494,7 @@
         (kind === "strike" ? "/strike" : "") + "?lang=" + config.lang;
       let answer;
       try {
-        answer = await fetch(url, {
-          method: "POST",
-          credentials: "same-origin",
-          cache: "no-store",
-          headers: { "Content-Type": "application/json", "X-Rig-Form": config.form_token },
-          body: JSON.stringify(body),
-        });
+        answer = await post(url, body);
       } catch (error) {
         mark(reason, text.offline);
         return;

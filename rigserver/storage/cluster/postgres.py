@@ -71,7 +71,6 @@ from rigserver.storage._checks import (
     channel_group,
     channel_names,
     check,
-    chunks,
     last_finite,
     new_run,
     padded,
@@ -80,10 +79,11 @@ from rigserver.storage._checks import (
     retry_receipt,
     stored_receipt,
 )
+from rigserver.storage._derived import Derived
 from rigserver.storage._failures import failures_as, translated
 from rigserver.storage._results import check_results
 from rigserver.storage._time import as_utc, now
-from rigserver.storage.base import Columns, NewBatch
+from rigserver.storage.base import NewBatch
 from rigserver.storage.cluster.materialiser import MARKS_SCHEMA, materialised_rows
 from rigserver.storage.cluster.notify import Appends, notify
 from rigserver.storage.corrections import RowEdit, RowEdits, corrected_row, new_corrections
@@ -171,7 +171,7 @@ class _Locked:
     touched: bool = False
 
 
-class PostgresStore(RowEdits):
+class PostgresStore(Derived, RowEdits):
     """The :class:`~rigserver.storage.base.RunStore` protocol on PostgreSQL (module docstring).
 
     Parameters
@@ -328,12 +328,6 @@ class PostgresStore(RowEdits):
         return ended
 
     # --- readings ---------------------------------------------------------------------
-
-    def append(self, run_id: str, seq: int, group: str, columns: Columns) -> BatchReceipt:
-        (outcome,) = self.append_many([NewBatch(run_id, seq, group, columns)])
-        if isinstance(outcome, Exception):
-            raise outcome
-        return outcome
 
     def append_many(self, batches: Sequence[NewBatch]) -> list[BatchReceipt | Exception]:
         """Store the batches in order in one transaction; each is refused alone as
@@ -521,12 +515,6 @@ class PostgresStore(RowEdits):
         doing = f"reading the HSDS mark of run {run_id}"
         with failures_as(doing, PG_FAILURES), self._pool.connection() as conn:
             return materialised_rows(conn, run_id, group)
-
-    def iter_chunks(
-        self, run_id: str, group: str, channels: list[str] | None = None, rows: int = 1 << 20
-    ) -> Iterator[dict[str, NDArray[np.float64]]]:
-        """The rows stored when called, in consecutive slices of at most ``rows`` rows."""
-        return chunks(self, run_id, group, channels, rows)
 
     # --- results and files ------------------------------------------------------------
 

@@ -42,7 +42,7 @@ import fcntl
 import json
 import os
 import threading
-from collections.abc import Iterable, Iterator, Mapping, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -52,15 +52,15 @@ from numpy.typing import NDArray
 from rigserver.storage._checks import (
     StoredBatch,
     channel_group,
-    chunks,
     new_run,
     reopened,
     stored_receipt,
 )
+from rigserver.storage._derived import Derived
 from rigserver.storage._failures import LOW_LEVEL, failures_as, translated
 from rigserver.storage._results import check_results
 from rigserver.storage._time import now
-from rigserver.storage.base import Columns, NewBatch
+from rigserver.storage.base import NewBatch
 from rigserver.storage.corrections import RowEdit, RowEdits, corrected_row, new_corrections
 from rigserver.storage.embedded.backlog import (
     BACKLOG_ROWS,
@@ -82,7 +82,7 @@ from schemas.readings import BatchReceipt
 from schemas.runs import Run, RunPage, RunQuery, RunState
 
 
-class HDF5Store(RowEdits, TellsInProcess):
+class HDF5Store(Derived, RowEdits, TellsInProcess):
     """The embedded run store: a data directory on local disk (see the module docstring).
 
     Parameters
@@ -237,28 +237,18 @@ class HDF5Store(RowEdits, TellsInProcess):
 
     # --- readings ---------------------------------------------------------------------
 
-    def append(self, run_id: str, seq: int, group: str, columns: Columns) -> BatchReceipt:
-        """Store one batch: committed to the journal, then written to the run's file.
-
-        Raises ``RunNotFound``, ``RunNotOpen``, ``SequenceConflict``, ``StorageFull``,
-        ``StorageUnavailable``, and ``ValueError`` for a batch that does not fit the
-        stand's channel groups (unknown group or channel; an aligned group's channels
-        missing or of unequal lengths).
-        """
-        (outcome,) = self.append_many([NewBatch(run_id, seq, group, columns)])
-        if isinstance(outcome, Exception):
-            raise outcome
-        return outcome
-
     def append_many(self, batches: Sequence[NewBatch]) -> list[BatchReceipt | Exception]:
         """Store the batches in order with one journal commit (group commit), then write
         them to their run files (:class:`~rigserver.storage.embedded.ingest.GroupCommit`).
 
-        Each batch is checked as :meth:`append` checks it, then by its own ``check``, and
-        refused alone (its outcome is the exception :meth:`append` would raise). A failure
-        of the journal refuses every batch of the call that its checks did not refuse
-        (retries too: their first copy may have been in the call): the commit is rolled
-        back and the open runs' counters and last values are as before the call.
+        Each batch is checked, then by its own ``check``, and refused alone, its outcome
+        the exception: ``RunNotFound``, ``RunNotOpen``, ``SequenceConflict``,
+        ``StorageFull``, ``StorageUnavailable``, or ``ValueError`` for a batch that does not
+        fit the stand's channel groups (unknown group or channel; an aligned group's
+        channels missing or of unequal lengths). A failure of the journal refuses every
+        batch of the call that its checks did not refuse (retries too: their first copy
+        may have been in the call): the commit is rolled back and the open runs' counters
+        and last values are as before the call.
         """
         # copies, digests and the payloads' aligned memory: outside the lock
         prepared = [prepared_batch(nb) for nb in batches]
@@ -324,12 +314,6 @@ class HDF5Store(RowEdits, TellsInProcess):
             self._views.final_entry(run_id)
         with self._views.final_file(run_id) as rf:
             return rf.read(group, channels, start, stop)
-
-    def iter_chunks(
-        self, run_id: str, group: str, channels: list[str] | None = None, rows: int = 1 << 20
-    ) -> Iterator[dict[str, NDArray[np.float64]]]:
-        """The rows stored when called, in consecutive slices of at most ``rows`` rows."""
-        return chunks(self, run_id, group, channels, rows)
 
     # --- corrections --------------------------------------------------------------------
 

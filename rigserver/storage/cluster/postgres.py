@@ -55,6 +55,7 @@ import shutil
 import tempfile
 import threading
 from collections.abc import Iterable, Iterator, Mapping, Sequence
+from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -307,12 +308,7 @@ class PostgresStore(Derived, RowEdits):
         next :meth:`run_file`)."""
         if state is RunState.OPEN:
             raise ValueError("a run can end as finished or aborted, not open")
-        with (
-            failures_as(f"ending run {run_id}", PG_FAILURES),
-            self._pool.connection() as conn,
-            conn.transaction(),
-        ):
-            run = _select_run(conn, run_id, lock=True)
+        with self._locked_run(run_id, f"ending run {run_id}") as (conn, run):
             if run.state is not RunState.OPEN:
                 raise RunNotOpen(f"run {run_id} is already {run.state.value}")
             ended = run.model_copy(update={"state": state, "ended": now()})
@@ -522,13 +518,7 @@ class PostgresStore(Derived, RowEdits):
         self, run_id: str, results: Mapping[str, Any], key_results: Mapping[str, float]
     ) -> None:
         checked = check_results(results, key_results)
-        doing = f"storing the results of run {run_id}"
-        with (
-            failures_as(doing, PG_FAILURES),
-            self._pool.connection() as conn,
-            conn.transaction(),
-        ):
-            run = _select_run(conn, run_id, lock=True)
+        with self._locked_run(run_id, f"storing the results of run {run_id}") as (conn, run):
             run = run.model_copy(update={"key_results": checked.key_results})
             conn.execute(
                 "UPDATE rig_runs SET run = %s, key_results = %s, results = %s WHERE id = %s",
@@ -606,12 +596,7 @@ class PostgresStore(Derived, RowEdits):
             return self.read(run_id, group, None, lo, hi)
 
         doing = f"correcting row {index} of {group} of run {run_id}"
-        with (
-            failures_as(doing, PG_FAILURES),
-            self._pool.connection() as conn,
-            conn.transaction(),
-        ):
-            run = _select_run(conn, run_id, lock=True)
+        with self._locked_run(run_id, doing) as (conn, run):
             earlier = _corrections(conn, run_id)
             new = new_corrections(run, edit, now(), read, earlier)
             every = [*earlier, *new]
@@ -699,6 +684,13 @@ class PostgresStore(Derived, RowEdits):
         self._pool.close()
         if self._own_dir:
             shutil.rmtree(self.files_dir, ignore_errors=True)
+
+    @contextmanager
+    def _locked_run(self, run_id: str, doing: str) -> Iterator[tuple[psycopg.Connection[Any], Run]]:
+        """A transaction with the run's catalogue row locked until its commit (one at a
+        time across the workers): the connection and the run; ``RunNotFound``."""
+        with failures_as(doing, PG_FAILURES), self._pool.connection() as conn, conn.transaction():
+            yield conn, _select_run(conn, run_id, lock=True)
 
     def _exists(self, conn: psycopg.Connection[Any], run_id: str) -> None:
         if conn.execute("SELECT 1 FROM rig_runs WHERE id = %s", (run_id,)).fetchone() is None:

@@ -65,7 +65,7 @@ import psycopg
 import psycopg_pool
 from numpy.typing import NDArray
 
-from rigserver.storage._catalogue import run_filters
+from rigserver.storage._catalogue import ENTRY_COLUMNS, entry, run_filters
 from rigserver.storage._checks import (
     Batch,
     StoredBatch,
@@ -707,27 +707,11 @@ def _safe(url: str) -> str:
 
 
 #: The columns of a new catalogue entry (:func:`_run_values`)
-_INSERT_RUN = (
-    "(id, stand, operator, state, created, ended, run, batches, rows, key_results, results, "
-    "idem_key) VALUES (%s, %s, %s, %s, %s, %s, %s, %s, %s, %s, %s, %s)"
-)
+_INSERT_RUN = f"({ENTRY_COLUMNS}, idem_key) VALUES (%s, %s, %s, %s, %s, %s, %s, %s, %s, %s, %s, %s)"
 
 
 def _run_values(run: Run, results: str | None, key: str | None) -> tuple[object, ...]:
-    return (
-        run.id,
-        run.stand.value,
-        run.operator,
-        run.state.value,
-        as_utc(run.created),
-        None if run.ended is None else as_utc(run.ended),
-        run.model_dump_json(),
-        run.batches,
-        json.dumps(run.rows),
-        json.dumps(run.key_results),
-        results,
-        key,
-    )
+    return (*entry(run, results, as_utc), key)
 
 
 def _run(row: tuple[Any, ...]) -> Run:

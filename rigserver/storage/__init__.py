@@ -10,7 +10,7 @@ store of a cluster, the in-memory store for tests, and the storage error tree.
                           _derived: append and iter_chunks, made of the others)
     memory                the tests' store, in memory
     archived              a run file from elsewhere (an .eln archive's) as batches
-    series, notes,        series of runs, the students' words and sketches: protocols, their
+    series, notes,        series of runs, the students' words and sketches: the stores, their
     sketches, _tables     SQL written once for a Database (_tables: SQLite's)
     embedded/             HDF5Store: the SQLite journal and the run files on local disk
     cluster/              PostgresStore: PostgreSQL, LISTEN/NOTIFY, HSDS

@@ -16,7 +16,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 from datetime import datetime
 from pathlib import Path
-from typing import Any, Protocol
+from typing import Any
 
 from rigserver.storage._tables import Connection, Database, SqliteDatabase, retried
 from rigserver.storage._time import as_utc, iso, now
@@ -34,39 +34,20 @@ CREATE TABLE IF NOT EXISTS notes (
 """
 
 
-class NotesStore(Protocol):
-    def get(self, run_id: str) -> StudentNotes:
-        """The run's words as last written (empty, version 0, if never)."""
-        ...
-
-    def put(self, run_id: str, notes: StudentNotesWrite, *, by: str) -> StudentNotes:
-        """Store a new version of the run's words, written by ``by``."""
-        ...
-
-    def history(self, run_id: str) -> list[StudentNotes]:
-        """Every version of the run's words, the first first."""
-        ...
-
-    def close(self) -> None: ...
-
-
-class NotesTable:
-    """The :class:`NotesStore` in the table ``table`` of a :class:`Database`."""
+class NotesStore:
+    """The words in the table ``table`` of a :class:`Database`."""
 
     def __init__(self, database: Database, table: str) -> None:
         self._database = database
         self._table = table
 
     def get(self, run_id: str) -> StudentNotes:
-        with self._database.connection(f"reading the notes of run {run_id}") as db:
-            row = db.execute(
-                f"SELECT version, body, author, written FROM {self._table} WHERE run_id = ? "
-                "ORDER BY version DESC LIMIT 1",
-                (run_id,),
-            ).fetchone()
-        return notes_of(row)
+        """The run's words as last written (empty, version 0, if never)."""
+        last = self._versions(run_id, "version DESC LIMIT 1")
+        return last[0] if last else StudentNotes()
 
     def put(self, run_id: str, notes: StudentNotesWrite, *, by: str) -> StudentNotes:
+        """Store a new version of the run's words, written by ``by``."""
         body, written = notes.model_dump_json(), iso(now())
 
         def write(db: Connection) -> int:
@@ -84,29 +65,32 @@ class NotesTable:
         return notes_of((version, body, by, written))
 
     def history(self, run_id: str) -> list[StudentNotes]:
-        with self._database.connection(f"reading the notes of run {run_id}") as db:
-            rows = db.execute(
-                f"SELECT version, body, author, written FROM {self._table} WHERE run_id = ? "
-                "ORDER BY version",
-                (run_id,),
-            ).fetchall()
-        return [notes_of(row) for row in rows]
+        """Every version of the run's words, the first first."""
+        return self._versions(run_id, "version")
 
     def close(self) -> None:
         self._database.close()
 
+    def _versions(self, run_id: str, order: str) -> list[StudentNotes]:
+        """The run's versions in the ``ORDER BY`` clause ``order``."""
+        with self._database.connection(f"reading the notes of run {run_id}") as db:
+            rows = db.execute(
+                f"SELECT version, body, author, written FROM {self._table} WHERE run_id = ? "
+                f"ORDER BY {order}",
+                (run_id,),
+            ).fetchall()
+        return [notes_of(row) for row in rows]
 
-class SqliteNotes(NotesTable):
+
+class SqliteNotes(NotesStore):
     """The words in one SQLite database (``path``), or in memory (``":memory:"``)."""
 
     def __init__(self, path: Path | str) -> None:
         super().__init__(SqliteDatabase(path, _SCHEMA, "notes"), "notes")
 
 
-def notes_of(row: Sequence[Any] | None) -> StudentNotes:
-    """The words of a row ``(version, body, author, written)``; empty without one."""
-    if row is None:
-        return StudentNotes()
+def notes_of(row: Sequence[Any]) -> StudentNotes:
+    """The words of a row ``(version, body, author, written)``."""
     version, body, by, written = row
     words = StudentNotesWrite.model_validate_json(body)
     return StudentNotes(

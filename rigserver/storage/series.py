@@ -21,7 +21,7 @@ import sqlite3
 from collections.abc import Sequence
 from datetime import datetime
 from pathlib import Path
-from typing import Any, Protocol
+from typing import Any
 
 from rigserver.storage._tables import Connection, Database, SqliteDatabase, Taken
 from rigserver.storage._time import as_utc, iso, now
@@ -61,43 +61,8 @@ CREATE TABLE IF NOT EXISTS members (
 """
 
 
-class SeriesStore(Protocol):
-    def create(self, body: SeriesCreate) -> Series:
-        """Store a new, empty series."""
-        ...
-
-    def get(self, series_id: str) -> Series:
-        """The series and its members; raises ``SeriesNotFound``."""
-        ...
-
-    def list(self) -> list[Series]:
-        """Every series, newest first."""
-        ...
-
-    def add(
-        self,
-        series_id: str,
-        run_id: str,
-        level: str | None,
-        *,
-        stand: str,
-        limit: int = SERIES_RUNS_LIMIT,
-    ) -> Series:
-        """Add the run, of the stand ``stand``, in one transaction with the checks:
-        ``SeriesFull`` if the series holds ``limit`` runs, ``OtherStand`` if it holds a run
-        of another stand, ``MemberExists`` if the run is a member already."""
-        ...
-
-    def remove(self, series_id: str, run_id: str) -> Series:
-        """Take a run out (``MemberNotFound`` if it is not a member)."""
-        ...
-
-    def close(self) -> None: ...
-
-
-class SeriesTables:
-    """The :class:`SeriesStore` in the tables ``series`` and ``members`` of a
-    :class:`Database`."""
+class SeriesStore:
+    """The series in the tables ``series`` and ``members`` of a :class:`Database`."""
 
     def __init__(self, database: Database, *, series: str, members: str) -> None:
         self._database = database
@@ -105,6 +70,7 @@ class SeriesTables:
         self._members = members
 
     def create(self, body: SeriesCreate) -> Series:
+        """Store a new, empty series."""
         series = new_series(body)
         with self._database.connection("storing a series") as db:
             db.execute(
@@ -121,10 +87,12 @@ class SeriesTables:
         return series
 
     def get(self, series_id: str) -> Series:
+        """The series and its members; raises ``SeriesNotFound``."""
         with self._database.connection(f"reading series {series_id}") as db:
             return self._get(db, series_id)
 
     def list(self) -> list[Series]:
+        """Every series, newest first."""
         with self._database.connection("listing the series") as db:
             ids = db.execute(f"SELECT id FROM {self._series} ORDER BY created DESC").fetchall()
             return [self._get(db, i) for (i,) in ids]
@@ -138,6 +106,9 @@ class SeriesTables:
         stand: str,
         limit: int = SERIES_RUNS_LIMIT,
     ) -> Series:
+        """Add the run, of the stand ``stand``, in one transaction with the checks:
+        ``SeriesFull`` if the series holds ``limit`` runs, ``OtherStand`` if it holds a run
+        of another stand, ``MemberExists`` if the run is a member already."""
         doing = f"adding a run to series {series_id}"
         try:
             with self._database.transaction(doing) as db:
@@ -168,6 +139,7 @@ class SeriesTables:
         return self.get(series_id)
 
     def remove(self, series_id: str, run_id: str) -> Series:
+        """Take a run out (``MemberNotFound`` if it is not a member)."""
         with self._database.connection(f"taking a run out of series {series_id}") as db:
             self._get(db, series_id)
             gone = db.execute(
@@ -193,7 +165,7 @@ class SeriesTables:
         return series_of(series_id, row, members)
 
 
-class SqliteSeries(SeriesTables):
+class SqliteSeries(SeriesStore):
     """The series in one SQLite database (``path``), or in memory (``":memory:"``)."""
 
     def __init__(self, path: Path | str) -> None:

@@ -17,7 +17,7 @@ import hashlib
 from collections.abc import Sequence
 from datetime import datetime
 from pathlib import Path
-from typing import Any, Protocol
+from typing import Any
 
 from rigserver.storage._tables import Connection, Database, SqliteDatabase, retried
 from rigserver.storage._time import as_utc, iso, now
@@ -42,41 +42,8 @@ CREATE TABLE IF NOT EXISTS sketches (
 COLUMNS = "item, version, media_type, width, height, length(image), sha256, author, written"
 
 
-class SketchStore(Protocol):
-    def put(
-        self,
-        run_id: str,
-        item: int,
-        image: bytes,
-        *,
-        media_type: str,
-        size: tuple[int, int],
-        by: str,
-    ) -> Sketch:
-        """Store a new version of the sketch of ``item`` (``size``: width, height in
-        pixels), uploaded by ``by``."""
-        ...
-
-    def latest(self, run_id: str) -> list[Sketch]:
-        """The latest version of each item's sketch, by item."""
-        ...
-
-    def history(self, run_id: str) -> list[Sketch]:
-        """Every version of every item's sketch, by item, the first first."""
-        ...
-
-    def image(
-        self, run_id: str, item: int, version: int | None = None
-    ) -> tuple[Sketch, bytes] | None:
-        """A version of the item's sketch and its image (the latest without ``version``);
-        None if there is none."""
-        ...
-
-    def close(self) -> None: ...
-
-
-class SketchesTable:
-    """The :class:`SketchStore` in the table ``table`` of a :class:`Database`."""
+class SketchStore:
+    """The sketches in the table ``table`` of a :class:`Database`."""
 
     def __init__(self, database: Database, table: str) -> None:
         self._database = database
@@ -92,6 +59,8 @@ class SketchesTable:
         size: tuple[int, int],
         by: str,
     ) -> Sketch:
+        """Store a new version of the sketch of ``item`` (``size``: width, height in
+        pixels), uploaded by ``by``."""
         written, digest = iso(now()), hashlib.sha256(image).hexdigest()
 
         def write(db: Connection) -> int:
@@ -110,6 +79,7 @@ class SketchesTable:
         return sketch_of((item, version, media_type, *size, len(image), digest, by, written))
 
     def latest(self, run_id: str) -> list[Sketch]:
+        """The latest version of each item's sketch, by item."""
         with self._database.connection(f"reading the sketches of run {run_id}") as db:
             rows = db.execute(
                 f"SELECT {COLUMNS} FROM {self._table} s WHERE run_id = ? AND version = "
@@ -120,6 +90,7 @@ class SketchesTable:
         return [sketch_of(row) for row in rows]
 
     def history(self, run_id: str) -> list[Sketch]:
+        """Every version of every item's sketch, by item, the first first."""
         with self._database.connection(f"reading the sketches of run {run_id}") as db:
             rows = db.execute(
                 f"SELECT {COLUMNS} FROM {self._table} WHERE run_id = ? ORDER BY item, version",
@@ -130,6 +101,8 @@ class SketchesTable:
     def image(
         self, run_id: str, item: int, version: int | None = None
     ) -> tuple[Sketch, bytes] | None:
+        """A version of the item's sketch and its image (the latest without ``version``);
+        None if there is none."""
         which = "" if version is None else " AND version = ?"
         with self._database.connection(f"reading a sketch of run {run_id}") as db:
             row = db.execute(
@@ -143,7 +116,7 @@ class SketchesTable:
         self._database.close()
 
 
-class SqliteSketches(SketchesTable):
+class SqliteSketches(SketchStore):
     """The sketches in one SQLite database (``path``), or in memory (``":memory:"``)."""
 
     def __init__(self, path: Path | str) -> None:

@@ -4,7 +4,7 @@ table of :mod:`rigserver.storage.notes` (``rig_notes``)."""
 from __future__ import annotations
 
 from rigserver.storage.cluster.tables import PostgresDatabase
-from rigserver.storage.notes import NotesTable
+from rigserver.storage.notes import NotesStore
 
 _SCHEMA = """
 CREATE TABLE IF NOT EXISTS rig_notes (
@@ -18,9 +18,9 @@ CREATE TABLE IF NOT EXISTS rig_notes (
 """
 
 
-class PostgresNotes(NotesTable):
-    """The :class:`~rigserver.storage.notes.NotesStore` on PostgreSQL (``url``): a write that
-    met another worker's version is tried again."""
+class PostgresNotes(NotesStore):
+    """The words on PostgreSQL (``url``): a write that met another worker's version is
+    tried again."""
 
     def __init__(self, url: str, *, pool_size: int = 2) -> None:
         super().__init__(PostgresDatabase(url, _SCHEMA, "notes", pool_size), "rig_notes")

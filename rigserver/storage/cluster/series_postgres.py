@@ -4,7 +4,7 @@ of :mod:`rigserver.storage.series` (``rig_series``, ``rig_series_members``)."""
 from __future__ import annotations
 
 from rigserver.storage.cluster.tables import PostgresDatabase
-from rigserver.storage.series import SeriesTables
+from rigserver.storage.series import SeriesStore
 
 _SCHEMA = """
 CREATE TABLE IF NOT EXISTS rig_series (
@@ -28,8 +28,8 @@ ALTER TABLE rig_series_members ADD COLUMN IF NOT EXISTS stand TEXT;
 """
 
 
-class PostgresSeries(SeriesTables):
-    """The :class:`~rigserver.storage.series.SeriesStore` on PostgreSQL (``url``)."""
+class PostgresSeries(SeriesStore):
+    """The series on PostgreSQL (``url``)."""
 
     def __init__(self, url: str, *, pool_size: int = 2) -> None:
         database = PostgresDatabase(url, _SCHEMA, "series", pool_size)

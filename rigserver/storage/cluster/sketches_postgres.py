@@ -4,7 +4,7 @@ table of :mod:`rigserver.storage.sketches` (``rig_sketches``, the image ``bytea`
 from __future__ import annotations
 
 from rigserver.storage.cluster.tables import PostgresDatabase
-from rigserver.storage.sketches import SketchesTable
+from rigserver.storage.sketches import SketchStore
 
 _SCHEMA = """
 CREATE TABLE IF NOT EXISTS rig_sketches (
@@ -23,9 +23,9 @@ CREATE TABLE IF NOT EXISTS rig_sketches (
 """
 
 
-class PostgresSketches(SketchesTable):
-    """The :class:`~rigserver.storage.sketches.SketchStore` on PostgreSQL (``url``): an upload
-    that met another worker's version is tried again."""
+class PostgresSketches(SketchStore):
+    """The sketches on PostgreSQL (``url``): an upload that met another worker's version is
+    tried again."""
 
     def __init__(self, url: str, *, pool_size: int = 2) -> None:
         super().__init__(PostgresDatabase(url, _SCHEMA, "sketches", pool_size), "rig_sketches")

@@ -37,7 +37,13 @@ from rigserver.storage._derived import Derived
 from rigserver.storage._results import CheckedResults, check_results
 from rigserver.storage._time import as_utc, now
 from rigserver.storage.base import NewBatch
-from rigserver.storage.corrections import RowEdit, RowEdits, corrected_row, new_corrections
+from rigserver.storage.corrections import (
+    RowEdit,
+    RowEdits,
+    corrected_row,
+    corrected_run,
+    new_corrections,
+)
 from rigserver.storage.errors import RunExists, RunNotFound, RunNotOpen
 from rigserver.storage.runfile import write_file
 from rigserver.storage.waiters import AppendWaiters, TellsInProcess
@@ -195,8 +201,7 @@ class MemoryStore(Derived, RowEdits, TellsInProcess):
             new = new_corrections(run, edit, now(), read, earlier)
             stored_run.corrections = every = [*earlier, *new]
             if new:
-                run.corrections = len(every)
-                run.corrected_after_finish |= run.state is RunState.FINISHED
+                stored_run.run = run = corrected_run(run, every)
             row = read(index, index + 1)
         if new:  # the live streams tell their viewers
             self.appends.woken(run_id, run.batches)

@@ -87,7 +87,13 @@ from rigserver.storage._time import as_utc, now
 from rigserver.storage.base import NewBatch
 from rigserver.storage.cluster.materialiser import MARKS_SCHEMA, materialised_rows
 from rigserver.storage.cluster.notify import Appends, notify
-from rigserver.storage.corrections import RowEdit, RowEdits, corrected_row, new_corrections
+from rigserver.storage.corrections import (
+    RowEdit,
+    RowEdits,
+    corrected_row,
+    corrected_run,
+    new_corrections,
+)
 from rigserver.storage.errors import (
     RunExists,
     RunNotFound,
@@ -600,10 +606,7 @@ class PostgresStore(Derived, RowEdits):
             earlier = _corrections(conn, run_id)
             new = new_corrections(run, edit, now(), read, earlier)
             every = [*earlier, *new]
-            after = run.state is RunState.FINISHED or run.corrected_after_finish
-            run = run.model_copy(
-                update={"corrections": len(every), "corrected_after_finish": after}
-            )
+            run = corrected_run(run, every)
             if new:
                 with conn.cursor() as cur:
                     cur.executemany(

@@ -61,7 +61,13 @@ from rigserver.storage._failures import LOW_LEVEL, failures_as, translated
 from rigserver.storage._results import check_results
 from rigserver.storage._time import now
 from rigserver.storage.base import NewBatch
-from rigserver.storage.corrections import RowEdit, RowEdits, corrected_row, new_corrections
+from rigserver.storage.corrections import (
+    RowEdit,
+    RowEdits,
+    corrected_row,
+    corrected_run,
+    new_corrections,
+)
 from rigserver.storage.embedded.backlog import (
     BACKLOG_ROWS,
     QUIET_SECONDS,
@@ -343,9 +349,7 @@ class HDF5Store(Derived, RowEdits, TellsInProcess):
             new = new_corrections(run, edit, now(), read, earlier)
             every = [*earlier, *new]
             if new:
-                after = run.state is RunState.FINISHED or run.corrected_after_finish
-                update = {"corrections": len(every), "corrected_after_finish": after}
-                edited = run.model_copy(deep=True, update=update)
+                edited = corrected_run(run, every)
                 with failures_as(doing):
                     self._journal.add_corrections(edited, new)
                 self._views.write_corrections(live, edited, every, doing)

@@ -14,9 +14,10 @@ from schemas.readings import BatchReceipt
 
 
 class Derived:
-    """:meth:`RunStore.append` and :meth:`RunStore.iter_chunks` of a store: one batch stored
-    as its :meth:`~RunStore.append_many` stores it, the readings read in its
-    :meth:`~RunStore.read` slices."""
+    """:meth:`RunStore.append`, :meth:`RunStore.iter_chunks` and
+    :meth:`RunStore.readings_version` of a store: one batch stored as its
+    :meth:`~RunStore.append_many` stores it, the readings read in its :meth:`~RunStore.read`
+    slices, the version counted in its catalogue entry (:meth:`~RunStore.get_run`)."""
 
     def append(self: RunStore, run_id: str, seq: int, group: str, columns: Columns) -> BatchReceipt:
         """Store one batch as :meth:`append_many` does; raise what refuses it."""
@@ -43,3 +44,9 @@ class Derived:
             self.read(run_id, group, channels, start, min(start + rows, total))
             for start in range(0, total, rows)
         )
+
+    def readings_version(self: RunStore, run_id: str) -> int:
+        """The run's batches and corrections in its catalogue entry, as every process sharing
+        the store sees them once committed."""
+        run = self.get_run(run_id)
+        return run.batches + run.corrections

@@ -260,11 +260,6 @@ class MemoryStore(Derived, RowEdits, TellsInProcess):
                 self._keys[key] = run.id
         return True
 
-    def readings_version(self, run_id: str) -> int:
-        with self._lock:
-            run = self._get(run_id).run
-            return run.batches + run.corrections
-
     def run_file(self, run_id: str) -> Path:
         """A run file written now into this store's temporary directory."""
         with self._lock:

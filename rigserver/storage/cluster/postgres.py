@@ -545,14 +545,6 @@ class PostgresStore(Derived, RowEdits):
             raise RunNotFound(f"no run with id {run_id}")
         return None if row[0] is None else str(row[0])
 
-    def readings_version(self, run_id: str) -> int:
-        """The run's batches and corrections in the catalogue, as every worker sees them once
-        committed."""
-        doing = f"reading the catalogue entry of run {run_id}"
-        with failures_as(doing, PG_FAILURES), self._pool.connection() as conn:
-            run = _select_run(conn, run_id)
-        return run.batches + run.corrections
-
     def run_file(self, run_id: str) -> Path:
         """The ended run's final file (materialised once); a fresh snapshot for an open run."""
         run = self.get_run(run_id)

@@ -434,17 +434,6 @@ class HDF5Store(Derived, RowEdits, TellsInProcess):
             raise
         return True
 
-    def readings_version(self, run_id: str) -> int:
-        """The run's batches and corrections counted (:meth:`RunStore.readings_version`)."""
-        with self._lock:
-            self._check_open()
-            live = self._views.live.get(run_id)
-            if live is not None:
-                return live.run.batches + live.run.corrections
-            with failures_as(f"reading the catalogue entry of run {run_id}"):
-                run = self._journal.entry(run_id).run
-                return run.batches + run.corrections
-
     def run_file(self, run_id: str) -> Path:
         """The final file of an ended run; a fresh snapshot copy for an open run."""
         with self._lock:

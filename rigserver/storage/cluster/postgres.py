@@ -600,11 +600,7 @@ class PostgresStore(Derived, RowEdits):
             every = [*earlier, *new]
             run = corrected_run(run, every)
             if new:
-                with conn.cursor() as cur:
-                    cur.executemany(
-                        "INSERT INTO rig_corrections (run_id, n, body) VALUES (%s, %s, %s)",
-                        [(run_id, c.n, c.model_dump_json()) for c in new],
-                    )
+                _add_corrections(conn, run_id, new)
                 conn.execute(
                     "UPDATE rig_runs SET run = %s WHERE id = %s", (run.model_dump_json(), run_id)
                 )
@@ -662,11 +658,7 @@ class PostgresStore(Derived, RowEdits):
                     max_seq = max(max_seq, seq)
             conn.execute("UPDATE rig_runs SET max_seq = %s WHERE id = %s", (max_seq, run.id))
             if corrections:
-                with conn.cursor() as cur:
-                    cur.executemany(
-                        "INSERT INTO rig_corrections (run_id, n, body) VALUES (%s, %s, %s)",
-                        [(run.id, c.n, c.model_dump_json()) for c in corrections],
-                    )
+                _add_corrections(conn, run.id, corrections)
         return True
 
     def close(self) -> None:
@@ -719,6 +711,16 @@ def _corrections(conn: psycopg.Connection[Any], run_id: str) -> list[Correction]
         "SELECT body FROM rig_corrections WHERE run_id = %s ORDER BY n", (run_id,)
     ).fetchall()
     return [Correction.model_validate_json(row[0]) for row in rows]
+
+
+def _add_corrections(
+    conn: psycopg.Connection[Any], run_id: str, corrections: Sequence[Correction]
+) -> None:
+    with conn.cursor() as cur:
+        cur.executemany(
+            "INSERT INTO rig_corrections (run_id, n, body) VALUES (%s, %s, %s)",
+            [(run_id, c.n, c.model_dump_json()) for c in corrections],
+        )
 
 
 def _select_run(conn: psycopg.Connection[Any], run_id: str, *, lock: bool = False) -> Run:

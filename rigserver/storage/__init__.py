@@ -6,8 +6,8 @@ store of a cluster, the in-memory store for tests, and the storage error tree.
     base, errors          the protocols (RunStore, LiveStore) and the storage errors
     waiters               live streams told in process (the embedded and memory stores)
     runfile, payloads     the run file's layout; a batch's bytes, as every store keeps them
-    corrections, _checks  what every store checks and shares (_catalogue: a query's filters;
-                          _derived: what follows from the others)
+    corrections, _checks  what every store checks and shares (_catalogue: a run's entry and
+                          a query's filters; _derived: what follows from the others)
     memory                the tests' store, in memory
     archived              a run file from elsewhere (an .eln archive's) as batches
     series, notes,        series of runs, the students' words and sketches: the stores, their

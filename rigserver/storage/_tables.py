@@ -111,12 +111,12 @@ class SqliteDatabase:
 
     @contextmanager
     def connection(self, doing: str) -> Iterator[Connection]:
-        with self._lock, _taken():
+        with self._lock, taken_when(sqlite3.IntegrityError):
             yield self._db
 
     @contextmanager
     def transaction(self, doing: str) -> Iterator[Connection]:
-        with self._lock, _taken():
+        with self._lock, taken_when(sqlite3.IntegrityError):
             self._db.execute("BEGIN IMMEDIATE")
             try:
                 yield self._db
@@ -131,8 +131,10 @@ class SqliteDatabase:
 
 
 @contextmanager
-def _taken() -> Iterator[None]:
+def taken_when(kind: type[Exception]) -> Iterator[None]:
+    """:class:`Taken` for the database's ``kind`` of error (a key stored already) in the
+    block."""
     try:
         yield
-    except sqlite3.IntegrityError as exc:
+    except kind as exc:
         raise Taken(str(exc)) from exc

@@ -12,7 +12,7 @@ import psycopg
 import psycopg_pool
 
 from rigserver.storage._failures import failures_as
-from rigserver.storage._tables import Connection, Rows, Taken
+from rigserver.storage._tables import Connection, Rows, taken_when
 from rigserver.storage.cluster.postgres import PG_FAILURES
 
 
@@ -33,14 +33,18 @@ class PostgresDatabase:
 
     @contextmanager
     def connection(self, doing: str) -> Iterator[Connection]:
-        with failures_as(doing, PG_FAILURES), _taken(), self._pool.connection() as conn:
+        with (
+            failures_as(doing, PG_FAILURES),
+            taken_when(psycopg.errors.UniqueViolation),
+            self._pool.connection() as conn,
+        ):
             yield _Qmarks(conn)
 
     @contextmanager
     def transaction(self, doing: str) -> Iterator[Connection]:
         with (
             failures_as(doing, PG_FAILURES),
-            _taken(),
+            taken_when(psycopg.errors.UniqueViolation),
             self._pool.connection() as conn,
             conn.transaction(),
         ):
@@ -58,11 +62,3 @@ class _Qmarks:
 
     def execute(self, sql: str, parameters: Sequence[Any] = (), /) -> Rows:
         return self._conn.execute(sql.replace("?", "%s"), parameters)
-
-
-@contextmanager
-def _taken() -> Iterator[None]:
-    try:
-        yield
-    except psycopg.errors.UniqueViolation as exc:
-        raise Taken(str(exc)) from exc

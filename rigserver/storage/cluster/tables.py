@@ -33,22 +33,24 @@ class PostgresDatabase:
 
     @contextmanager
     def connection(self, doing: str) -> Iterator[Connection]:
-        with (
-            failures_as(doing, PG_FAILURES),
-            taken_when(psycopg.errors.UniqueViolation),
-            self._pool.connection() as conn,
-        ):
+        with self._pooled(doing) as conn:
             yield _Qmarks(conn)
 
     @contextmanager
     def transaction(self, doing: str) -> Iterator[Connection]:
+        with self._pooled(doing) as conn, conn.transaction():
+            yield _Qmarks(conn)
+
+    @contextmanager
+    def _pooled(self, doing: str) -> Iterator[psycopg.Connection[Any]]:
+        """A connection of the pool; the failures in the block translated (``doing``), a key
+        stored already :class:`~rigserver.storage._tables.Taken`."""
         with (
             failures_as(doing, PG_FAILURES),
             taken_when(psycopg.errors.UniqueViolation),
             self._pool.connection() as conn,
-            conn.transaction(),
         ):
-            yield _Qmarks(conn)
+            yield conn
 
     def close(self) -> None:
         self._pool.close()

@@ -21,7 +21,7 @@ from typing import Any, Protocol, TypeVar
 from rigserver.storage._failures import translated
 from rigserver.storage.errors import StorageUnavailable
 
-T = TypeVar("T")
+_T = TypeVar("_T")
 
 #: Writes of a new version that met another writer's: tried again, this many times in all.
 RETRIES = 5
@@ -66,18 +66,19 @@ class Database(Protocol):
     def close(self) -> None: ...
 
 
-def retried(database: Database, doing: str, write: Callable[[Connection], T]) -> T:
-    """``write`` in a transaction, again while another writer takes the key of its row first
-    (a new version numbered as theirs), :data:`RETRIES` times in all; ``StorageUnavailable``
-    then."""
-    for attempt in range(1, RETRIES + 1):
+def retried(database: Database, doing: str, write: Callable[[Connection], _T]) -> _T:
+    """``write`` in a transaction, tried again while another writer stores its row's key
+    first (a new version numbered as theirs): :data:`RETRIES` times in all, then
+    ``StorageUnavailable``."""
+    attempt = 1
+    while True:
         try:
             with database.transaction(doing) as db:
                 return write(db)
         except Taken as exc:
             if attempt == RETRIES:
                 raise translated(exc, doing) from exc
-    raise AssertionError("unreachable")
+            attempt += 1
 
 
 class SqliteDatabase:

@@ -18,7 +18,6 @@ from contextlib import AbstractContextManager, contextmanager
 from pathlib import Path
 from typing import Any, Protocol, TypeVar
 
-from rigserver.storage._failures import translated
 from rigserver.storage.errors import StorageUnavailable
 
 _T = TypeVar("_T")
@@ -27,8 +26,9 @@ _T = TypeVar("_T")
 RETRIES = 5
 
 
-class Taken(Exception):
-    """A row's key is taken: another writer stored it first."""
+class Taken(StorageUnavailable):
+    """A row's key is taken: another writer stored it first (the store tries again, or says
+    it could not store the row)."""
 
 
 class Rows(Protocol):
@@ -68,16 +68,16 @@ class Database(Protocol):
 
 def retried(database: Database, doing: str, write: Callable[[Connection], _T]) -> _T:
     """``write`` in a transaction, tried again while another writer stores its row's key
-    first (a new version numbered as theirs): :data:`RETRIES` times in all, then
-    ``StorageUnavailable``."""
+    first (a new version numbered as theirs): :data:`RETRIES` times in all, then the last
+    :class:`Taken` raised (a ``StorageUnavailable``)."""
     attempt = 1
     while True:
         try:
             with database.transaction(doing) as db:
                 return write(db)
-        except Taken as exc:
+        except Taken:
             if attempt == RETRIES:
-                raise translated(exc, doing) from exc
+                raise
             attempt += 1
 
 
@@ -112,12 +112,12 @@ class SqliteDatabase:
 
     @contextmanager
     def connection(self, doing: str) -> Iterator[Connection]:
-        with self._lock, taken_when(sqlite3.IntegrityError):
+        with self._lock, taken_when(sqlite3.IntegrityError, doing):
             yield self._db
 
     @contextmanager
     def transaction(self, doing: str) -> Iterator[Connection]:
-        with self._lock, taken_when(sqlite3.IntegrityError):
+        with self._lock, taken_when(sqlite3.IntegrityError, doing):
             self._db.execute("BEGIN IMMEDIATE")
             try:
                 yield self._db
@@ -132,10 +132,10 @@ class SqliteDatabase:
 
 
 @contextmanager
-def taken_when(kind: type[Exception]) -> Iterator[None]:
+def taken_when(kind: type[Exception], doing: str) -> Iterator[None]:
     """:class:`Taken` for the database's ``kind`` of error (a key stored already) in the
-    block."""
+    block, while ``doing``."""
     try:
         yield
     except kind as exc:
-        raise Taken(str(exc)) from exc
+        raise Taken(f"storage failed while {doing}: {exc}") from exc

@@ -47,7 +47,7 @@ class PostgresDatabase:
         stored already :class:`~rigserver.storage._tables.Taken`."""
         with (
             failures_as(doing, PG_FAILURES),
-            taken_when(psycopg.errors.UniqueViolation),
+            taken_when(psycopg.errors.UniqueViolation, doing),
             self._pool.connection() as conn,
         ):
             yield conn

@@ -3,31 +3,22 @@ store of a cluster, the in-memory store for tests, and the storage error tree.
 
 ::
 
-    base, errors          the protocols (RunStore, LiveStore) and the errors below
+    base, errors          the protocols (RunStore, LiveStore) and the storage errors
     waiters               live streams told in process (the embedded and memory stores)
     runfile, payloads     the run file's layout; a batch's bytes, as every store keeps them
-    corrections, _checks  what every store checks and shares (_catalogue: a query's filters)
+    corrections, _checks  what every store checks and shares (_catalogue: a run's entry and
+                          a query's filters; _derived: what follows from the others)
     memory                the tests' store, in memory
     archived              a run file from elsewhere (an .eln archive's) as batches
-    series, notes         series of runs and the student's words: protocols, SQLite stores
+    series, notes,        series of runs, the students' words and sketches: the stores, their
+    sketches, _tables     SQL written once for a Database (_tables: SQLite's)
     embedded/             HDF5Store: the SQLite journal and the run files on local disk
     cluster/              PostgresStore: PostgreSQL, LISTEN/NOTIFY, HSDS
     servers/              throwaway local PostgreSQL and HSDS servers (tests, one machine)
 
 The commands over a data directory (``rigserver check``, ``rigserver migrate``) live in
-:mod:`rigserver.commands`.
-
-::
-
-    StorageError
-     ├── RunNotFound          no run with that id
-     ├── RunDamaged           the run's catalogue entry or file cannot be read
-     ├── RunExists            a run with that id is stored already
-     ├── KeyReused            an Idempotency-Key that opened a run asks for another
-     ├── RunNotOpen           the run is finished or aborted: it takes no more readings
-     ├── SequenceConflict     a seq number reused with different content
-     ├── StorageFull          the disk is full (the batch was not acknowledged)
-     └── StorageUnavailable   any other failure to make a batch durable
+:mod:`rigserver.commands`; the storage error tree (``StorageError`` and below) is drawn in
+:mod:`rigserver.storage.errors`.
 """
 
 from __future__ import annotations

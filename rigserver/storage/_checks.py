@@ -15,7 +15,7 @@ absent or shorter channels with NaN, so a NaN there means "not in that batch", a
 
 from __future__ import annotations
 
-from collections.abc import Iterator, Mapping
+from collections.abc import Mapping
 from dataclasses import dataclass
 from functools import cache
 
@@ -23,7 +23,7 @@ import numpy as np
 import xxhash
 from numpy.typing import ArrayLike, NDArray
 
-from rigserver.storage.base import NewBatch, RunStore
+from rigserver.storage.base import NewBatch
 from rigserver.storage.errors import KeyReused, SequenceConflict
 from schemas.channels import ChannelGroup
 from schemas.readings import BatchReceipt
@@ -235,19 +235,3 @@ def retry_receipt(run_id: str, seq: int, stored: StoredBatch, batch: Batch) -> B
             f"group {stored.group!r}); a new batch needs a new seq"
         )
     return stored_receipt(run_id, seq, stored, duplicate=True)
-
-
-def chunks(
-    store: RunStore, run_id: str, group: str, channels: list[str] | None, rows: int
-) -> Iterator[dict[str, NDArray[np.float64]]]:
-    """``store.iter_chunks`` for any store: the rows stored when called, in consecutive
-    :meth:`RunStore.read` slices of at most ``rows`` rows."""
-    if rows < 1:
-        raise ValueError(f"rows must be >= 1, not {rows}")
-    run = store.get_run(run_id)
-    channel_names(channel_group(run.stand, group), channels)
-    total = run.rows.get(group, 0)
-    return (
-        store.read(run_id, group, channels, start, min(start + rows, total))
-        for start in range(0, total, rows)
-    )

@@ -23,7 +23,7 @@ from numpy.typing import NDArray
 from rigserver.storage._checks import channel_group, last_finite
 from schemas.channels import ChannelGroup, Violation, check_cell, configured_groups
 from schemas.corrections import REASON_LIMIT, CorrectedRow, Correction
-from schemas.runs import Run
+from schemas.runs import Run, RunState
 from schemas.stands import MEASUREMENTS
 
 Columns = dict[str, NDArray[np.float64]]
@@ -141,6 +141,14 @@ def corrected_row(
         original=typed,
         corrections=mine,
     )
+
+
+def corrected_run(run: Run, every: Sequence[Correction]) -> Run:
+    """The run's catalogue entry once ``every`` correction of it is made: their count, and
+    whether any came after it finished."""
+    after = run.state is RunState.FINISHED or run.corrected_after_finish
+    update = {"corrections": len(every), "corrected_after_finish": after}
+    return run.model_copy(deep=True, update=update)
 
 
 def new_corrections(

@@ -12,7 +12,7 @@ import os
 import shutil
 import tempfile
 import threading
-from collections.abc import Iterable, Iterator, Mapping, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -25,7 +25,6 @@ from rigserver.storage._checks import (
     channel_group,
     channel_names,
     check,
-    chunks,
     last_finite,
     new_run,
     padded,
@@ -34,10 +33,17 @@ from rigserver.storage._checks import (
     retry_receipt,
     stored_receipt,
 )
+from rigserver.storage._derived import Derived
 from rigserver.storage._results import CheckedResults, check_results
 from rigserver.storage._time import as_utc, now
-from rigserver.storage.base import Columns, NewBatch
-from rigserver.storage.corrections import RowEdit, RowEdits, corrected_row, new_corrections
+from rigserver.storage.base import NewBatch
+from rigserver.storage.corrections import (
+    RowEdit,
+    RowEdits,
+    corrected_row,
+    corrected_run,
+    new_corrections,
+)
 from rigserver.storage.errors import RunExists, RunNotFound, RunNotOpen
 from rigserver.storage.runfile import write_file
 from rigserver.storage.waiters import AppendWaiters, TellsInProcess
@@ -64,7 +70,7 @@ class _Run:
         return parts[0]
 
 
-class MemoryStore(RowEdits, TellsInProcess):
+class MemoryStore(Derived, RowEdits, TellsInProcess):
     """The :class:`~rigserver.storage.base.RunStore` protocol in memory; thread-safe."""
 
     def __init__(self) -> None:
@@ -105,12 +111,6 @@ class MemoryStore(RowEdits, TellsInProcess):
         runs.sort(key=lambda r: (as_utc(r.created), r.id), reverse=True)
         page = runs[query.offset : query.offset + query.limit]
         return RunPage(total=len(runs), runs=[r.model_copy(deep=True) for r in page])
-
-    def append(self, run_id: str, seq: int, group: str, columns: Columns) -> BatchReceipt:
-        (outcome,) = self.append_many([NewBatch(run_id, seq, group, columns)])
-        if isinstance(outcome, Exception):
-            raise outcome
-        return outcome
 
     def append_many(self, batches: Sequence[NewBatch]) -> list[BatchReceipt | Exception]:
         outcomes: list[BatchReceipt | Exception] = []
@@ -184,12 +184,6 @@ class MemoryStore(RowEdits, TellsInProcess):
             lo, hi, _ = slice(start, stop).indices(stored_run.run.rows.get(group, 0))
             return {n: stored_run.values(group, n)[lo:hi].copy() for n in names}
 
-    def iter_chunks(
-        self, run_id: str, group: str, channels: list[str] | None = None, rows: int = 1 << 20
-    ) -> Iterator[dict[str, NDArray[np.float64]]]:
-        """The rows stored when called, in consecutive slices of at most ``rows`` rows."""
-        return chunks(self, run_id, group, channels, rows)
-
     def corrections(self, run_id: str) -> list[Correction]:
         with self._lock:
             return list(self._get(run_id).corrections)
@@ -207,8 +201,7 @@ class MemoryStore(RowEdits, TellsInProcess):
             new = new_corrections(run, edit, now(), read, earlier)
             stored_run.corrections = every = [*earlier, *new]
             if new:
-                run.corrections = len(every)
-                run.corrected_after_finish |= run.state is RunState.FINISHED
+                stored_run.run = run = corrected_run(run, every)
             row = read(index, index + 1)
         if new:  # the live streams tell their viewers
             self.appends.woken(run_id, run.batches)
@@ -266,11 +259,6 @@ class MemoryStore(RowEdits, TellsInProcess):
             if key is not None:
                 self._keys[key] = run.id
         return True
-
-    def readings_version(self, run_id: str) -> int:
-        with self._lock:
-            run = self._get(run_id).run
-            return run.batches + run.corrections
 
     def run_file(self, run_id: str) -> Path:
         """A run file written now into this store's temporary directory."""

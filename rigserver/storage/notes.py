@@ -13,13 +13,12 @@ The latest version of a run is its words; the older ones are its history.
 
 from __future__ import annotations
 
-import threading
 from collections.abc import Sequence
 from datetime import datetime
 from pathlib import Path
-from typing import Any, Protocol
+from typing import Any
 
-from rigserver.storage._tables import sqlite_database
+from rigserver.storage._tables import Connection, Database, SqliteDatabase, retried
 from rigserver.storage._time import as_utc, iso, now
 from schemas.student_notes import StudentNotes, StudentNotesWrite
 
@@ -35,75 +34,63 @@ CREATE TABLE IF NOT EXISTS notes (
 """
 
 
-class NotesStore(Protocol):
+class NotesStore:
+    """The words in the table ``table`` of a :class:`Database`."""
+
+    def __init__(self, database: Database, table: str) -> None:
+        self._database = database
+        self._table = table
+
     def get(self, run_id: str) -> StudentNotes:
         """The run's words as last written (empty, version 0, if never)."""
-        ...
+        last = self._versions(run_id, "version DESC LIMIT 1")
+        return last[0] if last else StudentNotes()
 
     def put(self, run_id: str, notes: StudentNotesWrite, *, by: str) -> StudentNotes:
         """Store a new version of the run's words, written by ``by``."""
-        ...
+        body, written = notes.model_dump_json(), iso(now())
+
+        def write(db: Connection) -> int:
+            (last,) = db.execute(
+                f"SELECT COALESCE(MAX(version), 0) FROM {self._table} WHERE run_id = ?",
+                (run_id,),
+            ).fetchone()
+            db.execute(
+                f"INSERT INTO {self._table} VALUES (?, ?, ?, ?, ?)",
+                (run_id, last + 1, body, by, written),
+            )
+            return int(last) + 1
+
+        version = retried(self._database, f"storing the notes of run {run_id}", write)
+        return notes_of((version, body, by, written))
 
     def history(self, run_id: str) -> list[StudentNotes]:
         """Every version of the run's words, the first first."""
-        ...
+        return self._versions(run_id, "version")
 
-    def close(self) -> None: ...
+    def close(self) -> None:
+        self._database.close()
 
-
-class SqliteNotes:
-    """The words in one SQLite database (``path``), or in memory (``":memory:"``)."""
-
-    def __init__(self, path: Path | str) -> None:
-        self._db = sqlite_database(path, _SCHEMA, "notes")
-        self._lock = threading.Lock()
-
-    def get(self, run_id: str) -> StudentNotes:
-        with self._lock:
-            row = self._db.execute(
-                "SELECT version, body, author, written FROM notes WHERE run_id = ? "
-                "ORDER BY version DESC LIMIT 1",
-                (run_id,),
-            ).fetchone()
-        return notes_of(row)
-
-    def put(self, run_id: str, notes: StudentNotesWrite, *, by: str) -> StudentNotes:
-        written = now()
-        with self._lock:
-            # IMMEDIATE: the write lock from the read of the last version to the insert
-            self._db.execute("BEGIN IMMEDIATE")
-            try:
-                (last,) = self._db.execute(
-                    "SELECT COALESCE(MAX(version), 0) FROM notes WHERE run_id = ?", (run_id,)
-                ).fetchone()
-                self._db.execute(
-                    "INSERT INTO notes VALUES (?, ?, ?, ?, ?)",
-                    (run_id, last + 1, notes.model_dump_json(), by, iso(written)),
-                )
-            except BaseException:
-                self._db.execute("ROLLBACK")
-                raise
-            self._db.execute("COMMIT")
-        return notes_of((last + 1, notes.model_dump_json(), by, iso(written)))
-
-    def history(self, run_id: str) -> list[StudentNotes]:
-        with self._lock:
-            rows = self._db.execute(
-                "SELECT version, body, author, written FROM notes WHERE run_id = ? "
-                "ORDER BY version",
+    def _versions(self, run_id: str, order: str) -> list[StudentNotes]:
+        """The run's versions in the ``ORDER BY`` clause ``order``."""
+        with self._database.connection(f"reading the notes of run {run_id}") as db:
+            rows = db.execute(
+                f"SELECT version, body, author, written FROM {self._table} WHERE run_id = ? "
+                f"ORDER BY {order}",
                 (run_id,),
             ).fetchall()
         return [notes_of(row) for row in rows]
 
-    def close(self) -> None:
-        with self._lock:
-            self._db.close()
+
+class SqliteNotes(NotesStore):
+    """The words in one SQLite database (``path``), or in memory (``":memory:"``)."""
+
+    def __init__(self, path: Path | str) -> None:
+        super().__init__(SqliteDatabase(path, _SCHEMA, "notes"), "notes")
 
 
-def notes_of(row: Sequence[Any] | None) -> StudentNotes:
-    """The words of a row ``(version, body, author, written)``; empty without one."""
-    if row is None:
-        return StudentNotes()
+def notes_of(row: Sequence[Any]) -> StudentNotes:
+    """The words of a row ``(version, body, author, written)``."""
     version, body, by, written = row
     words = StudentNotesWrite.model_validate_json(body)
     return StudentNotes(

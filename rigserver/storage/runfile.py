@@ -47,7 +47,8 @@ import os
 import random
 import shutil
 import time
-from collections.abc import Iterable, Mapping
+from collections.abc import Iterable, Iterator, Mapping
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -458,6 +459,21 @@ def fsync_path(path: Path) -> None:
         os.close(fd)
 
 
+@contextmanager
+def replacing(path: Path) -> Iterator[Path]:
+    """A temporary file beside ``path`` to write in the block; then fsynced and renamed over
+    ``path``, the directory fsynced (durable), or removed if the block fails."""
+    tmp = path.with_name(path.name + ".tmp")
+    try:
+        yield tmp
+        fsync_path(tmp)
+        os.replace(tmp, path)
+        fsync_path(path.parent)
+    except BaseException:
+        tmp.unlink(missing_ok=True)
+        raise
+
+
 def write_file(
     path: Path,
     run: Run,
@@ -472,23 +488,15 @@ def write_file(
     ``batches`` are ``(group, columns with every channel, rows)`` in the order stored;
     ``corrections`` the run's corrections of them.
     """
-    tmp = path.with_name(path.name + ".tmp")
-    try:
-        with RunFile.create(tmp, run) as rf:
-            for group, columns, rows in batches:
-                rf.append(group, columns, rows)
-            if corrections:
-                rf.write_corrections(corrections, run)
-            if results is not None:
-                rf.write_results(results, run)
-            if final:
-                rf.finalize(run)
-        fsync_path(tmp)
-        os.replace(tmp, path)
-        fsync_path(path.parent)
-    except BaseException:
-        tmp.unlink(missing_ok=True)
-        raise
+    with replacing(path) as tmp, RunFile.create(tmp, run) as rf:
+        for group, columns, rows in batches:
+            rf.append(group, columns, rows)
+        if corrections:
+            rf.write_corrections(corrections, run)
+        if results is not None:
+            rf.write_results(results, run)
+        if final:
+            rf.finalize(run)
 
 
 def corrected_copy(source: Path, target: Path) -> None:

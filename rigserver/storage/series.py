@@ -18,12 +18,12 @@ the API checks the new run against such members' runs, whose stand never changes
 from __future__ import annotations
 
 import sqlite3
-import threading
 from collections.abc import Sequence
 from datetime import datetime
 from pathlib import Path
-from typing import Any, Protocol
+from typing import Any
 
+from rigserver.storage._tables import Connection, Database, SqliteDatabase, Taken
 from rigserver.storage._time import as_utc, iso, now
 from rigserver.storage.errors import (
     MemberExists,
@@ -31,7 +31,6 @@ from rigserver.storage.errors import (
     OtherStand,
     SeriesFull,
     SeriesNotFound,
-    StorageUnavailable,
 )
 from schemas.series import (
     SERIES_RUNS_LIMIT,
@@ -60,22 +59,43 @@ CREATE TABLE IF NOT EXISTS members (
     UNIQUE (series_id, run_id)
 );
 """
-#: A members table made before the stand was kept gets the column (NULL in its rows).
-_STAND_COLUMN = "ALTER TABLE members ADD COLUMN stand TEXT"
 
 
-class SeriesStore(Protocol):
+class SeriesStore:
+    """The series in the tables ``series`` and ``members`` of a :class:`Database`."""
+
+    def __init__(self, database: Database, *, series: str, members: str) -> None:
+        self._database = database
+        self._series = series
+        self._members = members
+
     def create(self, body: SeriesCreate) -> Series:
         """Store a new, empty series."""
-        ...
+        series = new_series(body)
+        with self._database.connection("storing a series") as db:
+            db.execute(
+                f"INSERT INTO {self._series} VALUES (?, ?, ?, ?, ?, ?)",
+                (
+                    series.id,
+                    series.name,
+                    series.purpose.value,
+                    series.factor,
+                    series.notes,
+                    iso(series.created),
+                ),
+            )
+        return series
 
     def get(self, series_id: str) -> Series:
         """The series and its members; raises ``SeriesNotFound``."""
-        ...
+        with self._database.connection(f"reading series {series_id}") as db:
+            return self._get(db, series_id)
 
     def list(self) -> list[Series]:
         """Every series, newest first."""
-        ...
+        with self._database.connection("listing the series") as db:
+            ids = db.execute(f"SELECT id FROM {self._series} ORDER BY created DESC").fetchall()
+            return [self._get(db, i) for (i,) in ids]
 
     def add(
         self,
@@ -89,121 +109,75 @@ class SeriesStore(Protocol):
         """Add the run, of the stand ``stand``, in one transaction with the checks:
         ``SeriesFull`` if the series holds ``limit`` runs, ``OtherStand`` if it holds a run
         of another stand, ``MemberExists`` if the run is a member already."""
-        ...
-
-    def remove(self, series_id: str, run_id: str) -> Series:
-        """Take a run out (``MemberNotFound`` if it is not a member)."""
-        ...
-
-    def close(self) -> None: ...
-
-
-class SqliteSeries:
-    """The series in one SQLite database (``path``), or in memory (``":memory:"``)."""
-
-    def __init__(self, path: Path | str) -> None:
+        doing = f"adding a run to series {series_id}"
         try:
-            self._db = sqlite3.connect(str(path), isolation_level=None, check_same_thread=False)
-            self._db.execute("PRAGMA journal_mode=WAL")
-            self._db.execute("PRAGMA foreign_keys=ON")
-            self._db.executescript(_SCHEMA)
-            columns = {row[1] for row in self._db.execute("PRAGMA table_info(members)")}
-            if "stand" not in columns:
-                self._db.execute(_STAND_COLUMN)
-        except sqlite3.Error as exc:
-            raise StorageUnavailable(f"cannot open the series database: {exc}") from exc
-        self._lock = threading.Lock()
-
-    def create(self, body: SeriesCreate) -> Series:
-        series = new_series(body)
-        with self._lock, self._db:
-            self._db.execute(
-                "INSERT INTO series VALUES (?, ?, ?, ?, ?, ?)",
-                (
-                    series.id,
-                    series.name,
-                    series.purpose.value,
-                    series.factor,
-                    series.notes,
-                    iso(series.created),
-                ),
-            )
-        return series
-
-    def get(self, series_id: str) -> Series:
-        with self._lock:
-            return self._get(series_id)
-
-    def list(self) -> list[Series]:
-        with self._lock:
-            ids = [r[0] for r in self._db.execute("SELECT id FROM series ORDER BY created DESC")]
-            return [self._get(i) for i in ids]
-
-    def add(
-        self,
-        series_id: str,
-        run_id: str,
-        level: str | None,
-        *,
-        stand: str,
-        limit: int = SERIES_RUNS_LIMIT,
-    ) -> Series:
-        with self._lock:
-            # IMMEDIATE: the write lock from the first read, so no other connection adds
-            # between the checks and the insert
-            self._db.execute("BEGIN IMMEDIATE")
-            try:
-                found = self._db.execute("SELECT 1 FROM series WHERE id = ?", (series_id,))
+            with self._database.transaction(doing) as db:
+                # the series' row locked: the adds to one series, from any thread or worker,
+                # one at a time from here to the commit
+                found = db.execute(
+                    f"SELECT 1 FROM {self._series} WHERE id = ?{self._database.for_update}",
+                    (series_id,),
+                )
                 if found.fetchone() is None:
                     raise SeriesNotFound(f"no series {series_id}")
-                (count,) = self._db.execute(
-                    "SELECT COUNT(*) FROM members WHERE series_id = ?", (series_id,)
+                (count,) = db.execute(
+                    f"SELECT COUNT(*) FROM {self._members} WHERE series_id = ?", (series_id,)
                 ).fetchone()
-                other = self._db.execute(
-                    "SELECT run_id, stand FROM members WHERE series_id = ? AND stand IS NOT NULL "
-                    "AND stand != ? LIMIT 1",
+                other = db.execute(
+                    f"SELECT run_id, stand FROM {self._members} WHERE series_id = ? "
+                    "AND stand IS NOT NULL AND stand != ? LIMIT 1",
                     (series_id, stand),
                 ).fetchone()
                 check_room(series_id, run_id, stand, count, other, limit)
-                try:
-                    self._db.execute(
-                        "INSERT INTO members (series_id, run_id, level, added, stand) "
-                        "VALUES (?, ?, ?, ?, ?)",
-                        (series_id, run_id, level, iso(now()), stand),
-                    )
-                except sqlite3.IntegrityError:
-                    raise MemberExists(f"run {run_id} is in series {series_id} already") from None
-            except BaseException:
-                self._db.execute("ROLLBACK")
-                raise
-            self._db.execute("COMMIT")
-            return self._get(series_id)
+                db.execute(
+                    f"INSERT INTO {self._members} (series_id, run_id, level, added, stand) "
+                    "VALUES (?, ?, ?, ?, ?)",
+                    (series_id, run_id, level, iso(now()), stand),
+                )
+        except Taken:
+            raise MemberExists(f"run {run_id} is in series {series_id} already") from None
+        return self.get(series_id)
 
     def remove(self, series_id: str, run_id: str) -> Series:
-        with self._lock:
-            self._get(series_id)
-            with self._db:
-                gone = self._db.execute(
-                    "DELETE FROM members WHERE series_id = ? AND run_id = ?", (series_id, run_id)
-                ).rowcount
+        """Take a run out (``MemberNotFound`` if it is not a member)."""
+        with self._database.connection(f"taking a run out of series {series_id}") as db:
+            self._get(db, series_id)
+            gone = db.execute(
+                f"DELETE FROM {self._members} WHERE series_id = ? AND run_id = ?",
+                (series_id, run_id),
+            ).rowcount
             if not gone:
                 raise MemberNotFound(f"run {run_id} is not in series {series_id}")
-            return self._get(series_id)
+            return self._get(db, series_id)
 
     def close(self) -> None:
-        with self._lock:
-            self._db.close()
+        self._database.close()
 
-    def _get(self, series_id: str) -> Series:
-        row = self._db.execute(
-            "SELECT id, name, purpose, factor, notes, created FROM series WHERE id = ?",
+    def _get(self, db: Connection, series_id: str) -> Series:
+        row = db.execute(
+            f"SELECT id, name, purpose, factor, notes, created FROM {self._series} WHERE id = ?",
             (series_id,),
         ).fetchone()
-        members = self._db.execute(
-            "SELECT run_id, level, added FROM members WHERE series_id = ? ORDER BY n",
+        members = db.execute(
+            f"SELECT run_id, level, added FROM {self._members} WHERE series_id = ? ORDER BY n",
             (series_id,),
         ).fetchall()
         return series_of(series_id, row, members)
+
+
+class SqliteSeries(SeriesStore):
+    """The series in one SQLite database (``path``), or in memory (``":memory:"``)."""
+
+    def __init__(self, path: Path | str) -> None:
+        database = SqliteDatabase(path, _SCHEMA, "series", _add_stand_column)
+        super().__init__(database, series="series", members="members")
+
+
+def _add_stand_column(db: sqlite3.Connection) -> None:
+    """A members table made before the stand was kept gets the column (NULL in its rows)."""
+    columns = {row[1] for row in db.execute("PRAGMA table_info(members)")}
+    if "stand" not in columns:
+        db.execute("ALTER TABLE members ADD COLUMN stand TEXT")
 
 
 def check_room(

@@ -14,13 +14,12 @@ The latest version of an item is its sketch; a replaced one stays, readable by i
 from __future__ import annotations
 
 import hashlib
-import threading
 from collections.abc import Sequence
 from datetime import datetime
 from pathlib import Path
-from typing import Any, Protocol
+from typing import Any
 
-from rigserver.storage._tables import sqlite_database
+from rigserver.storage._tables import Connection, Database, SqliteDatabase, retried
 from rigserver.storage._time import as_utc, iso, now
 from schemas.sketches import Sketch
 
@@ -43,17 +42,13 @@ CREATE TABLE IF NOT EXISTS sketches (
 COLUMNS = "item, version, media_type, width, height, length(image), sha256, author, written"
 
 
-def latest_query(table: str, placeholder: str, columns: str = COLUMNS) -> str:
-    """The query of the latest version of each item of a run (the run id its one
-    ``placeholder``)."""
-    return (
-        f"SELECT {columns} FROM {table} s WHERE run_id = {placeholder} AND version = "
-        f"(SELECT MAX(version) FROM {table} WHERE run_id = s.run_id AND item = s.item) "
-        "ORDER BY item"
-    )
+class SketchStore:
+    """The sketches in the table ``table`` of a :class:`Database`."""
 
+    def __init__(self, database: Database, table: str) -> None:
+        self._database = database
+        self._table = table
 
-class SketchStore(Protocol):
     def put(
         self,
         run_id: str,
@@ -66,71 +61,39 @@ class SketchStore(Protocol):
     ) -> Sketch:
         """Store a new version of the sketch of ``item`` (``size``: width, height in
         pixels), uploaded by ``by``."""
-        ...
+        written, digest = iso(now()), hashlib.sha256(image).hexdigest()
+
+        def write(db: Connection) -> int:
+            (last,) = db.execute(
+                f"SELECT COALESCE(MAX(version), 0) FROM {self._table} "
+                "WHERE run_id = ? AND item = ?",
+                (run_id, item),
+            ).fetchone()
+            db.execute(
+                f"INSERT INTO {self._table} VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?)",
+                (run_id, item, last + 1, image, media_type, *size, digest, by, written),
+            )
+            return int(last) + 1
+
+        version = retried(self._database, f"storing a sketch of run {run_id}", write)
+        return sketch_of((item, version, media_type, *size, len(image), digest, by, written))
 
     def latest(self, run_id: str) -> list[Sketch]:
         """The latest version of each item's sketch, by item."""
-        ...
-
-    def history(self, run_id: str) -> list[Sketch]:
-        """Every version of every item's sketch, by item, the first first."""
-        ...
-
-    def image(
-        self, run_id: str, item: int, version: int | None = None
-    ) -> tuple[Sketch, bytes] | None:
-        """A version of the item's sketch and its image (the latest without ``version``);
-        None if there is none."""
-        ...
-
-    def close(self) -> None: ...
-
-
-class SqliteSketches:
-    """The sketches in one SQLite database (``path``), or in memory (``":memory:"``)."""
-
-    def __init__(self, path: Path | str) -> None:
-        self._db = sqlite_database(path, _SCHEMA, "sketches")
-        self._lock = threading.Lock()
-
-    def put(
-        self,
-        run_id: str,
-        item: int,
-        image: bytes,
-        *,
-        media_type: str,
-        size: tuple[int, int],
-        by: str,
-    ) -> Sketch:
-        written, digest = iso(now()), hashlib.sha256(image).hexdigest()
-        with self._lock:
-            # IMMEDIATE: the write lock from the read of the last version to the insert
-            self._db.execute("BEGIN IMMEDIATE")
-            try:
-                (last,) = self._db.execute(
-                    "SELECT COALESCE(MAX(version), 0) FROM sketches WHERE run_id = ? AND item = ?",
-                    (run_id, item),
-                ).fetchone()
-                self._db.execute(
-                    "INSERT INTO sketches VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?)",
-                    (run_id, item, last + 1, image, media_type, *size, digest, by, written),
-                )
-            except BaseException:
-                self._db.execute("ROLLBACK")
-                raise
-            self._db.execute("COMMIT")
-        return sketch_of((item, last + 1, media_type, *size, len(image), digest, by, written))
-
-    def latest(self, run_id: str) -> list[Sketch]:
-        with self._lock:
-            rows = self._db.execute(latest_query("sketches", "?"), (run_id,)).fetchall()
+        with self._database.connection(f"reading the sketches of run {run_id}") as db:
+            rows = db.execute(
+                f"SELECT {COLUMNS} FROM {self._table} s WHERE run_id = ? AND version = "
+                f"(SELECT MAX(version) FROM {self._table} "
+                "WHERE run_id = s.run_id AND item = s.item) ORDER BY item",
+                (run_id,),
+            ).fetchall()
         return [sketch_of(row) for row in rows]
 
     def history(self, run_id: str) -> list[Sketch]:
-        with self._lock:
-            rows = self._db.execute(
-                f"SELECT {COLUMNS} FROM sketches WHERE run_id = ? ORDER BY item, version",
+        """Every version of every item's sketch, by item, the first first."""
+        with self._database.connection(f"reading the sketches of run {run_id}") as db:
+            rows = db.execute(
+                f"SELECT {COLUMNS} FROM {self._table} WHERE run_id = ? ORDER BY item, version",
                 (run_id,),
             ).fetchall()
         return [sketch_of(row) for row in rows]
@@ -138,17 +101,26 @@ class SqliteSketches:
     def image(
         self, run_id: str, item: int, version: int | None = None
     ) -> tuple[Sketch, bytes] | None:
-        with self._lock:
-            row = self._db.execute(
-                f"SELECT {COLUMNS}, image FROM sketches WHERE run_id = ? AND item = ? "
-                "AND (? IS NULL OR version = ?) ORDER BY version DESC LIMIT 1",
-                (run_id, item, version, version),
+        """A version of the item's sketch and its image (the latest without ``version``);
+        None if there is none."""
+        which = "" if version is None else " AND version = ?"
+        with self._database.connection(f"reading a sketch of run {run_id}") as db:
+            row = db.execute(
+                f"SELECT {COLUMNS}, image FROM {self._table} WHERE run_id = ? AND item = ?"
+                f"{which} ORDER BY version DESC LIMIT 1",
+                (run_id, item) if version is None else (run_id, item, version),
             ).fetchone()
         return None if row is None else (sketch_of(row[:-1]), bytes(row[-1]))
 
     def close(self) -> None:
-        with self._lock:
-            self._db.close()
+        self._database.close()
+
+
+class SqliteSketches(SketchStore):
+    """The sketches in one SQLite database (``path``), or in memory (``":memory:"``)."""
+
+    def __init__(self, path: Path | str) -> None:
+        super().__init__(SqliteDatabase(path, _SCHEMA, "sketches"), "sketches")
 
 
 def sketch_of(row: Sequence[Any]) -> Sketch:

@@ -3,7 +3,9 @@ the same behaviour, every version kept with who wrote it and when."""
 
 from __future__ import annotations
 
+import threading
 from collections.abc import Iterator
+from concurrent.futures import ThreadPoolExecutor
 from datetime import UTC, datetime
 from pathlib import Path
 
@@ -58,6 +60,25 @@ def test_each_write_is_a_new_version_with_its_author(notes: NotesStore) -> None:
     )
     assert notes.history(RUN_A) == [one, two]
     assert notes.get(RUN_B).version == 0  # another run's words are its own
+
+
+def test_writes_at_once_each_get_a_version_of_their_own(notes: NotesStore) -> None:
+    """Writers at once (threads of one server, or the workers of a cluster) read the same
+    last version: each write gets one of its own all the same (tried again where another
+    took it first), none lost."""
+    writers = 4
+    start = threading.Barrier(writers)
+
+    def write(n: int) -> int:
+        start.wait()
+        return notes.put(RUN_A, FIRST, by=f"writer {n}").version
+
+    with ThreadPoolExecutor(writers) as pool:
+        versions = sorted(pool.map(write, range(writers)))
+    assert versions == [1, 2, 3, 4]
+    history = notes.history(RUN_A)
+    assert [h.version for h in history] == versions
+    assert sorted(h.by for h in history if h.by) == [f"writer {n}" for n in range(writers)]
 
 
 def test_the_words_outlive_the_database_connection(tmp_path: Path) -> None:

@@ -55,6 +55,7 @@ import shutil
 import tempfile
 import threading
 from collections.abc import Iterable, Iterator, Mapping, Sequence
+from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -64,14 +65,13 @@ import psycopg
 import psycopg_pool
 from numpy.typing import NDArray
 
-from rigserver.storage._catalogue import run_filters
+from rigserver.storage._catalogue import ENTRY_COLUMNS, entry, run_filters
 from rigserver.storage._checks import (
     Batch,
     StoredBatch,
     channel_group,
     channel_names,
     check,
-    chunks,
     last_finite,
     new_run,
     padded,
@@ -80,13 +80,20 @@ from rigserver.storage._checks import (
     retry_receipt,
     stored_receipt,
 )
+from rigserver.storage._derived import Derived
 from rigserver.storage._failures import failures_as, translated
 from rigserver.storage._results import check_results
 from rigserver.storage._time import as_utc, now
-from rigserver.storage.base import Columns, NewBatch
+from rigserver.storage.base import NewBatch
 from rigserver.storage.cluster.materialiser import MARKS_SCHEMA, materialised_rows
 from rigserver.storage.cluster.notify import Appends, notify
-from rigserver.storage.corrections import RowEdit, RowEdits, corrected_row, new_corrections
+from rigserver.storage.corrections import (
+    RowEdit,
+    RowEdits,
+    corrected_row,
+    corrected_run,
+    new_corrections,
+)
 from rigserver.storage.errors import (
     RunExists,
     RunNotFound,
@@ -171,7 +178,7 @@ class _Locked:
     touched: bool = False
 
 
-class PostgresStore(RowEdits):
+class PostgresStore(Derived, RowEdits):
     """The :class:`~rigserver.storage.base.RunStore` protocol on PostgreSQL (module docstring).
 
     Parameters
@@ -307,12 +314,7 @@ class PostgresStore(RowEdits):
         next :meth:`run_file`)."""
         if state is RunState.OPEN:
             raise ValueError("a run can end as finished or aborted, not open")
-        with (
-            failures_as(f"ending run {run_id}", PG_FAILURES),
-            self._pool.connection() as conn,
-            conn.transaction(),
-        ):
-            run = _select_run(conn, run_id, lock=True)
+        with self._locked_run(run_id, f"ending run {run_id}") as (conn, run):
             if run.state is not RunState.OPEN:
                 raise RunNotOpen(f"run {run_id} is already {run.state.value}")
             ended = run.model_copy(update={"state": state, "ended": now()})
@@ -328,12 +330,6 @@ class PostgresStore(RowEdits):
         return ended
 
     # --- readings ---------------------------------------------------------------------
-
-    def append(self, run_id: str, seq: int, group: str, columns: Columns) -> BatchReceipt:
-        (outcome,) = self.append_many([NewBatch(run_id, seq, group, columns)])
-        if isinstance(outcome, Exception):
-            raise outcome
-        return outcome
 
     def append_many(self, batches: Sequence[NewBatch]) -> list[BatchReceipt | Exception]:
         """Store the batches in order in one transaction; each is refused alone as
@@ -522,25 +518,13 @@ class PostgresStore(RowEdits):
         with failures_as(doing, PG_FAILURES), self._pool.connection() as conn:
             return materialised_rows(conn, run_id, group)
 
-    def iter_chunks(
-        self, run_id: str, group: str, channels: list[str] | None = None, rows: int = 1 << 20
-    ) -> Iterator[dict[str, NDArray[np.float64]]]:
-        """The rows stored when called, in consecutive slices of at most ``rows`` rows."""
-        return chunks(self, run_id, group, channels, rows)
-
     # --- results and files ------------------------------------------------------------
 
     def set_results(
         self, run_id: str, results: Mapping[str, Any], key_results: Mapping[str, float]
     ) -> None:
         checked = check_results(results, key_results)
-        doing = f"storing the results of run {run_id}"
-        with (
-            failures_as(doing, PG_FAILURES),
-            self._pool.connection() as conn,
-            conn.transaction(),
-        ):
-            run = _select_run(conn, run_id, lock=True)
+        with self._locked_run(run_id, f"storing the results of run {run_id}") as (conn, run):
             run = run.model_copy(update={"key_results": checked.key_results})
             conn.execute(
                 "UPDATE rig_runs SET run = %s, key_results = %s, results = %s WHERE id = %s",
@@ -560,14 +544,6 @@ class PostgresStore(RowEdits):
         if row is None:
             raise RunNotFound(f"no run with id {run_id}")
         return None if row[0] is None else str(row[0])
-
-    def readings_version(self, run_id: str) -> int:
-        """The run's batches and corrections in the catalogue, as every worker sees them once
-        committed."""
-        doing = f"reading the catalogue entry of run {run_id}"
-        with failures_as(doing, PG_FAILURES), self._pool.connection() as conn:
-            run = _select_run(conn, run_id)
-        return run.batches + run.corrections
 
     def run_file(self, run_id: str) -> Path:
         """The ended run's final file (materialised once); a fresh snapshot for an open run."""
@@ -618,25 +594,13 @@ class PostgresStore(RowEdits):
             return self.read(run_id, group, None, lo, hi)
 
         doing = f"correcting row {index} of {group} of run {run_id}"
-        with (
-            failures_as(doing, PG_FAILURES),
-            self._pool.connection() as conn,
-            conn.transaction(),
-        ):
-            run = _select_run(conn, run_id, lock=True)
+        with self._locked_run(run_id, doing) as (conn, run):
             earlier = _corrections(conn, run_id)
             new = new_corrections(run, edit, now(), read, earlier)
             every = [*earlier, *new]
-            after = run.state is RunState.FINISHED or run.corrected_after_finish
-            run = run.model_copy(
-                update={"corrections": len(every), "corrected_after_finish": after}
-            )
+            run = corrected_run(run, every)
             if new:
-                with conn.cursor() as cur:
-                    cur.executemany(
-                        "INSERT INTO rig_corrections (run_id, n, body) VALUES (%s, %s, %s)",
-                        [(run_id, c.n, c.model_dump_json()) for c in new],
-                    )
+                _add_corrections(conn, run_id, new)
                 conn.execute(
                     "UPDATE rig_runs SET run = %s WHERE id = %s", (run.model_dump_json(), run_id)
                 )
@@ -694,11 +658,7 @@ class PostgresStore(RowEdits):
                     max_seq = max(max_seq, seq)
             conn.execute("UPDATE rig_runs SET max_seq = %s WHERE id = %s", (max_seq, run.id))
             if corrections:
-                with conn.cursor() as cur:
-                    cur.executemany(
-                        "INSERT INTO rig_corrections (run_id, n, body) VALUES (%s, %s, %s)",
-                        [(run.id, c.n, c.model_dump_json()) for c in corrections],
-                    )
+                _add_corrections(conn, run.id, corrections)
         return True
 
     def close(self) -> None:
@@ -711,6 +671,13 @@ class PostgresStore(RowEdits):
         self._pool.close()
         if self._own_dir:
             shutil.rmtree(self.files_dir, ignore_errors=True)
+
+    @contextmanager
+    def _locked_run(self, run_id: str, doing: str) -> Iterator[tuple[psycopg.Connection[Any], Run]]:
+        """A transaction with the run's catalogue row locked until its commit (one at a
+        time across the workers): the connection and the run; ``RunNotFound``."""
+        with failures_as(doing, PG_FAILURES), self._pool.connection() as conn, conn.transaction():
+            yield conn, _select_run(conn, run_id, lock=True)
 
     def _exists(self, conn: psycopg.Connection[Any], run_id: str) -> None:
         if conn.execute("SELECT 1 FROM rig_runs WHERE id = %s", (run_id,)).fetchone() is None:
@@ -727,27 +694,11 @@ def _safe(url: str) -> str:
 
 
 #: The columns of a new catalogue entry (:func:`_run_values`)
-_INSERT_RUN = (
-    "(id, stand, operator, state, created, ended, run, batches, rows, key_results, results, "
-    "idem_key) VALUES (%s, %s, %s, %s, %s, %s, %s, %s, %s, %s, %s, %s)"
-)
+_INSERT_RUN = f"({ENTRY_COLUMNS}, idem_key) VALUES (%s, %s, %s, %s, %s, %s, %s, %s, %s, %s, %s, %s)"
 
 
 def _run_values(run: Run, results: str | None, key: str | None) -> tuple[object, ...]:
-    return (
-        run.id,
-        run.stand.value,
-        run.operator,
-        run.state.value,
-        as_utc(run.created),
-        None if run.ended is None else as_utc(run.ended),
-        run.model_dump_json(),
-        run.batches,
-        json.dumps(run.rows),
-        json.dumps(run.key_results),
-        results,
-        key,
-    )
+    return (*entry(run, results, as_utc), key)
 
 
 def _run(row: tuple[Any, ...]) -> Run:
@@ -760,6 +711,16 @@ def _corrections(conn: psycopg.Connection[Any], run_id: str) -> list[Correction]
         "SELECT body FROM rig_corrections WHERE run_id = %s ORDER BY n", (run_id,)
     ).fetchall()
     return [Correction.model_validate_json(row[0]) for row in rows]
+
+
+def _add_corrections(
+    conn: psycopg.Connection[Any], run_id: str, corrections: Sequence[Correction]
+) -> None:
+    with conn.cursor() as cur:
+        cur.executemany(
+            "INSERT INTO rig_corrections (run_id, n, body) VALUES (%s, %s, %s)",
+            [(run_id, c.n, c.model_dump_json()) for c in corrections],
+        )
 
 
 def _select_run(conn: psycopg.Connection[Any], run_id: str, *, lock: bool = False) -> Run:

@@ -42,7 +42,7 @@ import fcntl
 import json
 import os
 import threading
-from collections.abc import Iterable, Iterator, Mapping, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -52,16 +52,22 @@ from numpy.typing import NDArray
 from rigserver.storage._checks import (
     StoredBatch,
     channel_group,
-    chunks,
     new_run,
     reopened,
     stored_receipt,
 )
+from rigserver.storage._derived import Derived
 from rigserver.storage._failures import LOW_LEVEL, failures_as, translated
 from rigserver.storage._results import check_results
 from rigserver.storage._time import now
-from rigserver.storage.base import Columns, NewBatch
-from rigserver.storage.corrections import RowEdit, RowEdits, corrected_row, new_corrections
+from rigserver.storage.base import NewBatch
+from rigserver.storage.corrections import (
+    RowEdit,
+    RowEdits,
+    corrected_row,
+    corrected_run,
+    new_corrections,
+)
 from rigserver.storage.embedded.backlog import (
     BACKLOG_ROWS,
     QUIET_SECONDS,
@@ -82,7 +88,7 @@ from schemas.readings import BatchReceipt
 from schemas.runs import Run, RunPage, RunQuery, RunState
 
 
-class HDF5Store(RowEdits, TellsInProcess):
+class HDF5Store(Derived, RowEdits, TellsInProcess):
     """The embedded run store: a data directory on local disk (see the module docstring).
 
     Parameters
@@ -237,28 +243,18 @@ class HDF5Store(RowEdits, TellsInProcess):
 
     # --- readings ---------------------------------------------------------------------
 
-    def append(self, run_id: str, seq: int, group: str, columns: Columns) -> BatchReceipt:
-        """Store one batch: committed to the journal, then written to the run's file.
-
-        Raises ``RunNotFound``, ``RunNotOpen``, ``SequenceConflict``, ``StorageFull``,
-        ``StorageUnavailable``, and ``ValueError`` for a batch that does not fit the
-        stand's channel groups (unknown group or channel; an aligned group's channels
-        missing or of unequal lengths).
-        """
-        (outcome,) = self.append_many([NewBatch(run_id, seq, group, columns)])
-        if isinstance(outcome, Exception):
-            raise outcome
-        return outcome
-
     def append_many(self, batches: Sequence[NewBatch]) -> list[BatchReceipt | Exception]:
         """Store the batches in order with one journal commit (group commit), then write
         them to their run files (:class:`~rigserver.storage.embedded.ingest.GroupCommit`).
 
-        Each batch is checked as :meth:`append` checks it, then by its own ``check``, and
-        refused alone (its outcome is the exception :meth:`append` would raise). A failure
-        of the journal refuses every batch of the call that its checks did not refuse
-        (retries too: their first copy may have been in the call): the commit is rolled
-        back and the open runs' counters and last values are as before the call.
+        Each batch is checked, then by its own ``check``, and refused alone, its outcome
+        the exception: ``RunNotFound``, ``RunNotOpen``, ``SequenceConflict``,
+        ``StorageFull``, ``StorageUnavailable``, or ``ValueError`` for a batch that does not
+        fit the stand's channel groups (unknown group or channel; an aligned group's
+        channels missing or of unequal lengths). A failure of the journal refuses every
+        batch of the call that its checks did not refuse (retries too: their first copy
+        may have been in the call): the commit is rolled back and the open runs' counters
+        and last values are as before the call.
         """
         # copies, digests and the payloads' aligned memory: outside the lock
         prepared = [prepared_batch(nb) for nb in batches]
@@ -325,12 +321,6 @@ class HDF5Store(RowEdits, TellsInProcess):
         with self._views.final_file(run_id) as rf:
             return rf.read(group, channels, start, stop)
 
-    def iter_chunks(
-        self, run_id: str, group: str, channels: list[str] | None = None, rows: int = 1 << 20
-    ) -> Iterator[dict[str, NDArray[np.float64]]]:
-        """The rows stored when called, in consecutive slices of at most ``rows`` rows."""
-        return chunks(self, run_id, group, channels, rows)
-
     # --- corrections --------------------------------------------------------------------
 
     def corrections(self, run_id: str) -> list[Correction]:
@@ -359,9 +349,7 @@ class HDF5Store(RowEdits, TellsInProcess):
             new = new_corrections(run, edit, now(), read, earlier)
             every = [*earlier, *new]
             if new:
-                after = run.state is RunState.FINISHED or run.corrected_after_finish
-                update = {"corrections": len(every), "corrected_after_finish": after}
-                edited = run.model_copy(deep=True, update=update)
+                edited = corrected_run(run, every)
                 with failures_as(doing):
                     self._journal.add_corrections(edited, new)
                 self._views.write_corrections(live, edited, every, doing)
@@ -445,17 +433,6 @@ class HDF5Store(RowEdits, TellsInProcess):
             path.unlink(missing_ok=True)
             raise
         return True
-
-    def readings_version(self, run_id: str) -> int:
-        """The run's batches and corrections counted (:meth:`RunStore.readings_version`)."""
-        with self._lock:
-            self._check_open()
-            live = self._views.live.get(run_id)
-            if live is not None:
-                return live.run.batches + live.run.corrections
-            with failures_as(f"reading the catalogue entry of run {run_id}"):
-                run = self._journal.entry(run_id).run
-                return run.batches + run.corrections
 
     def run_file(self, run_id: str) -> Path:
         """The final file of an ended run; a fresh snapshot copy for an open run."""

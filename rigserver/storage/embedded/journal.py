@@ -46,7 +46,7 @@ import numpy as np
 from numpy.typing import NDArray
 from pydantic import ValidationError
 
-from rigserver.storage._catalogue import run_filters
+from rigserver.storage._catalogue import ENTRY_COLUMNS, entry, run_filters
 from rigserver.storage._checks import Batch, StoredBatch
 from rigserver.storage._time import iso
 from rigserver.storage.embedded.payload_files import PayloadFiles, aligned
@@ -264,23 +264,9 @@ class Journal:
                 [
                     *keyed,
                     (
-                        "INSERT INTO runs (id, stand, operator, state, created, ended, run, "
-                        "batches, rows, key_results, results, file_final) "
+                        f"INSERT INTO runs ({ENTRY_COLUMNS}, file_final) "
                         "VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)",
-                        (
-                            run.id,
-                            run.stand.value,
-                            run.operator,
-                            run.state.value,
-                            iso(run.created),
-                            None if run.ended is None else iso(run.ended),
-                            run.model_dump_json(),
-                            run.batches,
-                            json.dumps(run.rows),
-                            json.dumps(run.key_results),
-                            results,
-                            int(file_final),
-                        ),
+                        (*entry(run, results, iso), int(file_final)),
                     ),
                 ]
             )

@@ -34,7 +34,7 @@ from rigserver.storage.errors import (
     StorageError,
     StorageUnavailable,
 )
-from rigserver.storage.runfile import RunFile, fsync_path, write_file
+from rigserver.storage.runfile import RunFile, replacing, write_file
 from schemas.corrections import Correction
 from schemas.runs import Run
 
@@ -234,17 +234,10 @@ class RunFiles:
     def rewrite(self, run: Run, change: Callable[[RunFile], None]) -> None:
         """Change an ended run's final file: a copy changed, fsynced and renamed over it."""
         path = self.path(run.id)
-        tmp = path.with_name(path.name + ".tmp")
-        try:
+        with replacing(path) as tmp:
             shutil.copyfile(path, tmp)
             with RunFile.open(tmp, writable=True) as rf:
                 change(rf)
-            fsync_path(tmp)
-            os.replace(tmp, path)
-            fsync_path(self.runs)
-        except BaseException:
-            tmp.unlink(missing_ok=True)
-            raise
 
     def finalize(self, rf: RunFile, ended: Run) -> bool:
         """Finalize an ended run's open file (not yet fsynced); False when it failed where

@@ -447,7 +447,7 @@ MESSAGES: dict[str, str] = {
     ),
     "w.source": N_("source of the value"),
     "w.out_of_range": N_("(outside its range)"),
-    "w.running_in": N_("running-in: first {share} % of the record, not averaged"),
+    "w.running_in": N_("running-in (not averaged): the record's first {share} %"),
     "w.steady_mean": N_("steady mean"),
     "w.envelope": N_("min-max per block"),
     "w.block_mean": N_("block means"),

@@ -281,7 +281,7 @@ def _friction_svg(ctx: Context, v: Smts2Results, config: Smts2Config) -> str:
         if seen <= start < seen + counts.size:
             steady_distance = float(distance[start - seen])
         seen += counts.size
-    share = fmt(100.0 * (1.0 - config.steady_fraction))
+    share = percent(100.0 * (1.0 - config.steady_fraction))
     return friction_record_svg(
         t,
         series.series("sliding distance", "friction coefficient"),

@@ -2,7 +2,8 @@
 
 ``postgres_server`` (session scope) starts one in a temp directory with
 :mod:`rigserver.storage.servers.pgserver`, or skips with one reason when the server binaries are
-not installed; ``postgres_url`` gives each test empty tables.
+not installed; ``postgres_url`` gives each test empty tables; :func:`sqlite_or_postgres` opens
+a small store embedded or in the cluster, for the tests that hold both to the same behaviour.
 """
 
 from __future__ import annotations
@@ -10,8 +11,9 @@ from __future__ import annotations
 import shutil
 import socket
 import tempfile
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from pathlib import Path
+from typing import Protocol, TypeVar
 
 import psycopg
 import pytest
@@ -43,10 +45,14 @@ def postgres_server() -> Iterator[LocalPostgres]:
         shutil.rmtree(directory, ignore_errors=True)
 
 
-def empty_tables(url: str) -> None:
-    """Drop what the last test stored (the store creates its tables again)."""
+#: The run store's tables in the cluster.
+RUN_TABLES = "rig_corrections, rig_batches, rig_runs, rig_hsds_marks"
+
+
+def empty_tables(url: str, tables: str = RUN_TABLES) -> None:
+    """Drop what the last test stored in ``tables`` (the store creates its tables again)."""
     with psycopg.connect(url, autocommit=True) as conn:
-        conn.execute("DROP TABLE IF EXISTS rig_corrections, rig_batches, rig_runs, rig_hsds_marks")
+        conn.execute(f"DROP TABLE IF EXISTS {tables}")
 
 
 @pytest.fixture
@@ -54,3 +60,28 @@ def postgres_url(postgres_server: LocalPostgres) -> Iterator[str]:
     empty_tables(postgres_server.url)
     yield postgres_server.url
     empty_tables(postgres_server.url)
+
+
+class Closing(Protocol):
+    def close(self) -> None: ...
+
+
+S = TypeVar("S", bound=Closing)
+
+
+def sqlite_or_postgres(
+    request: pytest.FixtureRequest,
+    sqlite: Callable[[], S],
+    postgres: Callable[[str], S],
+    tables: str,
+) -> Iterator[S]:
+    """The body of a fixture with ``params=["sqlite", "postgres"]``: the embedded store, or the
+    cluster's on empty ``tables``; closed after the test."""
+    if request.param == "sqlite":
+        store = sqlite()
+    else:
+        url = request.getfixturevalue("postgres_url")
+        empty_tables(url, tables)
+        store = postgres(url)
+    yield store
+    store.close()

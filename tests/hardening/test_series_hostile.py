@@ -22,7 +22,6 @@ from typing import Any
 
 import httpx
 import numpy as np
-import psycopg
 import pytest
 from fastapi.testclient import TestClient
 
@@ -41,7 +40,7 @@ from schemas.series import SERIES_RUNS_LIMIT, SeriesCreate, SeriesPurpose
 from schemas.stands import StandKind, configure_stands
 from tests.api.conftest import KEYS, READER, WRITER, Server, auth
 from tests.hardening.conftest import API, keys_file
-from tests.postgres import postgres_server, postgres_url  # noqa: F401 (fixtures)
+from tests.postgres import postgres_server, postgres_url, sqlite_or_postgres  # noqa: F401 (fixtures)
 from tests.reports.simulated import post
 
 #: Cells a spreadsheet evaluates (OWASP, CSV injection), as a level or an operator.
@@ -162,15 +161,12 @@ def test_a_level_of_broken_math_text_leaves_the_page_and_reports_readable(
 
 @pytest.fixture(params=["sqlite", "postgres"])
 def series(request: pytest.FixtureRequest, tmp_path: Path) -> Iterator[SeriesStore]:
-    if request.param == "sqlite":
-        store: SeriesStore = SqliteSeries(tmp_path / "series.sqlite")
-    else:
-        url = request.getfixturevalue("postgres_url")
-        with psycopg.connect(url, autocommit=True) as conn:
-            conn.execute("DROP TABLE IF EXISTS rig_series_members, rig_series")
-        store = PostgresSeries(url, pool_size=8)
-    yield store
-    store.close()
+    yield from sqlite_or_postgres(
+        request,
+        lambda: SqliteSeries(tmp_path / "series.sqlite"),
+        lambda url: PostgresSeries(url, pool_size=8),
+        "rig_series_members, rig_series",
+    )
 
 
 def _run_id(n: int) -> str:

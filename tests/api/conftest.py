@@ -12,6 +12,7 @@ import sys
 import time
 from collections.abc import Iterator, Mapping, Sequence
 from pathlib import Path
+from typing import Any
 
 import httpx
 import pytest
@@ -56,13 +57,19 @@ def read_columns(url: str, run_id: str, group: str) -> dict[str, list[float]]:
     return columns
 
 
+def in_process(data_dir: Path, **settings: Any) -> TestClient:
+    """The service in process over an in-memory store, with the test keys (:data:`KEYS`) and
+    these ``settings``; the client answers a server error as a 500 (it raises nothing)."""
+    keys = [ApiKey.model_validate(k) for k in KEYS]
+    app = create_app(
+        Settings(data_dir=data_dir, **settings), MemoryStore(), keys, configure_stands()
+    )
+    return TestClient(app, raise_server_exceptions=False)
+
+
 @pytest.fixture
 def client(tmp_path: Path) -> Iterator[TestClient]:
-    settings = Settings(data_dir=tmp_path)
-    app = create_app(
-        settings, MemoryStore(), [ApiKey.model_validate(k) for k in KEYS], configure_stands()
-    )
-    with TestClient(app, raise_server_exceptions=False) as c:
+    with in_process(tmp_path) as c:
         yield c
 
 

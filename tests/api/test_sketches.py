@@ -22,16 +22,12 @@ import pytest
 from fastapi.testclient import TestClient
 from PIL import Image, ImageFile, PngImagePlugin
 
-from rigserver.api.app import create_app
-from rigserver.api.auth import ApiKey
-from rigserver.api.settings import Settings
 from rigserver.api.sketch_images import checked
-from rigserver.storage import MemoryStore
 from rigsim.simulators import simulate
 from rigsim.simulators.smts2 import Smts2Settings
 from schemas.sketches import SKETCH_MAX_BYTES, SKETCH_MAX_PIXELS, SKETCH_MAX_SIDE
-from schemas.stands import StandKind, configure_stands
-from tests.api.conftest import KEYS, MTOS_ONLY, READER, WRITER, Server, auth
+from schemas.stands import StandKind
+from tests.api.conftest import KEYS, MTOS_ONLY, READER, WRITER, Server, auth, in_process
 from tests.api.test_service import open_run
 from tests.reports.simulated import post
 from tests.reports.test_lab_work import MODES
@@ -61,13 +57,7 @@ def bomb(width: int, height: int) -> bytes:
 
 @pytest.fixture
 def client(tmp_path: Path) -> Iterator[TestClient]:
-    app = create_app(
-        Settings(data_dir=tmp_path, report_processes=False),
-        MemoryStore(),
-        [ApiKey.model_validate(k) for k in KEYS],
-        configure_stands(),
-    )
-    with TestClient(app, raise_server_exceptions=False) as c:
+    with in_process(tmp_path, report_processes=False) as c:
         yield c
 
 

@@ -41,7 +41,7 @@ from schemas.stands import StandKind, configure_stands
 from tests.api.conftest import KEYS, READER, WRITER, Server, auth
 from tests.hardening.conftest import API, keys_file
 from tests.postgres import postgres_server, postgres_url, sqlite_or_postgres  # noqa: F401 (fixtures)
-from tests.reports.simulated import post
+from tests.reports.simulated import post, series_of
 
 #: Cells a spreadsheet evaluates (OWASP, CSV injection), as a level or an operator.
 FORMULAS = [
@@ -92,21 +92,9 @@ def lab(tmp_path_factory: pytest.TempPathFactory) -> Iterator[tuple[TestClient, 
 
 
 def _comparison(client: TestClient, runs: list[str], levels: list[str]) -> str:
-    r = client.post(
-        f"{API}/series",
-        json={"name": "hostile", "purpose": "comparison", "factor": "oil"},
-        headers=auth(WRITER),
+    return series_of(
+        client, WRITER, runs, levels, name="hostile", purpose="comparison", factor="oil"
     )
-    assert r.status_code == 201, r.text
-    series_id = str(r.json()["id"])
-    for run_id, level in zip(runs, levels, strict=True):
-        r = client.post(
-            f"{API}/series/{series_id}/runs",
-            json={"run_id": run_id, "level": level},
-            headers=auth(WRITER),
-        )
-        assert r.status_code == 201, r.text
-    return series_id
 
 
 def test_formulas_in_runs_csv_are_neutralised(lab: tuple[TestClient, list[str]]) -> None:

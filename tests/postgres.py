@@ -8,9 +8,7 @@ a small store embedded or in the cluster, for the tests that hold both to the sa
 
 from __future__ import annotations
 
-import shutil
 import socket
-import tempfile
 from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import Protocol, TypeVar
@@ -19,6 +17,7 @@ import psycopg
 import pytest
 
 from rigserver.storage.servers.pgserver import LocalPostgres, NoPostgres, start_local
+from tests.servers import throwaway
 
 NO_POSTGRES = "the PostgreSQL tests are skipped: {}"
 
@@ -29,20 +28,18 @@ def free_port() -> int:
         return int(s.getsockname()[1])
 
 
+def _start(directory: Path) -> LocalPostgres:
+    directory.chmod(0o711)  # the server's user (not root) passes through it
+    return start_local(directory / "pg", free_port())
+
+
+def _stop(server: LocalPostgres) -> None:
+    server.stop("immediate")
+
+
 @pytest.fixture(scope="session")
 def postgres_server() -> Iterator[LocalPostgres]:
-    directory = Path(tempfile.mkdtemp(prefix="rig-pg-test-"))
-    directory.chmod(0o711)  # the server's user (not root) passes through it
-    try:
-        server = start_local(directory / "pg", free_port())
-    except NoPostgres as exc:
-        shutil.rmtree(directory, ignore_errors=True)
-        pytest.skip(NO_POSTGRES.format(exc))
-    try:
-        yield server
-    finally:
-        server.stop("immediate")
-        shutil.rmtree(directory, ignore_errors=True)
+    yield from throwaway("rig-pg-test-", _start, _stop, NoPostgres, NO_POSTGRES)
 
 
 #: The run store's tables in the cluster.

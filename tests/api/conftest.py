@@ -35,6 +35,20 @@ KEYS = [
     {"key": MTOS_ONLY, "scopes": ["write:mtos"], "name": "MTOS PC"},
 ]
 
+#: MTOS steps as in the README's curl example.
+MTOS_STEPS: dict[str, list[float]] = {
+    "load": [500.0, 1000.0, 1500.0],
+    "indicator": [0.02, 0.03, 0.04],
+    "x": [-40.0, -30.0, -20.0],
+    "y": [-40.0, -30.0, -20.0],
+    "t1": [30.0, 30.0, 30.0],
+    "t2": [33.0, 35.0, 37.0],
+    "t3": [36.0, 38.0, 40.0],
+    "t4": [36.0, 38.0, 40.0],
+    "t5": [36.0, 38.0, 40.0],
+    "regime": [1.0, 1.0, 1.0],
+}
+
 
 def auth(key: str) -> dict[str, str]:
     return {"Authorization": f"Bearer {key}"}

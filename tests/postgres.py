@@ -63,17 +63,19 @@ class Closing(Protocol):
     def close(self) -> None: ...
 
 
-S = TypeVar("S", bound=Closing)
+Embedded = TypeVar("Embedded", bound=Closing)
+Cluster = TypeVar("Cluster", bound=Closing)
 
 
 def sqlite_or_postgres(
     request: pytest.FixtureRequest,
-    sqlite: Callable[[], S],
-    postgres: Callable[[str], S],
+    sqlite: Callable[[], Embedded],
+    postgres: Callable[[str], Cluster],
     tables: str,
-) -> Iterator[S]:
+) -> Iterator[Embedded | Cluster]:
     """The body of a fixture with ``params=["sqlite", "postgres"]``: the embedded store, or the
     cluster's on empty ``tables``; closed after the test."""
+    store: Embedded | Cluster
     if request.param == "sqlite":
         store = sqlite()
     else:

@@ -25,20 +25,16 @@ import numpy as np
 import pytest
 from fastapi.testclient import TestClient
 
-from rigserver.api.app import create_app
-from rigserver.api.auth import ApiKey
-from rigserver.api.settings import Settings
 from rigserver.reports.formatting import spreadsheet_text
 from rigserver.reports.series_plots import Curve, overlay
-from rigserver.storage import MemoryStore
 from rigserver.storage.cluster.series_postgres import PostgresSeries
 from rigserver.storage.errors import MemberExists, OtherStand, SeriesFull
 from rigserver.storage.series import SeriesStore, SqliteSeries
 from rigsim.simulators import simulate
 from rigsim.simulators.smts2 import Smts2Settings
 from schemas.series import SERIES_RUNS_LIMIT, SeriesCreate, SeriesPurpose
-from schemas.stands import StandKind, configure_stands
-from tests.api.conftest import KEYS, READER, WRITER, Server, auth
+from schemas.stands import StandKind
+from tests.api.conftest import READER, WRITER, Server, auth, in_process
 from tests.hardening.conftest import API, keys_file
 from tests.postgres import postgres_server, postgres_url, sqlite_or_postgres  # noqa: F401 (fixtures)
 from tests.reports.simulated import post, series_of
@@ -78,11 +74,7 @@ def test_numbers_and_other_text_are_left_alone(cell: str) -> None:
 def lab(tmp_path_factory: pytest.TempPathFactory) -> Iterator[tuple[TestClient, list[str]]]:
     """Two finished SMTs-2 runs (with curves for the overlay plots), the operator's name a
     formula."""
-    settings = Settings(data_dir=tmp_path_factory.mktemp("hostile-series"))
-    app = create_app(
-        settings, MemoryStore(), [ApiKey.model_validate(k) for k in KEYS], configure_stands()
-    )
-    with TestClient(app, raise_server_exceptions=False) as client:
+    with in_process(tmp_path_factory.mktemp("hostile-series")) as client:
         runs = []
         for i, operator in enumerate(("=1+2", "@SUM(A1)")):
             sim = simulate(StandKind.SMTS2, Smts2Settings(revolutions=2000.0), seed=60 + i)

@@ -29,7 +29,7 @@ from schemas.sketches import SKETCH_MAX_BYTES, SKETCH_MAX_PIXELS, SKETCH_MAX_SID
 from schemas.stands import StandKind
 from tests.api.conftest import KEYS, MTOS_ONLY, READER, WRITER, Server, auth, in_process
 from tests.api.test_service import open_run
-from tests.reports.simulated import post
+from tests.reports.simulated import post, series_of
 from tests.reports.test_lab_work import MODES
 
 API = "/api/v1"
@@ -215,17 +215,9 @@ def test_a_lab_works_report_prints_the_sketch_of_its_part_one_run(client: TestCl
         mode: post(client, simulate(StandKind.SMTS2, Smts2Settings.for_mode(mode), 5), WRITER)
         for mode in MODES
     }
-    made = client.post(
-        f"{API}/series", json={"name": "Lab 2, MT-31", "purpose": "lab"}, headers=auth(WRITER)
+    series = series_of(
+        client, WRITER, list(ids.values()), list(ids), name="Lab 2, MT-31", purpose="lab"
     )
-    series = made.json()["id"]
-    for mode, run_id in ids.items():
-        added = client.post(
-            f"{API}/series/{series}/runs",
-            json={"run_id": run_id, "level": mode},
-            headers=auth(WRITER),
-        )
-        assert added.status_code == 201, added.text
     url = f"{API}/series/{series}/report.html?lang=en"
     before = client.get(url, headers=auth(READER))
     assert before.status_code == 200 and 'class="sketch"' not in before.text

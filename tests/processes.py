@@ -86,6 +86,18 @@ def _children() -> dict[int, list[int]]:
     return found
 
 
+def descendants(pid: int) -> set[int]:
+    """The processes ``pid`` started, the processes they started, and so on (from /proc)."""
+    children = _children()
+    found: set[int] = set()
+    todo = [pid]
+    while todo:
+        for child in children.get(todo.pop(), []):
+            found.add(child)
+            todo.append(child)
+    return found
+
+
 def _command(pid: int) -> str:
     try:
         raw = Path(f"/proc/{pid}/cmdline").read_bytes()
@@ -98,11 +110,7 @@ def leftovers(names: tuple[str, ...] = ("rigserver", "rigsim")) -> list[str]:
     """What is still running of the spawned groups, and any descendant of this process
     whose command line names one of ``names``: ``"pid command"`` each."""
     stray: dict[int, str] = {}
-    children = _children()
-    todo = list(children.get(os.getpid(), []))
-    while todo:
-        pid = todo.pop()
-        todo.extend(children.get(pid, []))
+    for pid in descendants(os.getpid()):
         command = _command(pid)
         if any(name in command for name in names):
             stray[pid] = command

@@ -2,12 +2,14 @@
 
 from __future__ import annotations
 
-from collections.abc import Iterator
+from collections.abc import Iterator, Mapping
 from datetime import UTC, datetime
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
+from rigserver.analysis import analyse
 from schemas.runs import Run
 from schemas.stands import StandKind, default_stands
 
@@ -48,6 +50,27 @@ def make_run(kind: StandKind, **config: object) -> Run:
         configuration=base,
         created=datetime(2026, 11, 22, tzinfo=UTC),
     )
+
+
+def mtos_on_the_diagonal(
+    load: list[float],
+    indicator: list[float],
+    x: list[float],
+    temperatures: Mapping[str, list[float]],
+    zero: float = 0.0,
+) -> Any:
+    """The results of MTOS steps in regime 1 with the journal on the diagonal: the Y gauge
+    reads what the X gauge does, both zeroed at ``zero`` (μm)."""
+    rows = {
+        "load": load,
+        "indicator": indicator,
+        "x": x,
+        "y": x,
+        **temperatures,
+        "regime": [1.0] * len(load),
+    }
+    zeros = {"x_zero": zero, "y_zero": zero}
+    return analyse(make_run(StandKind.MTOS), FakeReadings({"steps": rows}, zeros)).values
 
 
 def friction_record(n: int = 100) -> dict[str, list[float]]:

@@ -6,11 +6,10 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from rigserver.analysis import analyse, mtos
+from rigserver.analysis import mtos
 from rigserver.analysis.finite_steps import FiniteBearingSteps
 from rigserver.core.reynolds import ReynoldsSolution, solve_reynolds
-from schemas.stands import StandKind
-from tests.analysis.conftest import FakeReadings, make_run
+from tests.analysis.conftest import mtos_on_the_diagonal
 
 #: The active-set iteration ends on the one solution of the complementarity problem whatever
 #: it starts from; what may differ is round-off (its flip tolerance is 1e-12 relative).
@@ -73,16 +72,11 @@ def test_the_finite_bearing_of_a_run_is_bounded(monkeypatch: pytest.MonkeyPatch)
     """One results computation solves (3.1) for MAX_FINITE_STEPS steps at most."""
     monkeypatch.setattr(mtos, "MAX_FINITE_STEPS", 2)
     n = 3
-    rows = {
-        "load": [500.0, 1000.0, 1500.0],
-        "indicator": [0.05] * n,
-        "x": [-40.0, -35.0, -30.0],  # μm from the zero reading: χ about 0.3-0.4 ((4.11))
-        "y": [-40.0, -35.0, -30.0],
-        **{f"t{k}": [40.0] * n for k in range(1, 6)},
-        "regime": [1.0] * n,
-    }
-    res = analyse(
-        make_run(StandKind.MTOS), FakeReadings({"steps": rows}, {"x_zero": 0.0, "y_zero": 0.0})
-    ).values
+    res = mtos_on_the_diagonal(
+        [500.0, 1000.0, 1500.0],
+        [0.05] * n,
+        [-40.0, -35.0, -30.0],  # μm from the zero reading: χ about 0.3-0.4 ((4.11))
+        {f"t{k}": [40.0] * n for k in range(1, 6)},
+    )
     assert [s.friction_finite is not None for s in res.steps] == [True, True, False]
     assert "solved for the first 2 steps only" in " ".join(res.notes)

@@ -9,7 +9,7 @@ import pytest
 
 from rigserver.analysis import analyse, smts2
 from schemas.stands import StandKind
-from tests.analysis.conftest import FakeReadings, make_run
+from tests.analysis.conftest import FakeReadings, make_run, mtos_on_the_diagonal
 
 AT = 98_066.5  # Pa per technical atmosphere
 
@@ -87,26 +87,19 @@ def test_mtos_tables_by_hand() -> None:
     h0, k, l1, l2, D, B, w = 100e-6, 20e3, 0.20, 0.025, 0.050, 0.040, 157.0
     loads = np.array([500.0, 1000.0])
     dl = np.array([0.05, 0.08])  # mm
-    x0 = y0 = 0.0
+    x0 = 0.0
     e = np.array([30e-6, 40e-6])
     # (4.11): e_x = h0·cos45° - |X_уст - X|; put the journal on the diagonal (e_x = e_y)
     ex = e / math.sqrt(2)
     x = x0 - (h0 * math.cos(math.pi / 4) - ex) * 1e6  # μm
-    rows = {
-        "load": list(loads),
-        "indicator": list(dl),
-        "x": list(x),
-        "y": list(x),
+    temperatures = {
         "t1": [30.0, 30.0],
         "t2": [35.0, 38.0],
         "t3": [40.0, 45.0],
         "t4": [41.0, 46.0],
         "t5": [42.0, 47.0],
-        "regime": [1.0, 1.0],
     }
-    res = analyse(
-        make_run(StandKind.MTOS), FakeReadings({"steps": rows}, {"x_zero": x0, "y_zero": y0})
-    ).values
+    res = mtos_on_the_diagonal(list(loads), list(dl), list(x), temperatures, zero=x0)
     f_e = k * dl * 1e-3 * l1 / l2 / loads  # (4.13)-(4.16)
     assert [s.friction_measured for s in res.steps] == pytest.approx(list(f_e), rel=1e-12)
     assert [s.chi for s in res.steps] == pytest.approx(list(e / h0), rel=1e-9)
@@ -133,17 +126,7 @@ def test_mtos_table_4_4_last_part_by_hand() -> None:
     ex = e / math.sqrt(2)
     x = -(h0 * math.cos(math.pi / 4) - ex) * 1e6  # (4.11), the journal on the diagonal
     temps = {"t1": 30.0, "t2": 38.0, "t3": 45.0, "t4": 46.0, "t5": 47.0}
-    rows = {
-        "load": [load],
-        "indicator": [0.08],
-        "x": [x],
-        "y": [x],
-        **{k: [v] for k, v in temps.items()},
-        "regime": [1.0],
-    }
-    res = analyse(
-        make_run(StandKind.MTOS), FakeReadings({"steps": rows}, {"x_zero": 0.0, "y_zero": 0.0})
-    ).values
+    res = mtos_on_the_diagonal([load], [0.08], [x], {k: [v] for k, v in temps.items()})
     step = res.steps[0]
     mu = {k: 0.0773 * math.exp(-0.0485 * t) for k, t in temps.items()}  # (4.17)
     assert step.viscosity_at == pytest.approx(mu, rel=1e-12)
@@ -212,17 +195,7 @@ def test_mtos_finite_friction_of_a_centred_journal_is_petroff() -> None:
     """χ = 0: M = 2π·μωR³B/h0 (Petroff), f = M/(N·R1) as in (4.10)."""
     h0, D, B, w, load = 100e-6, 0.050, 0.040, 157.0, 500.0
     x_centre = -(h0 * math.cos(math.pi / 4)) * 1e6  # (4.11): e_x = 0 when |X_уст - X| = h0·cos45°
-    rows = {
-        "load": [load],
-        "indicator": [0.01],
-        "x": [x_centre],
-        "y": [x_centre],
-        **{f"t{k}": [40.0] for k in range(1, 6)},
-        "regime": [1.0],
-    }
-    res = analyse(
-        make_run(StandKind.MTOS), FakeReadings({"steps": rows}, {"x_zero": 0.0, "y_zero": 0.0})
-    ).values
+    res = mtos_on_the_diagonal([load], [0.01], [x_centre], {f"t{k}": [40.0] for k in range(1, 6)})
     step = res.steps[0]
     assert step.chi == pytest.approx(0.0, abs=1e-9)
     mu = 0.0773 * math.exp(-0.0485 * 40.0)

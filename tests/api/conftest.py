@@ -12,6 +12,7 @@ import sys
 import time
 from collections.abc import Iterator, Mapping, Sequence
 from pathlib import Path
+from typing import Any
 
 import httpx
 import pytest
@@ -33,6 +34,20 @@ KEYS = [
     {"key": WRITER, "scopes": ["read", "write:*"], "name": "lab PC"},
     {"key": MTOS_ONLY, "scopes": ["write:mtos"], "name": "MTOS PC"},
 ]
+
+#: MTOS steps as in the README's curl example.
+MTOS_STEPS: dict[str, list[float]] = {
+    "load": [500.0, 1000.0, 1500.0],
+    "indicator": [0.02, 0.03, 0.04],
+    "x": [-40.0, -30.0, -20.0],
+    "y": [-40.0, -30.0, -20.0],
+    "t1": [30.0, 30.0, 30.0],
+    "t2": [33.0, 35.0, 37.0],
+    "t3": [36.0, 38.0, 40.0],
+    "t4": [36.0, 38.0, 40.0],
+    "t5": [36.0, 38.0, 40.0],
+    "regime": [1.0, 1.0, 1.0],
+}
 
 
 def auth(key: str) -> dict[str, str]:
@@ -56,13 +71,19 @@ def read_columns(url: str, run_id: str, group: str) -> dict[str, list[float]]:
     return columns
 
 
+def in_process(data_dir: Path, **settings: Any) -> TestClient:
+    """The service in process over an in-memory store, with the test keys (:data:`KEYS`) and
+    these ``settings``; the client answers a server error as a 500 (it raises nothing)."""
+    keys = [ApiKey.model_validate(k) for k in KEYS]
+    app = create_app(
+        Settings(data_dir=data_dir, **settings), MemoryStore(), keys, configure_stands()
+    )
+    return TestClient(app, raise_server_exceptions=False)
+
+
 @pytest.fixture
 def client(tmp_path: Path) -> Iterator[TestClient]:
-    settings = Settings(data_dir=tmp_path)
-    app = create_app(
-        settings, MemoryStore(), [ApiKey.model_validate(k) for k in KEYS], configure_stands()
-    )
-    with TestClient(app, raise_server_exceptions=False) as c:
+    with in_process(tmp_path) as c:
         yield c
 
 

@@ -14,6 +14,7 @@ import httpx
 from rigsim.client import LabClient
 from rigsim.simulators import simulate
 from tests.api.conftest import READER, WRITER, Server, auth
+from tests.processes import descendants
 
 #: The bound of the issue: no descendant left this long after the server's death.
 WITHIN_SECONDS = 10.0
@@ -28,24 +29,6 @@ def _alive(pid: int) -> bool:
     return stat.rpartition(")")[2].split()[0] != "Z"
 
 
-def _descendants(pid: int) -> set[int]:
-    children: dict[int, list[int]] = {}
-    for entry in Path("/proc").iterdir():
-        if entry.name.isdigit():
-            try:
-                stat = (entry / "stat").read_text()
-            except OSError:
-                continue
-            ppid = int(stat.rpartition(")")[2].split()[1])
-            children.setdefault(ppid, []).append(int(entry.name))
-    found, todo = set(), [pid]
-    while todo:
-        for child in children.get(todo.pop(), []):
-            found.add(child)
-            todo.append(child)
-    return found
-
-
 def test_kill_9_of_the_server_leaves_no_child(server: Server) -> None:
     with LabClient(server.url, WRITER) as client:
         run = client.run(simulate("profilometer", None, seed=1)).run
@@ -54,7 +37,7 @@ def test_kill_9_of_the_server_leaves_no_child(server: Server) -> None:
     )
     assert pdf.status_code == 200  # rendered in the render process
     assert server.proc is not None
-    children = _descendants(server.proc.pid)
+    children = descendants(server.proc.pid)
     assert len(children) >= 2, "the render process and the resource tracker run"
     os.kill(server.proc.pid, signal.SIGKILL)  # the server alone, as the kernel's OOM killer
     server.proc.wait()

@@ -20,23 +20,9 @@ from rigserver.api.auth import ApiKey
 from rigserver.api.settings import Settings
 from rigserver.storage import HDF5Store
 from schemas.stands import configure_stands
-from tests.api.conftest import KEYS, MTOS_ONLY, READER, WRITER, auth
+from tests.api.conftest import KEYS, MTOS_ONLY, MTOS_STEPS, READER, WRITER, auth
 from tests.api.test_service import API, friction_batch, open_run
 from tests.reports.rendered import pdf_text, squeezed
-
-# MTOS steps as in the README's curl example
-STEPS: dict[str, list[float]] = {
-    "load": [500, 1000, 1500],
-    "indicator": [0.02, 0.03, 0.04],
-    "x": [-40, -30, -20],
-    "y": [-40, -30, -20],
-    "t1": [30, 30, 30],
-    "t2": [33, 35, 37],
-    "t3": [36, 38, 40],
-    "t4": [36, 38, 40],
-    "t5": [36, 38, 40],
-    "regime": [1, 1, 1],
-}
 
 
 @pytest.fixture
@@ -53,7 +39,7 @@ def hdf5_client(tmp_path: Path) -> Iterator[TestClient]:
         yield c
 
 
-def _mtos_run(client: TestClient, steps: dict[str, list[float]] = STEPS) -> str:
+def _mtos_run(client: TestClient, steps: dict[str, list[float]] = MTOS_STEPS) -> str:
     run_id = open_run(client, "mtos")
     for seq, (group, columns) in enumerate(
         [("measurements", {"x_zero": [0.0], "y_zero": [0.0]}), ("steps", steps)]
@@ -114,7 +100,7 @@ def test_two_corrections_of_one_cell_are_listed_and_the_typed_value_kept(
     corrected = client.get(url, headers=auth(READER)).json()["steps"]["columns"]["indicator"]
     typed = client.get(f"{url}&original=true", headers=auth(READER)).json()["steps"]["columns"]
     assert corrected == [0.02, 0.05, 0.04]
-    assert typed["indicator"] == STEPS["indicator"]
+    assert typed["indicator"] == MTOS_STEPS["indicator"]
     csv = client.get(f"{url}&format=csv", headers=auth(READER)).text.splitlines()
     assert csv[2].split(",")[1] == "0.05"
     csv = client.get(f"{url}&format=csv&original=true", headers=auth(READER)).text.splitlines()
@@ -138,7 +124,7 @@ def test_the_results_follow_the_corrected_reading(client: TestClient) -> None:
     after = _friction(_values(client, run_id))
     assert after[1] == pytest.approx(before[1] * 0.06 / 0.03, rel=1e-12)
     assert after[0] == before[0] and after[2] == before[2]
-    right = _mtos_run(client, {**STEPS, "indicator": [0.02, 0.06, 0.04]})
+    right = _mtos_run(client, {**MTOS_STEPS, "indicator": [0.02, 0.06, 0.04]})
     assert _values(client, run_id) == _values(client, right)
     # a row struck out is left out of the results
     assert _strike(client, run_id, "steps", 2, "typed twice").json()["struck"] is True

@@ -14,7 +14,7 @@ import pytest
 from rigserver.analysis import analyse
 from schemas.runs import Run
 from tests.analysis.conftest import FakeReadings
-from tests.api.conftest import READER, WRITER, Server, auth
+from tests.api.conftest import MTOS_STEPS, READER, WRITER, Server, auth
 
 API = "/api/v1"
 
@@ -40,18 +40,7 @@ def post(
 
 def test_mtos_run_over_http_and_the_hdf5_file(server: Server) -> None:
     run_id = post_run(server.url, "mtos")
-    steps = {
-        "load": [500.0, 1000.0, 1500.0],
-        "indicator": [0.02, 0.03, 0.04],
-        "x": [-40.0, -30.0, -20.0],
-        "y": [-40.0, -30.0, -20.0],
-        "t1": [30.0, 30.0, 30.0],
-        "t2": [33.0, 35.0, 37.0],
-        "t3": [36.0, 38.0, 40.0],
-        "t4": [36.0, 38.0, 40.0],
-        "t5": [36.0, 38.0, 40.0],
-        "regime": [1.0, 1.0, 1.0],
-    }
+    steps = MTOS_STEPS
     assert (
         post(server.url, run_id, 0, "measurements", {"x_zero": [0.0], "y_zero": [0.0]}).status_code
         == 201

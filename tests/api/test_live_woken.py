@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import asyncio
 import time
+from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
@@ -11,10 +12,11 @@ import numpy as np
 import pytest
 
 from rigserver.api.app import create_app
+from rigserver.api.deps import Services
 from rigserver.api.routes import live
 from rigserver.api.settings import Settings
 from rigserver.storage import HDF5Store
-from schemas.runs import RunState
+from schemas.runs import Run, RunState
 from schemas.stands import StandKind, configure_stands
 from tests.analysis.conftest import make_run
 
@@ -36,15 +38,25 @@ def _friction(rows: int) -> dict[str, Any]:
     }
 
 
-def test_an_idle_stream_reads_nothing_and_a_batch_wakes_it(
-    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
-) -> None:
+@pytest.fixture
+def service(tmp_path: Path) -> Iterator[tuple[HDF5Store, Services, Run]]:
+    """The service's parts over an embedded store, and an open SMTs-2 run in it."""
     store = HDF5Store(tmp_path / "data")
     app = create_app(Settings(data_dir=tmp_path), store, [], configure_stands())
-    services = app.state.services
     run = store.create_run(
         make_run(StandKind.SMTS2).model_copy(update={"id": "20261126T000000Z-0000beef"})
     )
+    try:
+        yield store, app.state.services, run
+    finally:
+        app.state.services.reports.close()
+        store.close()
+
+
+def test_an_idle_stream_reads_nothing_and_a_batch_wakes_it(
+    service: tuple[HDF5Store, Services, Run], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    store, services, run = service
     looked_up: list[float] = []
     real_get_run = store.get_run
 
@@ -70,23 +82,16 @@ def test_an_idle_stream_reads_nothing_and_a_batch_wakes_it(
         assert idle_lookups == 1, "the idle stream read the catalogue again"
         return rows, latency, end
 
-    try:
-        rows, latency, end = asyncio.run(watch())
-    finally:
-        app.state.services.reports.close()
-        store.close()
+    rows, latency, end = asyncio.run(watch())
     assert rows.startswith("event: rows\nid: 10\n")
     assert latency < PROMPT_SECONDS
     assert end.startswith("event: end\n") and '"state":"finished"' in end
 
 
-def test_a_stopping_server_wakes_its_idle_streams(tmp_path: Path) -> None:
-    store = HDF5Store(tmp_path / "data")
-    app = create_app(Settings(data_dir=tmp_path), store, [], configure_stands())
-    services = app.state.services
-    run = store.create_run(
-        make_run(StandKind.SMTS2).model_copy(update={"id": "20261126T000000Z-0000cafe"})
-    )
+def test_a_stopping_server_wakes_its_idle_streams(
+    service: tuple[HDF5Store, Services, Run],
+) -> None:
+    _, services, run = service
 
     async def watch() -> float:
         stream = live._stream(services, run.id, "friction", 0)
@@ -98,20 +103,13 @@ def test_a_stopping_server_wakes_its_idle_streams(tmp_path: Path) -> None:
         assert await asyncio.wait_for(ending, 5) is None
         return time.monotonic() - asked
 
-    try:
-        assert asyncio.run(watch()) < PROMPT_SECONDS
-    finally:
-        app.state.services.reports.close()
-        store.close()
+    assert asyncio.run(watch()) < PROMPT_SECONDS
 
 
-def test_a_correction_wakes_the_stream_and_is_told_as_an_event(tmp_path: Path) -> None:
-    store = HDF5Store(tmp_path / "data")
-    app = create_app(Settings(data_dir=tmp_path), store, [], configure_stands())
-    services = app.state.services
-    run = store.create_run(
-        make_run(StandKind.SMTS2).model_copy(update={"id": "20261126T000000Z-0000c0de"})
-    )
+def test_a_correction_wakes_the_stream_and_is_told_as_an_event(
+    service: tuple[HDF5Store, Services, Run],
+) -> None:
+    store, services, run = service
     store.append(run.id, 0, "friction", _friction(10))
 
     async def watch() -> tuple[str, float]:
@@ -126,11 +124,7 @@ def test_a_correction_wakes_the_stream_and_is_told_as_an_event(tmp_path: Path) -
         told = await asyncio.wait_for(event, 5)
         return told, time.monotonic() - made
 
-    try:
-        told, latency = asyncio.run(watch())
-    finally:
-        app.state.services.reports.close()
-        store.close()
+    told, latency = asyncio.run(watch())
     assert told.startswith("event: corrected\n")
     assert '"row":4' in told and '"was":2.5' in told and '"now":2.75' in told
     assert '"reason":"misread"' in told

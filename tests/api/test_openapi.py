@@ -7,7 +7,7 @@ from __future__ import annotations
 import io
 import json
 import re
-from collections.abc import Iterator
+from collections.abc import Collection, Iterator
 from typing import Any
 
 import numpy as np
@@ -20,16 +20,18 @@ from tests.api.conftest import WRITER, auth
 JSON = "application/json"
 
 
-def refs(node: Any) -> Iterator[str]:
+def strings_at(node: Any, keys: Collection[str]) -> Iterator[str]:
+    """Every string of the document (or of a part of it) that is the value of one of
+    ``keys``, in document order."""
     if isinstance(node, dict):
         for key, value in node.items():
-            if key == "$ref" and isinstance(value, str):
+            if key in keys and isinstance(value, str):
                 yield value
             else:
-                yield from refs(value)
+                yield from strings_at(value, keys)
     elif isinstance(node, list):
         for value in node:
-            yield from refs(value)
+            yield from strings_at(value, keys)
 
 
 def resolve(document: dict[str, Any], ref: str) -> Any:
@@ -60,23 +62,12 @@ def test_the_document_validates(client: TestClient) -> None:
     validate(client.get("/openapi.json").json())
 
 
-def texts(node: Any) -> Iterator[str]:
-    """Every description, summary and title of the document (what the API docs page prints)."""
-    if isinstance(node, dict):
-        for key, value in node.items():
-            if key in ("description", "summary", "title") and isinstance(value, str):
-                yield value
-            else:
-                yield from texts(value)
-    elif isinstance(node, list):
-        for value in node:
-            yield from texts(value)
-
-
 def test_the_api_docs_speak_english_and_name_their_sources(client: TestClient) -> None:
     """The English API docs: no Cyrillic subscript (f_e, χ_mean, not f_э, χ_ср) and a source
     named by its title, never by a seed number."""
-    found = list(texts(client.get("/openapi.json").json()))
+    # what the API docs page prints
+    document = client.get("/openapi.json").json()
+    found = list(strings_at(document, ("description", "summary", "title")))
     assert len(found) > 100
     wrong = [t for t in found if re.search(r"[А-Яа-яЁё]|\bseed\b", t, re.IGNORECASE)]
     assert not wrong, wrong[:10]
@@ -84,7 +75,7 @@ def test_the_api_docs_speak_english_and_name_their_sources(client: TestClient) -
 
 def test_every_ref_resolves(client: TestClient) -> None:
     document = client.get("/openapi.json").json()
-    found = set(refs(document))
+    found = set(strings_at(document, ("$ref",)))
     assert "#/components/schemas/ReadingBatch" in found  # the ingest route's body
     dangling = [ref for ref in found if not _resolves(document, ref)]
     assert dangling == []

@@ -15,28 +15,14 @@ import pytest
 from fastapi.testclient import TestClient
 
 from rigserver.api import report_files, report_jobs
-from rigserver.api.app import create_app
-from rigserver.api.auth import ApiKey
-from rigserver.api.settings import Settings
 from rigserver.reports.run_report import build_report
-from rigserver.storage import MemoryStore
 from schemas.runs import Run
-from schemas.stands import StandKind, configure_stands
-from tests.api.conftest import KEYS, READER, WRITER, auth
+from schemas.stands import StandKind
+from tests.api.conftest import READER, WRITER, auth, in_process
 from tests.reports.simulated import post, simulated
 
 API = "/api/v1"
 _T0 = datetime(2026, 11, 22, tzinfo=UTC)
-
-
-def _client(tmp_path: Path, **settings: Any) -> TestClient:
-    app = create_app(
-        Settings(data_dir=tmp_path, **settings),
-        MemoryStore(),
-        [ApiKey.model_validate(k) for k in KEYS],
-        configure_stands(),
-    )
-    return TestClient(app, raise_server_exceptions=False)
 
 
 @pytest.fixture
@@ -56,7 +42,7 @@ def renders(monkeypatch: pytest.MonkeyPatch) -> list[str]:
 @pytest.fixture
 def threaded(tmp_path: Path) -> Iterator[TestClient]:
     """The service rendering in its threads (so that the renders can be counted here)."""
-    with _client(tmp_path, report_processes=False) as client:
+    with in_process(tmp_path, report_processes=False) as client:
         yield client
 
 
@@ -131,7 +117,7 @@ def test_one_key_beyond_its_share_is_answered_503_and_another_key_gets_its_repor
         return real(**kwargs)
 
     monkeypatch.setattr(report_jobs, "build_report", slow_russian)
-    with _client(
+    with in_process(
         tmp_path, report_processes=False, report_workers=2, report_queue=2, report_key_share=0.5
     ) as client:
         run_id = post(client, simulated(StandKind.PROFILOMETER).sim, WRITER, finish=False)
@@ -152,7 +138,7 @@ def test_one_key_beyond_its_share_is_answered_503_and_another_key_gets_its_repor
 def test_finishing_a_run_renders_its_reports_in_the_background(tmp_path: Path) -> None:
     """In the render processes, from the run's final file: both languages, page and PDF,
     before anyone asks; the download is then the file."""
-    with _client(tmp_path, reports_on_finish=True) as client:
+    with in_process(tmp_path, reports_on_finish=True) as client:
         run_id = post(client, simulated(StandKind.PROFILOMETER).sim, WRITER)
         kept = tmp_path / "reports" / "run" / run_id
         deadline = time.monotonic() + 180
@@ -193,7 +179,7 @@ def test_a_download_joins_the_background_render_of_its_report(
         return real(**kwargs)
 
     monkeypatch.setattr(report_jobs, "build_report", slow)
-    with _client(tmp_path, report_processes=False, reports_on_finish=True) as client:
+    with in_process(tmp_path, report_processes=False, reports_on_finish=True) as client:
         run_id = post(client, simulated(StandKind.PROFILOMETER).sim, WRITER)
         assert started.wait(60)  # the background render of the English report runs
         with ThreadPoolExecutor(1) as pool:

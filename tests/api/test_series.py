@@ -12,14 +12,10 @@ import numpy as np
 import pytest
 from fastapi.testclient import TestClient
 
-from rigserver.api.app import create_app
-from rigserver.api.auth import ApiKey
-from rigserver.api.settings import Settings
-from rigserver.storage import MemoryStore
 from rigsim.simulators import simulate
 from rigsim.simulators.smts2 import Smts2Settings
-from schemas.stands import StandKind, configure_stands
-from tests.api.conftest import KEYS, MTOS_ONLY, READER, WRITER, auth
+from schemas.stands import StandKind
+from tests.api.conftest import MTOS_ONLY, READER, WRITER, auth, in_process
 from tests.reports.simulated import post, tables
 
 FRICTION = (0.38, 0.40, 0.43)
@@ -28,11 +24,7 @@ FRICTION = (0.38, 0.40, 0.43)
 @pytest.fixture(scope="module")
 def lab(tmp_path_factory: pytest.TempPathFactory) -> Iterator[tuple[TestClient, list[str], str]]:
     """Three finished SMTs-2 runs (steady f 0.38, 0.40, 0.43) and one MTOS run."""
-    settings = Settings(data_dir=tmp_path_factory.mktemp("series"))
-    app = create_app(
-        settings, MemoryStore(), [ApiKey.model_validate(k) for k in KEYS], configure_stands()
-    )
-    with TestClient(app, raise_server_exceptions=False) as client:
+    with in_process(tmp_path_factory.mktemp("series")) as client:
         runs = [
             post(
                 client,

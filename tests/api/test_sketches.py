@@ -22,18 +22,14 @@ import pytest
 from fastapi.testclient import TestClient
 from PIL import Image, ImageFile, PngImagePlugin
 
-from rigserver.api.app import create_app
-from rigserver.api.auth import ApiKey
-from rigserver.api.settings import Settings
 from rigserver.api.sketch_images import checked
-from rigserver.storage import MemoryStore
 from rigsim.simulators import simulate
 from rigsim.simulators.smts2 import Smts2Settings
 from schemas.sketches import SKETCH_MAX_BYTES, SKETCH_MAX_PIXELS, SKETCH_MAX_SIDE
-from schemas.stands import StandKind, configure_stands
-from tests.api.conftest import KEYS, MTOS_ONLY, READER, WRITER, Server, auth
+from schemas.stands import StandKind
+from tests.api.conftest import KEYS, MTOS_ONLY, READER, WRITER, Server, auth, in_process
 from tests.api.test_service import open_run
-from tests.reports.simulated import post
+from tests.reports.simulated import post, series_of
 from tests.reports.test_lab_work import MODES
 
 API = "/api/v1"
@@ -61,13 +57,7 @@ def bomb(width: int, height: int) -> bytes:
 
 @pytest.fixture
 def client(tmp_path: Path) -> Iterator[TestClient]:
-    app = create_app(
-        Settings(data_dir=tmp_path, report_processes=False),
-        MemoryStore(),
-        [ApiKey.model_validate(k) for k in KEYS],
-        configure_stands(),
-    )
-    with TestClient(app, raise_server_exceptions=False) as c:
+    with in_process(tmp_path, report_processes=False) as c:
         yield c
 
 
@@ -225,17 +215,9 @@ def test_a_lab_works_report_prints_the_sketch_of_its_part_one_run(client: TestCl
         mode: post(client, simulate(StandKind.SMTS2, Smts2Settings.for_mode(mode), 5), WRITER)
         for mode in MODES
     }
-    made = client.post(
-        f"{API}/series", json={"name": "Lab 2, MT-31", "purpose": "lab"}, headers=auth(WRITER)
+    series = series_of(
+        client, WRITER, list(ids.values()), list(ids), name="Lab 2, MT-31", purpose="lab"
     )
-    series = made.json()["id"]
-    for mode, run_id in ids.items():
-        added = client.post(
-            f"{API}/series/{series}/runs",
-            json={"run_id": run_id, "level": mode},
-            headers=auth(WRITER),
-        )
-        assert added.status_code == 201, added.text
     url = f"{API}/series/{series}/report.html?lang=en"
     before = client.get(url, headers=auth(READER))
     assert before.status_code == 200 and 'class="sketch"' not in before.text

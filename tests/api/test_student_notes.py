@@ -16,13 +16,9 @@ import pytest
 from fastapi.testclient import TestClient
 from markupsafe import escape
 
-from rigserver.api.app import create_app
-from rigserver.api.auth import ApiKey
-from rigserver.api.settings import Settings
-from rigserver.storage import MemoryStore
-from schemas.stands import StandKind, configure_stands
+from schemas.stands import StandKind
 from schemas.student_notes import CONCLUSIONS_LIMIT, STUDENTS_LIMIT
-from tests.api.conftest import KEYS, MTOS_ONLY, READER, WRITER, Server, auth
+from tests.api.conftest import KEYS, MTOS_ONLY, READER, WRITER, Server, auth, in_process
 from tests.api.test_service import open_run
 from tests.reports.simulated import post, simulated
 
@@ -37,13 +33,7 @@ WORDS = {
 
 @pytest.fixture
 def client(tmp_path: Path) -> Iterator[TestClient]:
-    app = create_app(
-        Settings(data_dir=tmp_path, report_processes=False),
-        MemoryStore(),
-        [ApiKey.model_validate(k) for k in KEYS],
-        configure_stands(),
-    )
-    with TestClient(app, raise_server_exceptions=False) as c:
+    with in_process(tmp_path, report_processes=False) as c:
         yield c
 
 

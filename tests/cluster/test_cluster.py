@@ -99,13 +99,18 @@ def post(c: Cluster, url: str, run_id: str, seq: int) -> httpx.Response:
     )
 
 
-def stored_times(c: Cluster, url: str, run_id: str) -> list[float]:
-    r = httpx.get(
+def friction_of(c: Cluster, url: str, run_id: str) -> httpx.Response:
+    """The run's friction readings as JSON, asked of the worker at ``url``."""
+    return httpx.get(
         f"{url}{API}/runs/{run_id}/readings",
         params={"format": "json", "group": "friction"},
         headers=c.headers,
         timeout=30,
     )
+
+
+def stored_times(c: Cluster, url: str, run_id: str) -> list[float]:
+    r = friction_of(c, url, run_id)
     assert r.status_code == 200, r.text
     return [float(v) for v in r.json()["friction"]["columns"]["time"]]
 

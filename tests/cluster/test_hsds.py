@@ -9,7 +9,6 @@ import time
 from collections.abc import Iterator
 from typing import cast
 
-import httpx
 import numpy as np
 import psycopg
 import pytest
@@ -17,7 +16,15 @@ import pytest
 from rigserver import cluster
 from rigserver.storage.cluster.hsds import HsdsArrays
 from rigserver.storage.servers.hsdsserver import LocalHsds, hsds_missing
-from tests.cluster.test_cluster import API, Cluster, batch, open_run, post, running, stored_times
+from tests.cluster.test_cluster import (
+    Cluster,
+    batch,
+    friction_of,
+    open_run,
+    post,
+    running,
+    stored_times,
+)
 from tests.hsds import NO_HSDS
 
 pytestmark = pytest.mark.slow
@@ -71,12 +78,7 @@ def test_hsds_killed_posts_acknowledged_reads_503_then_everything_materialised(
         time.sleep(0.1)
         hsds.kill()
         down_at = materialised(c, run_id)
-        r = httpx.get(
-            f"{c.urls[0]}{API}/runs/{run_id}/readings",
-            params={"format": "json", "group": "friction"},
-            headers=c.headers,
-            timeout=30,
-        )
+        r = friction_of(c, c.urls[0], run_id)
         assert r.status_code == 503, r.text
         assert r.headers["content-type"].startswith("application/problem+json")
         assert int(r.headers["Retry-After"]) >= 0

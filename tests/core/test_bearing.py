@@ -251,12 +251,17 @@ def test_a3_20_closed_form_and_printed_chain(chi: float) -> None:
 
 # An MTOS-like bearing: D = 50 mm, B = 20 mm (a = 0.4), h0 = 50 μm, ω = 150 rad/s.
 MR, MB, MH0, MW, MMU = 25e-3, 20e-3, 50e-6, 150.0, 0.03
+MTOS_LIKE: dict[str, Any] = {
+    "omega": MW,
+    "viscosity": MMU,
+    "bearing_radius": MR,
+    "width": MB,
+    "clearance": MH0,
+}
 
 
 def test_moment_is_petroff_at_zero_eccentricity() -> None:
-    got = friction_moment_theoretical(
-        chi=0.0, omega=MW, viscosity=MMU, bearing_radius=MR, width=MB, clearance=MH0
-    )
+    got = friction_moment_theoretical(chi=0.0, **MTOS_LIKE)
     # Petroff: M = 2πμωR1³B/h0, R1 = R - h0.
     petroff = 2 * np.pi * MMU * MW * (MR - MH0) ** 3 * MB / MH0
     assert float(got.moment) == pytest.approx(petroff, rel=1e-12)
@@ -272,17 +277,9 @@ def test_moment_is_petroff_at_zero_eccentricity() -> None:
 def test_moment_terms_and_v_and_independence_of_scales(
     chi: float, mu0: float, omega0: float
 ) -> None:
-    kw: dict[str, Any] = {
-        "chi": chi,
-        "omega": MW,
-        "viscosity": MMU,
-        "bearing_radius": MR,
-        "width": MB,
-    }
-    got = friction_moment_theoretical(
-        clearance=MH0, reference_viscosity=mu0, reference_omega=omega0, **kw
-    )
-    default = friction_moment_theoretical(clearance=MH0, **kw)
+    kw = {**MTOS_LIKE, "chi": chi}
+    got = friction_moment_theoretical(reference_viscosity=mu0, reference_omega=omega0, **kw)
+    default = friction_moment_theoretical(**kw)
     a = MB / (2 * MR)
     a3_20 = np.pi / (2 * (1 - chi**2) ** 1.5)
     # (4.3), (4.4) written out: P* = 2BRμ0ω0/ψ², V = -χa²μ̄A3^20·G.
@@ -301,16 +298,9 @@ def test_moment_terms_and_v_and_independence_of_scales(
 
 
 def _f_at_load(load: float) -> float:
-    kw: dict[str, Any] = {
-        "omega": MW,
-        "viscosity": MMU,
-        "bearing_radius": MR,
-        "width": MB,
-        "clearance": MH0,
-    }
-    sol = short_bearing_eccentricity(load=load, **kw)
+    sol = short_bearing_eccentricity(load=load, **MTOS_LIKE)
     assert sol.converged
-    return float(friction_coefficient_theoretical(chi=sol.chi, load=load, **kw))
+    return float(friction_coefficient_theoretical(chi=sol.chi, load=load, **MTOS_LIKE))
 
 
 @settings(max_examples=25, deadline=None)
@@ -327,42 +317,22 @@ def test_friction_coefficient_positive_and_falls_with_load_in_fluid_film(
 
 
 def test_friction_coefficient_is_moment_over_load_times_journal_radius() -> None:
-    kw: dict[str, Any] = {
-        "omega": MW,
-        "viscosity": MMU,
-        "bearing_radius": MR,
-        "width": MB,
-        "clearance": MH0,
-    }
-    moment = friction_moment_theoretical(chi=0.7, **kw).moment
-    f = friction_coefficient_theoretical(chi=0.7, load=1500.0, **kw)
+    moment = friction_moment_theoretical(chi=0.7, **MTOS_LIKE).moment
+    f = friction_coefficient_theoretical(chi=0.7, load=1500.0, **MTOS_LIKE)
     assert float(f) == pytest.approx(float(moment) / (1500.0 * (MR - MH0)), rel=1e-12)
 
 
 @settings(max_examples=30, deadline=None)
 @given(chi=st.floats(min_value=1e-4, max_value=0.999))
 def test_eccentricity_inverts_the_resultant(chi: float) -> None:
-    kw: dict[str, Any] = {
-        "omega": MW,
-        "viscosity": MMU,
-        "bearing_radius": MR,
-        "width": MB,
-        "clearance": MH0,
-    }
-    load = float(short_bearing_load(chi=chi, **kw).resultant)
-    sol = short_bearing_eccentricity(load=load, **kw)
+    load = float(short_bearing_load(chi=chi, **MTOS_LIKE).resultant)
+    sol = short_bearing_eccentricity(load=load, **MTOS_LIKE)
     assert sol.converged
     assert sol.chi == pytest.approx(chi, rel=1e-9)
 
 
 def test_eccentricity_reports_an_impossible_load_and_zero_load() -> None:
-    kw: dict[str, Any] = {
-        "omega": 1e-3,
-        "viscosity": 1e-3,
-        "bearing_radius": MR,
-        "width": MB,
-        "clearance": MH0,
-    }
+    kw = {**MTOS_LIKE, "omega": 1e-3, "viscosity": 1e-3}
     # Film force at χ = 1 - 1e-12 is ~ μωRB³/h0² · 1/(1-χ²)² ≈ 5e18 N here.
     sol = short_bearing_eccentricity(load=1e25, **kw)
     assert not sol.converged

@@ -10,6 +10,8 @@ material ratio curve at 10 000 classes (here: every ordinate).
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 import pytest
 from scipy.ndimage import gaussian_filter1d
@@ -48,6 +50,13 @@ def pair(request: pytest.FixtureRequest) -> tuple[iso.IsoProfile, np.ndarray]:
     return ours, np.asarray(theirs.data[ours.start : ours.stop])
 
 
+def same_ordinates(ours: iso.IsoProfile) -> tuple[np.ndarray, Any]:
+    """Our roughness profile over the evaluation length, and surfalize's profile of these
+    same ordinates (µm)."""
+    r = ours.roughness[ours.start : ours.stop]
+    return r, surfalize.Profile(r * UM, STEP * UM)
+
+
 def test_the_filters_agree_over_the_evaluation_length(
     pair: tuple[iso.IsoProfile, np.ndarray],
 ) -> None:
@@ -67,8 +76,7 @@ def test_the_parameters_agree_on_the_same_ordinates(
     pair: tuple[iso.IsoProfile, np.ndarray],
 ) -> None:
     ours, _ = pair
-    r = ours.roughness[ours.start : ours.stop]
-    peer = surfalize.Profile(r * UM, STEP * UM)
+    r, peer = same_ordinates(ours)
     centred = r - r.mean()  # surfalize measures from the ordinates' own mean
     n = ours.sections
     heights = iso.section_heights(centred, sections=n)
@@ -88,8 +96,7 @@ def test_the_centring_is_the_only_difference_of_the_height_parameters(
     # the mean of R over the evaluation length is a small fraction of Rq: Ra, Rq, Rku, Rz
     # move by O((mean/Rq)²), Rsk by 3·mean/Rq (d/dm of E(z-m)³/Rq³ at m = 0)
     ours, _ = pair
-    r = ours.roughness[ours.start : ours.stop]
-    peer = surfalize.Profile(r * UM, STEP * UM)
+    r, peer = same_ordinates(ours)
     q = ours.parameters
     shift = abs(float(r.mean())) / q.rq
     assert shift < 0.05
@@ -105,8 +112,7 @@ def test_the_slope_differs_by_the_difference_formula(
     # a forward difference has an error of order (k·Δx)²/24 at wavenumber k: below 0.5 %
     # for these profiles, whose shortest wavelengths are some 50 samples long
     ours, _ = pair
-    r = ours.roughness[ours.start : ours.stop]
-    peer = surfalize.Profile(r * UM, STEP * UM)
+    _, peer = same_ordinates(ours)
     assert ours.parameters.rdq == pytest.approx(peer.Rdq(), rel=5e-3)
 
 
@@ -115,8 +121,7 @@ def test_the_rk_family_agrees(pair: tuple[iso.IsoProfile, np.ndarray]) -> None:
     # since 0.17.1); surfalize's curve has 10 000 classes and its peak and valley areas
     # stop at the class nearest the core's levels, which moves Rpk and Rvk by up to 3 %
     ours, _ = pair
-    r = ours.roughness[ours.start : ours.stop]
-    peer = surfalize.Profile(r * UM, STEP * UM)
+    _, peer = same_ordinates(ours)
     q = ours.parameters
     assert q.rk * UM == pytest.approx(peer.Rk(), rel=5e-3)
     assert q.rpk * UM == pytest.approx(peer.Rpk(), rel=3e-2, abs=1e-4)

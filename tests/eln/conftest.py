@@ -26,7 +26,7 @@ from rigserver.storage import HDF5Store, MemoryStore
 from rigsim.simulators import simulate
 from schemas.stands import StandKind, configure_stands
 from tests.api.conftest import KEYS, WRITER, auth
-from tests.reports.simulated import post
+from tests.reports.simulated import post, series_of
 
 LICENCE = "CC-BY-4.0"
 ELN = {"content-type": ELN_MEDIA_TYPE}
@@ -77,17 +77,11 @@ def lab(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Lab]:
     ):
         runs = {kind: post(source, simulate(kind, seed=7), WRITER) for kind in StandKind}
         archives = {kind: export(source, f"/api/v1/runs/{runs[kind]}/export.eln") for kind in runs}
-        series = source.post(
-            "/api/v1/series",
-            json={"name": "Roughness, two traces", "purpose": "repeatability"},
-            headers=auth(WRITER),
-        ).json()["id"]
         repeat = post(source, simulate(StandKind.PROFILOMETER, seed=8), WRITER)
-        for run_id in (runs[StandKind.PROFILOMETER], repeat):
-            added = source.post(
-                f"/api/v1/series/{series}/runs", json={"run_id": run_id}, headers=auth(WRITER)
-            )
-            assert added.status_code == 201, added.text
+        traces = [runs[StandKind.PROFILOMETER], repeat]
+        series = series_of(
+            source, WRITER, traces, name="Roughness, two traces", purpose="repeatability"
+        )
         series_archive = export(source, f"/api/v1/series/{series}/export.eln")
         yield Lab(source, target, runs, archives, series, series_archive)
 

@@ -19,7 +19,7 @@ from rigserver.storage import MemoryStore
 from rigsim.simulators import simulate
 from schemas.stands import StandKind, configure_stands
 from tests.api.conftest import KEYS, READER, WRITER, auth
-from tests.reports.simulated import post
+from tests.reports.simulated import post, series_of
 
 
 def test_the_first_export_answers_202_with_its_progress_then_the_archive(
@@ -33,15 +33,7 @@ def test_the_first_export_answers_202_with_its_progress_then_the_archive(
     )
     with TestClient(app) as client:
         runs = [post(client, simulate(StandKind.PROFILOMETER, seed=s), WRITER) for s in (1, 2)]
-        series = client.post(
-            "/api/v1/series",
-            json={"name": "two traces", "purpose": "repeatability"},
-            headers=auth(WRITER),
-        ).json()["id"]
-        for run_id in runs:
-            client.post(
-                f"/api/v1/series/{series}/runs", json={"run_id": run_id}, headers=auth(WRITER)
-            ).raise_for_status()
+        series = series_of(client, WRITER, runs, name="two traces", purpose="repeatability")
         here = f"/api/v1/series/{series}/export.eln"
         first = client.get(here, headers=auth(READER))
         assert first.status_code == 202

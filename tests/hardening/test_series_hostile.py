@@ -22,27 +22,22 @@ from typing import Any
 
 import httpx
 import numpy as np
-import psycopg
 import pytest
 from fastapi.testclient import TestClient
 
-from rigserver.api.app import create_app
-from rigserver.api.auth import ApiKey
-from rigserver.api.settings import Settings
 from rigserver.reports.formatting import spreadsheet_text
 from rigserver.reports.series_plots import Curve, overlay
-from rigserver.storage import MemoryStore
 from rigserver.storage.cluster.series_postgres import PostgresSeries
 from rigserver.storage.errors import MemberExists, OtherStand, SeriesFull
 from rigserver.storage.series import SeriesStore, SqliteSeries
 from rigsim.simulators import simulate
 from rigsim.simulators.smts2 import Smts2Settings
 from schemas.series import SERIES_RUNS_LIMIT, SeriesCreate, SeriesPurpose
-from schemas.stands import StandKind, configure_stands
-from tests.api.conftest import KEYS, READER, WRITER, Server, auth
+from schemas.stands import StandKind
+from tests.api.conftest import READER, WRITER, Server, auth, in_process
 from tests.hardening.conftest import API, keys_file
-from tests.postgres import postgres_server, postgres_url  # noqa: F401 (fixtures)
-from tests.reports.simulated import post
+from tests.postgres import postgres_server, postgres_url, sqlite_or_postgres  # noqa: F401 (fixtures)
+from tests.reports.simulated import post, series_of
 
 #: Cells a spreadsheet evaluates (OWASP, CSV injection), as a level or an operator.
 FORMULAS = [
@@ -79,11 +74,7 @@ def test_numbers_and_other_text_are_left_alone(cell: str) -> None:
 def lab(tmp_path_factory: pytest.TempPathFactory) -> Iterator[tuple[TestClient, list[str]]]:
     """Two finished SMTs-2 runs (with curves for the overlay plots), the operator's name a
     formula."""
-    settings = Settings(data_dir=tmp_path_factory.mktemp("hostile-series"))
-    app = create_app(
-        settings, MemoryStore(), [ApiKey.model_validate(k) for k in KEYS], configure_stands()
-    )
-    with TestClient(app, raise_server_exceptions=False) as client:
+    with in_process(tmp_path_factory.mktemp("hostile-series")) as client:
         runs = []
         for i, operator in enumerate(("=1+2", "@SUM(A1)")):
             sim = simulate(StandKind.SMTS2, Smts2Settings(revolutions=2000.0), seed=60 + i)
@@ -93,21 +84,9 @@ def lab(tmp_path_factory: pytest.TempPathFactory) -> Iterator[tuple[TestClient, 
 
 
 def _comparison(client: TestClient, runs: list[str], levels: list[str]) -> str:
-    r = client.post(
-        f"{API}/series",
-        json={"name": "hostile", "purpose": "comparison", "factor": "oil"},
-        headers=auth(WRITER),
+    return series_of(
+        client, WRITER, runs, levels, name="hostile", purpose="comparison", factor="oil"
     )
-    assert r.status_code == 201, r.text
-    series_id = str(r.json()["id"])
-    for run_id, level in zip(runs, levels, strict=True):
-        r = client.post(
-            f"{API}/series/{series_id}/runs",
-            json={"run_id": run_id, "level": level},
-            headers=auth(WRITER),
-        )
-        assert r.status_code == 201, r.text
-    return series_id
 
 
 def test_formulas_in_runs_csv_are_neutralised(lab: tuple[TestClient, list[str]]) -> None:
@@ -162,15 +141,12 @@ def test_a_level_of_broken_math_text_leaves_the_page_and_reports_readable(
 
 @pytest.fixture(params=["sqlite", "postgres"])
 def series(request: pytest.FixtureRequest, tmp_path: Path) -> Iterator[SeriesStore]:
-    if request.param == "sqlite":
-        store: SeriesStore = SqliteSeries(tmp_path / "series.sqlite")
-    else:
-        url = request.getfixturevalue("postgres_url")
-        with psycopg.connect(url, autocommit=True) as conn:
-            conn.execute("DROP TABLE IF EXISTS rig_series_members, rig_series")
-        store = PostgresSeries(url, pool_size=8)
-    yield store
-    store.close()
+    yield from sqlite_or_postgres(
+        request,
+        lambda: SqliteSeries(tmp_path / "series.sqlite"),
+        lambda url: PostgresSeries(url, pool_size=8),
+        "rig_series_members, rig_series",
+    )
 
 
 def _run_id(n: int) -> str:

@@ -10,6 +10,7 @@ from __future__ import annotations
 import shutil
 import subprocess
 import unicodedata
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from datetime import UTC, datetime
 from functools import lru_cache
@@ -211,8 +212,9 @@ def run_html(kind: StandKind, lang: Lang) -> str:
     return report_html(simulated(kind), lang)
 
 
-def report_html(s: Simulated, lang: Lang) -> str:
-    """The report of an analysed run, as the service renders it."""
+def report_html(s: Simulated, lang: Lang, sketches: Mapping[int, str] | None = None) -> str:
+    """The report of an analysed run, as the service renders it (with the students' uploaded
+    ``sketches``, data URIs by item, if any)."""
     return render_report(
         build_report(
             run=s.run,
@@ -221,6 +223,7 @@ def report_html(s: Simulated, lang: Lang) -> str:
             readings=s.readings,
             lang=lang,
             made=MADE,
+            sketches=sketches or {},
         )
     )
 

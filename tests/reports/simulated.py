@@ -6,13 +6,14 @@ and the analysis once per stand and seed; :func:`post` sends a simulated run to 
 
 from __future__ import annotations
 
-from collections.abc import Iterator
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, field
 from datetime import UTC, datetime
 from functools import lru_cache
 from html.parser import HTMLParser
 from typing import Any
 
+import httpx
 import numpy as np
 from fastapi.testclient import TestClient
 from numpy.typing import NDArray
@@ -104,6 +105,27 @@ def post(client: TestClient, sim: SimulatedRun[Any], key: str, *, finish: bool =
         answer = client.post(f"/api/v1/runs/{run_id}/finish", headers=headers)
         assert answer.status_code == 200, answer.text
     return run_id
+
+
+def series_of(
+    client: httpx.Client,
+    key: str,
+    runs: Sequence[str],
+    levels: Sequence[str] | None = None,
+    **body: str,
+) -> str:
+    """Make the series ``body`` names (name, purpose, factor) and add the ``runs`` to it, each
+    at its level of ``levels`` if given; its id."""
+    headers = {"Authorization": f"Bearer {key}"}
+    answer = client.post("/api/v1/series", json=body, headers=headers)
+    assert answer.status_code == 201, answer.text
+    series_id = str(answer.json()["id"])
+    at: Sequence[str | None] = levels or [None] * len(runs)
+    for run_id, level in zip(runs, at, strict=True):
+        member = {"run_id": run_id} | ({"level": level} if level else {})
+        answer = client.post(f"/api/v1/series/{series_id}/runs", json=member, headers=headers)
+        assert answer.status_code == 201, answer.text
+    return series_id
 
 
 @dataclass

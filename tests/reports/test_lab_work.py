@@ -9,21 +9,16 @@ import math
 from pathlib import Path
 
 import pytest
-from fastapi.testclient import TestClient
 
-from rigserver.api.app import create_app
-from rigserver.api.auth import ApiKey
-from rigserver.api.settings import Settings
 from rigserver.reports.formatting import number_locale, with_uncertainty
 from rigserver.reports.i18n import Lang
 from rigserver.reports.lab_work import WorkRun, build_lab_work
 from rigserver.reports.run_report import render_report
-from rigserver.storage import MemoryStore
 from rigsim.simulators import simulate
 from rigsim.simulators.smts2 import Smts2Settings
-from schemas.stands import StandKind, configure_stands
+from schemas.stands import StandKind
 from schemas.student_notes import StudentNotes
-from tests.api.conftest import KEYS, READER, WRITER, auth
+from tests.api.conftest import READER, WRITER, auth, in_process
 from tests.reports.rendered import laid_out, pdf_text, squeezed
 from tests.reports.simulated import MADE, Simulated, analysed, post
 
@@ -97,11 +92,7 @@ def test_a_lab_work_of_three_runs_reports_both_parts_with_delta_f(
 
 
 def test_a_lab_series_takes_the_manuals_parts_and_reports_the_lab_work(tmp_path: Path) -> None:
-    settings = Settings(data_dir=tmp_path, report_processes=False)
-    app = create_app(
-        settings, MemoryStore(), [ApiKey.model_validate(k) for k in KEYS], configure_stands()
-    )
-    with TestClient(app, raise_server_exceptions=False) as client:
+    with in_process(tmp_path, report_processes=False) as client:
         ids = {
             mode: post(client, simulate(StandKind.SMTS2, Smts2Settings.for_mode(mode), 5), WRITER)
             for mode in MODES

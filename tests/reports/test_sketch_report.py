@@ -15,10 +15,9 @@ from PIL import Image
 
 from rigserver.reports import plots
 from rigserver.reports.i18n import LANGS, Lang, Messages
-from rigserver.reports.run_report import build_report, render_report
 from schemas.stands import StandKind
-from tests.reports.rendered import POPPLER, laid_out, squeezed
-from tests.reports.simulated import MADE, simulated
+from tests.reports.rendered import POPPLER, laid_out, report_html, squeezed
+from tests.reports.simulated import simulated
 
 #: The SMTs-2 lab's sketch items (its report list): 4 the specimens, 5 the loading scheme.
 SPECIMENS, LOADING = "Sketch of the specimens", "Loading scheme of the specimens (fig. 2.3)"
@@ -58,17 +57,7 @@ def test_the_uploaded_sketch_is_printed_in_its_section_within_the_page(
 ) -> None:
     s = simulated(StandKind.SMTS2)
     with plots.recording() as drawn:
-        html = render_report(
-            build_report(
-                run=s.run,
-                stand=s.stand,
-                values=s.result.payload["values"],
-                readings=s.readings,
-                lang=lang,
-                made=MADE,
-                sketches={4: data_uri(size)},
-            )
-        )
+        html = report_html(s, lang, sketches={4: data_uri(size)})
     t = Messages(lang)
     specimens, loading = t.gettext(SPECIMENS), t.gettext(LOADING)
     sections = dict(re.findall(r"<h2>([^<]*)</h2>(.*?)</section>", html, re.S))

@@ -11,25 +11,14 @@ import pytest
 from fastapi.testclient import TestClient
 
 from rigclient import Client, InputError, RetryPolicy, ServerRefused
-from rigserver.api.app import create_app
-from rigserver.api.auth import ApiKey
-from rigserver.api.settings import Settings
-from rigserver.storage import MemoryStore
-from schemas.stands import configure_stands
-from tests.api.conftest import KEYS, READER, WRITER, auth
+from tests.api.conftest import READER, WRITER, auth, in_process
 
 FAST = RetryPolicy(base_delay=0.01, max_delay=0.05)
 
 
 @pytest.fixture
 def service(tmp_path: Path) -> Iterator[TestClient]:
-    app = create_app(
-        Settings(data_dir=tmp_path / "server"),
-        MemoryStore(),
-        [ApiKey.model_validate(k) for k in KEYS],
-        configure_stands(),
-    )
-    with TestClient(app, raise_server_exceptions=False) as c:
+    with in_process(tmp_path / "server") as c:
         yield c
 
 

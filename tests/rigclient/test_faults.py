@@ -54,6 +54,14 @@ class KeyedServer(FakeServer):
         return super().__call__(request)
 
 
+def client_of(
+    server: Callable[[httpx.Request], httpx.Response], spool: Path, **options: Any
+) -> Client:
+    """A client of ``server`` (a fake at http://rig.test) with the key "k", retrying fast."""
+    transport = httpx.MockTransport(server)
+    return Client("http://rig.test", "k", spool=spool, transport=transport, retry=FAST, **options)
+
+
 def html_page(status: int, title: str) -> httpx.Response:
     page = f"<html><head><title>{title}</title></head><body><h1>{title}</h1></body></html>"
     return httpx.Response(status, text=page, headers={"content-type": "text/html"})
@@ -156,10 +164,7 @@ def test_only_the_apis_422_refuses_a_batch_every_other_failure_is_tried_again(
     server = FakeServer()
     server.script = [lambda r: None, answer]  # the opening, then batch 0 fails once
     said: list[str] = []
-    with Client(
-        "http://rig.test", "k", spool=tmp_path, transport=httpx.MockTransport(server), retry=FAST
-    ) as client:
-        client.say = said.append
+    with client_of(server, tmp_path, say=said.append) as client:
         run = client.open_run(stand="profilometer", operator="Petrov")
         for k in range(3):
             run.post("profile", {"x": [3.0 * k, 3.0 * k + 1], "y": [0.0, 1.0]})
@@ -175,10 +180,7 @@ def test_the_apis_422_refuses_the_batch_and_keeps_it(tmp_path: Path) -> None:
     server = FakeServer()
     server.script = [lambda r: None, lambda r: problem(422, "Readings refused", "y[1] too high")]
     said: list[str] = []
-    with Client(
-        "http://rig.test", "k", spool=tmp_path, transport=httpx.MockTransport(server), retry=FAST
-    ) as client:
-        client.say = said.append
+    with client_of(server, tmp_path, say=said.append) as client:
         run = client.open_run(stand="profilometer", operator="Petrov")
         run.post("profile", {"x": [0.0, 1.0], "y": [0.0, 1.0]})
         assert not client.wait(10)
@@ -212,9 +214,7 @@ def test_a_wrong_key_then_the_right_key_delivers(
 
 def test_a_key_refused_mid_run_is_tried_again_until_the_server_takes_it(tmp_path: Path) -> None:
     server = KeyedServer("k")
-    with Client(
-        "http://rig.test", "k", spool=tmp_path, transport=httpx.MockTransport(server), retry=FAST
-    ) as client:
+    with client_of(server, tmp_path) as client:
         run = client.open_run(stand="profilometer", operator="Petrov")
         run.post("profile", {"x": [0.0, 1.0], "y": [0.0, 1.0]})
         assert client.wait(10)
@@ -248,9 +248,7 @@ def _refused_run(tmp_path: Path) -> tuple[FakeServer, str]:
     server = FakeServer()
     refusal = problem(422, "Readings refused", "y[1] = 1200 um is outside the limit")
     server.script = [lambda r: None, lambda r: None, lambda r: refusal]
-    with Client(
-        "http://rig.test", "k", spool=tmp_path, transport=httpx.MockTransport(server), retry=FAST
-    ) as client:
+    with client_of(server, tmp_path) as client:
         run = client.open_run(stand="profilometer", operator="Petrov", title="trace 7")
         for k in range(4):
             run.post("profile", {"x": 3.0 * k + np.arange(3.0), "y": np.zeros(3)})
@@ -341,9 +339,7 @@ def test_an_old_spool_stopped_by_a_500_is_delivered_after_the_upgrade(tmp_path: 
     old_spool(tmp_path, {"title": "Internal Server Error", "status": 500, "detail": "<html>"})
     server = FakeServer()
     server.stored[0] = {"x": [0.0, 1.0], "y": [0.0, 0.0]}
-    with Client(
-        "http://rig.test", "k", spool=tmp_path, transport=httpx.MockTransport(server), retry=FAST
-    ) as client:
+    with client_of(server, tmp_path) as client:
         assert client.wait(10), client.status()
     assert sorted(server.stored) == [0, 1, 2] and server.state == "finished"
 
@@ -360,9 +356,7 @@ def test_a_proxy_page_in_place_of_the_finish_is_not_taken_for_it(tmp_path: Path)
     server = Scripted(
         lambda r: html_page(200, "Welcome") if r.url.path.endswith("/finish") else None
     )
-    with Client(
-        "http://rig.test", "k", spool=tmp_path, transport=httpx.MockTransport(server), retry=FAST
-    ) as client:
+    with client_of(server, tmp_path) as client:
         run = client.open_run(stand="profilometer", operator="Petrov")
         run.post("profile", {"x": [0.0, 1.0], "y": [0.0, 1.0]})
         run.finish()

@@ -31,6 +31,7 @@ from schemas.runs import RunCreate
 from schemas.stands import default_stands
 from tests.api.conftest import MTOS_ONLY, READER, WRITER, Server, auth, served
 from tests.api.test_readme import block, section
+from tests.reports.simulated import series_of
 
 
 @pytest.fixture(scope="module")
@@ -50,22 +51,19 @@ def posted(lab_server: Server) -> dict[str, Any]:
         profile_run = client.run(profile)
         tribo = simulate("pin_on_disc", TribometerSettings(laps=200), seed=2)
         tribo_run = client.run(tribo)
-    series = httpx.post(
-        f"{lab_server.url}/api/v1/series",
-        json={"name": "MTOS, two repeats", "purpose": "repeatability"},
-        headers=auth(WRITER),
-    ).json()
-    for outcome in mtos_runs:
-        httpx.post(
-            f"{lab_server.url}/api/v1/series/{series['id']}/runs",
-            json={"run_id": outcome.run.id},
-            headers=auth(WRITER),
-        ).raise_for_status()
+    with httpx.Client(base_url=lab_server.url) as http:
+        series = series_of(
+            http,
+            WRITER,
+            [o.run.id for o in mtos_runs],
+            name="MTOS, two repeats",
+            purpose="repeatability",
+        )
     return {
         "mtos": list(zip(mtos, [o.run.id for o in mtos_runs], strict=True)),
         "profile": (profile, profile_run.run.id),
         "tribo": (tribo, tribo_run.run.id),
-        "series": series["id"],
+        "series": series,
     }
 
 

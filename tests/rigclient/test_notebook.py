@@ -17,7 +17,8 @@ from rigsim.client import LabClient
 from rigsim.simulators import simulate
 from rigsim.simulators.mtos import MtosSettings
 from schemas.runs import RunCreate
-from tests.api.conftest import READER, WRITER, Server, auth, served
+from tests.api.conftest import READER, WRITER, Server, served
+from tests.reports.simulated import series_of
 
 NOTEBOOK = Path(__file__).resolve().parents[2] / "docs" / "notebooks" / "lab.ipynb"
 RADII = (6e-3, 9e-3, 12e-3, 15e-3)  # m: the sweep's track radii
@@ -55,17 +56,9 @@ def filled_lab(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Server]:
             client.finish(sweep.id)
             runs = [client.run(simulate("mtos", MtosSettings(), seed=s)) for s in (7, 8)]
             client.run(simulate("profilometer", None, seed=9))
-        series = httpx.post(
-            f"{srv.url}/api/v1/series",
-            json={"name": "MTOS repeats", "purpose": "repeatability"},
-            headers=auth(WRITER),
-        ).json()
-        for outcome in runs:
-            httpx.post(
-                f"{srv.url}/api/v1/series/{series['id']}/runs",
-                json={"run_id": outcome.run.id},
-                headers=auth(WRITER),
-            ).raise_for_status()
+        with httpx.Client(base_url=srv.url) as http:
+            run_ids = [o.run.id for o in runs]
+            series_of(http, WRITER, run_ids, name="MTOS repeats", purpose="repeatability")
         yield srv
 
 

@@ -17,7 +17,7 @@ from rigserver.storage.embedded import hdf5 as hdf5_module
 from rigserver.storage.embedded import views
 from rigserver.storage.embedded.journal import Journal
 from rigserver.storage.runfile import STREAM_CHUNK_ROWS, TABLE_CHUNK_ROWS, RunFile
-from schemas.runs import RunQuery, RunState
+from schemas.runs import Run, RunQuery, RunState
 from schemas.stands import StandKind
 from tests.storage.conftest import friction, make_run
 
@@ -135,12 +135,22 @@ def test_unreadable_file_is_left_out_of_a_rebuilt_catalogue(tmp_path: Path) -> N
         assert store.list_runs(RunQuery()).total == 0
 
 
-def test_disk_full_in_the_journal_is_storage_full_and_passes(
-    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
-) -> None:
+def _open_run_of_ten_rows(tmp_path: Path) -> tuple[HDF5Store, Run]:
+    """An embedded store in ``tmp_path`` and an open SMTs-2 run in it, its rows 0 to 9 stored."""
     store = HDF5Store(tmp_path)
     run = store.create_run(make_run())
     store.append(run.id, 0, "friction", friction(0, 10))
+    return store, run
+
+
+def _no_space(*args: object, **kwargs: object) -> None:
+    raise OSError(errno.ENOSPC, "No space left on device")
+
+
+def test_disk_full_in_the_journal_is_storage_full_and_passes(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    store, run = _open_run_of_ten_rows(tmp_path)
     real = Journal.add_batch
 
     def full(*args: object, **kwargs: object) -> None:
@@ -162,15 +172,10 @@ def test_disk_full_in_the_journal_is_storage_full_and_passes(
 def test_disk_full_in_the_run_file_keeps_the_batch(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    store = HDF5Store(tmp_path)
-    run = store.create_run(make_run())
-    store.append(run.id, 0, "friction", friction(0, 10))
+    store, run = _open_run_of_ten_rows(tmp_path)
     real = RunFile.append
 
-    def full(*args: object, **kwargs: object) -> None:
-        raise OSError(errno.ENOSPC, "No space left on device")
-
-    monkeypatch.setattr(RunFile, "append", full)
+    monkeypatch.setattr(RunFile, "append", _no_space)
     with pytest.raises(StorageFull, match="retry with the same seq"):
         store.append(run.id, 1, "friction", friction(10, 10))
     monkeypatch.setattr(RunFile, "append", real)
@@ -186,15 +191,9 @@ def test_disk_full_in_the_run_file_keeps_the_batch(
 def test_an_end_that_could_not_finalize_is_completed(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    store = HDF5Store(tmp_path)
-    run = store.create_run(make_run())
-    store.append(run.id, 0, "friction", friction(0, 10))
-
-    def full(*args: object, **kwargs: object) -> None:
-        raise OSError(errno.ENOSPC, "No space left on device")
-
+    store, run = _open_run_of_ten_rows(tmp_path)
     with monkeypatch.context() as m:
-        m.setattr(RunFile, "finalize", full)
+        m.setattr(RunFile, "finalize", _no_space)
         with pytest.raises(StorageFull):
             store.end_run(run.id, RunState.FINISHED)
     assert store.get_run(run.id).state is RunState.FINISHED

@@ -9,13 +9,12 @@ from concurrent.futures import ThreadPoolExecutor
 from datetime import UTC, datetime
 from pathlib import Path
 
-import psycopg
 import pytest
 
 from rigserver.storage.cluster.notes_postgres import PostgresNotes
 from rigserver.storage.notes import NotesStore, SqliteNotes
 from schemas.student_notes import StudentNotesWrite
-from tests.postgres import postgres_server, postgres_url  # noqa: F401 (fixtures)
+from tests.postgres import postgres_server, postgres_url, sqlite_or_postgres  # noqa: F401 (fixtures)
 
 RUN_A = "20261125T120000Z-0000000a"
 RUN_B = "20261125T120000Z-0000000b"
@@ -27,15 +26,9 @@ SECOND = StudentNotesWrite(group="MT-31", students=["А. Иванова"], concl
 
 @pytest.fixture(params=["sqlite", "postgres"])
 def notes(request: pytest.FixtureRequest, tmp_path: Path) -> Iterator[NotesStore]:
-    if request.param == "sqlite":
-        store: NotesStore = SqliteNotes(tmp_path / "notes.sqlite")
-    else:
-        url = request.getfixturevalue("postgres_url")
-        with psycopg.connect(url, autocommit=True) as conn:
-            conn.execute("DROP TABLE IF EXISTS rig_notes")
-        store = PostgresNotes(url)
-    yield store
-    store.close()
+    yield from sqlite_or_postgres(
+        request, lambda: SqliteNotes(tmp_path / "notes.sqlite"), PostgresNotes, "rig_notes"
+    )
 
 
 def test_a_run_without_words_has_the_empty_version_0(notes: NotesStore) -> None:

@@ -5,14 +5,13 @@ from __future__ import annotations
 from collections.abc import Iterator
 from pathlib import Path
 
-import psycopg
 import pytest
 
 from rigserver.storage.cluster.series_postgres import PostgresSeries
 from rigserver.storage.errors import MemberExists, MemberNotFound, SeriesNotFound
 from rigserver.storage.series import SeriesStore, SqliteSeries
 from schemas.series import SeriesCreate, SeriesPurpose
-from tests.postgres import postgres_server, postgres_url  # noqa: F401 (fixtures)
+from tests.postgres import postgres_server, postgres_url, sqlite_or_postgres  # noqa: F401 (fixtures)
 
 RUN_A = "20261125T120000Z-0000000a"
 RUN_B = "20261125T120000Z-0000000b"
@@ -20,15 +19,12 @@ RUN_B = "20261125T120000Z-0000000b"
 
 @pytest.fixture(params=["sqlite", "postgres"])
 def series(request: pytest.FixtureRequest, tmp_path: Path) -> Iterator[SeriesStore]:
-    if request.param == "sqlite":
-        store: SeriesStore = SqliteSeries(tmp_path / "series.sqlite")
-    else:
-        url = request.getfixturevalue("postgres_url")
-        with psycopg.connect(url, autocommit=True) as conn:
-            conn.execute("DROP TABLE IF EXISTS rig_series_members, rig_series")
-        store = PostgresSeries(url)
-    yield store
-    store.close()
+    yield from sqlite_or_postgres(
+        request,
+        lambda: SqliteSeries(tmp_path / "series.sqlite"),
+        PostgresSeries,
+        "rig_series_members, rig_series",
+    )
 
 
 def test_a_series_keeps_its_runs_in_the_order_they_joined(series: SeriesStore) -> None:

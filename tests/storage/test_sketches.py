@@ -8,12 +8,11 @@ from collections.abc import Iterator
 from datetime import UTC, datetime
 from pathlib import Path
 
-import psycopg
 import pytest
 
 from rigserver.storage.cluster.sketches_postgres import PostgresSketches
 from rigserver.storage.sketches import SketchStore, SqliteSketches
-from tests.postgres import postgres_server, postgres_url  # noqa: F401 (fixtures)
+from tests.postgres import postgres_server, postgres_url, sqlite_or_postgres  # noqa: F401 (fixtures)
 
 RUN_A = "20261125T120000Z-0000000a"
 RUN_B = "20261125T120000Z-0000000b"
@@ -23,15 +22,12 @@ FIRST, SECOND = b"\x89PNG first\x00\xff", b"\xff\xd8\xff second"
 
 @pytest.fixture(params=["sqlite", "postgres"])
 def sketches(request: pytest.FixtureRequest, tmp_path: Path) -> Iterator[SketchStore]:
-    if request.param == "sqlite":
-        store: SketchStore = SqliteSketches(tmp_path / "sketches.sqlite")
-    else:
-        url = request.getfixturevalue("postgres_url")
-        with psycopg.connect(url, autocommit=True) as conn:
-            conn.execute("DROP TABLE IF EXISTS rig_sketches")
-        store = PostgresSketches(url)
-    yield store
-    store.close()
+    yield from sqlite_or_postgres(
+        request,
+        lambda: SqliteSketches(tmp_path / "sketches.sqlite"),
+        PostgresSketches,
+        "rig_sketches",
+    )
 
 
 def test_a_run_without_sketches_has_none(sketches: SketchStore) -> None:

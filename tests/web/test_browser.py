@@ -10,7 +10,8 @@ from __future__ import annotations
 
 import threading
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 from pathlib import Path
 from typing import Any
 
@@ -53,6 +54,31 @@ def chromium(playwright: Any, profile: Path, **options: Any) -> Any:
     )
 
 
+@contextmanager
+def signed_in(
+    url: str, key: str, profile: Path, login: str = "/", **options: Any
+) -> Iterator[tuple[Any, list[str]]]:
+    """A page of a headless Chromium (:func:`chromium`) signed in with ``key`` on the login
+    page at ``login``, and what the pages' Content-Security-Policy blocked (Chromium logs it)."""
+    from playwright.sync_api import sync_playwright
+
+    with sync_playwright() as playwright:
+        context = chromium(playwright, profile, **options)
+        try:
+            page = context.new_page()
+            refused: list[str] = []
+            page.on(
+                "console",
+                lambda m: refused.append(m.text) if "Content Security Policy" in m.text else None,
+            )
+            page.goto(f"{url}{login}")
+            page.fill("input[name=key]", key)
+            page.click("form.login button[type=submit]")
+            yield page, refused
+        finally:
+            context.close()
+
+
 def points(page: Any) -> int:
     return int(page.get_attribute("#live-chart", "data-points"))
 
@@ -67,8 +93,6 @@ def until(condition: Callable[[], bool], seconds: float = 30.0) -> None:
 
 
 def test_watch_a_run_live_and_download_its_report(server: Server, tmp_path: Path) -> None:
-    from playwright.sync_api import sync_playwright
-
     sim = smts2.simulate(seed=3)
     total = sim.rows("friction")
     outcome: dict[str, RunOutcome | BaseException] = {}
@@ -82,45 +106,33 @@ def test_watch_a_run_live_and_download_its_report(server: Server, tmp_path: Path
 
     poster = threading.Thread(target=lab_pc, daemon=True)
     runs = f"{server.url}/api/v1/runs"
-    with sync_playwright() as playwright:
-        context = chromium(playwright, tmp_path / "chromium-profile", accept_downloads=True)
-        try:
-            page = context.new_page()
-            refused: list[str] = []  # what the pages' policy blocked (Chromium logs it)
-            page.on(
-                "console",
-                lambda m: refused.append(m.text) if "Content Security Policy" in m.text else None,
-            )
-            page.goto(f"{server.url}/")  # no session yet: the login page
-            page.fill("input[name=key]", READER)
-            page.click("form.login button[type=submit]")
-            # The stand starts posting once the browser is up and signed in: a slow start of
-            # the browser (a loaded machine) cannot let the whole run arrive before the page.
-            poster.start()
-            deadline = time.monotonic() + 20
-            while not httpx.get(runs, headers=auth(READER), timeout=5).json()["runs"]:
-                assert time.monotonic() < deadline, "the run was not opened"
-                time.sleep(0.05)
-            page.reload()
-            page.click("table.runs a[href^='/runs/']")
-            page.wait_for_selector("#live-chart")
-            until(lambda: points(page) > 0)
-            first = points(page)
-            assert first < total, "the run should still be posting"
-            until(lambda: points(page) > first)  # the chart grows as batches arrive
-            until(lambda: page.get_attribute("#live-status", "data-state") == "ended", 60)
-            until(lambda: points(page) == total)
-            assert page.text_content("#live-rows") == str(total)
-            assert refused == []
-            page.screenshot(path=str(tmp_path / "run.png"), full_page=True)
-            with page.expect_download() as download:
-                page.click("#report-pdf")
-            saved = tmp_path / download.value.suggested_filename
-            download.value.save_as(saved)
-            assert saved.name.endswith("-report-en.pdf")
-            assert saved.read_bytes().startswith(b"%PDF-")
-        finally:
-            context.close()
+    profile = tmp_path / "chromium-profile"
+    with signed_in(server.url, READER, profile, accept_downloads=True) as (page, refused):
+        # The stand starts posting once the browser is up and signed in: a slow start of
+        # the browser (a loaded machine) cannot let the whole run arrive before the page.
+        poster.start()
+        deadline = time.monotonic() + 20
+        while not httpx.get(runs, headers=auth(READER), timeout=5).json()["runs"]:
+            assert time.monotonic() < deadline, "the run was not opened"
+            time.sleep(0.05)
+        page.reload()
+        page.click("table.runs a[href^='/runs/']")
+        page.wait_for_selector("#live-chart")
+        until(lambda: points(page) > 0)
+        first = points(page)
+        assert first < total, "the run should still be posting"
+        until(lambda: points(page) > first)  # the chart grows as batches arrive
+        until(lambda: page.get_attribute("#live-status", "data-state") == "ended", 60)
+        until(lambda: points(page) == total)
+        assert page.text_content("#live-rows") == str(total)
+        assert refused == []
+        page.screenshot(path=str(tmp_path / "run.png"), full_page=True)
+        with page.expect_download() as download:
+            page.click("#report-pdf")
+        saved = tmp_path / download.value.suggested_filename
+        download.value.save_as(saved)
+        assert saved.name.endswith("-report-en.pdf")
+        assert saved.read_bytes().startswith(b"%PDF-")
     poster.join(timeout=60)
     assert not poster.is_alive()
     result = outcome["run"]

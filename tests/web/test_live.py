@@ -13,13 +13,9 @@ import numpy as np
 import pytest
 from fastapi.testclient import TestClient
 
-from rigserver.api.app import create_app
-from rigserver.api.auth import ApiKey
 from rigserver.api.routes import live
-from rigserver.api.settings import Settings
-from rigserver.storage import MemoryStore
-from schemas.stands import StandKind, configure_stands
-from tests.api.conftest import KEYS, READER, WRITER, auth
+from schemas.stands import StandKind
+from tests.api.conftest import READER, WRITER, auth, in_process
 from tests.reports.simulated import post, simulated
 
 API = "/api/v1"
@@ -53,13 +49,7 @@ def events(client: TestClient, url: str, **headers: str) -> list[Event]:
 
 @pytest.fixture
 def client(tmp_path: Path) -> Iterator[TestClient]:
-    app = create_app(
-        Settings(data_dir=tmp_path),
-        MemoryStore(),
-        [ApiKey.model_validate(k) for k in KEYS],
-        configure_stands(),
-    )
-    with TestClient(app, raise_server_exceptions=False) as c:
+    with in_process(tmp_path) as c:
         yield c
 
 

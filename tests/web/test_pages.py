@@ -11,28 +11,21 @@ from pathlib import Path
 import pytest
 from fastapi.testclient import TestClient
 
-from rigserver.api.app import create_app
 from rigserver.api.auth import ApiKey
 from rigserver.api.routes import pages
 from rigserver.api.sessions import COOKIE, SESSION_SECONDS, Sessions
-from rigserver.api.settings import Settings
 from rigserver.reports.formatting import shown
-from rigserver.storage import MemoryStore
 from rigserver.web.pages import live_axes
 from schemas.labels import PROFILOMETER, SMTS2
-from schemas.stands import StandKind, configure_stands, default_stands
-from tests.api.conftest import KEYS, MTOS_ONLY, READER, WRITER, auth
+from schemas.stands import StandKind, default_stands
+from tests.api.conftest import KEYS, MTOS_ONLY, READER, WRITER, auth, in_process
 from tests.reports.simulated import post, simulated
 
 
 @pytest.fixture(scope="module")
 def site(tmp_path_factory: pytest.TempPathFactory) -> Iterator[tuple[TestClient, dict[str, str]]]:
     """Public reads; a finished profilometer run, then a finished and an open SMTs-2 run."""
-    settings = Settings(data_dir=Path(tmp_path_factory.mktemp("data")), public_reads=True)
-    app = create_app(
-        settings, MemoryStore(), [ApiKey.model_validate(k) for k in KEYS], configure_stands()
-    )
-    with TestClient(app, raise_server_exceptions=False) as client:
+    with in_process(Path(tmp_path_factory.mktemp("data")), public_reads=True) as client:
         ids = {"profile": post(client, simulated(StandKind.PROFILOMETER).sim, WRITER)}
         ids["wear"] = post(client, simulated(StandKind.SMTS2).sim, WRITER)
         ids["open"] = post(client, simulated(StandKind.SMTS2).sim, WRITER, finish=False)
@@ -157,13 +150,9 @@ def test_an_unknown_run_page_is_a_404(site: tuple[TestClient, dict[str, str]]) -
 
 
 def _private_site(tmp_path: Path) -> TestClient:
-    app = create_app(
-        Settings(data_dir=tmp_path),
-        MemoryStore(),
-        [ApiKey.model_validate(k) for k in KEYS],
-        configure_stands(),
-    )
-    return TestClient(app, raise_server_exceptions=False, follow_redirects=False)
+    client = in_process(tmp_path)
+    client.follow_redirects = False
+    return client
 
 
 def test_pages_send_a_browser_without_a_key_to_the_login(tmp_path: Path) -> None:

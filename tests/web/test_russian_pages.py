@@ -17,7 +17,7 @@ from schemas.stands import DECLARATIONS, StandKind
 from tests.api.conftest import READER, WRITER, Server
 from tests.i18n.messages import every_message
 from tests.reports.simulated import post, simulated
-from tests.web.test_browser import CHROMIUM, chromium
+from tests.web.test_browser import CHROMIUM, signed_in
 
 pytestmark = [
     pytest.mark.slow,
@@ -68,8 +68,6 @@ def user_data(run: dict[str, Any]) -> list[str]:
 
 
 def test_russian_pages_speak_russian(server: Server, tmp_path: Path) -> None:
-    from playwright.sync_api import sync_playwright
-
     with httpx.Client(base_url=server.url, timeout=30) as client:
         ids = {kind: post(client, simulated(kind).sim, WRITER) for kind in StandKind}  # type: ignore[arg-type]
         opened = post(client, simulated(StandKind.SLIDE_BEARING).sim, WRITER, finish=False)  # type: ignore[arg-type]
@@ -81,27 +79,20 @@ def test_russian_pages_speak_russian(server: Server, tmp_path: Path) -> None:
     pages = {f"run-{kind.value}": f"/runs/{i}" for kind, i in ids.items()}
     pages["run-open"] = f"/runs/{opened}"
     pages["runs"] = "/"
-    with sync_playwright() as playwright:
-        context = chromium(playwright, tmp_path / "chromium-profile")
-        try:
-            page = context.new_page()
-            page.goto(f"{server.url}/login?lang=ru")
-            page.fill("input[name=key]", READER)
-            page.click("form.login button[type=submit]")
-            for lang in ("ru", "en"):
-                for name, path in pages.items():
-                    page.goto(f"{server.url}{path}?lang={lang}")
-                    if name.startswith("run-"):
-                        page.wait_for_selector("#results table")
-                    page.screenshot(path=str(tmp_path / f"{name}-{lang}.png"), full_page=True)
-                    if lang != "ru":
-                        continue
-                    text = page.inner_text("body")
-                    left = latin_words(text, typed, allowed)
-                    (tmp_path / f"{name}.txt").write_text(text)
-                    assert not left, (name, left)
-                    if name.startswith("run-") and name != "run-open":
-                        assert "Пока испытание идёт" not in text
-                        assert "Результаты измерений" in text
-        finally:
-            context.close()
+    profile = tmp_path / "chromium-profile"
+    with signed_in(server.url, READER, profile, login="/login?lang=ru") as (page, _):
+        for lang in ("ru", "en"):
+            for name, path in pages.items():
+                page.goto(f"{server.url}{path}?lang={lang}")
+                if name.startswith("run-"):
+                    page.wait_for_selector("#results table")
+                page.screenshot(path=str(tmp_path / f"{name}-{lang}.png"), full_page=True)
+                if lang != "ru":
+                    continue
+                text = page.inner_text("body")
+                left = latin_words(text, typed, allowed)
+                (tmp_path / f"{name}.txt").write_text(text)
+                assert not left, (name, left)
+                if name.startswith("run-") and name != "run-open":
+                    assert "Пока испытание идёт" not in text
+                    assert "Результаты измерений" in text

@@ -13,7 +13,7 @@ from rigsim.simulators import simulate
 from rigsim.simulators.smts2 import Smts2Settings
 from schemas.stands import StandKind
 from tests.api.conftest import WRITER, Server, auth, served
-from tests.reports.simulated import post
+from tests.reports.simulated import post, series_of
 from tests.web.test_browser import ARGS, CHROMIUM, until
 
 pytestmark = [
@@ -38,17 +38,9 @@ def test_series_page_refreshes_while_a_run_is_open(public_server: Server, tmp_pa
         ]
         finished = [post(http, sim, WRITER) for sim in sims[:2]]
         open_run = post(http, sims[2], WRITER, finish=False)
-        made = http.post(
-            "/api/v1/series",
-            json={"name": "Повторные испытания", "purpose": "repeatability"},
-            headers=auth(WRITER),
+        series_id = series_of(
+            http, WRITER, [*finished, open_run], name="Повторные испытания", purpose="repeatability"
         )
-        series_id = made.json()["id"]
-        for run_id in [*finished, open_run]:
-            answer = http.post(
-                f"/api/v1/series/{series_id}/runs", json={"run_id": run_id}, headers=auth(WRITER)
-            )
-            assert answer.status_code == 201, answer.text
 
         with sync_playwright() as playwright:
             browser = playwright.chromium.launch(

@@ -11,13 +11,8 @@ from pathlib import Path
 import pytest
 from fastapi.testclient import TestClient
 
-from rigserver.api.app import create_app
-from rigserver.api.auth import ApiKey
-from rigserver.api.settings import Settings
-from rigserver.storage import MemoryStore
 from schemas.sketches import SKETCH_MAX_BYTES
-from schemas.stands import configure_stands
-from tests.api.conftest import KEYS, READER, WRITER, auth
+from tests.api.conftest import READER, WRITER, auth, in_process
 from tests.api.test_service import open_run
 from tests.api.test_sketches import API, image
 from tests.api.test_student_notes import form_token
@@ -28,9 +23,7 @@ ITEM = 4  # the SMTs-2 lab's sketch of the specimens
 
 @pytest.fixture
 def client(tmp_path: Path) -> Iterator[TestClient]:
-    keys = [ApiKey.model_validate(k) for k in KEYS]
-    app = create_app(Settings(data_dir=tmp_path), MemoryStore(), keys, configure_stands())
-    with TestClient(app, raise_server_exceptions=False) as c:
+    with in_process(tmp_path) as c:
         yield c
 
 

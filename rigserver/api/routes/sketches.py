@@ -55,6 +55,11 @@ def list_sketches(run_id: str, services: ServicesDep) -> Sketches:
     return Sketches(sketches=services.sketches.history(load_run(services, run_id).id))
 
 
+#: The largest version number asked for: more uploads than any item has, within every
+#: store's integer (a larger one is refused at the door, not by SQLite).
+VERSIONS = 2**31 - 1
+
+
 @router.get(
     "/sketches/{item}",
     summary="The image of the run's sketch of an item (the latest, or ?version=)",
@@ -66,7 +71,9 @@ def get_sketch(
     run_id: str,
     item: ItemPath,
     services: ServicesDep,
-    version: Annotated[int | None, Query(ge=1, description="an earlier version")] = None,
+    version: Annotated[
+        int | None, Query(ge=1, le=VERSIONS, description="an earlier version")
+    ] = None,
 ) -> Response:
     run = load_run(services, run_id)
     found = services.sketches.image(run.id, item, version)

@@ -18,6 +18,7 @@ from contextlib import AbstractContextManager, contextmanager
 from pathlib import Path
 from typing import Any, Protocol, TypeVar
 
+from rigserver.storage._failures import failures_as
 from rigserver.storage.errors import StorageUnavailable
 
 _T = TypeVar("_T")
@@ -81,6 +82,12 @@ def retried(database: Database, doing: str, write: Callable[[Connection], _T]) -
             attempt += 1
 
 
+def _sqlite_failures(doing: str) -> AbstractContextManager[None]:
+    """SQLite's own failures (a locked, damaged, full or closed database) as storage errors
+    naming what was being done: 503 or 507, not 500; a bug of ours stays one."""
+    return failures_as(doing, (sqlite3.Error,))
+
+
 class SqliteDatabase:
     """A SQLite database at ``path`` (``":memory:"``: in memory) in WAL mode, with foreign keys
     enforced and the tables of ``schema``; ``upgrade`` brings older tables to it, as part of
@@ -112,12 +119,12 @@ class SqliteDatabase:
 
     @contextmanager
     def connection(self, doing: str) -> Iterator[Connection]:
-        with self._lock, taken_when(sqlite3.IntegrityError, doing):
+        with self._lock, _sqlite_failures(doing), taken_when(sqlite3.IntegrityError, doing):
             yield self._db
 
     @contextmanager
     def transaction(self, doing: str) -> Iterator[Connection]:
-        with self._lock, taken_when(sqlite3.IntegrityError, doing):
+        with self._lock, _sqlite_failures(doing), taken_when(sqlite3.IntegrityError, doing):
             self._db.execute("BEGIN IMMEDIATE")
             try:
                 yield self._db

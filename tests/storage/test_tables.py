@@ -3,6 +3,8 @@ writer's key is tried again, a bounded number of times."""
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import pytest
 
 from rigserver.storage._tables import RETRIES, Connection, SqliteDatabase, retried
@@ -48,3 +50,16 @@ def test_a_write_that_meets_a_taken_key_is_stored_on_the_next_try() -> None:
             (2, "next"),
         ]
     database.close()
+
+
+def test_sqlites_own_failure_is_a_storage_error_naming_what_was_done(tmp_path: Path) -> None:
+    # a database that fails under the store (here: closed; in the lab: damaged, locked,
+    # full) is answered 503 naming the work, not 500
+    database = SqliteDatabase(tmp_path / "kept.sqlite", _SCHEMA, "test")
+    database.close()
+    reading = database.connection("reading the values")
+    with pytest.raises(StorageUnavailable, match="reading the values"), reading as db:
+        db.execute("SELECT k FROM kept")
+    storing = database.transaction("storing a value")
+    with pytest.raises(StorageUnavailable, match="storing a value"), storing as db:
+        db.execute("INSERT INTO kept VALUES (?, ?)", (1, "x"))

@@ -39,6 +39,10 @@ INTEGRALS = ("a1_00", "a2_00", "a3_00", "a3_02", "a3_20", "a3_11")
 #: Load steps of a run whose finite bearing (3.1) is solved, about 10 ms each (the manual's
 #: run has 12): the bound of one results computation; later steps leave it empty, noted.
 MAX_FINITE_STEPS = 500
+#: N: the least load a step is taken at. The dynamometer reads hundreds of newtons (the
+#: manual's steps are 500-3000 N); below this f = F/N and S1 (4.11, 4.21) grow without
+#: meaning (a load of 10⁻³⁰⁰ N gives f ~ 10³⁰³), and the step waits for its correction.
+LEAST_LOAD = 1.0
 
 
 def analyse(run: Run, readings: Readings, profiles: Profiles | None = None) -> MtosResults:
@@ -52,11 +56,11 @@ def analyse(run: Run, readings: Readings, profiles: Profiles | None = None) -> M
     zeros = readings.measurements()
     if readings.rows(GROUP) == 0:
         result.pending.append(N_("no load steps yet"))
-    unloaded = [] if result.pending else np.flatnonzero(~(rows["load"] > 0.0)).tolist()
+    unloaded = [] if result.pending else np.flatnonzero(~(rows["load"] >= LEAST_LOAD)).tolist()
     if unloaded:  # a typo to correct: the run still finishes, its results wait for it
         result.pending.append(
-            f"steps {', '.join(map(str, unloaded))}: the load is 0 N; f = M/(N·r) (4.11) "
-            "needs N > 0"
+            f"steps {', '.join(map(str, unloaded))}: the load is below {LEAST_LOAD:g} N; "
+            "f = M/(N·r) (4.11) and S1 (4.21) need a load step"
         )
     if "x_zero" not in zeros or "y_zero" not in zeros:
         result.pending.append(N_("needs the measurements x_zero, y_zero"))
@@ -228,8 +232,6 @@ def _step(
     if regime == "fluid":
         theory = _fluid_theory(i, config, chi, viscosity, load, steps, notes)
     u_chi, u_f = _uncertainties(i, config, rows, spread, load)
-    if u_f is None:
-        notes.append(f"step {i}: u(f_e) is undefined to first order at N = {load:g} N")
     if u_chi is None:
         notes.append(f"step {i}: journal centred, u(χ) is undefined to first order (GUM 5.1.2)")
     s1 = float(steps.s1[i])
@@ -237,8 +239,8 @@ def _step(
     return MtosStep(
         chi_uncertainty=None if u_chi is None else u_chi.standard,
         chi_expanded=None if u_chi is None else u_chi.expanded,
-        friction_measured_uncertainty=None if u_f is None else u_f.standard,
-        friction_measured_expanded=None if u_f is None else u_f.expanded,
+        friction_measured_uncertainty=u_f.standard,
+        friction_measured_expanded=u_f.expanded,
         load=load,
         regime=regime,
         e_x=float(ecc.e_x[i]),
@@ -313,35 +315,29 @@ def _fluid_theory(
 
 def _uncertainties(
     i: int, config: MtosConfig, rows: Columns, spread: _Spread, load: float
-) -> tuple[uncertainty.Estimate | None, uncertainty.Estimate | None]:
+) -> tuple[uncertainty.Estimate | None, uncertainty.Estimate]:
     """The standard and expanded uncertainties of step ``i``'s χ (4.9) and measured f
     (4.11), from the gauges' limits (GUM); none of χ for a centred journal, where χ's
     derivatives are undefined."""
     accuracy = config.accuracy
-    try:
-        u_chi: uncertainty.Estimate | None = uncertainty.estimate(
-            uncertainty.mtos_chi(
-                x=float(rows["x"][i]) * _M_PER_UM,
-                y=float(rows["y"][i]) * _M_PER_UM,
-                x_zero=spread.x_zero,
-                y_zero=spread.y_zero,
-                limit=accuracy.displacement * _M_PER_UM,
-                clearance=spread.clearance,
-                signed=config.signed_sensors,
-            )
+    u_chi = uncertainty.first_order(
+        lambda: uncertainty.mtos_chi(
+            x=float(rows["x"][i]) * _M_PER_UM,
+            y=float(rows["y"][i]) * _M_PER_UM,
+            x_zero=spread.x_zero,
+            y_zero=spread.y_zero,
+            limit=accuracy.displacement * _M_PER_UM,
+            clearance=spread.clearance,
+            signed=config.signed_sensors,
         )
-    except ArithmeticError:  # hypot's derivative at e_x = e_y = 0
-        u_chi = None
-    try:
-        u_f: uncertainty.Estimate | None = uncertainty.estimate(
-            spread.arms
-            * uncertainty.from_limit(
-                float(rows["indicator"][i]) * _M_PER_MM, accuracy.indicator * _M_PER_MM
-            )
-            / uncertainty.from_limit(load, load * accuracy.dynamometer)
+    )
+    u_f = uncertainty.estimate(
+        spread.arms
+        * uncertainty.from_limit(
+            float(rows["indicator"][i]) * _M_PER_MM, accuracy.indicator * _M_PER_MM
         )
-    except ArithmeticError:  # a load near nothing: the derivative by N overflows
-        u_f = None
+        / uncertainty.from_limit(load, load * accuracy.dynamometer)
+    )
     return u_chi, u_f
 
 

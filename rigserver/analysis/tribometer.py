@@ -102,7 +102,7 @@ class _Record:
         self.load = load
         mu = cols.get("friction_coefficient", nan)
         force = cols.get("friction_force", nan)
-        with np.errstate(invalid="ignore", divide="ignore"):
+        with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
             self.signed = np.where(np.isfinite(mu), mu, force / load)
         self.mu = np.abs(self.signed)
         self.step = cols.get("step", nan)

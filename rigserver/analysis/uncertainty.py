@@ -11,7 +11,7 @@ and the first-order figure by Monte Carlo where the model is nonlinear (χ = |e|
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -22,6 +22,7 @@ __all__ = [
     "Estimate",
     "batch_mean",
     "estimate",
+    "first_order",
     "from_limit",
     "from_resolution",
     "mtos_chi",
@@ -46,6 +47,17 @@ def estimate(x: UFloat | float) -> Estimate:
     if isinstance(x, float | int):
         return Estimate(value=float(x), standard=0.0, expanded=0.0)
     return Estimate(value=x.nominal_value, standard=x.std_dev, expanded=COVERAGE * x.std_dev)
+
+
+def first_order(make: Callable[[], UFloat | float]) -> Estimate | None:
+    """The estimate of ``make()``; None where first-order propagation (GUM 5.1.2) is
+    undefined: a derivative that divides by zero or overflows, or a u that is not finite
+    (hypot's at the origin: χ of a centred journal)."""
+    try:
+        found = estimate(make())
+    except ArithmeticError:
+        return None
+    return found if math.isfinite(found.standard) else None
 
 
 def _uncertain(value: float, std: float, tag: str | None) -> UFloat:

@@ -886,8 +886,16 @@ class ProfilogramDiscrepancy:
 
 
 def relative_to_reading(reading: float, profilogram: float) -> float:
-    """(reading - profilogram)/reading·100 %: (1.20) with the denominator of E10."""
-    return float((reading - profilogram) / reading * 100.0)
+    """(reading - profilogram)/reading·100 %: (1.20) with the denominator of E10;
+    ``ModelInputError`` when the reading is so small against the profilogram that the
+    difference passes the largest float."""
+    found = (reading - profilogram) / reading * 100.0
+    if not math.isfinite(found):
+        raise ModelInputError(
+            f"the reading {reading:g} m is too small for a difference relative to it "
+            f"(the profilogram's {profilogram:g} m)"
+        )
+    return float(found)
 
 
 def profilogram_discrepancy(
